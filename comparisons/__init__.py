@@ -1,0 +1,1 @@
+"""Both models side by side: the shimmy command, reference data, plots, benchmarks."""

@@ -1,0 +1,87 @@
+"""``shimmy curves``: two-parameter Hopf curves in the (V, q) plane."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from reduced_model.family import SpeedFamily
+from reduced_model.hopf_curves import HopfDiagram, hopf_diagram
+from reduced_model.parameters import ParameterError
+
+from ..options import (BAR, KMH, UsageError, add_model_options, add_output_options, build_model, emit_json,
+                       interface_unit, positive_float, progress)
+
+PARAMS = ("pressure", "a0", "t0", "sigma0", "k5_0")
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("curves", help="Hopf curves in the (speed, parameter) plane")
+    p.add_argument("--param", required=True, choices=PARAMS, help="second parameter")
+    p.add_argument("--range", required=True, nargs=2, type=float, metavar=("LO", "HI"),
+                   help="parameter window (bar for pressure, SI otherwise)")
+    add_model_options(p, pressure_required=False)
+    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
+                   help="upper end of the speed window, km/h (default 400)")
+    add_output_options(p, plot=True)
+    p.set_defaults(run=run)
+
+
+def diagram_json(diagram: HopfDiagram, factor: float) -> dict:
+    return {
+        "param": diagram.param,
+        "unit": interface_unit(diagram.param)[0],
+        "complete": diagram.complete,
+        "curves": [{"points": [[v * 3.6, q / factor] for v, q in zip(c.speeds, c.values)],
+                    "status": [s.value for s in c.status], "messages": list(c.messages)}
+                   for c in diagram.curves],
+        "special_points": [{"kind": s.kind.value, "speed_kmh": s.speed * 3.6, "value": s.value / factor,
+                            "status": s.status.value,
+                            **{f"{k}_hz" if k.startswith("omega") else k:
+                               (v / (2 * 3.141592653589793) if k.startswith("omega") else v)
+                               for k, v in s.data.items()}}
+                           for s in diagram.special_points],
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    lo, hi = args.range
+    if not lo < hi:
+        raise UsageError(f"--range needs LO < HI, got {lo:g} {hi:g}")
+    unit, factor = interface_unit(args.param)
+    if lo <= 0.0:
+        raise UsageError(f"--range for {args.param} must be positive, got LO = {lo:g} {unit}")
+    model = build_model(args)
+    family = SpeedFamily(model, args.param, pressure=args.pressure * BAR)
+    try:
+        for q in (lo * factor, hi * factor):
+            family.validate(q)
+    except ParameterError as exc:
+        raise UsageError(f"--range: {exc}") from None
+    quiet = args.json or not sys.stderr.isatty()
+    with progress(10, "Hopf curves", quiet) as bar:
+        def tick(done, total):
+            bar.total = total
+            bar.n = done
+            bar.refresh()
+        diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, args.vmax * KMH, progress=tick)
+    if args.plot:
+        from ..plots import plot_hopf_diagram
+        plot_hopf_diagram(diagram, family, args.plot)
+    if args.json:
+        emit_json(diagram_json(diagram, factor))
+    else:
+        print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
+              f"[0, {args.vmax:g}] km/h" + ("" if args.param == "pressure" else f", at {args.pressure:g} bar"))
+        for i, c in enumerate(diagram.curves, 1):
+            print(f"  curve {i}: {len(c.speeds)} points; ends: {c.messages[0]} | {c.messages[1]}")
+        for s in diagram.special_points:
+            print(f"  {s.kind.value:17s} {s.speed * 3.6:9.3f} km/h  {args.param} = {s.value / factor:.6g} {unit}"
+                  f"  ({s.status.value})")
+        if args.plot:
+            print(f"  plot written to {args.plot}")
+    if not diagram.complete:
+        sys.stderr.write("shimmy: incomplete: a Hopf curve stopped before leaving the window "
+                         "(see the curve end messages)\n")
+        return 3
+    return 0

@@ -1,0 +1,96 @@
+"""Command-line option parsing shared by the ``shimmy`` commands: units at the interface, model construction."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Any
+
+from reduced_model.model import Effects, ShimmyModel
+from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+
+KMH = 1.0 / 3.6   # m/s per km/h
+BAR = 1e5         # Pa per bar
+
+# Table 1 entries shown (and set) in other units than SI at the interface.
+INTERFACE_UNITS = {"pi0": ("bar", BAR)}
+
+
+class UsageError(Exception):
+    """Bad input from the command line: reported as one line, exit code 2."""
+
+
+def interface_unit(name: str) -> tuple[str, float]:
+    """(unit label, SI per interface unit) of a Table 1 entry or 'pressure' at the command line."""
+    if name == "pressure":
+        return "bar", BAR
+    return INTERFACE_UNITS.get(name, (ShimmyParameters.unit(name), 1.0))
+
+
+def positive_float(what: str):
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{what} must be a number, got '{text}'") from None
+        if not math.isfinite(value) or value <= 0.0:
+            raise argparse.ArgumentTypeError(f"{what} must be positive, got {text}")
+        return value
+    return parse
+
+
+def parse_overrides(items: list[str] | None) -> dict[str, float]:
+    """``NAME=VALUE`` strings (interface units) to SI overrides of Table 1."""
+    overrides: dict[str, float] = {}
+    for item in items or []:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise UsageError(f"--set expects NAME=VALUE, got '{item}'")
+        if name not in ShimmyParameters.names():
+            raise UsageError(f"unknown parameter '{name}' in --set (see 'shimmy params')")
+        try:
+            value = float(text)
+        except ValueError:
+            raise UsageError(f"--set {name}: '{text}' is not a number") from None
+        overrides[name] = value * interface_unit(name)[1]
+    return overrides
+
+
+def add_model_options(p: argparse.ArgumentParser, pressure_required: bool = True) -> None:
+    p.add_argument("--pressure", type=positive_float("--pressure"), required=pressure_required,
+                   default=None if pressure_required else 2.5, metavar="BAR",
+                   help="tyre inflation pressure, bar" + ("" if pressure_required else " (default 2.5)"))
+    p.add_argument("--effects", default="", metavar="LIST",
+                   help="pressure effects beyond the lateral force: comma list of hcl,pt,rl,vs, or all")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", dest="overrides",
+                   help="override a Table 1 entry (units as in 'shimmy params'); repeatable")
+
+
+def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:
+    p.add_argument("--json", action="store_true", help="machine-readable output on stdout (schema in README)")
+    if plot:
+        p.add_argument("--plot", metavar="FILE.png", help="draw the result into a PNG file")
+
+
+def build_model(args: argparse.Namespace) -> ShimmyModel:
+    try:
+        effects = Effects.parse(args.effects)
+        params = YANG2024.replace(**parse_overrides(args.overrides))
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+    return ShimmyModel(params=params, effects=effects)
+
+
+def emit_json(obj: Any) -> None:
+    json.dump(obj, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+
+
+def progress(total: int, description: str, quiet: bool):
+    """A tqdm progress bar on stderr; silent under --json or when stderr is not a terminal."""
+    from tqdm import tqdm
+    return tqdm(total=total, desc=description, disable=quiet or not sys.stderr.isatty(), leave=False,
+                file=sys.stderr)

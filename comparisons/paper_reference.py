@@ -1,0 +1,56 @@
+"""Numbers printed in the reference paper (Yang, Knowles & Mavros; shared/seed), for comparison only.
+
+These are results of the authors' MATLAB/COCO implementation, never inputs: nothing in ``reduced_model`` or
+``mbs_shimmy`` reads this file.  Units as printed (km/h, bar, m, N/m, degrees, Hz).
+"""
+
+from __future__ import annotations
+
+# Section 3, figures 3 and 4: Hopf speeds of the section 3 model (km/h) by pressure (bar).
+HOPF_SPEEDS_KMH = {
+    2.5: (46.14, 70.5),
+    1.5: (27.63, 97.13, 192.98, 345.89),
+    2.7: (),
+}
+
+# Section 3, figures 3-4: limit cycles.
+NOMINAL_PEAK = {"speed_kmh": 56.34, "theta1_deg": 3.45, "psi_deg": 0.14}
+LOW_PRESSURE_MODES = {  # 1.5 bar
+    "yaw": {"theta1_deg": 9.85, "psi_deg": 0.41, "frequency_hz": (5.28, 6.66)},
+    "tramp": {"theta1_deg": 3.18, "psi_deg": 0.92, "frequency_hz": (10.6, 13.2)},
+}
+
+# Figure 5: section 3 model in the (V, p) plane.
+FIG5_F1 = {"speed_kmh": 57.79, "pressure_bar": 2.61}
+FIG5_TRAMP_VANISHES = {"speed_kmh": 252.0, "pressure_bar": 1.73}
+
+# Section 4 critical values (second parameter in SI units as printed).
+SECTION4 = {
+    "a0_fold_2.5bar_m": 0.186,               # HB1 and HB2 collide at nominal pressure (figure 6)
+    "a0_fold_speed_kmh": 58.0,               # "the speed at which bifurcations intersect remain unchanged"
+    "t0_yaw_vanishes_1.5bar_m": 0.053,       # figure 8
+    "t0_tramp_vanishes_1.5bar_m": 0.057,
+    "t0_hopf_hopf_1.5bar_m": 0.135,
+    "t0_dh1_1.5bar_m": 0.146,
+    "t0_dh2_1.5bar_m": 0.216,
+    "t0_modes_merge_1.5bar_m": 0.28,         # "finally merge into one mode when t > 0.28 m"
+    "sigma0_tramp_vanishes_1.5bar_m": 0.73,  # figure 13
+    "sigma0_yaw_vanishes_1.5bar_m": 1.2,
+    "k5_tramp_vanishes_1.5bar_Npm": 4.39e5,  # figure 14
+    "k5_modes_merge_1.5bar_Npm": 2.55e5,
+    "k5_F1_2.56bar_Npm": 2.41e5,             # figure 15 (1.024 p_i0)
+    "k5_F2_2.56bar_Npm": 3.19e5,
+    "k5_second_mode_upper_2.56bar_Npm": 2.78e5,
+}
+
+# Section 5, figure 17: cumulative effects.  None where the paper says the feature does not exist.
+SECTION5 = {
+    "": {"no_shimmy_bar": 2.61, "tramp_vanishes_bar": 1.73},
+    "hcl": {"no_shimmy_bar": 2.58, "tramp_vanishes_bar": 1.75, "cusp_kmh": 220.5, "cusp_bar": 0.078},
+    "hcl,pt": {"no_shimmy_bar": 2.56, "tramp_vanishes_bar": 1.88, "hopf_hopf_bar": 0.53},
+    "hcl,pt,rl": {"no_shimmy_bar": 2.59, "tramp_vanishes_bar": None},
+    "hcl,pt,rl,vs": {"no_shimmy_bar": 2.6, "modes_meet_bar": 0.76},
+}
+
+# Figure 9a (t0 = 0.25 m, 1.5 bar): cycle folds and torus points (km/h).
+FIG9A = {"S1": 184.75, "T1": 181.65, "T2": 157.39, "S2": 135.56}

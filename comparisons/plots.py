@@ -1,0 +1,74 @@
+"""Figures: matplotlib only, kept out of the model packages."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from reduced_model.family import SpeedFamily  # noqa: E402
+from reduced_model.hopf_curves import HopfDiagram  # noqa: E402
+from reduced_model.special_points import PointKind  # noqa: E402
+
+from .options import interface_unit  # noqa: E402
+
+MARKERS = {PointKind.HOPF_FOLD: ("o", "F"), PointKind.HOPF_HOPF: ("s", "HH"),
+           PointKind.GENERALIZED_HOPF: ("D", "DH"), PointKind.ZERO_HOPF: ("^", "ZH")}
+
+
+def save_figure(fig, path: str) -> None:
+    """Write to a temporary name in the same folder, then rename: no truncated PNG under the final name."""
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=130, bbox_inches="tight")
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def stability_grid(family: SpeedFamily, speeds: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Number of unstable eigenvalues of straight running on a (value, speed) grid."""
+    count = np.zeros((len(values), len(speeds)), dtype=int)
+    for i, q in enumerate(values):
+        A0 = family.linear_matrix(0.0, q)
+        A1 = family.linear_matrix(1.0, q) - A0
+        stack = A0[None] + speeds[:, None, None] * A1[None]  # affine in V (see reduced_model.hopf)
+        count[i] = np.sum(np.linalg.eigvals(stack).real > 0.0, axis=1)
+    return count
+
+
+def draw_hopf_diagram(ax, diagram: HopfDiagram, family: SpeedFamily, color="k", shade=True, label=None) -> None:
+    unit, factor = interface_unit(diagram.param)
+    if shade:
+        speeds = np.linspace(diagram.vmin, diagram.vmax, 161)
+        values = np.linspace(diagram.lo, diagram.hi, 121)
+        stable = stability_grid(family, speeds, values) == 0
+        ax.contourf(speeds * 3.6, values / factor, stable.astype(float), levels=[0.5, 1.5], colors=["0.85"])
+    for i, c in enumerate(diagram.curves):
+        ax.plot(c.speeds * 3.6, c.values / factor, "-", color=color, lw=1.4, label=label if i == 0 else None)
+    for s in diagram.special_points:
+        marker, text = MARKERS.get(s.kind, ("x", s.kind.value))
+        ax.plot(s.speed * 3.6, s.value / factor, marker, color="C3", ms=5)
+        ax.annotate(text, (s.speed * 3.6, s.value / factor), textcoords="offset points", xytext=(4, 4),
+                    fontsize=8, color="C3")
+    ax.set_xlim(diagram.vmin * 3.6, diagram.vmax * 3.6)
+    ax.set_ylim(diagram.lo / factor, diagram.hi / factor)
+    ax.set_xlabel("speed V [km/h]")
+    ax.set_ylabel(f"{diagram.param} [{unit}]")
+
+
+def plot_hopf_diagram(diagram: HopfDiagram, family: SpeedFamily, path: str, title: str | None = None) -> None:
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    draw_hopf_diagram(ax, diagram, family)
+    effects = ",".join(family.model.effects.names) or "section 3 model"
+    ax.set_title(title or f"Hopf curves ({effects}); shaded: straight running stable", fontsize=10)
+    save_figure(fig, path)

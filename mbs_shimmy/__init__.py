@@ -1,0 +1,1 @@
+"""Geometrically full multibody model of the axle in Exudyn."""

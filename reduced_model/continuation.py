@@ -1,0 +1,148 @@
+"""Pseudo-arclength continuation of the solution curve of G(u) = 0, G: R^(m+1) -> R^m.
+
+Keller's method (Keller, Lectures on Numerical Methods in Bifurcation Problems, Tata Institute 1987; Allgower &
+Georg, Introduction to Numerical Continuation Methods, SIAM 2003, ch. 2): Euler predictor along the tangent, Newton
+corrector on G = 0 plus the hyperplane orthogonal to the tangent in a weighted norm, step-size adaptation from the
+Newton iteration count and the turn of the tangent.  The algorithm knows nothing of the problem: the caller
+passes G and its Jacobian, a weight per unknown, and an optional re-normalisation applied to accepted points
+(for eigenvector phase conditions).  Event location along an accepted step uses :meth:`Branch.point_at`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .special_points import BranchStatus
+
+Residual = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]  # u -> (G(u), DG(u))
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    ds: float = 0.02          # initial step in the weighted norm
+    ds_min: float = 1e-7
+    ds_max: float = 0.1
+    max_steps: int = 2000
+    newton_tol: float = 1e-10  # on the weighted Newton step
+    newton_max_iter: int = 8
+    max_turn: float = 0.35     # radians between successive tangents
+
+
+def tangent(J: np.ndarray, w: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
+    """Unit (weighted) null vector of J, oriented along ``previous``."""
+    if previous is None:
+        t = np.linalg.svd(J * (1.0 / w)[None, :])[2][-1] / w
+    else:
+        M = np.vstack([J, (previous * w * w)[None, :]])
+        rhs = np.zeros(M.shape[0])
+        rhs[-1] = 1.0
+        t = np.linalg.solve(M, rhs)
+    t = t / np.linalg.norm(t * w)
+    if previous is not None and np.dot(t * w, previous * w) < 0:
+        t = -t
+    return t
+
+
+def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray, settings: ContinuationSettings,
+            anchor: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """Newton on [G(u); <t, u - u_pred>_W] = 0.  Returns (u, DG(u), iterations) or None on failure."""
+    u = u_pred.copy()
+    row = t * w * w
+    for it in range(1, settings.newton_max_iter + 1):
+        G, J = residual(u)
+        if not np.all(np.isfinite(G)):
+            return None
+        F = np.concatenate([G, [row @ (u - u_pred)]])
+        du = np.linalg.solve(np.vstack([J, row[None, :]]), -F)
+        u = u + du
+        if np.linalg.norm(du * w) < settings.newton_tol:
+            G, J = residual(u)
+            if np.max(np.abs(G)) < 1e-7 * (1.0 + np.max(np.abs(u))):
+                return u, J, it
+            return None
+    return None
+
+
+@dataclass
+class Branch:
+    """Accepted points u_k with tangents t_k; the branch stopped with ``status`` (``message`` says where)."""
+
+    residual: Residual
+    weights: np.ndarray
+    settings: ContinuationSettings
+    points: list[np.ndarray] = field(default_factory=list)
+    tangents: list[np.ndarray] = field(default_factory=list)
+    steps: list[float] = field(default_factory=list)  # ds used to reach point k from k-1
+    status: BranchStatus = BranchStatus.MAX_STEPS
+    message: str = ""
+
+    def point_at(self, k: int, s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Corrected point at arclength s from point k along its tangent, and the tangent there."""
+        u_pred = self.points[k] + s * self.tangents[k]
+        result = correct(self.residual, u_pred, self.tangents[k], self.weights, self.settings)
+        if result is None:
+            raise RuntimeError(f"corrector failed at s = {s:.3g} after point {k}")
+        u, J, _ = result
+        return u, tangent(J, self.weights, self.tangents[k])
+
+
+def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | None, weights: np.ndarray,
+                   settings: ContinuationSettings = ContinuationSettings(),
+                   accept: Callable[[Branch], str | None] | None = None,
+                   renormalize: Callable[[np.ndarray], np.ndarray] | None = None) -> Branch:
+    """Follow G(u) = 0 from u0 (already a solution) in ``direction``.
+
+    ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`BranchStatus`
+    value name (with optional ': message') to stop.  ``renormalize`` maps an accepted point to an equivalent
+    one (same solution, new phase/normalisation), or returns None to keep it,; the residual must be consistent with the renormalised point.
+    """
+    w = np.asarray(weights, dtype=float)
+    branch = Branch(residual=residual, weights=w, settings=settings)
+    G, J = residual(u0)
+    if np.max(np.abs(G)) > 1e-6 * (1.0 + np.max(np.abs(u0))):
+        branch.status, branch.message = BranchStatus.NEWTON_FAILED, "start point is not a solution"
+        return branch
+    t = tangent(J, w, None)
+    if direction is not None and np.dot(t * w, direction * w) < 0:
+        t = -t
+    branch.points.append(u0)
+    branch.tangents.append(t)
+    branch.steps.append(0.0)
+    ds = settings.ds
+    for _ in range(settings.max_steps):
+        u, t = branch.points[-1], branch.tangents[-1]
+        while True:
+            result = correct(residual, u + ds * t, t, w, settings)
+            if result is not None:
+                u_new, J_new, iters = result
+                t_new = tangent(J_new, w, t)
+                turn = np.arccos(np.clip(np.dot(t_new * w, t * w), -1.0, 1.0))
+                if turn <= settings.max_turn:
+                    break
+            ds *= 0.5
+            if ds < settings.ds_min:
+                branch.status = BranchStatus.STEP_UNDERFLOW
+                branch.message = f"step size underflow after {len(branch.points)} points"
+                return branch
+        branch.points.append(u_new)
+        branch.tangents.append(t_new)
+        branch.steps.append(ds)
+        if accept is not None:
+            verdict = accept(branch)
+            if verdict is not None:
+                name, _, message = verdict.partition(":")
+                branch.status, branch.message = BranchStatus(name), message.strip()
+                return branch
+        if renormalize is not None:
+            # After the events of this step are located: they need the residual the step was computed with.
+            renormalized = renormalize(branch.points[-1])
+            if renormalized is not None:
+                branch.points[-1] = renormalized
+                branch.tangents[-1] = tangent(residual(renormalized)[1], w, branch.tangents[-1])
+        ds = min(ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6), settings.ds_max)
+    branch.status = BranchStatus.MAX_STEPS
+    branch.message = f"stopped after {settings.max_steps} steps"
+    return branch

@@ -1,0 +1,90 @@
+"""The shimmy model as a two-parameter family: speed V and one more named parameter q.
+
+This is the "problem" in BifurcationKit's sense: it only evaluates the vector field and its Jacobian; the
+continuation algorithms in :mod:`reduced_model.hopf` and :mod:`reduced_model.hopf_curves` never see the physics.
+q is ``"pressure"`` (both tyres, Pa) or any entry of :class:`~reduced_model.parameters.ShimmyParameters`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from .model import N_STATES, ShimmyModel
+from .parameters import ParameterError, ShimmyParameters
+
+# How parameters are shown at the interface (label, factor from SI); everything else is shown in SI.
+DISPLAY = {"pressure": ("bar", 1e-5), "speed": ("km/h", 3.6)}
+
+
+def display_unit(name: str) -> tuple[str, float]:
+    if name in DISPLAY:
+        return DISPLAY[name]
+    return ShimmyParameters.unit(name), 1.0
+
+
+@dataclass(frozen=True)
+class SpeedFamily:
+    """f(x; V, q): the model with speed V (m/s) and parameter ``param`` = q (SI) free."""
+
+    model: ShimmyModel
+    param: str = "pressure"
+    pressure: float | tuple[float, float] = 2.5e5  # used when param is not "pressure"
+    _cache: dict = field(default_factory=dict, init=False, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.param != "pressure":
+            ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
+
+    @property
+    def n(self) -> int:
+        return N_STATES
+
+    @property
+    def nominal(self) -> float:
+        """Current value of q, used as its scale in continuation."""
+        if self.param == "pressure":
+            return float(np.mean(np.atleast_1d(self.pressure)))
+        return float(getattr(self.model.params, self.param))
+
+    def at(self, q: float) -> tuple[ShimmyModel, float | Sequence[float]]:
+        q = float(q)
+        found = self._cache.get(q)
+        if found is None:
+            if self.param == "pressure":
+                found = (self.model, q)
+            else:
+                found = (self.model.with_params(**{self.param: q}), self.pressure)
+            if len(self._cache) > 4096:
+                self._cache.clear()
+            self._cache[q] = found
+        return found
+
+    def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        model, pressure = self.at(q)
+        return model.rhs(x, speed, pressure)
+
+    def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        model, pressure = self.at(q)
+        return model.jacobian(x, speed, pressure)
+
+    def equilibrium(self, speed: float, q: float) -> np.ndarray:
+        """Straight running; checked, because everything downstream assumes f(0) = 0."""
+        x0 = np.zeros(N_STATES)
+        residual = np.max(np.abs(self.rhs(x0, speed, q)))
+        if residual > 1e-12:
+            raise ParameterError(f"straight running is not an equilibrium here (|f(0)| = {residual:.3g})")
+        return x0
+
+    def linear_matrix(self, speed: float, q: float) -> np.ndarray:
+        """Jacobian at straight running x = 0 (an equilibrium everywhere; :meth:`validate` checks it)."""
+        model, pressure = self.at(q)
+        return model.linear_matrix(speed, pressure)
+
+    def validate(self, q: float) -> None:
+        """Raise :class:`ParameterError` if the model is meaningless at q or straight running is no equilibrium."""
+        model, pressure = self.at(q)
+        model.tyres(pressure)
+        self.equilibrium(1.0, q)

@@ -1,0 +1,163 @@
+"""The 3-DOF truck front-axle shimmy model, eqs. (2.1)-(2.11) of Yang, Knowles & Mavros.
+
+State (SI): ``x = (theta1, theta1_dot, theta2, theta2_dot, psi, psi_dot, alpha1, alpha2)``: yaw angles of the right
+(1) and left (2) wheel about their kingpins, axle tramp angle, tyre slip angles.  The left wheel carries the drag
+link (k2, c2).  The section 3 model uses constant a0, t0, sigma0, k5_0; the extended model of section 5 switches
+on, each on its own, the pressure dependence of the half contact length (``hcl``, eq. 4.1), pneumatic trail
+(``pt``, 4.2-4.8), relaxation length (``rl``, 4.9) and vertical stiffness (``vs``, 4.10).  The lateral force always
+depends on pressure (2.4-2.9).  Left and right tyre may have different pressures.
+
+Straight running x = 0 is an equilibrium for every speed and pressure because F_y(0) = 0; the Jacobian there is
+affine in the speed (V enters only through V/R and V/sigma), which :mod:`reduced_model.hopf` exploits.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from . import tyre
+from .parameters import YANG2024, ParameterError, ShimmyParameters
+
+STATE_NAMES = ("theta1", "theta1_dot", "theta2", "theta2_dot", "psi", "psi_dot", "alpha1", "alpha2")
+STATE_UNITS = ("rad", "rad/s", "rad", "rad/s", "rad", "rad/s", "rad", "rad")
+N_STATES = len(STATE_NAMES)
+EFFECT_NAMES = ("hcl", "pt", "rl", "vs")
+_COMPLEX_STEP = 1e-30
+_STEP_MATRIX = 1j * _COMPLEX_STEP * np.eye(8)
+
+
+@dataclass(frozen=True)
+class Effects:
+    """Which tyre properties follow the inflation pressure (section 5); all off is the section 3 model."""
+
+    hcl: bool = False
+    pt: bool = False
+    rl: bool = False
+    vs: bool = False
+
+    @classmethod
+    def parse(cls, text: str | Iterable[str] | None) -> "Effects":
+        """``"hcl,pt"``, ``"all"``, ``"none"`` or ``""`` (or an iterable of names)."""
+        if text is None:
+            return cls()
+        names = [s.strip() for s in (text.split(",") if isinstance(text, str) else text) if s.strip()]
+        if names in (["all"],):
+            return cls(True, True, True, True)
+        if names in ([], ["none"]):
+            return cls()
+        unknown = [n for n in names if n not in EFFECT_NAMES]
+        if unknown:
+            raise ParameterError(f"unknown effect '{unknown[0]}' (known: {', '.join(EFFECT_NAMES)}, all, none)")
+        return cls(**{n: True for n in names})
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(n for n in EFFECT_NAMES if getattr(self, n))
+
+    @classmethod
+    def cumulative(cls) -> tuple["Effects", ...]:
+        """The paper's figure-17 sequence: LF, +HCL, +PT, +RL, +VS."""
+        return tuple(cls.parse(EFFECT_NAMES[:k]) for k in range(len(EFFECT_NAMES) + 1))
+
+
+@dataclass(frozen=True)
+class WheelTyre:
+    """Tyre properties of one wheel at its inflation pressure (SI)."""
+
+    pressure: float
+    force: tyre.MagicFormula
+    trail: tyre.TrailFormula | None  # None: constant trail t0
+    t0: float
+    a: float
+    sigma: float
+    k5: float
+
+    def trail_at(self, alpha):
+        return self.t0 if self.trail is None else self.trail.trail(alpha)
+
+
+def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> WheelTyre:
+    if not pressure > 0.0:
+        raise ParameterError(f"inflation pressure must be positive, got {pressure / 1e5:g} bar")
+    mf = tyre.magic_formula(params, pressure)
+    trail = tyre.trail_formula(params, pressure) if effects.pt else None
+    a = tyre.half_contact_length(params, pressure) if effects.hcl else params.a0
+    sigma = tyre.relaxation_length(params, pressure) if effects.rl else params.sigma0
+    k5 = tyre.vertical_stiffness(params, pressure) if effects.vs else params.k5_0
+    t_nominal = trail.Dt if trail is not None else params.t0
+    checks = (("magic-formula peak force D_y", mf.D, "N"), ("cornering stiffness K_ya", mf.K, "N/rad"),
+              ("half contact length", a, "m"), ("relaxation length", sigma, "m"),
+              ("pneumatic trail", t_nominal, "m"), ("vertical stiffness k5", k5, "N/m"))
+    for what, value, unit in checks:
+        if not value > 0.0:
+            raise ParameterError(f"{what} is {value:.4g} {unit} at {pressure / 1e5:g} bar: "
+                                 f"the model is meaningless there")
+    return WheelTyre(pressure=pressure, force=mf, trail=trail, t0=params.t0, a=a, sigma=sigma, k5=k5)
+
+
+def _pair(pressure: float | Sequence[float]) -> tuple[float, float]:
+    if isinstance(pressure, (float, int, np.floating)):
+        p = float(pressure)
+        return p, p
+    right, left = pressure
+    return float(right), float(left)
+
+
+@dataclass(frozen=True)
+class ShimmyModel:
+    """Vector field f(x; V, p_i) of eqs. (2.1)-(2.11).  ``pressure`` is one value or (right, left), Pa."""
+
+    params: ShimmyParameters = YANG2024
+    effects: Effects = Effects()
+    # Tyre properties per pressure pair; per instance because hashing 56 parameters per call costs more than rhs.
+    _tyre_cache: dict = dataclasses.field(default_factory=dict, init=False, compare=False, repr=False)
+
+    def with_params(self, **overrides: float) -> "ShimmyModel":
+        return dataclasses.replace(self, params=self.params.replace(**overrides))
+
+    def tyres(self, pressure: float | Sequence[float]) -> tuple[WheelTyre, WheelTyre]:
+        key = _pair(pressure)
+        found = self._tyre_cache.get(key)
+        if found is None:
+            found = (_wheel_tyre(self.params, self.effects, key[0]), _wheel_tyre(self.params, self.effects, key[1]))
+            if len(self._tyre_cache) > 4096:
+                self._tyre_cache.clear()
+            self._tyre_cache[key] = found
+        return found
+
+    def rhs(self, x: np.ndarray, speed: float, pressure: float | Sequence[float]) -> np.ndarray:
+        """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s, pressure in Pa."""
+        P = self.params
+        w1, w2 = self.tyres(pressure)
+        th1, th1d, th2, th2d, psi, psid, al1, al2 = x
+        Fy1 = w1.force.force(al1)
+        Fy2 = w2.force.force(al2)
+        gyro = P.I2 * speed / P.R
+        coupling1 = 0.5 * P.L * w1.k5 * P.l * (P.gamma - P.f) + P.k4 * P.R ** 2 * P.gamma
+        coupling2 = 0.5 * P.L * w2.k5 * P.l * (P.gamma - P.f) + P.k4 * P.R ** 2 * P.gamma
+        # L^2/2 k5 of eq. (2.3) is the two tyres' vertical springs at +-L/2; split per wheel.
+        tramp_stiffness = P.k3 + 0.25 * P.L ** 2 * (w1.k5 + w2.k5) + 2.0 * P.k4 * P.R ** 2
+        th1dd = (P.k1 * (th2 - th1) + P.c1 * (th2d - th1d) - P.c4 * th1d - gyro * psid + coupling1 * psi
+                 - Fy1 * (P.R * P.gamma + w1.trail_at(al1))) / P.I1
+        th2dd = (P.k1 * (th1 - th2) + P.c1 * (th1d - th2d) - (P.c4 + P.c2) * th2d - P.k2 * th2 - gyro * psid
+                 + coupling2 * psi - Fy2 * (P.R * P.gamma + w2.trail_at(al2))) / P.I1
+        psidd = (-P.c3 * psid - tramp_stiffness * psi + gyro * (th1d + th2d) + (Fy1 + Fy2) * P.R) / P.I3
+        al1d = (-speed * (al1 + th1) + w1.a * th1d) / w1.sigma
+        al2d = (-speed * (al2 + th2) + w2.a * th2d) / w2.sigma
+        return np.array([th1d, th1dd, th2d, th2dd, psid, psidd, al1d, al2d])
+
+    def jacobian(self, x: np.ndarray, speed: float, pressure: float | Sequence[float]) -> np.ndarray:
+        """Exact Jacobian df/dx by complex-step differentiation (Squire & Trapp, SIAM Rev. 40, 1998)."""
+        X = np.asarray(x, dtype=float)[:, None] + _STEP_MATRIX
+        return self.rhs(X, speed, pressure).imag / _COMPLEX_STEP
+
+    def linear_matrix(self, speed: float, pressure: float | Sequence[float]) -> np.ndarray:
+        """Jacobian at straight running (x = 0)."""
+        return self.jacobian(np.zeros(N_STATES), speed, pressure)
+
+
+STRAIGHT_RUNNING = np.zeros(N_STATES)

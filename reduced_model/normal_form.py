@@ -1,0 +1,68 @@
+"""Multilinear derivatives of a vector field and the first Lyapunov coefficient of a Hopf point.
+
+Directional derivatives D^k f(x0)[d, ..., d] come from Cauchy's integral formula evaluated by the FFT on a circle
+in the complex plane (Lyness & Moler, SIAM J. Numer. Anal. 4, 1967; Fornberg, ACM TOMS 7, 1981): for an analytic
+vector field this is accurate to a few ulps of the Taylor coefficients, unlike nested finite differences.  Mixed
+terms follow by polarisation.  The first Lyapunov coefficient is Kuznetsov's formula (Elements of Applied
+Bifurcation Theory, 3rd ed., 2004, eq. 3.20), with <q, q> = 1 and <p, q> = 1; l1 < 0 means supercritical.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+VectorField = Callable[[np.ndarray], np.ndarray]  # x of shape (n, m), complex allowed -> (n, m)
+
+
+def taylor_coefficients(f: VectorField, x0: np.ndarray, directions: np.ndarray, order: int = 3,
+                        radius: float = 1e-2, n_points: int = 32) -> np.ndarray:
+    """Coefficients a_k (k = 0..order) of f(x0 + z d) = sum a_k z^k for each row d of ``directions``.
+
+    Returns a complex array of shape (len(directions), order + 1, n), from one call of f on all sample points.
+    ``radius`` is the largest state excursion on the sampling circle; it must lie well inside the domain where f
+    is analytic (for the tyre: |alpha| << 1/B_y, about 0.1 rad).
+    """
+    D = np.atleast_2d(np.asarray(directions, dtype=complex))
+    size = np.max(np.abs(D), axis=1)
+    r = radius / np.where(size > 0.0, size, 1.0)  # a zero direction has zero derivatives whatever r is
+    z = r[:, None] * np.exp(2j * np.pi * np.arange(n_points) / n_points)[None, :]          # (k, N)
+    X = np.asarray(x0, dtype=complex)[:, None, None] + D.T[:, :, None] * z[None, :, :]      # (n, k, N)
+    n, k = X.shape[0], X.shape[1]
+    samples = f(X.reshape(n, k * n_points)).reshape(n, k, n_points)
+    coeffs = np.fft.fft(samples, axis=2)[:, :, : order + 1] / n_points                      # (n, k, order+1)
+    coeffs = coeffs / (r[None, :, None] ** np.arange(order + 1)[None, None, :])
+    return coeffs.transpose(1, 2, 0)
+
+
+def bilinear(f: VectorField, x0: np.ndarray, pairs: list[tuple[np.ndarray, np.ndarray]], **kw) -> list:
+    """B(u, v) = D^2 f(x0)[u, v] for each (u, v) pair, by polarisation, in one call of f."""
+    dirs = [w for u, v in pairs for w in (u + v, u - v)]
+    a2 = 2.0 * taylor_coefficients(f, x0, np.array(dirs), order=2, **kw)[:, 2]
+    return [0.25 * (a2[2 * i] - a2[2 * i + 1]) for i in range(len(pairs))]
+
+
+def first_lyapunov_coefficient(f: VectorField, x0: np.ndarray, A: np.ndarray, omega: float,
+                               q: np.ndarray, **kw) -> float:
+    """l1 at a Hopf point with A q = i omega q (Kuznetsov 2004, eq. 3.20), for <q, q> = 1.
+
+    With this normalisation the planar normal form x' = -w y + a x r^2, y' = w x + a y r^2 has l1 = 2a/w.
+    """
+    n = A.shape[0]
+    q = np.asarray(q, dtype=complex)
+    q = q / np.linalg.norm(q)
+    # Left eigenvector: A^T p = -i omega p, from the smallest singular vector.
+    _, _, vh = np.linalg.svd(A.T + 1j * omega * np.eye(n))
+    p = vh[-1].conj()
+    p = p / np.conj(np.vdot(p, q))
+    qb = q.conj()
+    # B(q, qb), B(q, q) and C(q, q, qb) = [T(q + qb) - T(q - qb) - 2 T(qb)] / 6 with T(w) = D^3 f[w, w, w].
+    c = taylor_coefficients(f, x0, np.array([q + qb, q - qb, 2.0 * q, 0.0 * q, qb]), order=3, **kw)
+    B_qqb = 0.25 * (2.0 * c[0, 2] - 2.0 * c[1, 2])
+    B_qq = 0.25 * (2.0 * c[2, 2] - 2.0 * c[3, 2])
+    C_qqqb = (6.0 * c[0, 3] - 6.0 * c[1, 3] - 12.0 * c[4, 3]) / 6.0
+    term2, term3 = bilinear(f, x0, [(q, np.linalg.solve(A, B_qqb)),
+                                    (qb, np.linalg.solve(2j * omega * np.eye(n) - A, B_qq))], **kw)
+    value = np.vdot(p, C_qqqb) - 2.0 * np.vdot(p, term2) + np.vdot(p, term3)
+    return float(value.real / (2.0 * omega))

@@ -1,0 +1,56 @@
+"""Kinds, statuses and records of detected points, shared by every continuation in the project."""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+
+class PointKind(enum.Enum):
+    HOPF = "hopf"
+    HOPF_FOLD = "hopf_fold"                # fold of a Hopf curve in the second parameter: two Hopf points meet
+    HOPF_HOPF = "hopf_hopf"                # two imaginary pairs at once
+    GENERALIZED_HOPF = "generalized_hopf"  # first Lyapunov coefficient zero (Bautin point, the paper's DH)
+    ZERO_HOPF = "zero_hopf"                # a real eigenvalue crosses zero on a Hopf curve
+    CYCLE_FOLD = "cycle_fold"
+    TORUS = "torus"
+    PERIOD_DOUBLING = "period_doubling"
+
+
+class PointStatus(enum.Enum):
+    LOCATED = "located"                # test function zero found to tolerance
+    NOT_CONVERGED = "not_converged"    # detected in the bracket, location failed: only the bracket is known
+
+
+class Criticality(enum.Enum):
+    SUPERCRITICAL = "supercritical"
+    SUBCRITICAL = "subcritical"
+
+
+class BranchStatus(enum.Enum):
+    COMPLETE = "complete"            # reached the window boundary or closed on itself
+    CLOSED = "closed"                # returned to its start: a closed curve
+    MAX_STEPS = "max_steps"
+    STEP_UNDERFLOW = "step_underflow"
+    NEWTON_FAILED = "newton_failed"
+    DEGENERATE = "degenerate"        # frequency went to zero (Bogdanov-Takens-like end)
+
+    @property
+    def is_complete(self) -> bool:
+        return self in (BranchStatus.COMPLETE, BranchStatus.CLOSED)
+
+
+class ConvergenceError(RuntimeError):
+    """Newton's method did not converge; the message says where."""
+
+
+@dataclass(frozen=True)
+class SpecialPoint:
+    """A detected point on a branch: kind, location (SI), the bracketing interval and the location status."""
+
+    kind: PointKind
+    speed: float                              # m/s
+    value: float                              # second parameter (SI), or NaN on one-parameter branches
+    bracket: tuple[float, float]              # arclength interval of the sign change
+    status: PointStatus
+    data: dict = field(default_factory=dict, compare=False)  # kind-specific extras (frequencies, l1, ...)
