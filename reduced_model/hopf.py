@@ -46,7 +46,10 @@ class HopfPoint:
         return self.speed * 3.6
 
     @property
-    def criticality(self) -> Criticality:
+    def criticality(self) -> Criticality | None:
+        """None when l1 was not computed (a vector field that cannot be evaluated at complex states)."""
+        if np.isnan(self.first_lyapunov):
+            return None
         return Criticality.SUPERCRITICAL if self.first_lyapunov < 0.0 else Criticality.SUBCRITICAL
 
 
@@ -95,8 +98,12 @@ def hopf_jacobian(A, A_V, vr, vi, omega, cr, ci, A_q=None) -> np.ndarray:
 
 
 def locate_hopf(family: SpeedFamily, q: float, speed: float, omega: float, v: np.ndarray,
-                tol: float = 1e-11) -> HopfPoint:
-    """Newton on the Hopf defining system at fixed q, from a guess (speed, omega, eigenvector v)."""
+                tol: float = 1e-11, lyapunov: bool = True) -> HopfPoint:
+    """Newton on the Hopf defining system at fixed q, from a guess (speed, omega, eigenvector v).
+
+    ``family`` needs ``n`` and ``linear_matrix(V, q)``; with ``lyapunov`` also ``rhs(X, V, q)`` analytic in X
+    (complex states) and ``equilibrium(V, q)``.
+    """
     n = family.n
     v = np.asarray(v, dtype=complex) / np.linalg.norm(v)
     cr, ci = v.real.copy(), v.imag.copy()
@@ -114,10 +121,12 @@ def locate_hopf(family: SpeedFamily, q: float, speed: float, omega: float, v: np
         raise ConvergenceError(f"Hopf Newton did not converge near {speed * 3.6:.3f} km/h "
                                f"(last step {np.max(np.abs(dy)):.2e})")
     vr, vi, w, V = y[:n], y[n:2 * n], abs(y[2 * n]), y[2 * n + 1]
-    A = family.linear_matrix(V, q)
-    x0 = family.equilibrium(V, q)
     vec = vr + 1j * vi if y[2 * n] > 0 else vr - 1j * vi
-    l1 = first_lyapunov_coefficient(lambda X: family.rhs(X, V, q), x0, A, w, vec)
+    l1 = float("nan")
+    if lyapunov:
+        A = family.linear_matrix(V, q)
+        x0 = family.equilibrium(V, q)
+        l1 = first_lyapunov_coefficient(lambda X: family.rhs(X, V, q), x0, A, w, vec)
     return HopfPoint(speed=float(V), value=float(q), omega=float(w), first_lyapunov=l1, eigenvector=vec,
                      newton_iterations=it)
 
@@ -175,15 +184,19 @@ def _scan_seed_speeds(family: SpeedFamily, q: float, vmin: float, vmax: float, n
     return [0.5 * (speeds[i] + speeds[i + 1]) for i in idx]
 
 
-def hopf_points(family: SpeedFamily, q: float, vmin: float, vmax: float) -> tuple[HopfPoint, ...]:
-    """Every Hopf point of straight running with vmin <= V <= vmax (m/s) at parameter value q, by speed."""
+def hopf_points(family: SpeedFamily, q: float, vmin: float, vmax: float,
+                lyapunov: bool = True) -> tuple[HopfPoint, ...]:
+    """Every Hopf point of straight running with vmin <= V <= vmax (m/s) at parameter value q, by speed.
+
+    ``family`` needs ``n``, ``validate(q)`` and ``linear_matrix(V, q)`` (and what :func:`locate_hopf` needs for l1).
+    """
     family.validate(q)
     found: list[HopfPoint] = []
     for V in seed_speeds(family, q, vmin, vmax):
         pair = _hopf_pair(family.linear_matrix(V, q))
         if pair is None:
             continue
-        point = locate_hopf(family, q, V, *pair)
+        point = locate_hopf(family, q, V, *pair, lyapunov=lyapunov)
         if vmin <= point.speed <= vmax and not any(abs(point.speed - h.speed) < 1e-7 and
                                                    abs(point.omega - h.omega) < 1e-6 for h in found):
             found.append(point)

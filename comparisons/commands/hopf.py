@@ -21,7 +21,7 @@ def add_parser(sub) -> None:
 
 def hopf_row(h: HopfPoint) -> dict:
     return {"speed_kmh": h.speed_kmh, "frequency_hz": h.frequency_hz, "first_lyapunov": h.first_lyapunov,
-            "criticality": h.criticality.value}
+            "criticality": h.criticality.value if h.criticality else None}
 
 
 def run(args: argparse.Namespace) -> int:
