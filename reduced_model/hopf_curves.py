@@ -180,7 +180,9 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
             if side * (branch.points[k][idx] - bound) >= 0.0:
                 # Started on the boundary and moved out: nothing of this step is inside the window.
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-                return "complete: started on the window boundary"
+                u_end = branch.points[-1]
+                return (f"complete: ends on the window boundary at {u_end[iV] * 3.6:.3f} km/h, "
+                        f"{problem.family.param} = {u_end[iq]:.6g}")
             else:
                 s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][idx] - bound, 0.0, step,
                                           xtol=1e-13)
@@ -226,7 +228,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
     return branch, found, l1s
 
 
-def _start_vector(problem: _HopfProblem, point: HopfPoint) -> np.ndarray:
+def _start_vector(point: HopfPoint) -> np.ndarray:
     v = point.eigenvector / np.linalg.norm(point.eigenvector)
     return np.concatenate([v.real, v.imag, [point.omega, point.speed, point.value]])
 
@@ -239,7 +241,7 @@ def hopf_curve(family: SpeedFamily, point: HopfPoint, lo: float, hi: float, vmin
     halves = []
     for sign in (+1.0, -1.0):
         problem = _HopfProblem(family, scale, point.eigenvector)
-        start = _start_vector(problem, point)
+        start = _start_vector(point)
         direction = sign * tangent(problem(start)[1], _weights(family, hi - lo), None)
         branch, found, l1s = _follow(problem, start, direction, lo, hi, vmin, vmax, settings)
         halves.append((branch, found, l1s))
@@ -269,6 +271,8 @@ def _on_curve(curve: HopfCurve, point: HopfPoint, q_range: float, tol: float = 5
     """Whether a Hopf point lies on an already computed curve (same place in (V, q) and same frequency)."""
     P = np.column_stack([curve.speeds / SPEED_SCALE, curve.values / q_range])
     x = np.array([point.speed / SPEED_SCALE, point.value / q_range])
+    if len(P) < 2:  # a curve that stopped at its seed (a corner of the window)
+        return bool(np.linalg.norm(P[0] - x) < tol and abs(curve.omegas[0] - point.omega) < 0.02 * point.omega)
     a, b = P[:-1], P[1:]
     seg = b - a
     lam = np.clip(np.einsum("ij,ij->i", x - a, seg) / np.maximum(np.einsum("ij,ij->i", seg, seg), 1e-300), 0, 1)
