@@ -41,6 +41,8 @@ SECTION4 = {
     "k5_F1_2.56bar_Npm": 2.41e5,             # figure 15 (1.024 p_i0)
     "k5_F2_2.56bar_Npm": 3.19e5,
     "k5_second_mode_upper_2.56bar_Npm": 2.78e5,
+    "k5_F3_Npm": 6e5,                        # figure 14: "F2 moves to F3"; the pressure is not printed
+    "sigma0_small_shimmy_upper_kmh": 325.0,  # figure 13, 1.5 bar: "shimmy from 0 to 325 km/h" as sigma -> 0
 }
 
 # Section 5, figure 17: cumulative effects.  None where the paper says the feature does not exist.

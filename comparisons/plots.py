@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -15,6 +12,7 @@ from reduced_model.family import SpeedFamily  # noqa: E402
 from reduced_model.hopf_curves import HopfDiagram  # noqa: E402
 from reduced_model.special_points import PointKind  # noqa: E402
 
+from .files import atomic_path  # noqa: E402
 from .options import interface_unit  # noqa: E402
 
 MARKERS = {PointKind.HOPF_FOLD: ("o", "F"), PointKind.HOPF_HOPF: ("s", "HH"),
@@ -22,17 +20,12 @@ MARKERS = {PointKind.HOPF_FOLD: ("o", "F"), PointKind.HOPF_HOPF: ("s", "HH"),
 
 
 def save_figure(fig, path: str) -> None:
-    """Write to a temporary name in the same folder, then rename: no truncated PNG under the final name."""
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder)
-    os.close(fd)
+    """Save through a temporary file (:func:`comparisons.files.atomic_path`): no truncated PNG at ``path``."""
     try:
-        fig.savefig(tmp, dpi=130, bbox_inches="tight")
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=130, bbox_inches="tight", format="png")
     finally:
         plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def stability_grid(family: SpeedFamily, speeds: np.ndarray, values: np.ndarray) -> np.ndarray:

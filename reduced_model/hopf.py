@@ -24,6 +24,10 @@ from .normal_form import first_lyapunov_coefficient
 from .special_points import ConvergenceError, Criticality
 
 NEWTON_MAX_ITER = 30
+# Lower end of every speed window (m/s).  At V = 0 the relaxation equations lose their speed terms, two
+# eigenvalues are zero and the Hopf defining system is singular: a Hopf curve that runs down to V -> 0 turns back
+# on itself there instead of ending, and Newton near V = 0 is ill-conditioned.  Shimmy below walking pace is moot.
+MIN_SPEED = 0.5 / 3.6
 
 
 @dataclass(frozen=True)
@@ -188,9 +192,12 @@ def hopf_points(family: SpeedFamily, q: float, vmin: float, vmax: float,
                 lyapunov: bool = True) -> tuple[HopfPoint, ...]:
     """Every Hopf point of straight running with vmin <= V <= vmax (m/s) at parameter value q, by speed.
 
+    The window never reaches below :data:`MIN_SPEED`.
+
     ``family`` needs ``n``, ``validate(q)`` and ``linear_matrix(V, q)`` (and what :func:`locate_hopf` needs for l1).
     """
     family.validate(q)
+    vmin = max(vmin, MIN_SPEED)
     found: list[HopfPoint] = []
     for V in seed_speeds(family, q, vmin, vmax):
         pair = _hopf_pair(family.linear_matrix(V, q))

@@ -22,7 +22,7 @@ import scipy.optimize
 
 from .continuation import Branch, ContinuationSettings, continue_curve, tangent
 from .family import SpeedFamily
-from .hopf import HopfPoint, hopf_jacobian, hopf_points, hopf_residual, parameter_derivative, speed_derivative
+from .hopf import MIN_SPEED, HopfPoint, hopf_jacobian, hopf_points, hopf_residual, parameter_derivative, speed_derivative
 from .normal_form import first_lyapunov_coefficient
 from .parameters import ParameterError
 from .special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
@@ -297,10 +297,11 @@ def hopf_diagram(family: SpeedFamily, lo: float, hi: float, vmin: float, vmax: f
     """All Hopf curves met on ``n_seeds`` lines q = const in [lo, hi] (plus q = nominal), each followed in full.
 
     A closed Hopf curve lying strictly between two seed lines would be missed; the seed lines are spaced at
-    (hi - lo) / (n_seeds - 1).
+    (hi - lo) / (n_seeds - 1).  The speed window never reaches below :data:`reduced_model.hopf.MIN_SPEED`.
     """
     if not lo < hi:
         raise ParameterError(f"range must have LO < HI, got {lo:g} >= {hi:g}")
+    vmin = max(vmin, MIN_SPEED)
     for q in (lo, hi):
         family.validate(q)
     seeds = list(np.linspace(lo, hi, n_seeds))

@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         emit_json(diagram_json(diagram, factor))
     else:
         print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
-              f"[0, {args.vmax:g}] km/h" + ("" if args.param == "pressure" else f", at {args.pressure:g} bar"))
+              f"[{diagram.vmin * 3.6:g}, {args.vmax:g}] km/h" + ("" if args.param == "pressure" else f", at {args.pressure:g} bar"))
         for i, c in enumerate(diagram.curves, 1):
             print(f"  curve {i}: {len(c.speeds)} points; ends: {c.messages[0]} | {c.messages[1]}")
         for s in diagram.special_points:
