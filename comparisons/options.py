@@ -69,6 +69,43 @@ def add_model_options(p: argparse.ArgumentParser, pressure_required: bool = True
                    help="override a Table 1 entry (units as in 'shimmy params'); repeatable")
 
 
+def add_model_choice(p: argparse.ArgumentParser) -> None:
+    """``--model reduced|mbs`` with the MBS fidelity options."""
+    p.add_argument("--model", choices=("reduced", "mbs"), default="reduced",
+                   help="the paper's reduced model (default) or the Exudyn multibody model")
+    p.add_argument("--fidelity", choices=("reduced", "full"), default=None,
+                   help="MBS: all assumptions of the reduced model on (reduced, default) or all off (full)")
+    p.add_argument("--assume", metavar="NAME[,NAME]", default=None,
+                   help="MBS: keep exactly these assumptions on (see 'shimmy assumptions')")
+
+
+def build_fidelity(args: argparse.Namespace):
+    """The MBS fidelity from --fidelity/--assume; None for the reduced model (and an error if they are given)."""
+    if args.model != "mbs":
+        if args.fidelity is not None or args.assume is not None:
+            raise UsageError("--fidelity and --assume apply to --model mbs only")
+        return None
+    if args.fidelity is not None and args.assume is not None:
+        raise UsageError("give either --fidelity or --assume, not both")
+    from mbs_shimmy import Fidelity
+    try:
+        return Fidelity.parse(args.assume if args.assume is not None else (args.fidelity or "reduced"))
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def build_family(args: argparse.Namespace, param: str = "pressure", pressure: float | None = None):
+    """The speed family of the chosen model (reduced or MBS) over ``param``."""
+    model = build_model(args)
+    fidelity = build_fidelity(args)
+    pressure = pressure if pressure is not None else args.pressure * BAR
+    if fidelity is None:
+        from reduced_model.family import SpeedFamily
+        return SpeedFamily(model, param, pressure=pressure)
+    from mbs_shimmy import MbsFamily
+    return MbsFamily.of(model.params, model.effects, fidelity, param=param, pressure=pressure)
+
+
 def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output on stdout (schema in README)")
     if plot:

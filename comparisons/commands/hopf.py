@@ -1,18 +1,19 @@
-"""``shimmy hopf``: Hopf points of straight running at one pressure in 0..vmax."""
+"""``shimmy hopf``: Hopf points of straight running at one pressure in 0..vmax, reduced model or MBS."""
 
 from __future__ import annotations
 
 import argparse
 
-from reduced_model.family import SpeedFamily
 from reduced_model.hopf import HopfPoint, hopf_points
 
-from ..options import BAR, KMH, add_model_options, add_output_options, build_model, emit_json, positive_float
+from ..options import (BAR, KMH, add_model_choice, add_model_options, add_output_options, build_family, emit_json,
+                       positive_float)
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("hopf", help="Hopf points (shimmy onset speeds) at one pressure")
     add_model_options(p)
+    add_model_choice(p)
     p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
                    help="upper end of the speed window, km/h (default 400)")
     add_output_options(p)
@@ -20,23 +21,29 @@ def add_parser(sub) -> None:
 
 
 def hopf_row(h: HopfPoint) -> dict:
-    return {"speed_kmh": h.speed_kmh, "frequency_hz": h.frequency_hz, "first_lyapunov": h.first_lyapunov,
+    return {"speed_kmh": h.speed_kmh, "frequency_hz": h.frequency_hz,
+            "first_lyapunov": None if h.criticality is None else h.first_lyapunov,
             "criticality": h.criticality.value if h.criticality else None}
 
 
 def run(args: argparse.Namespace) -> int:
-    model = build_model(args)
-    family = SpeedFamily(model, "pressure")
-    points = hopf_points(family, args.pressure * BAR, 0.0, args.vmax * KMH)
+    family = build_family(args)
+    mbs = args.model == "mbs"
+    # The MBS is not evaluated at complex states, so its points carry no first Lyapunov coefficient.
+    points = hopf_points(family, args.pressure * BAR, 0.0, args.vmax * KMH, lyapunov=not mbs)
+    effects = list(family.model.effects.names)
     if args.json:
-        emit_json({"pressure_bar": args.pressure, "effects": list(model.effects.names),
-                   "hopf": [hopf_row(h) for h in points]})
+        out = {"pressure_bar": args.pressure, "effects": effects, "hopf": [hopf_row(h) for h in points]}
+        if mbs:
+            out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
+        emit_json(out)
         return 0
-    effects = ",".join(model.effects.names) or "none (section 3 model)"
-    print(f"Hopf points at {args.pressure:g} bar, 0-{args.vmax:g} km/h, pressure effects: {effects}")
+    what = f"MBS, fidelity {family.model.fidelity.label}" if mbs else "reduced model"
+    print(f"Hopf points at {args.pressure:g} bar, 0-{args.vmax:g} km/h ({what}), pressure effects: "
+          f"{','.join(effects) or 'none (section 3 model)'}")
     if not points:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
-        print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz  l1 = {h.first_lyapunov:+.4e}"
-              f"  ({h.criticality.value})")
+        l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
+        print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
     return 0
