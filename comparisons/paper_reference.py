@@ -57,9 +57,24 @@ SECTION5 = {
 # Figure 9a (t0 = 0.25 m, 1.5 bar): cycle folds and torus points (km/h).
 FIG9A = {"S1": 184.75, "T1": 181.65, "T2": 157.39, "S2": 135.56}
 
+# Figures 10 and 11 (t0 = 0.25 m, 1.5 bar): the phase portrait is at 180 km/h; the ramps' jump speeds are not
+# printed, only that they happen at S1 (speed increasing) and T2 (speed decreasing).
+FIG11_SPEED_KMH = 180.0
+
+# Figure 15a (2.5 bar, k5 = 2.2e5 N/m): peak tramp angle of the low-speed mode (deg).
+FIG15A = {"k5_0_Npm": 2.2e5, "psi_low_mode_deg": 0.41}
+
 # Printed values that an honest computation of the printed equations does not reproduce beyond the printed
 # digits, with the explanation shown in the README's "Differences from the paper" table and in verify's report.
 KNOWN_DIFFERENCES = {
     "hopf:1.5:HB1": "computed 26.630 km/h; the other five section 3 Hopf speeds agree to every printed digit, "
                     "so 27.63 is most likely a misprint of 26.63",
+    "cycles:2.5:peak_speed": "computed: max|theta1| peaks at 56.64 km/h and max|psi| at 57.01 km/h (paper: both "
+                             "at 56.34); the peak is flat, at 56.34 km/h max|theta1| is 0.001 deg below it",
+    "cycles:1.5:yaw_frequency_low": "computed 5.263 Hz (the frequency at HB1 = 26.63 km/h); the printed 5.28 Hz "
+                                    "is the cycle's frequency near 27.5 km/h, consistent with the printed HB1",
+    "cycles:fig9a:T2": "computed 157.3849 km/h, printed 157.39: 0.005 km/h apart, at the rounding edge",
+    "cycles:fig10b:jump": "ramp 200 -> 120 km/h in 80 s: tramp -> yaw at 138.5 km/h, not at T2 = 157.38 km/h: "
+                          "delayed loss of stability on the slowly crossed torus point (the jump at constant "
+                          "speed below T2 is shown separately)",
 }

@@ -4,7 +4,8 @@ Keller's method (Keller, Lectures on Numerical Methods in Bifurcation Problems, 
 Georg, Introduction to Numerical Continuation Methods, SIAM 2003, ch. 2): Euler predictor along the tangent, Newton
 corrector on G = 0 plus the hyperplane orthogonal to the tangent in a weighted norm, step-size adaptation from the
 Newton iteration count and the turn of the tangent.  The algorithm knows nothing of the problem: the caller
-passes G and its Jacobian, a weight per unknown, and an optional re-normalisation applied to accepted points
+passes G and its Jacobian (dense, or a structured operator for large discretisations, see
+:func:`_solve_bordered`), a weight per unknown, and an optional re-normalisation applied to accepted points
 (for eigenvector phase conditions).  Event location along an accepted step uses :meth:`Branch.point_at`.
 """
 
@@ -31,15 +32,26 @@ class ContinuationSettings:
     max_turn: float = 0.35     # radians between successive tangents
 
 
+def _solve_bordered(J, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve [J; row] x = rhs.  J is a dense array or a structured operator with ``shape`` and
+    ``solve_bordered(row, rhs)`` (e.g. the condensed collocation system of :mod:`reduced_model.collocation`,
+    which returns NaN when singular: the corrector then fails the step)."""
+    if hasattr(J, "solve_bordered"):
+        return J.solve_bordered(row, rhs)
+    return np.linalg.solve(np.vstack([J, row[None, :]]), rhs)
+
+
 def tangent(J: np.ndarray, w: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
     """Unit (weighted) null vector of J, oriented along ``previous``."""
-    if previous is None:
+    if previous is None and isinstance(J, np.ndarray):
         t = np.linalg.svd(J * (1.0 / w)[None, :])[2][-1] / w
     else:
-        M = np.vstack([J, (previous * w * w)[None, :]])
-        rhs = np.zeros(M.shape[0])
+        # A structured J without a previous tangent: border with a fixed generic row (any row not orthogonal
+        # to the null vector gives it); the caller sets the orientation.
+        border = previous if previous is not None else np.random.default_rng(0).standard_normal(J.shape[1]) / w
+        rhs = np.zeros(J.shape[0] + 1)
         rhs[-1] = 1.0
-        t = np.linalg.solve(M, rhs)
+        t = _solve_bordered(J, border * w * w, rhs)
     t = t / np.linalg.norm(t * w)
     if previous is not None and np.dot(t * w, previous * w) < 0:
         t = -t
@@ -56,7 +68,7 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
         if not np.all(np.isfinite(G)):
             return None
         F = np.concatenate([G, [row @ (u - u_pred)]])
-        du = np.linalg.solve(np.vstack([J, row[None, :]]), -F)
+        du = _solve_bordered(J, row, -F)
         u = u + du
         if np.linalg.norm(du * w) < settings.newton_tol:
             G, J = residual(u)

@@ -1,0 +1,146 @@
+"""``shimmy simulate``: time simulation at constant speed or along a speed ramp, with shimmy-mode switches."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+import numpy as np
+
+from reduced_model.model import STATE_NAMES
+from reduced_model.modes import ModeClassifier, ModeHistory
+from reduced_model.simulation import initial_state, simulate
+from reduced_model.trajectory import SpeedSchedule, Trajectory
+
+from ..options import (BAR, KMH, UsageError, add_model_options, add_output_options, build_model, emit_json,
+                       positive_float, progress)
+
+MODELS = ("reduced", "mbs")
+HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
+CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("simulate", help="time simulation at constant speed or along a speed ramp; reports "
+                                        "switches between the yaw and tramp modes")
+    p.add_argument("--model", choices=MODELS, default="reduced",
+                   help="reduced: the paper's 3-DOF model; mbs: the multibody model (default reduced)")
+    add_model_options(p)
+    how = p.add_mutually_exclusive_group(required=True)
+    how.add_argument("--speed", type=positive_float("--speed"), metavar="KMH", help="constant speed, km/h")
+    how.add_argument("--ramp", metavar="FROM:TO:SECONDS",
+                     help="speed ramp: FROM to TO km/h linearly in SECONDS s, then held")
+    p.add_argument("--duration", type=positive_float("--duration"), metavar="SECONDS",
+                   help=f"simulated time, s (default {CONSTANT_DURATION:g} at constant speed, ramp time + "
+                        f"{HOLD_AFTER_RAMP:g} for a ramp)")
+    p.add_argument("--initial", action="append", metavar="NAME=VALUE",
+                   help=f"initial state, SI (rad, rad/s); names: {' '.join(STATE_NAMES)}; repeatable "
+                        f"(default theta1=0.01, the rest 0)")
+    add_output_options(p, plot=True)
+    p.set_defaults(run=run)
+
+
+def parse_ramp(text: str) -> SpeedSchedule:
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise UsageError(f"--ramp expects FROM:TO:SECONDS, got '{text}'")
+    try:
+        start, end, seconds = (float(x) for x in parts)
+    except ValueError:
+        raise UsageError(f"--ramp expects three numbers FROM:TO:SECONDS, got '{text}'") from None
+    if not all(math.isfinite(v) and v > 0.0 for v in (start, end, seconds)):
+        raise UsageError(f"--ramp speeds and duration must be positive, got '{text}'")
+    return SpeedSchedule.ramp(start * KMH, end * KMH, seconds)
+
+
+def parse_initial(items: list[str] | None) -> np.ndarray:
+    if not items:
+        return initial_state()
+    values: dict[str, float] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise UsageError(f"--initial expects NAME=VALUE, got '{item}'")
+        if name not in STATE_NAMES:
+            raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
+        try:
+            value = float(text)
+        except ValueError:
+            raise UsageError(f"--initial {name}: '{text}' is not a number") from None
+        if not math.isfinite(value):
+            raise UsageError(f"--initial {name} must be finite, got {text}")
+        values[name] = value
+    return initial_state(values)
+
+
+def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.ndarray) -> Trajectory:
+    """The one place where a trajectory is made: the reduced model here, the multibody model later."""
+    if args.model == "mbs":
+        raise UsageError("--model mbs is not available yet")
+    model = build_model(args)
+    quiet = args.json or not sys.stderr.isatty()
+    with progress(100, "simulating", quiet) as bar:
+        def tick(t):
+            bar.n = int(100 * t / args.duration)
+            bar.refresh()
+        return simulate(model, args.pressure * BAR, schedule, args.duration, x0, progress=tick)
+
+
+def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
+    final = history.final
+    return {
+        "model": trajectory.model,
+        "integrator": trajectory.integrator,
+        "complete": trajectory.complete,
+        "status": trajectory.status.value,
+        "message": trajectory.message,
+        "duration_s": float(trajectory.t[-1]),
+        "initial_mode": history.initial.value,
+        "mode_switches": [{"time_s": s.time, "speed_kmh": s.speed * 3.6, "from": s.before.value,
+                           "to": s.after.value} for s in history.switches],
+        "final": {"mode": history.final_mode.value, "max_theta1_deg": math.degrees(final.theta1),
+                  "max_psi_deg": math.degrees(final.psi),
+                  "frequency_hz": None if not np.isfinite(final.frequency_hz) else final.frequency_hz,
+                  "speed_kmh": final.speed * 3.6},
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.speed is not None:
+        schedule = SpeedSchedule.constant(args.speed * KMH)
+        default = CONSTANT_DURATION
+    else:
+        schedule = parse_ramp(args.ramp)
+        default = schedule.ramp_time + HOLD_AFTER_RAMP
+    if args.duration is None:
+        args.duration = default
+    x0 = parse_initial(args.initial)
+    trajectory = simulate_model(args, schedule, x0)
+    history = ModeClassifier().classify(trajectory)
+    if args.plot:
+        from ..cycle_plots import plot_trajectory
+        plot_trajectory(trajectory, history, args.plot)
+    if args.json:
+        emit_json(result_json(trajectory, history))
+    else:
+        out = result_json(trajectory, history)
+        how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
+        print(f"{trajectory.model} model at {args.pressure:g} bar, {how}, {out['duration_s']:g} s simulated")
+        print(f"  integrator: {trajectory.integrator}")
+        print(f"  initial mode: {out['initial_mode']}")
+        for s in out["mode_switches"]:
+            print(f"  switch {s['from']:>5s} -> {s['to']:5s} at t = {s['time_s']:7.2f} s, {s['speed_kmh']:7.2f} km/h")
+        f = out["final"]
+        freq = "-" if f["frequency_hz"] is None else f"{f['frequency_hz']:.3f} Hz"
+        print(f"  final: {f['mode']}, max|theta1| {f['max_theta1_deg']:.4f} deg, max|psi| {f['max_psi_deg']:.4f} deg,"
+              f" {freq} (last {ModeClassifier().window:g} s)")
+        if not trajectory.complete:
+            print(f"  INCOMPLETE: {trajectory.message}")
+        if args.plot:
+            print(f"  plot written to {args.plot}")
+    if not trajectory.complete:
+        sys.stderr.write(f"shimmy: incomplete: {trajectory.message}\n")
+        return 3
+    return 0

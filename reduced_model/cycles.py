@@ -1,0 +1,634 @@
+"""Limit cycles (shimmy oscillations): branches born at Hopf points, Floquet multipliers, cycle bifurcations.
+
+Discretisation: orthogonal collocation on an adaptive mesh (:mod:`reduced_model.collocation`, where the choice
+over multiple shooting is argued).  Unknowns u = (node values, period T, free parameter p), p being the speed or
+the family's named parameter; equations: collocation of x' = T f(x) and the integral phase condition
+int_0^1 <x(tau), x_ref'(tau)> dtau = 0 against a recent orbit (Doedel, Keller & Kernevez 1991; AUTO notes).
+Continuation is Keller's pseudo-arclength (:mod:`reduced_model.continuation`) with the Newton matrix solved by
+condensation (:class:`~reduced_model.collocation.CondensedJacobian`).
+
+Branch switching at a Hopf point uses the normal form for the first amplitude (Kuznetsov, Elements of Applied
+Bifurcation Theory, 3rd ed., 2004, sections 3.5 and 10.3.1): with A q = i w q, |q| = 1, p^H q = 1 and
+mu'(V) = Re p^H A_V q, the orbit near the Hopf point is x = 2 Re(z q e^(i w t)) with |z|^2 = -mu' (V - V_H) /
+(l1 w), so a first amplitude |z| fixes the first speed; the guess is then corrected by Newton with the projection
+on the critical eigenfunction held fixed (AUTO's branch switching, Doedel's notes).
+
+Along a branch, with the trivial multiplier (the one nearest +1) left out, the test functions are (Kuznetsov
+2004, ch. 10; Govaerts 2000, ch. 7):
+
+* ``cycle_fold``: the parameter component of the branch tangent (a multiplier through +1 at a fold),
+* ``torus`` (Neimark-Sacker): |mu| - 1 of the complex pair nearest the unit circle, when the number of complex
+  multipliers outside the circle changes,
+* ``period_doubling``: mu + 1 of the real negative multiplier nearest -1, when the number of real multipliers
+  below -1 changes,
+
+each located by Brent's method along the corrected branch, as in :mod:`reduced_model.hopf_curves`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.optimize
+
+from . import collocation as col
+from .continuation import Branch, ContinuationSettings, continue_curve, correct
+from .family import SpeedFamily
+from .hopf import MIN_SPEED, HopfPoint, hopf_points, speed_derivative
+from .model import N_STATES, STATE_NAMES
+from .parameters import ParameterError
+from .special_points import BranchStatus, ConvergenceError, PointKind, PointStatus, SpecialPoint
+
+SPEED = "speed"
+SPEED_SCALE = 10.0          # m/s per unit of arclength
+ANGLE_SCALE = 0.1           # rad per unit of arclength for the angles; rates use ANGLE_SCALE * omega
+ANGLE_STATES = np.array([name in ("theta1", "theta2", "psi", "alpha1", "alpha2") for name in STATE_NAMES])
+COMPLEX_TOL = 1e-7          # |Im mu| below this: a real multiplier
+PERIOD_LIMIT = 50.0         # period growth (relative to the start) taken as approach to a homoclinic orbit
+
+
+@dataclass(frozen=True)
+class CycleSettings:
+    intervals: int = 40
+    degree: int = col.DEFAULT_DEGREE
+    adapt_every: int = 3               # accepted points between mesh adaptations (AUTO's IAD)
+    start_amplitude: float = 0.02      # first amplitude, scaled (0.02: 0.002 rad on the largest angle)
+    continuation: ContinuationSettings = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.5, max_steps=400,
+                                                              newton_tol=1e-7, newton_max_iter=8,
+                                                              max_turn=0.3)
+
+
+@dataclass(frozen=True)
+class CyclePoint:
+    """One periodic orbit: parameters (SI), period, max |x_i| of every state, Floquet multipliers, stability."""
+
+    speed: float                     # m/s
+    value: float                     # the family's second parameter (SI)
+    period: float                    # s
+    amplitude: np.ndarray = field(repr=False)     # (8,) max over the orbit of |x_i|, SI
+    multipliers: np.ndarray = field(repr=False)   # (8,) complex, by decreasing modulus, trivial one included
+    trivial: complex = 1.0                        # the multiplier taken as the trivial one (nearest +1)
+    stable: bool = False
+    orbit: col.Orbit = field(default=None, compare=False, repr=False)
+
+    @property
+    def frequency_hz(self) -> float:
+        return 1.0 / self.period
+
+    @property
+    def speed_kmh(self) -> float:
+        return self.speed * 3.6
+
+    def max_abs(self, name: str) -> float:
+        return float(self.amplitude[STATE_NAMES.index(name)])
+
+    @property
+    def nontrivial(self) -> np.ndarray:
+        k = int(np.argmin(np.abs(self.multipliers - self.trivial)))
+        return np.delete(self.multipliers, k)
+
+
+@dataclass(frozen=True)
+class CycleBranch:
+    """A branch of cycles in one free parameter, with its special points and how it ended."""
+
+    free: str                                   # "speed" or the family's parameter name
+    points: tuple[CyclePoint, ...]
+    special_points: tuple[SpecialPoint, ...]
+    status: BranchStatus
+    message: str
+    start: HopfPoint | None = None              # Hopf point the branch was born at
+    end: HopfPoint | None = None                # Hopf point it returned to, if any
+
+    @property
+    def complete(self) -> bool:
+        return self.status.is_complete
+
+    def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
+        return tuple(p for p in self.special_points if p.kind is kind)
+
+    @property
+    def frequency_range(self) -> tuple[float, float]:
+        """Lowest and highest frequency (Hz) on the branch, its Hopf end points included."""
+        f = [p.frequency_hz for p in self.points]
+        f += [h.frequency_hz for h in (self.start, self.end) if h is not None]
+        return min(f), max(f)
+
+    def peak(self, name: str) -> CyclePoint:
+        """The computed point with the largest max |x_name| (:func:`branch_peak` refines it)."""
+        return max(self.points, key=lambda p: p.max_abs(name))
+
+
+@dataclass(frozen=True)
+class CycleDiagram:
+    """All cycle branches born at the Hopf points of straight running in a speed window at one value of q."""
+
+    value: float
+    vmin: float
+    vmax: float
+    hopf: tuple[HopfPoint, ...]
+    branches: tuple[CycleBranch, ...]
+
+    @property
+    def complete(self) -> bool:
+        return all(b.complete for b in self.branches)
+
+    @property
+    def special_points(self) -> tuple[SpecialPoint, ...]:
+        return tuple(p for b in self.branches for p in b.special_points)
+
+    def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
+        return tuple(p for p in self.special_points if p.kind is kind)
+
+
+def state_scales(omega: float, n: int = N_STATES) -> np.ndarray:
+    """Typical size of each state for norms and mesh monitors: for the shimmy model, angles and rates at
+    frequency omega; for any other vector field (n != 8) ANGLE_SCALE for every state."""
+    if n != N_STATES:
+        return np.full(n, ANGLE_SCALE)
+    return np.where(ANGLE_STATES, ANGLE_SCALE, ANGLE_SCALE * omega)
+
+
+def classify_multipliers(mu: np.ndarray) -> tuple[np.ndarray, complex]:
+    """(non-trivial multipliers, trivial multiplier): the trivial one is the multiplier nearest +1."""
+    k = int(np.argmin(np.abs(mu - 1.0)))
+    return np.delete(mu, k), complex(mu[k])
+
+
+def _complex_outside(mu: np.ndarray) -> int:
+    return int(np.sum((np.abs(mu.imag) > COMPLEX_TOL) & (np.abs(mu) > 1.0)))
+
+
+def _negative_outside(mu: np.ndarray) -> int:
+    return int(np.sum((np.abs(mu.imag) <= COMPLEX_TOL) & (mu.real < -1.0)))
+
+
+def torus_test(mu: np.ndarray) -> float:
+    """|mu| - 1 of the complex non-trivial multiplier nearest the unit circle (NaN if none)."""
+    c = mu[np.abs(mu.imag) > COMPLEX_TOL]
+    if len(c) == 0:
+        return float("nan")
+    k = int(np.argmin(np.abs(np.abs(c) - 1.0)))
+    return float(np.abs(c[k]) - 1.0)
+
+
+def period_doubling_test(mu: np.ndarray) -> float:
+    """mu + 1 of the real negative non-trivial multiplier nearest -1 (NaN if none)."""
+    r = mu[(np.abs(mu.imag) <= COMPLEX_TOL) & (mu.real < 0.0)].real
+    if len(r) == 0:
+        return float("nan")
+    return float(r[np.argmin(np.abs(r + 1.0))] + 1.0)
+
+
+class CycleProblem:
+    """G(u) = 0 for u = (node values, T, p): collocation + phase condition, Jacobian in condensed block form.
+
+    ``free`` is ``"speed"`` or the family's parameter name; the other of (speed, value) stays fixed.  The mesh
+    and the phase reference are state of the problem, updated between continuation steps (:meth:`renormalize`).
+    """
+
+    def __init__(self, family: SpeedFamily, free: str, speed: float, value: float, orbit: col.Orbit,
+                 scales: np.ndarray, p_scale: float, settings: CycleSettings = CycleSettings()):
+        if free not in (SPEED, family.param):
+            raise ParameterError(f"cannot continue cycles in '{free}': the family's parameters are speed and "
+                                 f"{family.param}")
+        self.family, self.free = family, free
+        self.speed, self.value = float(speed), float(value)
+        self.scales, self.p_scale = scales, p_scale
+        self.settings = settings
+        self.sch = col.scheme(orbit.degree)
+        self.degree, self.n = orbit.degree, orbit.n
+        self.steps_since_adapt = 0
+        self.last_tangent: np.ndarray | None = None
+        self._cache: tuple[np.ndarray, dict] | None = None
+        self.set_reference(orbit)
+
+    # --- layout --------------------------------------------------------------------------------------
+    @property
+    def intervals(self) -> int:
+        return len(self.mesh) - 1
+
+    @property
+    def size(self) -> int:
+        return self.intervals * self.degree * self.n
+
+    def pack(self, orbit: col.Orbit, p: float) -> np.ndarray:
+        return np.concatenate([orbit.nodes.ravel(), [orbit.period, p]])
+
+    def orbit_of(self, u: np.ndarray) -> col.Orbit:
+        return col.Orbit(mesh=self.mesh, nodes=u[:self.size].reshape(-1, self.n), period=float(u[self.size]),
+                         degree=self.degree)
+
+    def parameters(self, p: float) -> tuple[float, float]:
+        """(speed, value) at free-parameter value p."""
+        return (float(p), self.value) if self.free == SPEED else (self.speed, float(p))
+
+    def set_fixed(self, speed: float | None = None, value: float | None = None) -> None:
+        """Change the parameter that is not continued (invalidates cached evaluations)."""
+        if speed is not None:
+            self.speed = float(speed)
+        if value is not None:
+            self.value = float(value)
+        self._cache = None
+
+    def mean_square(self, u: np.ndarray) -> tuple[float, np.ndarray]:
+        """Scaled mean square of the orbit, int sum_b (x_b / s_b)^2 dtau, and its gradient in u (zero in T, p)."""
+        e = self.evaluate(u)
+        gw = self.widths[:, None] * self.sch.weights[None, :]
+        Z = e["Xc"] / self.scales ** 2
+        value = float(np.einsum("jk,jkn,jkn->", gw, e["Xc"], Z))
+        per_interval = 2.0 * np.einsum("jk,ki,jkn->jin", gw, self.sch.L, Z)
+        grad = np.zeros((self.size // self.n, self.n))
+        np.add.at(grad, col.node_index(self.intervals, self.degree), per_interval)
+        return value, np.concatenate([grad.ravel(), [0.0, 0.0]])
+
+    def weights(self) -> np.ndarray:
+        nodes = np.tile(1.0 / self.scales, self.intervals * self.degree) / np.sqrt(self.intervals * self.degree)
+        return np.concatenate([nodes, [1.0 / self.period_scale, 1.0 / self.p_scale]])
+
+    def set_reference(self, orbit: col.Orbit) -> None:
+        """Mesh and phase reference from ``orbit`` (the reference's derivative at the collocation points)."""
+        self.mesh = orbit.mesh.copy()
+        self.widths = np.diff(self.mesh)
+        self.reference = orbit
+        self.period_scale = orbit.period
+        Y = orbit.interval_values()
+        self.ref_derivative = col.collocation_derivatives(Y, self.widths, self.sch)
+        gw = self.widths[:, None] * self.sch.weights[None, :]
+        per_interval = np.einsum("jk,ki,jkn->jin", gw, self.sch.L, self.ref_derivative)   # (N, m+1, n)
+        self.phase_gradient = np.zeros_like(orbit.nodes)
+        np.add.at(self.phase_gradient, col.node_index(len(self.widths), self.degree), per_interval)
+        self._cache = None
+
+    # --- evaluation ----------------------------------------------------------------------------------
+    def _parameter_derivative(self, P: np.ndarray, speed: float, value: float) -> np.ndarray:
+        """df/dp at the points P (M, n): complex step in the speed, central difference in a Table 1 entry."""
+        if self.free == SPEED:
+            h = col.COMPLEX_STEP
+            return (self.family.rhs(P.T.astype(complex), speed + 1j * h, value).imag / h).T
+        h = 1e-6 * max(abs(value), self.p_scale)
+        return ((self.family.rhs(P.T, speed, value + h) - self.family.rhs(P.T, speed, value - h)) / (2 * h)).T
+
+    def evaluate(self, u: np.ndarray) -> dict:
+        if self._cache is not None and np.array_equal(self._cache[0], u):
+            return self._cache[1]
+        N, m, n = self.intervals, self.degree, self.n
+        X = u[:self.size].reshape(-1, n)
+        T, p = float(u[self.size]), float(u[self.size + 1])
+        V, q = self.parameters(p)
+        Y = X[col.node_index(N, m)]
+        Xc = col.collocation_states(Y, self.sch)
+        dX = col.collocation_derivatives(Y, self.widths, self.sch)
+        f, Jf = col.values_and_jacobians(lambda Z: self.family.rhs(Z, V, q), Xc.reshape(-1, n))
+        out = {"Y": Y, "Xc": Xc, "dX": dX, "f": f.reshape(N, m, n), "Jf": Jf.reshape(N, m, n, n),
+               "T": T, "V": V, "q": q, "p": p}
+        self._cache = (u.copy(), out)
+        return out
+
+    def blocks(self, u: np.ndarray) -> np.ndarray:
+        e = self.evaluate(u)
+        if "B" not in e:
+            e["B"] = col.block_jacobians(e["Jf"], self.widths, e["T"], self.sch)
+        return e["B"]
+
+    def __call__(self, u: np.ndarray) -> tuple[np.ndarray, col.CondensedJacobian]:
+        N, m, n = self.intervals, self.degree, self.n
+        try:
+            e = self.evaluate(u)
+        except ParameterError:
+            nan = np.full((N, m, n), np.nan)
+            return (np.full(self.size + 1, np.nan),
+                    col.CondensedJacobian(np.full((N, m, n, m + 1, n), np.nan), nan, nan, nan.reshape(-1, n)))
+        T = e["T"]
+        R = e["dX"] - T * e["f"]
+        gw = self.widths[:, None] * self.sch.weights[None, :]                       # (N, m) quadrature
+        phase = np.einsum("jk,jkn,jkn->", gw, e["Xc"], self.ref_derivative)
+        G = np.concatenate([R.ravel(), [phase]])
+        dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["V"], e["q"]).reshape(N, m, n)
+        return G, col.CondensedJacobian(self.blocks(u), -e["f"], -T * dfdp, self.phase_gradient)
+
+    # --- results -------------------------------------------------------------------------------------
+    def multipliers(self, u: np.ndarray) -> np.ndarray:
+        """Floquet multipliers (all n, trivial included) by decreasing modulus."""
+        mu = np.linalg.eigvals(col.monodromy(self.blocks(u)))
+        return mu[np.argsort(-np.abs(mu))]
+
+    def point(self, u: np.ndarray) -> CyclePoint:
+        orbit = self.orbit_of(u)
+        V, q = self.parameters(u[self.size + 1])
+        mu = self.multipliers(u)
+        rest, trivial = classify_multipliers(mu)
+        return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=orbit.maxima(), multipliers=mu,
+                          trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit)
+
+    def scaled_rms(self, u: np.ndarray) -> float:
+        """Size of the orbit in the weighted norm (zero at a Hopf point)."""
+        return float(np.sqrt(np.sum(self.orbit_of(u).mean_square() / self.scales ** 2)))
+
+    # --- between steps -------------------------------------------------------------------------------
+    def renormalize(self, u: np.ndarray) -> np.ndarray | None:
+        """Every ``adapt_every`` accepted points: adapt the mesh and make the current orbit the phase reference
+        (AUTO's IAD; in between the reference is a recent orbit, which fixes the phase just as well).
+
+        After re-meshing, the interpolated orbit is corrected on the new mesh (Newton on the hyperplane through
+        it, orthogonal to the interpolated tangent), so that the branch stays on solutions of the discretisation
+        actually used.  Returns None when nothing changed.
+        """
+        self.steps_since_adapt += 1
+        if self.steps_since_adapt < self.settings.adapt_every or self.last_tangent is None:
+            return None
+        self.steps_since_adapt = 0
+        orbit = self.orbit_of(u)
+        new_mesh = col.adapted_mesh(orbit, self.scales)
+        if col.mesh_quality(self.mesh, new_mesh) > 0.05:
+            t_orbit = col.Orbit(mesh=self.mesh, nodes=self.last_tangent[:self.size].reshape(-1, self.n),
+                                period=1.0, degree=self.degree)
+            moved = col.remesh(orbit, new_mesh)
+            old_reference = self.reference
+            self.set_reference(moved)
+            u_new = self.pack(moved, u[self.size + 1])
+            t_new = np.concatenate([col.remesh(t_orbit, new_mesh).nodes.ravel(), self.last_tangent[-2:]])
+            result = correct(self, u_new, t_new, self.weights(), self.settings.continuation)
+            if result is not None:
+                u = result[0]
+                orbit = self.orbit_of(u)
+            else:
+                self.set_reference(old_reference)  # keep the old mesh
+        self.set_reference(orbit)
+        return u
+
+
+# --------------------------------------------------------------------------------------------------------
+# Branch switching at a Hopf point
+# --------------------------------------------------------------------------------------------------------
+
+def hopf_predictor(family: SpeedFamily, hopf: HopfPoint, amplitude: float,
+                   scales: np.ndarray) -> tuple[float, float, np.ndarray]:
+    """(speed, |z|, q) of the normal-form cycle whose largest scaled state amplitude is ``amplitude``."""
+    A = family.linear_matrix(hopf.speed, hopf.value)
+    A_V = speed_derivative(family, hopf.speed, hopf.value, A)
+    q = hopf.eigenvector / np.linalg.norm(hopf.eigenvector)
+    _, _, vh = np.linalg.svd(A.T + 1j * hopf.omega * np.eye(A.shape[0]))
+    p = vh[-1].conj()
+    p = p / np.conj(np.vdot(p, q))                           # p^H q = 1
+    mu_prime = float(np.vdot(p, A_V @ q).real)               # d Re(lambda) / dV
+    z = amplitude / (2.0 * np.max(np.abs(q) / scales))
+    l1 = hopf.first_lyapunov
+    if not np.isfinite(l1) or mu_prime == 0.0:
+        delta = 0.0
+    else:
+        delta = -l1 * hopf.omega * z * z / mu_prime
+    # Far from the normal form's validity the speed guess is useless; Newton fixes the speed anyway.
+    delta = float(np.clip(delta, -0.05 * SPEED_SCALE, 0.05 * SPEED_SCALE))
+    return hopf.speed + delta, z, q
+
+
+def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings = CycleSettings()
+                  ) -> tuple[CycleProblem, np.ndarray, np.ndarray]:
+    """Problem, first cycle u0 and the direction away from the Hopf point (``ConvergenceError`` on failure)."""
+    scales = state_scales(hopf.omega, family.n)
+    period = 2.0 * np.pi / hopf.omega
+    V1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
+    mesh = col.uniform_mesh(settings.intervals)
+
+    def harmonic(tau):
+        return 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
+
+    guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
+    problem = CycleProblem(family, SPEED, hopf.speed, hopf.value, guess, scales, SPEED_SCALE, settings)
+    u_pred = problem.pack(guess, V1)
+    w = problem.weights()
+    direction = np.concatenate([guess.nodes.ravel(), [0.0, 0.0]])
+    direction /= np.linalg.norm(direction * w)
+    result = correct(problem, u_pred, direction, w, settings.continuation)
+    if result is None:
+        raise ConvergenceError(f"branch switching at the Hopf point at {hopf.speed_kmh:.3f} km/h: Newton did "
+                               f"not converge on the first cycle")
+    u0 = result[0]
+    problem.set_reference(problem.orbit_of(u0))
+    u_hopf = np.concatenate([np.zeros(problem.size), [period, hopf.speed]])
+    return problem, u0, u0 - u_hopf
+
+
+# --------------------------------------------------------------------------------------------------------
+# Following a branch
+# --------------------------------------------------------------------------------------------------------
+
+def _special(kind: PointKind, problem: CycleProblem, u: np.ndarray, bracket, status: PointStatus) -> SpecialPoint:
+    point = problem.point(u)
+    return SpecialPoint(kind=kind, speed=point.speed, value=point.value, bracket=bracket, status=status,
+                        data={"period": point.period, "amplitude": point.amplitude,
+                              "multipliers": point.multipliers, "free": problem.free, "cycle": point})
+
+
+def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, lo: float, hi: float,
+                  hopf: tuple[HopfPoint, ...] = (), start: HopfPoint | None = None,
+                  accept_hook: Callable[[CyclePoint], None] | None = None) -> CycleBranch:
+    """Pseudo-arclength continuation of cycles from u0 until the free parameter leaves [lo, hi], the branch
+    returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails."""
+    ip = problem.size + 1
+    iT = problem.size
+    settings = problem.settings
+    records = [problem.point(u0)]
+    special: list[SpecialPoint] = []
+    arclength = [0.0]
+    amplitudes = [problem.scaled_rms(u0)]
+    start_amplitude = amplitudes[0]
+    start_period = float(u0[iT])
+    end: list[HopfPoint] = []
+    name = problem.free
+
+    def where(u) -> str:
+        V, q = problem.parameters(u[ip])
+        return f"{V * 3.6:.3f} km/h" + ("" if problem.free == SPEED else f", {name} = {q:.6g}")
+
+    def locate(branch: Branch, k: int, s_hi: float, fun, kind: PointKind) -> None:
+        s0 = arclength[k]
+        try:
+            s = scipy.optimize.brentq(lambda s: fun(*branch.point_at(k, s)), 0.0, s_hi, xtol=1e-12, rtol=1e-10)
+            u, _ = branch.point_at(k, s)
+            status = PointStatus.LOCATED
+        except (RuntimeError, ValueError):
+            u, status = branch.points[k + 1], PointStatus.NOT_CONVERGED
+        special.append(_special(kind, problem, u, (s0, s0 + s_hi), status))
+
+    def nontrivial(u):
+        return classify_multipliers(problem.multipliers(u))[0]
+
+    def accept(branch: Branch) -> str | None:
+        k = len(branch.points) - 2
+        u_new = branch.points[-1]
+        step = branch.steps[-1]
+        problem.last_tangent = branch.tangents[-1]
+        verdict = None
+        for bound, side in ((lo, -1), (hi, 1)):
+            if side * (u_new[ip] - bound) <= 0.0:
+                continue
+            if side * (branch.points[k][ip] - bound) >= 0.0:
+                branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
+                return f"complete: ends on the window boundary at {where(branch.points[-1])}"
+            s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][ip] - bound, 0.0, step, xtol=1e-12)
+            u_new, t_new = branch.point_at(k, s)
+            branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
+            problem.last_tangent = t_new
+            step = s
+            verdict = f"complete: left the window at {where(u_new)}"
+            break
+        amp = problem.scaled_rms(u_new)
+        # Through zero amplitude, i.e. through a Hopf point: the branch goes on as the same orbits shifted by
+        # half a period (they satisfy the phase condition too), with a spurious fold at the Hopf point.
+        X_old, X_new = branch.points[k][:problem.size], u_new[:problem.size]
+        if np.dot(X_old, X_new) < 0.0:
+            branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
+            return _hopf_end(branch.points, amplitudes)
+        arclength.append(arclength[-1] + step)
+        rec = problem.point(u_new)
+        prev = records[-1]
+        if np.sign(branch.tangents[k][ip]) != np.sign(branch.tangents[-1][ip]):
+            locate(branch, k, step, lambda u, t: t[ip], PointKind.CYCLE_FOLD)
+        mu_prev, mu_new = prev.nontrivial, rec.nontrivial
+        if _complex_outside(mu_prev) != _complex_outside(mu_new):
+            locate(branch, k, step, lambda u, t: torus_test(nontrivial(u)), PointKind.TORUS)
+        if _negative_outside(mu_prev) != _negative_outside(mu_new):
+            locate(branch, k, step, lambda u, t: period_doubling_test(nontrivial(u)), PointKind.PERIOD_DOUBLING)
+        records.append(rec)
+        amplitudes.append(amp)
+        if accept_hook is not None:
+            accept_hook(rec)
+        if verdict is not None:
+            return verdict
+        if amp < amplitudes[-2] and amp < 1.5 * start_amplitude and len(records) > 2:
+            return _hopf_end(branch.points, amplitudes)
+        if u_new[iT] > PERIOD_LIMIT * start_period:
+            return (f"degenerate: the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
+                    f"(approach to a homoclinic orbit)")
+        return None
+
+    def _hopf_end(points, amps) -> str:
+        """The branch shrinks onto straight running: find the Hopf point it ends at."""
+        u1, u2 = points[-2], points[-1]
+        a1, a2 = amps[-2] ** 2, amps[-1] ** 2
+        p1, p2 = u1[ip], u2[ip]
+        p_end = p2 - a2 * (p2 - p1) / (a2 - a1) if a2 != a1 else p2
+        omega = 2.0 * np.pi / u2[iT]
+        if problem.free == SPEED:
+            match = [h for h in hopf if abs(h.speed - p_end) < max(0.05 * abs(h.speed), 0.5)
+                     and abs(h.omega - omega) < 0.05 * h.omega]
+            if match:
+                h = min(match, key=lambda h: abs(h.speed - p_end))
+                end.append(h)
+                return f"complete: returns to the Hopf point at {h.speed_kmh:.3f} km/h"
+        return f"complete: amplitude vanishes near {where(np.concatenate([u2[:-1], [p_end]]))} (a Hopf point)"
+
+    w = problem.weights()
+    branch = continue_curve(problem, u0, direction, w, settings.continuation, accept=accept,
+                            renormalize=problem.renormalize)
+    message = branch.message
+    if not branch.status.is_complete:
+        message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
+    return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
+                       status=branch.status, message=message, start=start, end=end[0] if end else None)
+
+
+def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: float,
+                     others: tuple[HopfPoint, ...] = (), settings: CycleSettings = CycleSettings(),
+                     accept_hook=None) -> CycleBranch:
+    """The branch of cycles born at ``hopf``, continued in speed within [vmin, vmax] (never below MIN_SPEED,
+    where the slip equations lose their speed terms and the period of the cycles grows without bound)."""
+    vmin = max(vmin, MIN_SPEED)
+    try:
+        problem, u0, direction = start_at_hopf(family, hopf, settings)
+    except ConvergenceError as exc:
+        return CycleBranch(free=SPEED, points=(), special_points=(), status=BranchStatus.NEWTON_FAILED,
+                           message=f"newton_failed: {exc}", start=hopf)
+    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook)
+
+
+def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: float, hi: float,
+                      sign: float = 1.0, settings: CycleSettings = CycleSettings()) -> CycleBranch:
+    """Continue a computed cycle in ``free`` (``"speed"`` or the family's parameter) within [lo, hi];
+    ``sign`` chooses the initial direction of the free parameter."""
+    omega = 2.0 * np.pi / point.period
+    scales = state_scales(omega, point.orbit.n)
+    p_scale = SPEED_SCALE if free == SPEED else 0.1 * max(abs(point.value), 1e-12)
+    problem = CycleProblem(family, free, point.speed, point.value, point.orbit, scales, p_scale, settings)
+    if free == SPEED:
+        lo = max(lo, MIN_SPEED)
+    p0 = point.speed if free == SPEED else point.value
+    u0 = problem.pack(point.orbit, p0)
+    direction = np.zeros_like(u0)
+    direction[-1] = sign
+    return follow_branch(problem, u0, direction, lo, hi)
+
+
+def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
+                  settings: CycleSettings = CycleSettings(), progress=None) -> CycleDiagram:
+    """Every branch of cycles born at a Hopf point of straight running in [vmin, vmax] (m/s) at q = value.
+
+    A Hopf point that an earlier branch returned to is not started again.
+    """
+    family.validate(value)
+    hopf = hopf_points(family, value, vmin, vmax)
+    branches: list[CycleBranch] = []
+    reached: list[HopfPoint] = []
+    for i, h in enumerate(hopf):
+        if not any(h is r for r in reached):
+            b = branch_from_hopf(family, h, vmin, vmax, others=tuple(x for x in hopf if x is not h),
+                                 settings=settings)
+            branches.append(b)
+            if b.end is not None:
+                reached.append(b.end)
+        if progress is not None:
+            progress(i + 1, len(hopf))
+    return CycleDiagram(value=value, vmin=vmin, vmax=vmax, hopf=hopf, branches=tuple(branches))
+
+
+# --------------------------------------------------------------------------------------------------------
+# Single cycles near a computed one
+# --------------------------------------------------------------------------------------------------------
+
+def cycle_at(family: SpeedFamily, near: CyclePoint, speed: float, settings: CycleSettings = CycleSettings(),
+             intervals: int | None = None) -> CyclePoint:
+    """The cycle at ``speed`` (same q) by Newton's method from the nearby cycle ``near`` (T free, speed fixed).
+
+    With ``intervals`` the cycle is computed on a uniform mesh of that many intervals (``near`` is interpolated
+    onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
+    not a function of the speed) or when ``near`` is too far away.
+    """
+    omega = 2.0 * np.pi / near.period
+    orbit = near.orbit if intervals is None else col.remesh(near.orbit, col.uniform_mesh(intervals))
+    problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(omega, orbit.n),
+                           SPEED_SCALE, settings)
+    u_pred = problem.pack(orbit, speed)
+    w = problem.weights()
+    fix_speed = np.zeros_like(u_pred)
+    fix_speed[-1] = 1.0 / w[-1]                       # unit weighted norm: the hyperplane is p = speed
+    result = correct(problem, u_pred, fix_speed, w, settings.continuation)
+    # x = 0 with any period solves the discretised problem too; a collapse onto it is a failure here.
+    if result is None or problem.scaled_rms(result[0]) < 1e-3 * problem.scaled_rms(u_pred):
+        raise ConvergenceError(f"no cycle found at {speed * 3.6:.4f} km/h from the one at "
+                               f"{near.speed * 3.6:.4f} km/h")
+    return problem.point(result[0])
+
+
+def branch_peak(family: SpeedFamily, branch: CycleBranch, name: str,
+                settings: CycleSettings = CycleSettings()) -> CyclePoint:
+    """The cycle where max |x_name| peaks along the branch, maximised over the speed by Brent's method between
+    the neighbours of the largest computed point (a smooth maximum, not at a fold)."""
+    values = [p.max_abs(name) for p in branch.points]
+    k = int(np.argmax(values))
+    if k == 0 or k == len(values) - 1:
+        return branch.points[k]
+    lo, hi = sorted((branch.points[k - 1].speed, branch.points[k + 1].speed))
+    cache: dict[float, CyclePoint] = {}
+
+    def negative(V):
+        cache[V] = cycle_at(family, branch.points[k], V, settings)
+        return -cache[V].max_abs(name)
+
+    res = scipy.optimize.minimize_scalar(negative, bounds=(lo, hi), method="bounded",
+                                         options={"xatol": 1e-7 * (1.0 + abs(hi))})
+    best = cache.get(res.x) or cycle_at(family, branch.points[k], res.x, settings)
+    return best if best.max_abs(name) >= values[k] else branch.points[k]
