@@ -121,6 +121,18 @@ def build_model(args: argparse.Namespace) -> ShimmyModel:
     return ShimmyModel(params=params, effects=effects)
 
 
+def check_output_path(path: str) -> None:
+    """Fail before the work, not after it, when an output file cannot be written where asked."""
+    import os
+    folder = os.path.dirname(os.path.abspath(path))
+    if os.path.isdir(path):
+        raise UsageError(f"{path}: a directory is in the way")
+    if not os.path.isdir(folder):
+        raise UsageError(f"{path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UsageError(f"{path}: the folder is not writable")
+
+
 def emit_json(obj: Any) -> None:
     json.dump(obj, sys.stdout, indent=2)
     sys.stdout.write("\n")

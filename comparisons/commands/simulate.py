@@ -13,10 +13,9 @@ from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
-from ..options import (BAR, KMH, UsageError, add_model_options, add_output_options, build_model, emit_json,
-                       positive_float, progress)
+from ..options import (BAR, KMH, UsageError, add_model_choice, add_model_options, add_output_options, build_fidelity,
+                       build_model, check_output_path, emit_json, positive_float, progress)
 
-MODELS = ("reduced", "mbs")
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
 CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
 
@@ -24,9 +23,8 @@ CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
 def add_parser(sub) -> None:
     p = sub.add_parser("simulate", help="time simulation at constant speed or along a speed ramp; reports "
                                         "switches between the yaw and tramp modes")
-    p.add_argument("--model", choices=MODELS, default="reduced",
-                   help="reduced: the paper's 3-DOF model; mbs: the multibody model (default reduced)")
     add_model_options(p)
+    add_model_choice(p)
     how = p.add_mutually_exclusive_group(required=True)
     how.add_argument("--speed", type=positive_float("--speed"), metavar="KMH", help="constant speed, km/h")
     how.add_argument("--ramp", metavar="FROM:TO:SECONDS",
@@ -38,6 +36,8 @@ def add_parser(sub) -> None:
                    help=f"initial state, SI (rad, rad/s); names: {' '.join(STATE_NAMES)}; repeatable "
                         f"(default theta1=0.01, the rest 0)")
     add_output_options(p, plot=True)
+    p.add_argument("--rerun", metavar="FILE.rrd", help="write a Rerun recording of the run (3D scene, states, "
+                                                        "speed, mode lane, switch events)")
     p.set_defaults(run=run)
 
 
@@ -76,10 +76,13 @@ def parse_initial(items: list[str] | None) -> np.ndarray:
 
 
 def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.ndarray) -> Trajectory:
-    """The one place where a trajectory is made: the reduced model here, the multibody model later."""
-    if args.model == "mbs":
-        raise UsageError("--model mbs is not available yet")
+    """The one place where a trajectory is made: the reduced model (scipy) or the multibody model (Exudyn)."""
     model = build_model(args)
+    fidelity = build_fidelity(args)
+    if fidelity is not None:
+        from mbs_shimmy import simulate as simulate_mbs
+        return simulate_mbs(model.params, model.effects, fidelity, args.pressure * BAR, schedule, x0,
+                            args.duration, poses=bool(args.rerun))
     quiet = args.json or not sys.stderr.isatty()
     with progress(100, "simulating", quiet) as bar:
         def tick(t):
@@ -117,8 +120,18 @@ def run(args: argparse.Namespace) -> int:
     if args.duration is None:
         args.duration = default
     x0 = parse_initial(args.initial)
+    if args.rerun:
+        check_output_path(args.rerun)
     trajectory = simulate_model(args, schedule, x0)
     history = ModeClassifier().classify(trajectory)
+    if args.rerun:
+        from ..recording import RecordingError, write_recording
+        try:
+            write_recording(args.rerun, trajectory, history.segments(), history.switches,
+                            title=f"{trajectory.model} model, {args.pressure:g} bar", model=build_model(args),
+                            pressure=args.pressure * BAR)
+        except RecordingError as exc:
+            raise UsageError(str(exc)) from None
     if args.plot:
         from ..cycle_plots import plot_trajectory
         plot_trajectory(trajectory, history, args.plot)
@@ -140,6 +153,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"  INCOMPLETE: {trajectory.message}")
         if args.plot:
             print(f"  plot written to {args.plot}")
+        if args.rerun:
+            print(f"  recording written to {args.rerun}")
     if not trajectory.complete:
         sys.stderr.write(f"shimmy: incomplete: {trajectory.message}\n")
         return 3
