@@ -80,10 +80,64 @@ def _figure5():
     return run
 
 
+def _cycle_branch_nominal():
+    from reduced_model.cycles import branch_from_hopf
+    from reduced_model.family import SpeedFamily
+    from reduced_model.hopf import hopf_points
+    from reduced_model.model import ShimmyModel
+
+    hb1, hb2 = hopf_points(SpeedFamily(ShimmyModel()), 2.5e5, 0.0, 400 / 3.6)
+
+    def run():
+        branch = branch_from_hopf(SpeedFamily(ShimmyModel()), hb1, 0.0, 400 / 3.6, others=(hb2,))
+        assert branch.end is hb2 and all(p.multipliers.shape == (8,) for p in branch.points)
+        return branch
+    return run
+
+
+def _figure9a_cycles():
+    from reduced_model.cycles import cycle_diagram
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+
+    def run():
+        d = cycle_diagram(SpeedFamily(ShimmyModel().with_params(t0=0.25)), 1.5e5, 0.0, 400 / 3.6)
+        assert len(d.special_points) == 4
+        return d
+    return run
+
+
+def _mbs_simulation(fidelity: str):
+    def setup():
+        import numpy as np
+
+        from mbs_shimmy import Fidelity, simulate
+        from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP
+        from reduced_model.trajectory import SpeedSchedule
+        x0 = np.zeros(8)
+        x0[0] = 0.01
+
+        def run():
+            # 10 s simulated at 1.5 bar, 100 km/h, the step that keeps 1e-4 accuracy; real-time factor = 10 / median
+            return simulate(fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
+                            schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, step=FAST_STEP,
+                            method=FAST_METHOD, poses=False)
+        return run
+    return setup
+
+
 BENCHMARKS: list[Benchmark] = [
     Benchmark("hopf_points_1.5bar", "all Hopf points at 1.5 bar, 0-400 km/h, with l1", 0.020, _hopf_one_pressure),
     Benchmark("figure5_diagram", "figure 5: Hopf curves 0.05-3 bar, 0-400 km/h, with special points", 1.0,
               _figure5, repeats=5),
+    Benchmark("cycle_branch_2.5bar", "limit cycles HB1 -> HB2 at 2.5 bar with Floquet multipliers", 1.0,
+              _cycle_branch_nominal, repeats=5),
+    Benchmark("figure9a_cycles", "figure 9a: all cycle branches, t0 = 0.25 m, 1.5 bar, with S1, T1, T2, S2", 5.0,
+              _figure9a_cycles, repeats=3),
+    Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements, 1.5 bar, 100 km/h, "
+              "RK67 h = 1/210 s (1e-4 accurate); target 20x real time", 0.5, _mbs_simulation("full"), repeats=5),
+    Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced)", 0.5,
+              _mbs_simulation("reduced"), repeats=5),
 ]
 
 

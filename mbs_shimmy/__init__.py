@@ -1,1 +1,45 @@
-"""Geometrically full multibody model of the axle in Exudyn."""
+"""Geometrically full multibody model of the truck front axle in Exudyn (issue 4).
+
+Public API (SI inside; pressures in Pa, speeds in m/s):
+
+* :class:`Fidelity` (``Fidelity.parse("reduced" | "full" | "name,name")``), :class:`Assumption`,
+  :func:`assumptions_table` - the reduced model's assumptions as switches;
+* :class:`MbsModel` (parameters, pressure effects, fidelity, :class:`AxleDimensions`);
+* :class:`MbsFamily` - the model as a speed family for :func:`reduced_model.hopf.hopf_points`
+  (``lyapunov=False``);
+* :func:`simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
+* :func:`assumption_study` - Hopf-speed and limit-cycle shifts of each assumption.
+"""
+
+from dataclasses import dataclass
+
+from .assumption_study import AssumptionRow, AssumptionStudy, HopfShift, assumption_study, match_hopf
+from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from .fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity
+from .limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak, reduced_steady_amplitude
+from .linearisation import MbsFamily, MbsModel
+from .simulation import DEFAULT_METHOD, DEFAULT_STEP, Convergence, convergence, simulate
+
+
+@dataclass(frozen=True)
+class AssumptionsTable:
+    """The assumptions of the reduced model, one row per switch (see :mod:`mbs_shimmy.fidelity`)."""
+
+    rows: tuple[AssumptionInfo, ...]
+
+    def markdown(self) -> str:
+        lines = ["| switch | assumption | where it enters (2.1)-(2.11) | full geometry instead |",
+                 "|---|---|---|---|"]
+        for r in self.rows:
+            lines.append(f"| `{r.name}` | {r.summary} | {r.enters} | {r.full_geometry} |")
+        return "\n".join(lines)
+
+
+def assumptions_table() -> AssumptionsTable:
+    return AssumptionsTable(ASSUMPTIONS)
+
+
+__all__ = ["Assumption", "AssumptionInfo", "AssumptionRow", "AssumptionStudy", "AssumptionsTable", "AxleDimensions",
+           "Convergence", "DEFAULT_DIMENSIONS", "DEFAULT_METHOD", "DEFAULT_STEP", "Fidelity", "HopfShift",
+           "MbsFamily", "MbsModel", "SteadyAmplitude", "assumption_study", "assumptions_table", "convergence",
+           "match_hopf", "mbs_steady_amplitude", "reduced_peak", "reduced_steady_amplitude", "simulate"]

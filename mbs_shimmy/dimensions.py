@@ -1,0 +1,77 @@
+"""Dimensions of the multibody axle that the paper does not give, each with its unit and the reason for its value.
+
+Table 1 fixes the inertias I1 (wheel about its kingpin), I2 (wheel spin), I3 (axle roll), the track L, the
+kingpin offset l, the caster angle gamma and the rolling radius R.  The multibody model also needs masses, the
+wheel's diametral inertia and the linkage arms.  They are chosen here so that the Table 1 inertias hold exactly
+at straight running (the axle's own roll inertia and the knuckle's inertia about the kingpin are what is left);
+the linkage stiffnesses are scaled so that their stiffness about the kingpins is exactly k1 and k2.  With the
+reduced model's assumptions none of these numbers enters the equations (``tests/test_mbs_equivalence.py`` checks
+that); with the full geometry they set the inertial coupling and the linkage nonlinearity.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from reduced_model.parameters import ParameterError, ShimmyParameters
+
+
+def _d(value: float, unit: str, reason: str) -> Any:
+    return field(default=value, metadata={"unit": unit, "reason": reason})
+
+
+@dataclass(frozen=True)
+class AxleDimensions:
+    """Masses, inertias and arm lengths of the multibody axle not given by the paper (SI)."""
+
+    wheel_mass: float = _d(40.0, "kg", "truck wheel with tyre; gives I2 = 4.85 kg m^2 with a radius of "
+                                       "gyration 0.35 m at R = 0.4 m")
+    wheel_diametral_inertia: float = _d(2.6, "kg m^2", "wheel about a diameter; about half of I2 plus the "
+                                                      "tyre width, as for a ring-like rim and tyre")
+    knuckle_mass: float = _d(20.0, "kg", "knuckle, hub and brake; its centre of mass is put on the kingpin axis")
+    knuckle_transverse_inertia: float = _d(0.3, "kg m^2", "knuckle about axes across the kingpin")
+    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass on the roll axis, so it only adds roll inertia")
+    tie_rod_arm: float = _d(0.2, "m", "steering arm length to the tie-rod joint, perpendicular to the kingpin, "
+                                      "pointing rearward")
+    drag_link_arm: float = _d(0.2, "m", "left steering arm to the drag link, pointing inboard")
+    drag_link_length: float = _d(0.8, "m", "drag link from the arm forward to the steering gear on the frame")
+
+    def __post_init__(self) -> None:
+        for f_ in dataclasses.fields(self):
+            value = getattr(self, f_.name)
+            if not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0.0:
+                raise ParameterError(f"dimension {f_.name} must be a positive number "
+                                     f"({f_.metadata['unit']}), got {value!r}")
+
+    def replace(self, **overrides: float) -> "AxleDimensions":
+        names = {f_.name for f_ in dataclasses.fields(self)}
+        for name in overrides:
+            if name not in names:
+                raise ParameterError(f"unknown dimension '{name}' (known: {', '.join(sorted(names))})")
+        return dataclasses.replace(self, **{k: float(v) for k, v in overrides.items()})
+
+    def table(self) -> list[dict[str, Any]]:
+        return [{"name": f_.name, "value": getattr(self, f_.name), "unit": f_.metadata["unit"],
+                 "reason": f_.metadata["reason"]} for f_ in dataclasses.fields(self)]
+
+    # --- derived inertias that make Table 1 hold at straight running ------------------------------------
+    def knuckle_kingpin_inertia(self, params: ShimmyParameters) -> float:
+        """Knuckle about its kingpin: I1 less the wheel's diametral inertia and its offset l (kg m^2)."""
+        value = params.I1 - self.wheel_diametral_inertia - self.wheel_mass * params.l ** 2
+        if not value > 0.0:
+            raise ParameterError(f"I1 = {params.I1:g} kg m^2 is smaller than the wheel's own inertia about the "
+                                 f"kingpin ({params.I1 - value:g} kg m^2): choose a lighter wheel")
+        return value
+
+    def check(self, params: ShimmyParameters) -> None:
+        """Raise :class:`ParameterError` if these dimensions cannot reproduce Table 1's I1 and I2."""
+        self.knuckle_kingpin_inertia(params)
+        if params.I2 > 2.0 * self.wheel_diametral_inertia + 1e-12:
+            raise ParameterError(f"I2 = {params.I2:g} kg m^2 exceeds twice the diametral inertia "
+                                 f"{self.wheel_diametral_inertia:g} kg m^2: no rigid wheel has that")
+
+
+DEFAULT_DIMENSIONS = AxleDimensions()

@@ -1,0 +1,169 @@
+"""The assumptions of the reduced model as named switches of the multibody model.
+
+Every simplification by which the paper's equations (2.1)-(2.11) (Yang, Knowles & Mavros, section 2) differ from
+the geometry of a rigid axle with caster-tilted kingpins, two steered and spinning wheels and a tyre with a contact
+patch is one :class:`Assumption`.  With all of them on (``Fidelity.parse("reduced")``) the multibody equations
+are (2.1)-(2.11) exactly; with all off (``"full"``) every force acts where and in the direction the actual poses
+put it.  :data:`ASSUMPTIONS` documents each one: where it enters the reduced equations and what the full geometry
+does instead (the README table is generated from it).
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+from typing import Iterable
+
+from reduced_model.parameters import ParameterError
+
+
+class Assumption(enum.Enum):
+    SMALL_ANGLES = "small_angles"
+    FIXED_STATIC_LOAD_ARMS = "fixed_static_load_arms"
+    UNCOUPLED_INERTIA = "uncoupled_inertia"
+    SLIP_HEADING_ONLY = "slip_heading_only"
+    LOAD_TRAMP_ONLY = "load_tramp_only"
+    LATERAL_STIFFNESS_TRAMP_ONLY = "lateral_stiffness_tramp_only"
+    CONSTANT_LOAD = "constant_load"
+    QUASI_STEADY_SPEED = "quasi_steady_speed"
+
+
+@dataclass(frozen=True)
+class AssumptionInfo:
+    """One row of the assumptions table."""
+
+    assumption: Assumption
+    summary: str          # the assumption in one line
+    enters: str           # where it enters the reduced equations
+    full_geometry: str    # what the multibody model does with the switch off
+    linear: bool          # False: it changes only the nonlinear terms, so it cannot move a Hopf point
+
+    @property
+    def name(self) -> str:
+        return self.assumption.value
+
+
+ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
+    AssumptionInfo(
+        Assumption.SMALL_ANGLES,
+        "kinematics to first order in the states and in the caster angle (sin gamma -> gamma, cos gamma -> 1)",
+        "every lever arm of (2.1)-(2.3) (R gamma + t, l (gamma - f), L/2, R), the gyroscopic terms I2 V/R, "
+        "theta and psi in (2.10)-(2.11)",
+        "exact rotations about the roll axis and the caster-tilted kingpins; contact point of the steered, "
+        "cambered wheel; force directions turn with the wheel and lever arms follow the pose; gyroscopic "
+        "moment I2 Omega (omega x s), I2 V/R cos(gamma) at straight running; R sin(gamma) + t cos(gamma); slip as "
+        "Pacejka's tan(alpha) with |v_x| of the contact",
+        True),
+    AssumptionInfo(
+        Assumption.FIXED_STATIC_LOAD_ARMS,
+        "the static wheel load Fz and its rolling resistance f Fz act through the straight-running lever arms",
+        "absent from (2.1)-(2.3), which keep only load changes (the k5 terms)",
+        "Fz and f Fz act at the moving contact point: geometric stiffness -2 Fz R in tramp (the contact of the "
+        "cambered wheel moves R psi sideways), -Fz R sin(gamma)^2 in yaw, yaw-tramp couplings of about "
+        "100 N m/rad",
+        True),
+    AssumptionInfo(
+        Assumption.UNCOUPLED_INERTIA,
+        "mass matrix diag(I1, I1, I3): no inertial yaw-tramp coupling, no centrifugal or Coriolis forces",
+        "the left-hand sides I1 theta'', I3 psi'' of (2.1)-(2.3)",
+        "the kinematic tree's mass matrix of the chosen bodies on the caster-tilted kingpins: yaw-tramp coupling "
+        "-(J_knuckle + I_wheel) sin(gamma) - m_wheel l L/2 sin(gamma) (-0.32 kg m^2 with the chosen "
+        "dimensions) and the velocity-dependent inertial forces",
+        True),
+    AssumptionInfo(
+        Assumption.SLIP_HEADING_ONLY,
+        "the slip angle is driven only by the wheel heading and the yaw rate at the leading contact point",
+        "(2.10)-(2.11): -V theta + a theta' on the right-hand side",
+        "velocity of the actual leading contact point: adds R psi' (the rolling axle moves the contact patch "
+        "sideways) and -R sin(gamma) theta' (caster trail) to -V theta + a theta'",
+        True),
+    AssumptionInfo(
+        Assumption.LOAD_TRAMP_ONLY,
+        "the tyre's vertical deflection changes only with the tramp angle",
+        "(L/2) k5 l (gamma - f) psi in (2.1)-(2.2), (L^2/2) k5 psi in (2.3)",
+        "deflection from the actual wheel pose: steering raises the wheel centre by l sin(gamma) theta, adding "
+        "k5 (L/2) l sin(gamma) (theta1 + theta2) to (2.3) and -k5 l^2 gamma (gamma - f) theta to (2.1)-(2.2)",
+        True),
+    AssumptionInfo(
+        Assumption.LATERAL_STIFFNESS_TRAMP_ONLY,
+        "the lateral tyre spring k4 is deflected only by the tramp angle",
+        "k4 R^2 gamma psi in (2.1)-(2.2), 2 k4 R^2 psi in (2.3)",
+        "deflection = lateral displacement of the actual contact point, which steering moves by "
+        "-R sin(gamma) theta: adds the symmetric coupling k4 R^2 gamma (theta1 + theta2) to (2.3) and "
+        "-k4 R^2 gamma^2 theta to (2.1)-(2.2)",
+        True),
+    AssumptionInfo(
+        Assumption.CONSTANT_LOAD,
+        "tyre properties at the static load Fz (the paper keeps Fz = Fz0)",
+        "D_y, B_y, E_y of (2.7)-(2.9), the trail (4.5)-(4.8), a (4.1) and sigma (4.9), all at Fz",
+        "Magic Formula, trail, half contact length and relaxation length at the actual vertical force; "
+        "F_y(0) = 0 at every load, so no Hopf point moves",
+        False),
+    AssumptionInfo(
+        Assumption.QUASI_STEADY_SPEED,
+        "a change of speed enters only through V(t) in the equations",
+        "V in (2.1)-(2.3) and (2.10)-(2.11) along a speed ramp",
+        "along a ramp also the d'Alembert force -m_wheel dV/dt at the wheel centres and the road force that spins "
+        "the wheels up, I2 dOmega/dt / R; nothing at constant speed",
+        False),
+)
+
+_BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
+ALL = frozenset(Assumption)
+
+
+@dataclass(frozen=True)
+class Fidelity:
+    """Which assumptions of the reduced model are on.  All on: the reduced model; none: the full geometry."""
+
+    assumed: frozenset[Assumption] = ALL
+
+    @classmethod
+    def reduced(cls) -> "Fidelity":
+        return cls(ALL)
+
+    @classmethod
+    def full(cls) -> "Fidelity":
+        return cls(frozenset())
+
+    @classmethod
+    def parse(cls, text: str | Iterable[str] | None) -> "Fidelity":
+        """``"reduced"`` (all on), ``"full"`` (all off), or a comma list of assumption names to keep on."""
+        if text is None:
+            return cls.reduced()
+        names = [s.strip() for s in (text.split(",") if isinstance(text, str) else text) if s.strip()]
+        if names == ["reduced"]:
+            return cls.reduced()
+        if names in (["full"], ["none"], []):
+            return cls.full()
+        unknown = [n for n in names if n not in _BY_NAME]
+        if unknown:
+            raise ParameterError(f"unknown assumption '{unknown[0]}' (known: {', '.join(_BY_NAME)}; "
+                                 f"or reduced, full)")
+        return cls(frozenset(_BY_NAME[n] for n in names))
+
+    def without(self, assumption: Assumption | str) -> "Fidelity":
+        """The same fidelity with one assumption switched off."""
+        a = assumption if isinstance(assumption, Assumption) else Fidelity.parse(assumption).single()
+        return Fidelity(self.assumed - {a})
+
+    def single(self) -> Assumption:
+        if len(self.assumed) != 1:
+            raise ValueError("not a single assumption")
+        return next(iter(self.assumed))
+
+    def __contains__(self, assumption: Assumption) -> bool:
+        return assumption in self.assumed
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(info.name for info in ASSUMPTIONS if info.assumption in self.assumed)
+
+    @property
+    def label(self) -> str:
+        if self.assumed == ALL:
+            return "reduced"
+        if not self.assumed:
+            return "full"
+        return ",".join(self.names)
+

@@ -1,0 +1,156 @@
+"""Steady limit-cycle amplitudes by brute-force simulation, for the reduced model and the MBS.
+
+This is the one place where limit-cycle amplitudes are measured; when the reduced model's periodic-orbit
+continuation is available, :func:`reduced_peak` and :func:`reduced_steady_amplitude` can be replaced by it without
+touching the callers.  Method: simulate from a state near the cycle for ``settle`` seconds, then take the largest
+|theta1| (and |psi|) over the last ``window`` seconds; the run has settled when that maximum changed by less than
+:data:`SETTLED_TOL` (relative) against the window before, or fell below :data:`DECAYED` (straight running
+attracts: no cycle there, amplitude 0 to that accuracy).  Otherwise the run is continued, ``settle`` seconds at a
+time, up to :data:`MAX_TIME`.  The reduced model is integrated by scipy's DOP853 (rtol 1e-9, atol 1e-12) on
+:meth:`reduced_model.model.ShimmyModel.rhs`; the MBS by :func:`mbs_shimmy.simulate` (RK44, 1 ms).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+import scipy.integrate
+
+from reduced_model.family import SpeedFamily
+from reduced_model.hopf import hopf_points
+from reduced_model.model import N_STATES, STATE_NAMES, Effects, ShimmyModel
+from reduced_model.parameters import ShimmyParameters
+from reduced_model.trajectory import SpeedSchedule
+
+from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from .fidelity import Fidelity
+from .simulation import simulate
+
+SETTLE = 12.0            # s
+WINDOW = 2.0             # s: several periods of either mode (5-14 Hz)
+SETTLED_TOL = 1e-3
+DECAYED = 1e-5           # rad
+MAX_TIME = 72.0          # s
+RTOL, ATOL = 1e-9, 1e-12
+TH1, PSI = STATE_NAMES.index("theta1"), STATE_NAMES.index("psi")
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+
+
+@dataclass(frozen=True)
+class SteadyAmplitude:
+    """Amplitudes (rad) of the steady oscillation reached at one speed, and the state it ended in."""
+
+    speed: float                 # m/s
+    theta1: float                # max |theta1| over the last window, rad
+    psi: float                   # max |psi| over the last window, rad
+    settled: bool                # changed by less than SETTLED_TOL against the window before
+    final_state: np.ndarray = field(compare=False, repr=False)
+    method: str = ""
+
+    @property
+    def theta1_deg(self) -> float:
+        return math.degrees(self.theta1)
+
+
+def _default_start() -> np.ndarray:
+    x0 = np.zeros(N_STATES)
+    x0[TH1] = 0.01
+    return x0
+
+
+def _amplitudes(t: np.ndarray, x: np.ndarray, end: float, window: float) -> tuple[float, float, bool]:
+    last = t >= end - window - 1e-9
+    before = (t >= end - 2 * window - 1e-9) & ~last
+    a1 = float(np.max(np.abs(x[last, TH1])))
+    a0 = float(np.max(np.abs(x[before, TH1]))) if np.any(before) else math.inf
+    settled = abs(a1 - a0) < SETTLED_TOL * max(a1, 1e-300) or a1 < DECAYED
+    return a1, float(np.max(np.abs(x[last, PSI]))), settled
+
+
+def reduced_steady_amplitude(model: ShimmyModel, pressure: float | Sequence[float], speed: float,
+                             x0: np.ndarray | None = None, settle: float = SETTLE,
+                             window: float = WINDOW) -> SteadyAmplitude:
+    """Steady amplitude of the reduced model at constant ``speed`` (m/s), from ``x0`` (default theta1 = 0.01)."""
+    x = _default_start() if x0 is None else np.asarray(x0, dtype=float)
+    total = 0.0
+    while True:
+        sol = scipy.integrate.solve_ivp(lambda t, y: model.rhs(y, speed, pressure), (0.0, settle), x,
+                                        method="DOP853", rtol=RTOL, atol=ATOL, dense_output=True)
+        t = np.linspace(max(0.0, settle - 2 * window), settle, int(4000 * window) + 1)
+        xs = sol.sol(t).T
+        total += settle
+        a1, ap, settled = _amplitudes(t, xs, settle, window)
+        x = xs[-1].copy()
+        if settled or total >= MAX_TIME:
+            return SteadyAmplitude(speed, a1, ap, settled, x, f"scipy DOP853 rtol {RTOL:g}, {total:g} s")
+
+
+def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: Fidelity,
+                         pressure: float | Sequence[float], speed: float, x0: np.ndarray | None = None,
+                         settle: float = SETTLE, window: float = WINDOW,
+                         dims: AxleDimensions = DEFAULT_DIMENSIONS, step: float = 1e-3) -> SteadyAmplitude:
+    """Steady amplitude of the MBS at constant ``speed`` (m/s) from ``x0`` (reduced-model state order)."""
+    x = _default_start() if x0 is None else np.asarray(x0, dtype=float)
+    total = 0.0
+    while True:
+        traj = simulate(params, effects, fidelity, pressure, SpeedSchedule.constant(speed), x, settle, dims=dims,
+                        step=step, poses=False)
+        if not traj.complete:
+            return SteadyAmplitude(speed, math.nan, math.nan, False, traj.x[-1].copy() if len(traj.t) else x,
+                                   f"MBS run stopped: {traj.message}")
+        total += settle
+        a1, ap, settled = _amplitudes(traj.t, traj.x, settle, window)
+        x = traj.x[-1].copy()
+        if settled or total >= MAX_TIME:
+            return SteadyAmplitude(speed, a1, ap, settled, x, f"{traj.integrator}, {total:g} s")
+
+
+def unstable_windows(model: ShimmyModel, pressure: float, vmax: float) -> list[tuple[float, float]]:
+    """Speed intervals (m/s) between consecutive Hopf points where straight running is unstable."""
+    family = SpeedFamily(model)
+    points = hopf_points(family, pressure, 0.0, vmax, lyapunov=False)
+    edges = [0.0] + [h.speed for h in points] + [vmax]
+    windows = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        mid = 0.5 * (a + b)
+        if b - a > 1e-6 and np.max(np.linalg.eigvals(family.linear_matrix(mid, pressure)).real) > 0.0:
+            windows.append((a, b))
+    return windows
+
+
+def reduced_peak(model: ShimmyModel, pressure: float, vmax: float = 400 / 3.6, settle: float = SETTLE,
+                 iterations: int = 8) -> SteadyAmplitude | None:
+    """The largest steady theta1 amplitude of the reduced model over its unstable speed windows.
+
+    Golden-section search for the maximum in each window (the amplitude rises from zero at each end), starting
+    every run from the state the previous one ended in.  None if straight running is stable everywhere.
+    """
+    best: SteadyAmplitude | None = None
+    for a, b in unstable_windows(model, pressure, vmax):
+        lo, hi = a + 0.05 * (b - a), b - 0.05 * (b - a)
+        state = None
+        cache: dict[float, SteadyAmplitude] = {}
+
+        def amp(v: float) -> SteadyAmplitude:
+            nonlocal state
+            if v not in cache:
+                r = reduced_steady_amplitude(model, pressure, v, state, settle)
+                state = r.final_state
+                cache[v] = r
+            return cache[v]
+
+        x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+        for _ in range(iterations):
+            if amp(x1).theta1 >= amp(x2).theta1:
+                hi, x2 = x2, x1
+                x1 = hi - GOLDEN * (hi - lo)
+            else:
+                lo, x1 = x1, x2
+                x2 = lo + GOLDEN * (hi - lo)
+        top = max(cache.values(), key=lambda r: r.theta1)
+        if best is None or top.theta1 > best.theta1:
+            best = top
+    return best

@@ -1,0 +1,224 @@
+"""Linearisation of the multibody model about straight running, and the model as a family for the Hopf tools.
+
+The built-in ``ComputeODE2Eigenvalues`` / ``ComputeLinearizedSystem`` ignore first-order states (the tyres' slip
+angles) and are wrong for spinning wheels on redundant coordinates (``shared/notes/exudyn.md``).  Instead the
+Jacobian of the complete first-order system
+
+    y = (psi, theta1, theta2, psi', theta1', theta2', alpha1, alpha2),
+    y' = (q', M(q)^-1 f(q, q', alpha, t), g(q, q', alpha, t))
+
+is formed from what Exudyn's solver itself evaluates at states written into the ``Current`` configuration: the
+mass matrix M (``ComputeMassMatrix``) and the right-hand side f (``ComputeODE2RHS``: joint spring-dampers, the
+tree's velocity terms, the force user function) of the tree, whose last two coordinates carry the slip angles as
+velocities with unit mass (:mod:`mbs_shimmy.system`), so that their rows of M^-1 f are g.  The derivatives are
+fourth-order central differences (five-point stencil, step h = 1e-4 in every coordinate, rad or rad/s): the
+truncation error is of order h^4 times the fifth derivative,
+(B_y h)^4 ~ 1e-12 relative through the Magic Formula, and with all assumptions on the generalized forces are
+otherwise linear in the states.  Rounding limits the full geometry: spring deflections are differences of
+positions of order 1 m (|d| - l0 of the tie-rod, R - |P - C| of the tyre), so forces carry ~1e-10 N of rounding
+and the Jacobian ~1e-7 absolute on entries up to 1e4 (1e-11 relative; measured by comparing steps).
+Gyroscopic terms enter through the rotor moments in f; the mass matrix of the tree is exact.
+
+Straight running is an equilibrium at every speed, and the speed enters the equations only through the spin
+V/R (gyroscopic moments) and the road velocity V of the tyre kinematics, both linearly; so the Jacobian at
+straight running is affine in V, A(V) = A0 + V A1, as for the reduced model.  :class:`MbsFamily` forms A0 and A1
+from the Jacobians at V = 0 and V = V_REF and checks the affine form against a direct Jacobian at a third speed
+(:meth:`MbsFamily.validate`).  The Hopf Newton iteration then sees an exactly affine family and converges to
+rounding, where direct difference Jacobians at each speed would leave it ~1e-9 of noise to chase (with the full
+geometry it then stalled above its 1e-11 tolerance).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import exudyn as exu
+import numpy as np
+
+from reduced_model.model import N_STATES, Effects
+from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+
+from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from .fidelity import Fidelity
+from .forces import AxleForces
+from .system import REDUCED_TO_Y, Y_TO_REDUCED, MbsSystem, build_system
+
+FD_STEP = 1e-4
+V_REF = 100.0          # m/s: second speed of the affine form
+V_CHECK = 37.0         # m/s: speed where the affine form is checked against a direct Jacobian
+AFFINE_TOL = 1e-8      # relative to max |A|
+EQUILIBRIUM_TOL = 1e-9   # |y'| at straight running (rad/s, rad/s^2) above which it is not an equilibrium
+
+
+class ConstantSpeed:
+    """Speed schedule V(t) = V for the linearisation (the callable the forces read)."""
+
+    def __init__(self, speed: float):
+        self.value = float(speed)
+
+    def __call__(self, t: float) -> float:
+        return self.value
+
+
+class MbsEvaluator:
+    """First-order right-hand side of an assembled MBS at arbitrary states, through Exudyn's solver."""
+
+    def __init__(self, system: MbsSystem):
+        self.system = system
+        settings = exu.SimulationSettings()
+        settings.solution.file.write = False
+        settings.timeIntegration.verboseMode = 0
+        settings.timeIntegration.solverType = exu.DynamicSolverType.RK44
+        self.solver = exu.MainSolverExplicit()
+        self.solver.InitializeSolver(system.mbs, settings)
+
+    def rhs(self, y: np.ndarray) -> np.ndarray:
+        """y' in MBS order for the MBS state y (see module docstring)."""
+        s, mbs = self.solver, self.system.mbs
+        self.system.set_state(y)
+        s.ComputeMassMatrix(mbs)
+        M = np.array(s.GetSystemMassMatrix())
+        s.ComputeODE2RHS(mbs)
+        f = np.array(s.GetSystemResidual())[0:5]
+        acc = np.linalg.solve(M, f)
+        return np.concatenate([y[3:6], acc])
+
+    def mass_matrix(self, y: np.ndarray) -> np.ndarray:
+        """The mass matrix of (psi, theta1, theta2)."""
+        self.system.set_state(y)
+        self.solver.ComputeMassMatrix(self.system.mbs)
+        return np.array(self.solver.GetSystemMassMatrix())[0:3, 0:3]
+
+    def jacobian(self, y: np.ndarray, step: float = FD_STEP) -> np.ndarray:
+        """d y'/d y (MBS order) by fourth-order central differences (five-point stencil)."""
+        y = np.asarray(y, dtype=float)
+        J = np.empty((N_STATES, N_STATES))
+        for j in range(N_STATES):
+            d = np.zeros(N_STATES)
+            d[j] = step
+            J[:, j] = (8.0 * (self.rhs(y + d) - self.rhs(y - d)) - (self.rhs(y + 2 * d) - self.rhs(y - 2 * d))) \
+                / (12.0 * step)
+        return J
+
+
+@dataclass
+class MbsModel:
+    """The multibody axle with its parameters, pressure effects, fidelity switches and chosen dimensions."""
+
+    params: ShimmyParameters = YANG2024
+    effects: Effects = field(default_factory=Effects)
+    fidelity: Fidelity = field(default_factory=Fidelity.reduced)
+    dims: AxleDimensions = DEFAULT_DIMENSIONS
+
+    def forces(self, pressure, speed, acceleration=None) -> AxleForces:
+        return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressure, speed, acceleration)
+
+    def system(self, pressure, speed, acceleration=None, y0=None, output_interval=None) -> MbsSystem:
+        return build_system(self.params, self.effects, self.fidelity, self.dims,
+                            self.forces(pressure, speed, acceleration), y0, output_interval)
+
+
+@dataclass
+class MbsFamily:
+    """The MBS as a speed family for :func:`reduced_model.hopf.hopf_points` (with ``lyapunov=False``).
+
+    Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
+    with V in m/s and q the value of ``param`` (``"pressure"`` in Pa, or a Table 1 entry in SI); matrices are in
+    the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`).
+    """
+
+    model: MbsModel = field(default_factory=MbsModel)
+    param: str = "pressure"
+    pressure: float | tuple[float, float] = 2.5e5   # used when param is not "pressure"
+    _cache: dict = field(default_factory=dict, init=False, repr=False)
+    _affine: dict = field(default_factory=dict, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.param != "pressure":
+            ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
+
+    @classmethod
+    def of(cls, params: ShimmyParameters = YANG2024, effects: Effects | None = None, fidelity: Fidelity | None = None,
+           dims: AxleDimensions = DEFAULT_DIMENSIONS, param: str = "pressure",
+           pressure: float | tuple[float, float] = 2.5e5) -> "MbsFamily":
+        """``MbsFamily.of(params, effects, fidelity)``: the family of that model over ``param``."""
+        return cls(MbsModel(params, effects or Effects(), fidelity or Fidelity.reduced(), dims), param, pressure)
+
+    @property
+    def n(self) -> int:
+        return N_STATES
+
+    def _at(self, q: float) -> tuple[MbsEvaluator, ConstantSpeed]:
+        q = float(q)
+        found = self._cache.get(q)
+        if found is None:
+            if len(self._cache) > 64:
+                self._cache.clear()
+                self._affine.clear()
+            speed = ConstantSpeed(0.0)
+            if self.param == "pressure":
+                model, pressure = self.model, q
+            else:
+                model = MbsModel(self.model.params.replace(**{self.param: q}), self.model.effects,
+                                 self.model.fidelity, self.model.dims)
+                pressure = self.pressure
+            found = (MbsEvaluator(model.system(pressure, speed)), speed)
+            self._cache[q] = found
+        return found
+
+    def rhs_mbs(self, y: np.ndarray, speed: float, q: float) -> np.ndarray:
+        """y' in MBS order (psi, theta1, theta2, rates, alpha1, alpha2)."""
+        ev, sp = self._at(q)
+        sp.value = float(speed)
+        return ev.rhs(np.asarray(y, dtype=float))
+
+    def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        """x' in the reduced model's state order, for real x of shape (8,)."""
+        return self.rhs_mbs(np.asarray(x)[REDUCED_TO_Y], speed, q)[Y_TO_REDUCED]
+
+    def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        ev, sp = self._at(q)
+        sp.value = float(speed)
+        J = ev.jacobian(np.asarray(x, dtype=float)[REDUCED_TO_Y])
+        return J[np.ix_(Y_TO_REDUCED, Y_TO_REDUCED)]
+
+    def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
+        """Jacobian at straight running by differences at this speed (reduced-model state order)."""
+        return self.jacobian(np.zeros(N_STATES), speed, q)
+
+    def affine_matrices(self, q: float) -> tuple[np.ndarray, np.ndarray]:
+        """(A0, A1) with A(V) = A0 + V A1 at straight running (module docstring)."""
+        q = float(q)
+        found = self._affine.get(q)
+        if found is None:
+            A0 = self.direct_linear_matrix(0.0, q)
+            A1 = (self.direct_linear_matrix(V_REF, q) - A0) / V_REF
+            found = self._affine[q] = (A0, A1)
+        return found
+
+    def linear_matrix(self, speed: float, q: float) -> np.ndarray:
+        """Jacobian at straight running x = 0 (reduced-model state order): A0 + V A1, see :meth:`validate`."""
+        A0, A1 = self.affine_matrices(q)
+        return A0 + speed * A1
+
+    def affine_residual(self, speed: float, q: float) -> float:
+        """max |A_direct(V) - (A0 + V A1)| / max |A_direct(V)|."""
+        direct = self.direct_linear_matrix(speed, q)
+        return float(np.max(np.abs(direct - self.linear_matrix(speed, q))) / np.max(np.abs(direct)))
+
+    def equilibrium(self, speed: float, q: float) -> np.ndarray:
+        x0 = np.zeros(N_STATES)
+        residual = float(np.max(np.abs(self.rhs(x0, speed, q))))
+        if residual > EQUILIBRIUM_TOL:
+            raise ParameterError(f"straight running is not an equilibrium of the MBS here (|f(0)| = {residual:.3g})")
+        return x0
+
+    def validate(self, q: float) -> None:
+        """Raise :class:`ParameterError` where the model is meaningless or straight running is no equilibrium;
+        raise RuntimeError if the Jacobian is not affine in the speed (it must be: module docstring)."""
+        self._at(q)
+        self.equilibrium(1.0, q)
+        residual = self.affine_residual(V_CHECK, q)
+        if residual > AFFINE_TOL:
+            raise RuntimeError(f"the MBS Jacobian at straight running is not affine in the speed "
+                               f"(residual {residual:.2e}): the affine Hopf seeding does not apply")

@@ -1,0 +1,270 @@
+"""Time simulation of the multibody axle in Exudyn, at constant speed or along a speed ramp.
+
+Integrator: Exudyn's explicit Runge-Kutta solvers on the kinematic tree (no constraints), fixed step.  Explicit
+solvers evaluate the tyre states consistently at every stage, so the implicit solvers' trap of a zero initial
+ODE1 derivative (``shared/notes/exudyn.md``) does not arise.  The default is the classical RK44 with
+h = :data:`DEFAULT_STEP` = 1 ms, sampled every millisecond like the reduced model's trajectories: at 1.5 bar and
+100 km/h its error is about 3e-6 of each state's amplitude, and halving the step changes a run by less than 1e-4
+(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/210 s) is the cheapest
+setting found that stays within 1e-4 (all states, 10 s at 100 km/h; the benchmark's).  ``step`` and ``method``
+can be chosen, and :func:`convergence` compares a run with the same run at a smaller step.
+
+The wheel spin follows the speed schedule, Omega(t) = V(t)/R, through the rotor moments of
+:mod:`mbs_shimmy.forces`.  A run stops early with status ``diverged`` when an angle leaves the range where the model
+means anything (:data:`DIVERGENCE_ANGLE`) or a value is not finite, and with ``solver_failed`` when Exudyn's solver
+gives up; either way the trajectory up to that time is kept and ``message`` gives the time and the state.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import exudyn as exu
+import numpy as np
+
+from reduced_model.model import N_STATES, STATE_NAMES, Effects
+from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
+
+from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from .fidelity import Fidelity
+from .geometry import SIDES, AxleGeometry, axle_rotation, knuckle_pose, matmul, quaternion_xyzw
+from .linearisation import MbsModel
+from .system import from_reduced, to_reduced
+
+DEFAULT_METHOD = "RK44"
+DEFAULT_STEP = 1e-3          # s
+# The cheapest fixed-step setting found that keeps a 10 s run at 1.5 bar, 100 km/h (full geometry) within 1e-4 of
+# every state's amplitude (measured against step/4: ``tests/test_mbs_simulation.py``); used by the benchmark.
+FAST_METHOD = "RK67"
+FAST_STEP = 1.0 / 210.0      # s
+OUTPUT_INTERVAL = 1e-3       # s between stored samples
+DIVERGENCE_ANGLE = 1.0       # rad: beyond this a steer, tramp or slip angle makes the geometry meaningless
+METHODS = {"RK44": exu.DynamicSolverType.RK44, "RK67": exu.DynamicSolverType.RK67,
+           "RK33": exu.DynamicSolverType.RK33, "DOPRI5": exu.DynamicSolverType.DOPRI5}
+FIXED_STEP_METHODS = ("RK44", "RK67", "RK33")
+
+
+class _Schedule:
+    """Scalar V(t), dV/dt of a :class:`SpeedSchedule` without numpy overhead inside the user functions."""
+
+    def __init__(self, schedule: SpeedSchedule):
+        self.s = schedule
+        self.constant = schedule.is_constant
+        self.v0 = float(schedule.start)
+
+    def speed(self, t: float) -> float:
+        return self.v0 if self.constant else float(self.s.speed(t))
+
+    def acceleration(self, t: float) -> float:
+        return 0.0 if self.constant else float(self.s.acceleration(t))
+
+
+@dataclass
+class _Watch:
+    """Divergence watch run before every step."""
+
+    limit: float
+    stopped_at: float | None = None
+    state: np.ndarray | None = None
+    reason: str = ""
+
+    def __call__(self, mbs, t) -> bool:
+        sd = mbs.systemData
+        q = sd.GetODE2Coordinates()
+        v = sd.GetODE2Coordinates_t()      # its last two entries are the slip angles
+        big = max(abs(q[0]), abs(q[1]), abs(q[2]), abs(v[3]), abs(v[4]))
+        if not big <= self.limit:        # also catches NaN
+            self.stopped_at = t
+            self.state = np.concatenate([q[0:3], v])
+            self.reason = "not finite" if not math.isfinite(big) else f"an angle passed {self.limit:g} rad"
+            return False
+        return True
+
+
+def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None, fidelity: Fidelity | None = None,
+             pressure: float | Sequence[float] = 2.5e5, schedule: SpeedSchedule | None = None,
+             x0: np.ndarray | None = None, duration: float = 2.0, *, dims: AxleDimensions = DEFAULT_DIMENSIONS,
+             step: float = DEFAULT_STEP, method: str = DEFAULT_METHOD, output_interval: float | None = None,
+             poses: bool = True) -> Trajectory:
+    """Simulate the MBS over [0, duration] s from ``x0`` (reduced-model state order and SI; default theta1 =
+    0.01 rad) with the speed ``schedule`` (default 60 km/h).  Pressure in Pa (one value or (right, left)).
+
+    ``poses`` adds body poses and contact forces to ``extra`` (see :func:`pose_record`).  Samples every
+    ``output_interval`` s (default the larger of 1 ms and the step).
+    """
+    effects = effects or Effects()
+    fidelity = fidelity or Fidelity.reduced()
+    schedule = schedule or SpeedSchedule.constant(60.0 / 3.6)
+    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0.0):
+        raise ParameterError(f"duration must be positive, got {duration!r} s")
+    if method not in METHODS:
+        raise ParameterError(f"unknown integrator '{method}' (known: {', '.join(METHODS)})")
+    if not (math.isfinite(step) and 0.0 < step <= 0.05):
+        raise ParameterError(f"step must be in (0, 0.05] s, got {step!r}")
+    if output_interval is None:
+        output_interval = max(OUTPUT_INTERVAL, step)
+    if not (math.isfinite(output_interval) and output_interval >= step * (1 - 1e-9)):
+        raise ParameterError(f"output interval must be at least the step ({step:g} s), got {output_interval!r}")
+    if x0 is None:
+        x0 = np.zeros(N_STATES)
+        x0[STATE_NAMES.index("theta1")] = 0.01
+    x0 = np.asarray(x0, dtype=float)
+    if x0.shape != (N_STATES,) or not np.all(np.isfinite(x0)):
+        raise ParameterError(f"initial state must be {N_STATES} finite numbers ({', '.join(STATE_NAMES)})")
+
+    sched = _Schedule(schedule)
+    model = MbsModel(params, effects, fidelity, dims)
+    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, y0=from_reduced(x0),
+                          output_interval=output_interval)
+    mbs = system.mbs
+    watch = _Watch(DIVERGENCE_ANGLE)
+    mbs.SetPreStepUserFunction(watch)
+
+    settings = exu.SimulationSettings()
+    ti = settings.timeIntegration
+    n_steps = max(1, int(round(duration / step)))
+    ti.endTime = duration
+    ti.numberOfSteps = n_steps
+    ti.verboseMode = 0
+    ti.automaticStepSize = method not in FIXED_STEP_METHODS
+    ti.explicit.computeEndOfStepAccelerations = False
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = output_interval
+    h = duration / n_steps
+    integrator = (f"Exudyn {method} (explicit Runge-Kutta on the kinematic tree), fixed step {h:.6g} s"
+                  if method in FIXED_STEP_METHODS else
+                  f"Exudyn {method}, adaptive step, tolerances {ti.absoluteTolerance:g} abs / "
+                  f"{ti.relativeTolerance:g} rel")
+
+    status, message = SimulationStatus.COMPLETE, ""
+    # Exudyn warns about memory allocations in every step (expected: the forces are Python user functions) and
+    # prints solver failures to the console; both would corrupt a JSON output, and failures are reported here.
+    previous = (exu.config.suppressWarnings, exu.config.printToConsole)
+    exu.config.suppressWarnings, exu.config.printToConsole = True, False
+    try:
+        ok = mbs.SolveDynamic(settings, solverType=METHODS[method])
+    except Exception as exc:          # Exudyn raises its own error types; keep what was computed
+        text = str(exc).strip().splitlines()
+        ok, message = False, f"Exudyn solver error ({text[0] if text else type(exc).__name__})"
+    finally:
+        exu.config.suppressWarnings, exu.config.printToConsole = previous
+    if system.error is not None:
+        ok = False
+        message = (f"solver failed at t = {system.error[0]:.6g} s: force evaluation raised "
+                   f"{type(system.error[1]).__name__}: {system.error[1]}")
+    t, y = _stored(system)
+    if watch.stopped_at is not None:
+        status = SimulationStatus.DIVERGED
+        message = (f"diverged at t = {watch.stopped_at:.6g} s ({watch.reason}); "
+                   f"state {_describe(to_reduced(watch.state))}")
+    elif not ok:
+        status = SimulationStatus.SOLVER_FAILED
+        last = f"last stored t = {t[-1]:.6g} s, state {_describe(to_reduced(y[-1]))}" if len(t) else "no output"
+        message = f"{message or 'Exudyn solver failed'}; {last}"
+    x = to_reduced(y) if len(t) else np.zeros((0, N_STATES))
+    speed = np.asarray(schedule.speed(t), dtype=float) if len(t) else np.zeros(0)
+    extra = {"fidelity": fidelity.label, "effects": list(effects.names), "step": h, "method": method,
+             "force_evaluations": system.calls}
+    if poses and len(t):
+        extra.update(pose_record(model, pressure, schedule, t, y))
+    return Trajectory(t=t, x=x, speed=speed, model="mbs", integrator=integrator, status=status, message=message,
+                      extra=extra)
+
+
+def _stored(system) -> tuple[np.ndarray, np.ndarray]:
+    data = {name: np.asarray(system.mbs.GetSensorStoredData(s)) for name, s in system.sensors.items()}
+    q = data["q"]
+    if q.ndim != 2 or len(q) == 0:
+        return np.zeros(0), np.zeros((0, N_STATES))
+    n = min(len(q), len(data["q_t"]))
+    t = q[:n, 0]
+    y = np.column_stack([q[:n, 1:4], data["q_t"][:n, 1:6]])
+    # Exudyn may store the final time twice (last step and end of simulation)
+    keep = np.concatenate([[True], np.diff(t) > 1e-12])
+    return t[keep], y[keep]
+
+
+def _describe(x: np.ndarray) -> str:
+    return ", ".join(f"{n} = {v:.4g}" for n, v in zip(STATE_NAMES, x))
+
+
+def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarray, y: np.ndarray) -> dict:
+    """Body poses and tyre forces at each sample, vehicle frame (moving with the speed along x), SI.
+
+    Returns ``{"bodies": {name: {"position": (N,3), "quaternion_xyzw": (N,4)}}, "links": {"tie_rod": (N,2,3),
+    "drag_link": (N,2,3)}, "contact": {"right"|"left": {"point": (N,3), "force": (N,3)}}, "travel": (N,)}``.
+    Bodies: ``axle`` (at O on the roll axis), ``knuckle_right``/``knuckle_left`` (at the kingpin point, frame of
+    the axle at zero steer), ``wheel_right``/``wheel_left`` (at the wheel centre, including the spin angle
+    integral of V/R about the wheel axis).  The contact force is the tyre's total force on the wheel at the contact
+    point (vertical, rolling resistance, k4 spring, Magic Formula); poses are exact whatever the fidelity.
+    """
+    g = AxleGeometry.build(model.params, model.dims, exact=True)
+    speed = np.asarray(schedule.speed(t), dtype=float)
+    travel = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
+    spin_angle = travel / model.params.R
+    sched = _Schedule(schedule)
+    forces = model.forces(pressure, sched.speed, None if sched.constant else sched.acceleration)
+    n = len(t)
+    names = ("axle", "knuckle_right", "knuckle_left", "wheel_right", "wheel_left")
+    pos = {k: np.zeros((n, 3)) for k in names}
+    quat = {k: np.zeros((n, 4)) for k in names}
+    tie = np.zeros((n, 2, 3))
+    drag = np.zeros((n, 2, 3))
+    cpoint = {k: np.zeros((n, 3)) for k in ("right", "left")}
+    cforce = {k: np.zeros((n, 3)) for k in ("right", "left")}
+    frame_point = g.drag_link_frame_point()
+    for k in range(n):
+        psi = y[k, 0]
+        cpsi, spsi = math.cos(psi), math.sin(psi)
+        A = axle_rotation(psi)
+        pos["axle"][k] = g.origin
+        quat["axle"][k] = quaternion_xyzw(A)
+        states: list = []
+        forces.evaluate(float(t[k]), y[k, 0:3], y[k, 3:6], y[k, 6:8], states=states)
+        c, s = math.cos(spin_angle[k]), math.sin(spin_angle[k])
+        spin = ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))    # rotation about the wheel axis (y)
+        for i, side in enumerate(SIDES):
+            label = "right" if side < 0 else "left"
+            pose = knuckle_pose(g, side, cpsi, spsi, y[k, 1 + i])
+            pos[f"knuckle_{label}"][k] = pose.kingpin_point
+            quat[f"knuckle_{label}"][k] = quaternion_xyzw(pose.rotation)
+            pos[f"wheel_{label}"][k] = pose.point(g.wheel_centre(side))
+            quat[f"wheel_{label}"][k] = quaternion_xyzw(matmul(pose.rotation, spin))
+            tie[k, i] = pose.point(g.tie_rod_arm_vector)
+            if side > 0:
+                drag[k, 0] = pose.point(g.drag_link_arm_vector)
+                drag[k, 1] = frame_point
+            cpoint[label][k] = states[i].point
+            cforce[label][k] = states[i].force
+    return {"bodies": {k: {"position": pos[k], "quaternion_xyzw": quat[k]} for k in names},
+            "links": {"tie_rod": tie, "drag_link": drag},
+            "contact": {k: {"point": cpoint[k], "force": cforce[k]} for k in ("right", "left")},
+            "travel": travel}
+
+
+@dataclass(frozen=True)
+class Convergence:
+    """A run against the same run at half the step: max state difference relative to each state's amplitude."""
+
+    step: float
+    max_relative_difference: float        # max over states of max_t |x_h - x_h/2| / max_t |x_h/2|
+    per_state: dict = field(compare=False, default_factory=dict)
+
+    @property
+    def converged(self) -> bool:
+        return self.max_relative_difference <= 1e-4
+
+
+def convergence(trajectory: Trajectory, finer: Trajectory) -> Convergence:
+    """Compare two runs on their common samples (relative to each state's amplitude in the finer run)."""
+    n = min(len(trajectory.t), len(finer.t))
+    if n == 0 or not np.allclose(trajectory.t[:n], finer.t[:n], atol=1e-9):
+        raise ValueError("trajectories have no common sample times")
+    diff = np.max(np.abs(trajectory.x[:n] - finer.x[:n]), axis=0)
+    amp = np.max(np.abs(finer.x[:n]), axis=0)
+    rel = {name: float(d / a) if a > 0 else 0.0 for name, d, a in zip(STATE_NAMES, diff, amp)}
+    return Convergence(float(trajectory.extra.get("step", math.nan)), max(rel.values()), rel)
+

@@ -1,0 +1,329 @@
+"""The user tyre element: one per wheel, contact from the wheel's pose, forces at the contact, slip-angle state.
+
+Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; its spin is a rotor moment, see
+:mod:`mbs_shimmy.forces`):
+
+* contact point P where the wheel plane's line of steepest descent from the centre C meets the road z = 0
+  (:func:`~mbs_shimmy.geometry.disc_contact`); the loaded radius is |P - C|;
+* vertical force Fz = Fz_static + k5 (R - |P - C|) along the road normal (k5 from the reduced model's tyre,
+  pressure effect ``vs``; Fz_static is Table 1's F_z, so at straight running the loaded radius is R), and the
+  rolling resistance -f Fz along the wheel heading x_w;
+* lateral spring -k4 y along the wheel's lateral direction y_w, y = lateral displacement of P from its
+  straight-running position (Table 1's k4);
+* Magic-Formula lateral force F_y(alpha) of :mod:`reduced_model.tyre` (eqs. 2.4-2.9) along y_w, acting at the
+  pneumatic trail t(alpha) behind P, i.e. with the moment -t F_y about the road normal; ``pt`` makes the trail
+  slip-dependent (4.2-4.8);
+* slip-angle state alpha (Pacejka's tan-slip, the Magic Formula's input) with the relaxation equation
+  sigma alpha' + |v_x| alpha = v_y, v the road-relative velocity of the leading contact point P + a x_w
+  (von Schlippe's straight-tangent approximation; Pacejka, Tire and Vehicle Dynamics, 3rd ed., 2012, sections 5.4
+  and 7.2); a and sigma are the reduced model's (pressure effects ``hcl``, ``rl``).
+
+The element is written twice over the same steps: :meth:`TyreElement.exact` from the exact pose, and
+:meth:`TyreElement.linear` with every kinematic quantity to first order in the states and in the caster angle,
+which is how the reduced model's tyre terms of (2.1)-(2.3) and (2.10)-(2.11) arise; which one runs is the
+``small_angles`` switch.  Both are scalar arithmetic on purpose: they run at every solver stage.
+
+Load dependence (assumption ``constant_load`` off): the Magic-Formula factors, the trail factors, a and sigma
+follow the actual vertical force.  They are the reduced model's own formulas (:mod:`reduced_model.tyre`) evaluated
+once on a grid of loads and interpolated by cubic Lagrange polynomials (:class:`LoadTable`); the interpolation
+error is below 1e-10 relative for loads from 5 % to 2.9 times the static load (``tests/test_mbs_model.py``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import types
+from dataclasses import dataclass
+
+from reduced_model import tyre
+from reduced_model.model import Effects, WheelTyre
+from reduced_model.parameters import ShimmyParameters
+
+from .geometry import Vec
+
+
+@dataclass(frozen=True)
+class ContactState:
+    """What the element computed for one wheel at one state (for drawing and checks)."""
+
+    point: Vec            # contact point P (vehicle frame)
+    force: Vec            # total force of the road on the wheel at P (N); the trail moment is not included
+    vertical_force: float
+    lateral_force: float  # Magic-Formula F_y
+    slip_rate: float
+
+
+class _MF:
+    """Mutable stand-in for :class:`reduced_model.tyre.MagicFormula` (same attributes) for its ``force``."""
+
+    __slots__ = ("B", "C", "D", "E")
+
+
+class _Trail:
+    """Mutable stand-in for :class:`reduced_model.tyre.TrailFormula` for its ``trail``."""
+
+    __slots__ = ("Bt", "Ct", "Dt", "Et0", "q_ez4")
+
+
+class LoadTable:
+    """Tyre properties of one wheel against the vertical load, for fast evaluation at every solver stage.
+
+    Nodes evenly spaced in log(F_z) from 2 % to 3 times the static load (relative spacing 0.33 %), each
+    evaluated with :mod:`reduced_model.tyre` on the parameters with F_z replaced; D_y and D_t are tabulated
+    divided by F_z (they are proportional to it up to the df_z terms).  Between nodes cubic Lagrange
+    interpolation, outside the grid direct evaluation.  Only the properties the pressure effects make
+    load-dependent are interpolated: (B, D, E) always, then (B_t, D_t, E_t0) with ``pt``, a with ``hcl``, sigma
+    with ``rl``, in that order (:attr:`layout`).
+    """
+
+    RANGE = (0.02, 3.0)
+    NODES = 1500
+
+    def __init__(self, params: ShimmyParameters, effects: Effects, wheel: WheelTyre):
+        self.params, self.effects, self.pressure = params, effects, wheel.pressure
+        self.static = params.Fz
+        self.s0 = math.log(self.RANGE[0] * params.Fz)
+        self.n = self.NODES
+        self.ds = math.log(self.RANGE[1] / self.RANGE[0]) / (self.n - 1)
+        self._p = types.SimpleNamespace(**{f_.name: getattr(params, f_.name) for f_ in dataclasses.fields(params)})
+        self.layout = (("B", "D", "E") + (("Bt", "Dt", "Et0") if effects.pt else ()) + (("a",) if effects.hcl else ())
+                       + (("sigma",) if effects.rl else ()))
+        self._pick = tuple(("B", "D", "E", "Bt", "Dt", "Et0", "a", "sigma").index(k) for k in self.layout)
+        self._per_load = tuple(i for i, k in enumerate(self.layout) if k in ("D", "Dt"))
+        self._short = len(self.layout) == 3
+        rows = []
+        for k in range(self.n):
+            load = math.exp(self.s0 + k * self.ds)
+            rows.append(self._row(load))
+        self.rows = rows
+
+    def _row(self, load: float) -> tuple[float, ...]:
+        values = self.direct(load)
+        row = [values[i] for i in self._pick]
+        for i in self._per_load:
+            row[i] /= load
+        return tuple(row)
+
+    def direct(self, load: float) -> tuple[float, ...]:
+        """(B, D, E, Bt, Dt, Et0, a, sigma) at this load from the reduced model's formulas."""
+        p = self._p
+        p.Fz = load
+        mf = tyre.magic_formula(p, self.pressure)
+        tr = tyre.trail_formula(p, self.pressure)
+        a = tyre.half_contact_length(p, self.pressure) if self.effects.hcl else self.params.a0
+        sigma = tyre.relaxation_length(p, self.pressure) if self.effects.rl else self.params.sigma0
+        return (mf.B, mf.D, mf.E, tr.Bt, tr.Dt, tr.Et0, a, sigma)
+
+    def at(self, load: float) -> list[float]:
+        """The :attr:`layout` values at this load (N, positive)."""
+        x = (math.log(load) - self.s0) / self.ds
+        k = int(x) - 1
+        if k < 0 or k > self.n - 4:
+            values = self.direct(load)
+            return [values[i] for i in self._pick]
+        x -= k + 1.0                  # in [0, 1): between nodes k+1 and k+2
+        xm, x1, x2 = x + 1.0, x - 1.0, x - 2.0
+        w0 = -x * x1 * x2 / 6.0       # cubic Lagrange weights on the nodes k .. k+3
+        w1 = xm * x1 * x2 / 2.0
+        w2 = -xm * x * x2 / 2.0
+        w3 = xm * x * x1 / 6.0
+        r = self.rows
+        if self._short:               # (B, D/F_z, E): the section 3 model, unrolled
+            p, q, u, v = r[k], r[k + 1], r[k + 2], r[k + 3]
+            return [p[0] * w0 + q[0] * w1 + u[0] * w2 + v[0] * w3,
+                    (p[1] * w0 + q[1] * w1 + u[1] * w2 + v[1] * w3) * load,
+                    p[2] * w0 + q[2] * w1 + u[2] * w2 + v[2] * w3]
+        out = [p * w0 + q * w1 + u * w2 + v * w3 for p, q, u, v in zip(r[k], r[k + 1], r[k + 2], r[k + 3])]
+        for i in self._per_load:
+            out[i] *= load
+        return out
+
+    def values(self, load: float) -> tuple[float, ...]:
+        """(B, D, E, Bt, Dt, Et0, a, sigma) at this load by interpolation (the others from the static wheel)."""
+        got = dict(zip(self.layout, self.at(load)))
+        return tuple(got.get(k, math.nan) for k in ("B", "D", "E", "Bt", "Dt", "Et0", "a", "sigma"))
+
+
+@functools.lru_cache(maxsize=16)
+def load_table(params: ShimmyParameters, effects: Effects, wheel: WheelTyre) -> LoadTable:
+    """One table per (parameters, effects, pressure): both wheels and successive runs share it."""
+    return LoadTable(params, effects, wheel)
+
+
+class TyreElement:
+    """One wheel's tyre: pose -> contact forces, their generalized forces and the slip-angle rate.
+
+    ``side``: -1 right (wheel 1), +1 left (wheel 2).  Geometry constants come from the axle geometry in use
+    (exact caster or linearised, see :class:`~mbs_shimmy.geometry.AxleGeometry`).
+    """
+
+    def __init__(self, side: float, params: ShimmyParameters, effects: Effects, wheel: WheelTyre,
+                 load_dependent: bool, geometry, flags):
+        self.side = side
+        self.flags = flags
+        # the switches as plain attributes: read at every stage
+        self.fixed_arms = flags.fixed_static_load_arms
+        self.heading_only = flags.slip_heading_only
+        self.load_tramp = flags.load_tramp_only
+        self.k4_tramp = flags.k4_tramp_only
+        self.params = params
+        self.effects = effects
+        self.wheel = wheel
+        self.k4 = params.k4
+        self.k5 = wheel.k5
+        self.f = params.f
+        self.static_load = params.Fz
+        self.R, self.L, self.l = params.R, params.L, params.l
+        self.gamma = geometry.gamma
+        self.ky = side * (0.5 * params.L - params.l)
+        self.load_dependent = load_dependent
+        self.table = load_table(params, effects, wheel) if load_dependent else None
+        self._mf = _MF()
+        self._mf.B, self._mf.C, self._mf.D, self._mf.E = wheel.force.B, wheel.force.C, wheel.force.D, wheel.force.E
+        self._tr = _Trail()
+        tf = wheel.trail
+        if tf is not None:
+            self._tr.Bt, self._tr.Ct, self._tr.Dt, self._tr.Et0, self._tr.q_ez4 = tf.Bt, tf.Ct, tf.Dt, tf.Et0, tf.q_ez4
+        self.a, self.sigma = wheel.a, wheel.sigma
+        self.pt, self.hcl, self.rl = effects.pt, int(effects.hcl), effects.rl
+        self.t0 = params.t0
+        self._force = tyre.MagicFormula.force
+        self._trail = tyre.TrailFormula.trail
+
+    def lateral(self, alpha: float, load: float) -> tuple[float, float, float, float]:
+        """(F_y, t, a, sigma) at slip alpha and vertical load (the static-load values with ``constant_load``)."""
+        if self.table is None:
+            Fy = float(self._force(self._mf, alpha))
+            t = float(self._trail(self._tr, alpha)) if self.pt else self.t0
+            return Fy, t, self.a, self.sigma
+        if load <= 0.0:                        # lifted wheel: no grip; the other properties at 1 % of the load
+            B, D, E, Bt, Dt, Et0, a, sigma = self.table.direct(0.01 * self.static_load)
+            return 0.0, (Dt if self.pt else self.t0), a, sigma
+        v = self.table.at(load)
+        mf = self._mf
+        mf.B, mf.D, mf.E = v[0], v[1], v[2]
+        Fy = float(self._force(mf, alpha))
+        i = 3
+        if self.pt:
+            tr = self._tr
+            tr.Bt, tr.Dt, tr.Et0 = v[3], v[4], v[5]
+            t = float(self._trail(tr, alpha))
+            i = 6
+        else:
+            t = self.t0
+        a = v[i] if self.hcl else self.a
+        sigma = v[i + self.hcl] if self.rl else self.sigma
+        return Fy, t, a, sigma
+
+    # --- exact kinematics ----------------------------------------------------------------------------------
+    def exact(self, pose: tuple, psi_d: float, theta_d: float, alpha: float, speed: float,
+              cpsi: float, spsi: float, record: bool = False):
+        """(Q_psi, Q_theta, alpha_dot[, ContactState]) from the exact knuckle pose.
+
+        ``pose`` = (Ky, Kz, ex, ey, ez, R00..R22) from :func:`mbs_shimmy.forces.knuckle_frame`: kingpin point
+        (its x is 0), kingpin axis and the knuckle rotation (rows)."""
+        side, R = self.side, self.R
+        Ky, Kz, ex, ey, ez, r00, r01, r02, r10, r11, r12, r20, r21, r22 = pose
+        sx, sy, sz = r01, r11, r21                    # spin axis: the rotated y-axis
+        hl = side * self.l
+        Cx, Cy, Cz = hl * sx, Ky + hl * sy, Kz + hl * sz
+        # contact point (disc_contact, inlined)
+        cphi2 = 1.0 - sz * sz
+        cphi = math.sqrt(cphi2)
+        depth = Cz / cphi
+        k = Cz / cphi2
+        Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
+        xwx, xwy = sy / cphi, -sx / cphi              # heading x_w (horizontal)
+        ywx, ywy = sx / cphi, sy / cphi               # lateral y_w (horizontal)
+
+        load_tramp, k4_tramp = self.load_tramp, self.k4_tramp
+        if load_tramp or k4_tramp:
+            # the same wheel with theta = 0: centre (0, side L/2 cos psi, R + side L/2 sin psi), axis (0, cos, sin)
+            C0z = R + side * 0.5 * self.L * spsi
+            depth0 = C0z / cpsi
+            P0y = side * 0.5 * self.L * cpsi + C0z * spsi / cpsi
+        dFz = self.k5 * (R - (depth0 if load_tramp else depth))
+        Fz = self.static_load + dFz
+        Fy, t, a, sigma = self.lateral(alpha, Fz)
+        if k4_tramp:
+            y4 = (P0y - side * 0.5 * self.L) * ywy
+        else:
+            y4 = Px * ywx + (Py - side * 0.5 * self.L) * ywy
+        lat = Fy - self.k4 * y4
+        # The static load acts through the actual lever arms (its geometric stiffness included) or, as in
+        # (2.1)-(2.3), through the straight-running ones, where it is a constant balanced by the alignment.
+        vert = dFz if self.fixed_arms else Fz
+        Fx = -self.f * vert * xwx + lat * ywx
+        Fyv = -self.f * vert * xwy + lat * ywy
+        # generalized forces: psi about x through O = (0, 0, R); theta about e through K (P_z = 0)
+        q_psi = Py * vert + R * Fyv
+        rx, ry, rz = Px, Py - Ky, -Kz
+        q_theta = (ex * (ry * vert - rz * Fyv) + ey * (rz * Fx - rx * vert) + ez * (rx * Fyv - ry * Fx)
+                   - t * Fy * ez)
+        # slip: road-relative velocity of the leading contact point P + a x_w
+        wx, wy, wz = psi_d + theta_d * ex, theta_d * ey, theta_d * ez
+        lx = speed - a * wz * xwy
+        ly = a * wz * xwx
+        if not self.heading_only:
+            # carrier velocity at P: psi' x x (P - O) + theta' e x (P - K)
+            lx += theta_d * (ey * rz - ez * ry)
+            ly += psi_d * R + theta_d * (ez * rx - ex * rz)
+        vx = lx * xwx + ly * xwy
+        vy = lx * ywx + ly * ywy
+        alpha_d = (vy - abs(vx) * alpha) / sigma
+        if record:
+            total = (-self.f * Fz * xwx + lat * ywx, -self.f * Fz * xwy + lat * ywy, Fz)
+            return q_psi, q_theta, alpha_d, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
+        return q_psi, q_theta, alpha_d
+
+    # --- first-order kinematics (the reduced model's) --------------------------------------------------------
+    def linear(self, psi: float, theta: float, psi_d: float, theta_d: float, alpha: float, speed: float,
+               record: bool = False):
+        """(Q_psi, Q_theta, alpha_dot[, ContactState]) with the kinematics to first order in the states and in
+        gamma (sin gamma -> gamma, cos gamma -> 1).
+
+        At straight running P0 - O = (0, s L/2, -R) and P0 - K = (0, s l, -R); the lever arms are the constant
+        Jacobian columns x x (P0 - O) = (0, R, s L/2) and e x (P0 - K) = (-s l, -gamma R, -gamma s l) with
+        e = (-gamma, 0, 1).  The spin axis is y + psi z + theta e x y = (-theta, 1, psi - gamma theta), the wheel
+        centre height R + s (L/2 psi - gamma l theta), the contact point's lateral shift R (psi - gamma theta).
+        """
+        side, R, L, l, gam = self.side, self.R, self.L, self.l, self.gamma
+        sx = -theta
+        sz = psi - gam * theta
+        lift = 0.5 * L * psi if self.load_tramp else 0.5 * L * psi - gam * l * theta
+        dFz = -self.k5 * side * lift      # the wheel centre rises by side*lift: the deflection falls by as much
+        Fz = self.static_load + dFz
+        Fy, t, a, sigma = self.lateral(alpha, Fz)
+        y4 = R * psi if self.k4_tramp else R * sz
+        lat = Fy - self.k4 * y4
+        # only load changes: the static load times constant lever arms is balanced by the alignment
+        Fx = -self.f * dFz
+        q_psi = R * lat + side * 0.5 * L * dFz
+        q_theta = -side * l * Fx - gam * R * lat - gam * side * l * dFz - t * Fy
+        vy = speed * sx + a * theta_d
+        if not self.heading_only:
+            vy += R * psi_d - gam * R * theta_d
+        alpha_d = (vy - speed * alpha) / sigma
+        if record:
+            P = (-side * l * theta, side * 0.5 * L + R * sz, 0.0)
+            return q_psi, q_theta, alpha_d, ContactState(P, (-self.f * Fz, lat, Fz), Fz, Fy, alpha_d)
+        return q_psi, q_theta, alpha_d
+
+    def static_load_moments(self, pose: tuple) -> tuple[float, float]:
+        """(Q_psi, Q_theta) of the static load F_z and its rolling resistance at the exact contact point."""
+        Ky, Kz, ex, ey, ez, r00, r01, r02, r10, r11, r12, r20, r21, r22 = pose
+        sx, sy, sz = r01, r11, r21
+        hl = self.side * self.l
+        Cx, Cy, Cz = hl * sx, Ky + hl * sy, Kz + hl * sz
+        cphi2 = 1.0 - sz * sz
+        cphi = math.sqrt(cphi2)
+        k = Cz / cphi2
+        Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
+        Fs = self.static_load
+        Fx, Fyv = -self.f * Fs * sy / cphi, self.f * Fs * sx / cphi
+        rx, ry, rz = Px, Py - Ky, -Kz
+        return (Py * Fs + self.R * Fyv,
+                ex * (ry * Fs - rz * Fyv) + ey * (rz * Fx - rx * Fs) + ez * (rx * Fyv - ry * Fx))
+
