@@ -148,3 +148,25 @@ def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, titl
     ax.set_title(title or f"cycle folds (S, dash-dot) and torus points (T, dotted) in (V, {family.param} "
                           f"[{unit}])", fontsize=10)
     save_figure(fig, path)
+
+
+def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: dict, path: str,
+                       title: str | None = None) -> None:
+    """The continuation diagram with steady amplitudes of simulations on top (brute-force bifurcation diagram).
+
+    ``simulated`` maps a label to a list of (speed m/s, max|theta1| rad, max|psi| rad).
+    """
+    fig, axes = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
+    draw_cycle_diagram(axes, diagram, family)
+    styles = {"reduced": ("o", "C0", "MBS, all assumptions on"), "full": ("x", "C3", "MBS, full geometry")}
+    for label, points in simulated.items():
+        marker, color, text = styles.get(label, ("s", "C2", label))
+        good = [(v, a, b) for v, a, b in points if np.isfinite(a)]
+        if not good:
+            continue
+        v, a, b = (np.array(c) for c in zip(*good))
+        axes[0].plot(v * 3.6, np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
+        axes[1].plot(v * 3.6, np.degrees(b), marker, color=color, mfc="none", ms=6)
+    axes[0].legend(fontsize=8, loc="upper right")
+    axes[0].set_title(title or f"Limit cycles at {diagram.value / 1e5:g} bar", fontsize=10)
+    save_figure(fig, path)

@@ -11,19 +11,52 @@ from comparisons.cli import main
 from comparisons.report import CheckStatus, Report, Row, Section, render_markdown, write_atomically
 
 
-def test_verify_quick_writes_report_with_expected_rows(tmp_path, capsys):
-    out = tmp_path / "rep"
-    assert main(["verify", "--quick", "--out", str(out), "--json"]) == 0
-    summary = json.loads(capsys.readouterr().out)
+@pytest.fixture(scope="module")
+def quick_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("verify") / "rep"
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--out", str(out), "--json"],
+                          capture_output=True, text=True, timeout=400)
+    return proc, out
+
+
+def test_verify_quick_passes_and_writes_report(quick_report):
+    proc, out = quick_report
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
     assert summary["failed"] is False
-    hopf = next(s for s in summary["sections"] if s["key"] == "hopf")
-    by_key = {(r["model"], r["pressure_bar"], r["point"]): r for r in hopf["rows"]}
-    assert by_key[("section 3", 2.5, "HB1")]["status"] == "pass"
-    assert by_key[("section 3", 1.5, "HB1")]["status"] == "known difference"
-    assert by_key[("section 3", 2.7, "none")]["status"] == "pass"
     text = (out / "report.md").read_text()
     assert text.startswith("# shimmy verification report") and "## Summary" in text
-    assert not [f for f in os.listdir(out) if f.startswith(".tmp-")]
+    assert not [f for f in os.listdir(out) if f.startswith(".")]
+
+
+def section(quick_report, key):
+    summary = json.loads(quick_report[0].stdout)
+    return next(s for s in summary["sections"] if s["key"] == key)
+
+
+def test_verify_hopf_rows(quick_report):
+    rows = {(r["model"], r["pressure_bar"], r["point"]): r for r in section(quick_report, "hopf")["rows"]}
+    assert rows[("section 3", 2.5, "HB1")]["status"] == "pass"
+    assert abs(rows[("section 3", 2.5, "HB1")]["mbs_reduced_kmh"] - 46.1426) < 1e-3
+    assert rows[("section 3", 1.5, "HB1")]["status"] == "known difference"
+    assert rows[("section 3", 2.7, "none")]["status"] == "pass"
+    # The full geometry removes the tramp mode at 1.5 bar: no partner for HB3, HB4.
+    assert rows[("section 3", 1.5, "HB3")]["mbs_full_kmh"] is None
+
+
+def test_verify_cycles_jumps_assumptions(quick_report):
+    _, out = quick_report
+    cycles = section(quick_report, "cycles")["rows"]
+    assert len(cycles) >= 6 and all(r["status"] == "pass" for r in cycles)
+    assert (out / "cycles_2p5bar.png").stat().st_size > 10_000
+    jumps = {r["run"].split(" ")[0] + " " + r["run"].split(" ")[1]: r for r in section(quick_report, "jumps")["rows"]}
+    assert jumps["continuation S1"]["status"] == "pass"
+    up = next(r for r in section(quick_report, "jumps")["rows"] if r["run"].startswith("ramp up"))
+    assert up["reduced_kmh"] >= up["continuation_kmh"] - 0.5 and up["mbs_reduced_kmh"] >= up["continuation_kmh"] - 0.5
+    for name in ("ramp_up_reduced.rrd", "ramp_up_mbs.rrd", "ramp_down_reduced.rrd", "fig11_L1_mbs.rrd"):
+        assert (out / name).stat().st_size > 100_000
+    names = {r["assumption_off"] for r in section(quick_report, "assumptions")["rows"]}
+    assert {"full", "small_angles", "slip_heading_only"} <= names
 
 
 def test_failed_row_makes_report_fail():

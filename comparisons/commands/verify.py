@@ -34,7 +34,7 @@ def prepare_out(path: str) -> None:
 def run(args: argparse.Namespace) -> int:
     prepare_out(args.out)
     with progress(len(SECTIONS), "verify", args.json) as bar:
-        report = run_verification(args.quick, progress=lambda done, total: bar.update(1))
+        report = run_verification(args.out, args.quick, progress=lambda done, total: bar.update(1))
     path = os.path.join(args.out, "report.md")
     try:
         write_atomically(path, render_markdown(report))
