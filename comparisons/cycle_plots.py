@@ -128,8 +128,8 @@ CURVE_STYLES = {PointKind.CYCLE_FOLD: ("-.", "C2"), PointKind.TORUS: (":", "C1")
 def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, title: str | None = None) -> None:
     """Figure 8/18 style: Hopf curves of straight running (shaded where it is stable) with the curves of cycle
     folds (S, dash-dotted) and torus points (T, dotted) in the (V, q) plane; ends at zero amplitude marked."""
-    from .plots import draw_hopf_diagram
     from .options import interface_unit
+    from .plots import draw_hopf_diagram
 
     unit, factor = interface_unit(family.param)
     fig, ax = plt.subplots(figsize=(6.8, 5.0))

@@ -12,6 +12,7 @@ function with :func:`register` (and removing its entry from :data:`UNAVAILABLE`)
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 from dataclasses import dataclass, field
@@ -100,17 +101,8 @@ PAPER_TITLES = {
     18: "enlarged diagram with torus and saddle-node bifurcation curves",
 }
 
-_NEEDS_CYCLES = "periodic-orbit continuation of the reduced model (issue 3), not in this project yet"
-_NEEDS_SIMULATION = "time simulation with mode detection of the reduced model (issue 3), not in this project yet"
 UNAVAILABLE: dict[int, str] = {
     1: "it is a drawing of the model, not a computed result (the 3D scene of a recording shows the geometry)",
-    3: _NEEDS_CYCLES,
-    4: _NEEDS_CYCLES,
-    9: _NEEDS_CYCLES,
-    10: _NEEDS_SIMULATION,
-    11: _NEEDS_SIMULATION,
-    15: _NEEDS_CYCLES,
-    18: "torus and saddle-node curves of periodic orbits (issue 3), not in this project yet",
 }
 
 REGISTRY: dict[int, FigureEntry] = {}
@@ -636,4 +628,388 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
                  "LF lateral force, HCL half-contact length, PT pneumatic trail, RL relaxation length, "
                  "VS vertical stiffness", fontsize=9)
     fig.tight_layout()
+    return Drawing(fig, tuple(notes), complete)
+
+
+# --- periodic-orbit figures (limit-cycle branches, simulations, cycle bifurcation curves) --------------------
+
+from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve  # noqa: E402
+from reduced_model.cycles import CycleBranch, CycleDiagram, branch_peak, cycle_at, cycle_diagram  # noqa: E402
+from reduced_model.modes import ModeClassifier, ModeHistory  # noqa: E402
+from reduced_model.simulation import initial_state, simulate  # noqa: E402
+from reduced_model.special_points import ConvergenceError  # noqa: E402
+from reduced_model.trajectory import SpeedSchedule, Trajectory  # noqa: E402
+
+from . import paper_reference as paper  # noqa: E402
+from .cycle_plots import CURVE_STYLES, draw_cycle_diagram, special_point_labels  # noqa: E402
+
+FIG9_VMAX_KMH = 800.0   # HB4 of figure 9 lies at 720 km/h (t = 0.25 m) and 746 km/h (0.285 m): shown, not cut
+TRAIL_FIG9 = (0.25, 0.285)
+
+
+@dataclass(frozen=True)
+class CycleKey:
+    pressure_bar: float
+    vmax_kmh: float
+    params: tuple = ()          # ((name, value), ...): Table 1 entries changed from YANG2024
+    effects: Effects = Effects()
+    vmin_kmh: float = 0.0
+
+
+def _cycle_family(key: CycleKey) -> SpeedFamily:
+    return SpeedFamily(ShimmyModel(effects=key.effects).with_params(**dict(key.params)))
+
+
+def _store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, CycleDiagram]:
+    """(family, cycle diagram) for ``key``, computed once per store (figures 9a, 10 and 11 share one)."""
+    cache = store.__dict__.setdefault("_cycle_diagrams", {})
+    if key not in cache:
+        family = _cycle_family(key)
+        cache[key] = (family, cycle_diagram(family, key.pressure_bar * BAR, key.vmin_kmh * KMH,
+                                            key.vmax_kmh * KMH))
+    return cache[key]
+
+
+def _peak(family: SpeedFamily, branch: CycleBranch, name: str):
+    try:
+        return branch_peak(family, branch, name)
+    except ConvergenceError:
+        return branch.peak(name)
+
+
+def _paper(value) -> str:
+    return "" if value is None else f" (paper {value:g})"
+
+
+def _cycle_notes(prefix: str, family: SpeedFamily, diagram: CycleDiagram, paper_hopf=None, paper_modes=None,
+                 paper_special=None, hopf_labels=None) -> list[str]:
+    """Hopf speeds, per branch its peaks and frequency range, special points (S/T/PD by the paper's names)."""
+    notes = []
+    def ref(name):
+        i = int(name[2:]) - 1 if name[2:].isdigit() else None
+        return paper_hopf[i] if paper_hopf and i is not None and i < len(paper_hopf) else None
+    hopf = ", ".join(f"{name} {h.speed_kmh:.2f}{_paper(ref(name))}"
+                     for name, h in sorted(hopf_names(diagram, hopf_labels), key=lambda nh: nh[1].speed))
+    notes.append(f"{prefix}Hopf points [km/h]: {hopf or 'none: straight running stable in the whole window'}")
+    modes = list(paper_modes.items()) if paper_modes else []
+    for i, b in enumerate(diagram.branches):
+        ends = (f"{b.start.speed_kmh:.2f}" if b.start else "?") + " - " + \
+            (f"{b.end.speed_kmh:.2f} km/h" if b.end else b.message.split(": ", 1)[-1])
+        name, ref = modes[i] if i < len(modes) else (f"branch {i + 1}", {})
+        if not b.points:
+            notes.append(f"{prefix}{name} ({ends}): INCOMPLETE, no cycle computed: {b.message}")
+            continue
+        th, ps = _peak(family, b, "theta1"), _peak(family, b, "psi")
+        f_lo, f_hi = b.frequency_range
+        f_ref = ref.get("frequency_hz")
+        notes.append(
+            f"{prefix}{name} (from {ends}): peak max|theta1| {np.degrees(th.max_abs('theta1')):.3f} deg"
+            f"{_paper(ref.get('theta1_deg'))} at {th.speed_kmh:.2f} km/h, peak max|psi| "
+            f"{np.degrees(ps.max_abs('psi')):.3f} deg{_paper(ref.get('psi_deg'))} at {ps.speed_kmh:.2f} km/h, "
+            f"frequency {f_lo:.2f}-{f_hi:.2f} Hz" + (f" (paper {f_ref[0]:g}-{f_ref[1]:g})" if f_ref else ""))
+        if not b.complete:
+            notes.append(f"{prefix}{name}: INCOMPLETE: {b.message}")
+    for text, p in special_point_labels(diagram):
+        status = "" if p.status is PointStatus.LOCATED else f" ({p.status.value})"
+        ref = (paper_special or {}).get(text)
+        notes.append(f"{prefix}{text} ({p.kind.value}): {p.speed * 3.6:.2f} km/h{_paper(ref)}, max|theta1| "
+                     f"{np.degrees(p.data['amplitude'][0]):.3f} deg{status}")
+    return notes
+
+
+def hopf_names(diagram: CycleDiagram, names: tuple[str, ...] | None = None) -> list[tuple[str, object]]:
+    """(name, Hopf point) as in the paper: branch k (by its lowest speed) is bounded by HB(2k+1) below and
+    HB(2k+2) above; a branch that leaves the window at its low end starts at its upper Hopf point.  ``names``
+    (in speed order) overrides this where the paper keeps the names of a neighbouring diagram (figure 9b)."""
+    if names is not None and len(names) == len(diagram.hopf):
+        return list(zip(names, sorted(diagram.hopf, key=lambda h: h.speed)))
+    out, named = [], set()
+    for k, b in enumerate(diagram.branches):
+        ends = [h for h in (b.start, b.end) if h is not None]
+        if len(ends) == 2:
+            ends.sort(key=lambda h: h.speed)
+            pairs = zip(ends, (2 * k + 1, 2 * k + 2))
+        else:
+            upper = bool(ends) and b.points and np.mean([p.speed for p in b.points]) < ends[0].speed
+            pairs = zip(ends, (2 * k + 2 if upper else 2 * k + 1,))
+        for h, n in pairs:
+            out.append((f"HB{n}", h))
+            named.add(id(h))
+    out += [(f"HB? ({h.speed_kmh:.1f})", h) for h in diagram.hopf if id(h) not in named]
+    return out
+
+
+def _label_cycle_hopf(axes, diagram: CycleDiagram, names: tuple[str, ...] | None, width_kmh: float) -> None:
+    """Hopf points on the axis with their names; a name too close to the previous one is raised."""
+    names = sorted(hopf_names(diagram, names), key=lambda nh: nh[1].speed)
+    for ax in axes:
+        raised = False
+        for i, (name, h) in enumerate(names):
+            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
+            raised = (not raised and i > 0 and h.speed_kmh - names[i - 1][1].speed_kmh < 0.09 * width_kmh)
+            ax.annotate(name, (h.speed_kmh, 0.0), textcoords="offset points", xytext=(2, 16 if raised else 5),
+                        fontsize=8, color="C0")
+        if not names and not diagram.branches:
+            ax.text(0.5, 0.5, "no Hopf point, no limit cycle:\nstraight running stable at every speed",
+                    transform=ax.transAxes, ha="center", va="center", fontsize=9, color="0.3")
+
+
+def _cycle_panels(store: DiagramStore, panels, vmax_kmh: float, figure_title: str, paper_args=None):
+    """One column of (max|theta1|, max|psi|) axes per panel (title, CycleKey); returns (figure, notes, complete)."""
+    columns = len(panels)
+    fig, axes = plt.subplots(2, columns, figsize=(5.6 * columns, 6.4), sharex="col", squeeze=False)
+    notes, complete = [], True
+    for j, (title, key) in enumerate(panels):
+        family, diagram = _store_cycles(store, key)
+        # The Hopf points are labelled here with the paper's names (HB1, HB2 bound the yaw mode, HB3, HB4 the
+        # second one), not by speed order as draw_cycle_diagram does.
+        draw_cycle_diagram(axes[:, j], dataclasses.replace(diagram, hopf=()), family)
+        _label_cycle_hopf(axes[:, j], diagram, ((paper_args or [{}] * columns)[j]).get("hopf_labels"), vmax_kmh)
+        axes[0, j].set_title(title, fontsize=10)
+        for ax in axes[:, j]:
+            ax.set_xlim(0.0, vmax_kmh)
+            ax.grid(alpha=0.3)
+        prefix = f"{title.split(' ')[0]} " if columns > 1 else ""
+        notes += _cycle_notes(prefix, family, diagram, **((paper_args or [{}] * columns)[j]))
+        complete &= diagram.complete
+    fig.suptitle(figure_title + "\nsolid: stable, dashed: unstable (straight running on the axis, cycles above)",
+                 fontsize=10)
+    fig.tight_layout()
+    return fig, notes, complete
+
+
+@register(3, "cycles_nominal", cost=2)
+def draw_cycles_nominal(store: DiagramStore) -> Drawing:
+    key = CycleKey(P_I0_BAR, 120.0)
+    ref = paper.NOMINAL_PEAK
+    fig, notes, complete = _cycle_panels(
+        store, [(f"{P_I0_BAR:g} bar ($p_{{i0}}$)", key)], 120.0,
+        "Fig. 3: limit cycles at nominal pressure (section 3 model)",
+        [dict(paper_hopf=paper.HOPF_SPEEDS_KMH[2.5],
+              paper_modes={"yaw mode": {"theta1_deg": ref["theta1_deg"], "psi_deg": ref["psi_deg"]}})])
+    notes.append(f"paper: both peaks at {ref['speed_kmh']:g} km/h; "
+                 + paper.KNOWN_DIFFERENCES["cycles:2.5:peak_speed"])
+    return Drawing(fig, tuple(notes), complete)
+
+
+@register(4, "cycles_1p5_2p7bar", cost=3)
+def draw_cycles_low_high(store: DiagramStore) -> Drawing:
+    panels = [("(a) 1.5 bar (0.6 $p_{i0}$)", CycleKey(1.5, VMAX_KMH)),
+              ("(b) 2.7 bar (1.08 $p_{i0}$)", CycleKey(2.7, VMAX_KMH))]
+    fig, notes, complete = _cycle_panels(
+        store, panels, VMAX_KMH, "Fig. 4: limit cycles at low and high pressure (section 3 model)",
+        [dict(paper_hopf=paper.HOPF_SPEEDS_KMH[1.5], paper_modes={
+            "yaw mode": paper.LOW_PRESSURE_MODES["yaw"], "tramp mode": paper.LOW_PRESSURE_MODES["tramp"]}),
+         dict(paper_hopf=paper.HOPF_SPEEDS_KMH[2.7])])
+    notes.append("(a) HB1: " + paper.KNOWN_DIFFERENCES["hopf:1.5:HB1"])
+    return Drawing(fig, tuple(notes), complete)
+
+
+def _trail_key(t0: float) -> CycleKey:
+    return CycleKey(1.5, FIG9_VMAX_KMH, (("t0", t0),))
+
+
+@register(9, "cycles_trail", cost=7)
+def draw_cycles_trail(store: DiagramStore) -> Drawing:
+    panels = [(f"({c}) t = {t0:g} m, 1.5 bar", _trail_key(t0)) for c, t0 in zip("ab", TRAIL_FIG9)]
+    fig, notes, complete = _cycle_panels(
+        store, panels, FIG9_VMAX_KMH, "Fig. 9: limit cycles at two pneumatic trails, 1.5 bar (section 3 model; "
+        "the window reaches 800 km/h to show HB4)",
+        [dict(paper_special=paper.FIG9A, paper_modes={"yaw mode": {}, "tramp mode": {}}),
+         # HB1 has moved below 0.5 km/h, where cycles are not continued: the merged mode shows HB4 only.
+         dict(paper_modes={"merged mode": {}}, hopf_labels=("HB4",))])
+    return Drawing(fig, tuple(notes), complete)
+
+
+@register(15, "cycles_low_vertical_stiffness", cost=3)
+def draw_cycles_k5(store: DiagramStore) -> Drawing:
+    k5 = paper.FIG15A["k5_0_Npm"]
+    panels = [(f"({c}) {p:g} bar ({p / P_I0_BAR:.3g} $p_{{i0}}$)", CycleKey(p, VMAX_KMH, (("k5_0", k5),)))
+              for c, p in zip("ab", (P_I0_BAR, 2.56))]
+    fig, notes, complete = _cycle_panels(
+        store, panels, VMAX_KMH, f"Fig. 15: limit cycles with vertical stiffness $k_5$ = {k5:.3g} N/m",
+        [dict(paper_modes={"low-speed mode": {"psi_deg": paper.FIG15A["psi_low_mode_deg"]},
+                           "high-speed mode": {}}), dict(paper_modes={"low-speed mode": {}, "high-speed mode": {}})])
+    return Drawing(fig, tuple(notes), complete)
+
+
+# Figure 10: the speed ramps of tests/test_simulation.py (1 km/h per s through the bistable window), each
+# started from the default small disturbance theta1 = 0.01 rad where only one mode is stable.
+RAMP_UP_KMH = (120.0, 200.0, 80.0, 85.0)      # from, to, ramp seconds, simulated seconds
+RAMP_DOWN_KMH = (200.0, 120.0, 80.0, 80.0)
+
+
+def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tuple[str, float], title: str) -> list:
+    name, v_cross = crossing
+    speed_kmh = tr.speed * 3.6
+    k = int(np.argmin(np.abs(speed_kmh - v_cross)))
+    notes = []
+    for ax, (state, label) in zip(axes, (("theta1", r"$\theta_1$ [deg]"), ("psi", r"$\psi$ [deg]"))):
+        ax.plot(tr.t, np.degrees(tr.state(state)), lw=0.3, color="k")
+        ax.axvline(tr.t[k], color="0.45", lw=1.0, ls="--")
+        for s in history.switches:
+            ax.axvline(s.time, color="C3", lw=1.2, ls=":")
+        ax.set_ylabel(label)
+        ax.set_xlim(tr.t[0], tr.t[-1])
+        ax.grid(alpha=0.3)
+    top = axes[0]
+    top.annotate(f"{name} {v_cross:.2f} km/h", (tr.t[k], 0.02), xycoords=("data", "axes fraction"),
+                 textcoords="offset points", xytext=(-3, 0), ha="right", fontsize=8, color="0.3")
+    for s in history.switches:
+        top.annotate(f"{s.before.value} → {s.after.value}\n{s.speed * 3.6:.2f} km/h", (s.time, 0.97),
+                     xycoords=("data", "axes fraction"), textcoords="offset points", xytext=(3, -24), fontsize=8,
+                     color="C3", zorder=6, bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85))
+        notes.append(f"{title[:3]} switch {s.before.value} -> {s.after.value} at t = {s.time:.2f} s, "
+                     f"{s.speed * 3.6:.2f} km/h ({name} = {v_cross:.2f} km/h)")
+    if not history.switches:
+        notes.append(f"{title[:3]} no mode switch detected (initial mode {history.initial.value})")
+    twin = top.twinx()
+    twin.plot(tr.t, speed_kmh, color="C0", lw=1.0)
+    twin.set_ylabel("speed V [km/h]", color="C0")
+    twin.tick_params(axis="y", colors="C0")
+    top.set_title(title, fontsize=10)
+    axes[-1].set_xlabel("time [s]")
+    if not tr.complete:
+        notes.append(f"{title[:3]} INCOMPLETE simulation: {tr.message}")
+    return notes
+
+
+@register(10, "mode_change_time_histories", cost=18)
+def draw_mode_changes(store: DiagramStore) -> Drawing:
+    family, diagram = _store_cycles(store, _trail_key(0.25))
+    labels = dict(special_point_labels(diagram))
+    s1, t2 = labels["S1"].speed * 3.6, labels["T2"].speed * 3.6
+    model = family.model
+    fig, axes = plt.subplots(2, 2, figsize=(12.0, 6.0), sharex="col")
+    notes, complete = [], True
+    for j, ((v0, v1, ramp, duration), crossing, title) in enumerate((
+            (RAMP_UP_KMH, ("S1", s1), "(a) speed increasing"), (RAMP_DOWN_KMH, ("T2", t2), "(b) speed decreasing"))):
+        tr = simulate(model, 1.5 * BAR, SpeedSchedule.ramp(v0 * KMH, v1 * KMH, ramp), duration)
+        history = ModeClassifier().classify(tr)
+        notes += _trajectory_column(axes[:, j], tr, history, crossing,
+                                    f"{title}: {v0:g} → {v1:g} km/h in {ramp:g} s")
+        complete &= tr.complete
+    notes.append(f"paper: the jumps happen at S1 ({paper.FIG9A['S1']:g} km/h) and T2 ({paper.FIG9A['T2']:g} km/h); "
+                 "ramp speeds at the jumps are not printed")
+    notes.append("(b) " + paper.KNOWN_DIFFERENCES["cycles:fig10b:jump"])
+    fig.suptitle("Fig. 10: mode changes at t = 0.25 m, 1.5 bar (start theta1 = 0.01 rad); red dotted: detected "
+                 "switch, grey dashed: speed passes S1 / T2", fontsize=10)
+    fig.tight_layout()
+    return Drawing(fig, tuple(notes), complete)
+
+
+# Figure 11: L1 the default small disturbance, L2 a large wheel-yaw start (as in tests/test_simulation.py).
+PHASE_STARTS = (("L1", {"theta1": 0.01}, "0.55", (-22, 6)), ("L2", {"theta1": 0.2, "psi": 0.01}, "k", (8, -12)))
+PHASE_DURATION = 20.0
+
+
+@register(11, "phase_portrait_180kmh", cost=6)
+def draw_phase_portrait(store: DiagramStore) -> Drawing:
+    family, diagram = _store_cycles(store, _trail_key(0.25))
+    V = paper.FIG11_SPEED_KMH * KMH
+    fig, ax = plt.subplots(figsize=(6.8, 5.4))
+    notes, complete = [], True
+    cycles = {}
+    for branch, mode in zip(diagram.branches, ("yaw", "tramp")):
+        stable = [p for p in branch.points if p.stable]
+        try:
+            cycles[mode] = cycle_at(family, min(stable, key=lambda p: abs(p.speed - V)), V)
+        except (ValueError, ConvergenceError) as exc:
+            notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {exc}")
+    for name, start, colour, offset in PHASE_STARTS:
+        tr = simulate(family.model, 1.5 * BAR, SpeedSchedule.constant(V), PHASE_DURATION, initial_state(start))
+        history = ModeClassifier().classify(tr)
+        psi, psid = np.degrees(tr.state("psi")), np.degrees(tr.state("psi_dot"))
+        ax.plot(psi, psid, lw=0.4, color=colour, label=f"{name}: → {history.final_mode.value} mode")
+        ax.plot(psi[0], psid[0], "s", color=colour, ms=7, zorder=6)
+        ax.annotate(name, (psi[0], psid[0]), textcoords="offset points", xytext=offset, fontsize=9, color=colour,
+                    zorder=6, fontweight="bold", bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none"))
+        last = tr.t > tr.t[-1] - 1.0
+        a_sim = np.degrees(np.max(np.abs(tr.state("psi")[last])))
+        mode = history.final_mode.value
+        ref = cycles.get(mode)
+        ref_text = f", continuation cycle {np.degrees(ref.max_abs('psi')):.4f} deg" if ref is not None else ""
+        notes.append(f"{name} (start {', '.join(f'{k} = {v:g} rad' for k, v in start.items())}): settles in the "
+                     f"{mode} mode, max|psi| over the last second {a_sim:.4f} deg{ref_text}")
+        complete &= tr.complete
+    for mode, c in cycles.items():
+        x = c.orbit.at(np.linspace(0.0, 1.0, 400))
+        ax.plot(np.degrees(x[:, 4]), np.degrees(x[:, 5]), "--", color="C3" if mode == "tramp" else "C0", lw=1.3,
+                label=f"stable {mode} cycle (continuation, {c.frequency_hz:.2f} Hz)")
+    ax.set_xlabel(r"$\psi$ [deg]")
+    ax.set_ylabel(r"$\dot\psi$ [deg/s]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
+    ax.set_title(f"Fig. 11: phase portrait at {paper.FIG11_SPEED_KMH:g} km/h, t = 0.25 m, 1.5 bar "
+                 f"({PHASE_DURATION:g} s each)", fontsize=10)
+    return Drawing(fig, tuple(notes), complete)
+
+
+# Figure 18: the window of the two-parameter cycle continuation (tests/test_cycles_curves.py).  Below 0.2 bar the
+# torus curves need more than 300 continuation steps (over 25 s each) and do not reach the window's edge.
+FIG18_EFFECTS = "hcl,pt"
+FIG18_WINDOW = (0.2, 0.6, 100.0, 300.0)     # bar, bar, km/h, km/h
+FIG18_VIEW_KMH = (130.0, 230.0)
+FIG18_START_BAR = 0.25                      # one-parameter cycle branches whose S and T points seed the curves
+
+
+@register(18, "cycle_bifurcation_curves_hcl_pt", cost=14)
+def draw_cycle_curves(store: DiagramStore) -> Drawing:
+    lo_bar, hi_bar, vmin_kmh, vmax_kmh = FIG18_WINDOW
+    effects = Effects.parse(FIG18_EFFECTS)
+    key = _pressure_key(effects, lo_bar, hi_bar, vmin_kmh, vmax_kmh, n_seeds=21)
+    hopf, family = store.diagram(key), store.family(key)
+    cycles = cycle_diagram(family, FIG18_START_BAR * BAR, vmin_kmh * KMH, vmax_kmh * KMH)
+    fig, ax = plt.subplots(figsize=(7.2, 5.4))
+    _shade_stable(ax, family, hopf, BAR)
+    _draw_curves(ax, hopf, BAR, "k", label="Hopf curves")
+    notes, complete = [], hopf.complete and cycles.complete
+    paper_hh = paper.SECTION5[FIG18_EFFECTS]["hopf_hopf_bar"]
+    for i, hh in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1):
+        _mark(ax, hh, BAR, f"HH{i}", colour="tab:red", marker="s", offset=(6, 4))
+        notes.append(_point_note(f"HH{i}", hh, "bar", BAR) + (f" (paper {paper_hh:g} bar)" if i == 1 else ""))
+    for i, dh in enumerate(_located(hopf, PointKind.GENERALIZED_HOPF), 1):
+        _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", offset=(8, 2))
+        notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
+    for text, point in special_point_labels(cycles):
+        if point.kind not in (PointKind.CYCLE_FOLD, PointKind.TORUS):
+            continue
+        try:
+            curve: CycleCurve = cycle_bifurcation_curve(family, point, lo_bar * BAR, hi_bar * BAR,
+                                                        vmin_kmh * KMH, vmax_kmh * KMH)
+        except ConvergenceError as exc:
+            notes.append(f"{text}: INCOMPLETE: {exc}")
+            complete = False
+            continue
+        style, colour = CURVE_STYLES[curve.kind]
+        ax.plot(curve.speeds * 3.6, curve.values / BAR, style, color=colour, lw=1.6,
+                label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
+                if text in ("S1", "T1") else None)
+        k = int(np.argmin(np.abs(curve.values - 0.5 * (FIG18_START_BAR * BAR + curve.values.max()))))
+        ax.annotate(text, (curve.speeds[k] * 3.6, curve.values[k] / BAR), textcoords="offset points",
+                    xytext=(5, -3) if text == "T1" else (-18, -3), fontsize=9, color=colour)
+        ends = [e for e in curve.ends if e is not None]
+        for v, q in ends:
+            ax.plot(v * 3.6, q / BAR, "*", color=colour, ms=9, zorder=6)
+        end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / BAR:.4f} bar" for v, q in ends)
+        notes.append(f"{text} ({curve.kind.value}, from {point.speed * 3.6:.2f} km/h at {FIG18_START_BAR:g} bar): "
+                     f"{end_text or 'no zero-amplitude end'}; {' | '.join(curve.messages)}")
+        complete &= curve.complete
+    ax.axhline(FIG18_START_BAR, color="0.5", lw=0.7, ls=":")
+    # The paper's names: HB3 turns subcritical at DH (its cycles are unstable below it), HB2 stays supercritical.
+    for h in cycles.hopf:
+        name = "HB3" if h.first_lyapunov > 0 else "HB2"
+        ax.annotate(name, (h.speed_kmh, FIG18_START_BAR), textcoords="offset points", xytext=(4, 3), fontsize=8)
+        notes.append(f"{name} at {FIG18_START_BAR:g} bar: {h.speed_kmh:.2f} km/h, first Lyapunov coefficient "
+                     f"{'positive (subcritical)' if h.first_lyapunov > 0 else 'negative (supercritical)'}")
+    _speed_axis(ax, FIG18_VIEW_KMH[1], FIG18_VIEW_KMH[0])
+    ax.set_ylim(lo_bar, hi_bar)
+    ax.set_ylabel("inflation pressure $p_i$ [bar]")
+    ax.legend(fontsize=8, loc="upper right", framealpha=0.9)
+    ax.set_title("Fig. 18: enlarged (V, $p_i$) diagram, effects HCL + PT; shaded: straight running stable\n"
+                 f"stars: cycle curves end at zero amplitude; dotted: {FIG18_START_BAR:g} bar (where they start)",
+                 fontsize=9)
+    notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; the paper's HH2, where "
+                 "they meet again, is below it (not computed)")
+    notes += _incomplete_notes("", hopf)
     return Drawing(fig, tuple(notes), complete)

@@ -29,16 +29,33 @@ def interface_unit(name: str) -> tuple[str, float]:
     return INTERFACE_UNITS.get(name, (ShimmyParameters.unit(name), 1.0))
 
 
-def positive_float(what: str):
+def _number(what: str, allow_zero: bool):
     def parse(text: str) -> float:
         try:
             value = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{what} must be a number, got '{text}'") from None
-        if not math.isfinite(value) or value <= 0.0:
-            raise argparse.ArgumentTypeError(f"{what} must be positive, got {text}")
+        if not math.isfinite(value) or value < 0.0 or (value == 0.0 and not allow_zero):
+            raise argparse.ArgumentTypeError(f"{what} must {'not be negative' if allow_zero else 'be positive'}, "
+                                             f"got {text}")
         return value
     return parse
+
+
+def positive_float(what: str):
+    return _number(what, allow_zero=False)
+
+
+def non_negative_float(what: str):
+    return _number(what, allow_zero=True)
+
+
+def add_speed_window(p: argparse.ArgumentParser, vmin: bool = False) -> None:
+    if vmin:
+        p.add_argument("--vmin", type=non_negative_float("--vmin"), default=0.0, metavar="KMH",
+                       help="lower end of the speed window, km/h (default 0; never below 0.5)")
+    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
+                   help="upper end of the speed window, km/h (default 400)")
 
 
 def parse_overrides(items: list[str] | None) -> dict[str, float]:
@@ -136,6 +153,15 @@ def check_output_path(path: str) -> None:
 def emit_json(obj: Any) -> None:
     json.dump(obj, sys.stdout, indent=2)
     sys.stdout.write("\n")
+
+
+def ticker(bar):
+    """A ``progress(done, total)`` callback that moves a :func:`progress` bar."""
+    def tick(done: int, total: int) -> None:
+        bar.total = total
+        bar.n = done
+        bar.refresh()
+    return tick
 
 
 def progress(total: int, description: str, quiet: bool):

@@ -24,8 +24,8 @@ from reduced_model.parameters import ShimmyParameters
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import ASSUMPTIONS, Fidelity
-from .linearisation import MbsFamily, MbsModel
 from .limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak
+from .linearisation import MbsFamily, MbsModel
 
 KMH = 3.6
 MATCH_FREQUENCY = 0.3     # relative frequency difference above which two Hopf points are different modes

@@ -35,7 +35,7 @@ from reduced_model.parameters import ShimmyParameters
 from .dimensions import AxleDimensions
 from .fidelity import Assumption, Fidelity
 from .geometry import SIDES, AxleGeometry, cross, knuckle_frame
-from .tyre_element import ContactState, TyreElement
+from .tyre_element import TyreElement
 
 
 @dataclass(frozen=True)

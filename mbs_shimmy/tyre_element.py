@@ -263,7 +263,7 @@ class TyreElement:
         q_theta = (ex * (ry * vert - rz * Fyv) + ey * (rz * Fx - rx * vert) + ez * (rx * Fyv - ry * Fx)
                    - t * Fy * ez)
         # slip: road-relative velocity of the leading contact point P + a x_w
-        wx, wy, wz = psi_d + theta_d * ex, theta_d * ey, theta_d * ez
+        wz = theta_d * ez  # only the yaw component of the wheel's angular velocity turns the contact line
         lx = speed - a * wz * xwy
         ly = a * wz * xwx
         if not self.heading_only:

@@ -28,8 +28,7 @@ import numpy as np
 import scipy.optimize
 
 from .continuation import Branch, ContinuationSettings, continue_curve, correct, tangent
-from .cycles import (SPEED, SPEED_SCALE, CyclePoint, CycleProblem, CycleSettings, classify_multipliers,
-                     state_scales)
+from .cycles import SPEED, SPEED_SCALE, CyclePoint, CycleProblem, CycleSettings, classify_multipliers, state_scales
 from .family import SpeedFamily
 from .hopf import MIN_SPEED
 from .parameters import ParameterError

@@ -22,7 +22,15 @@ import scipy.optimize
 
 from .continuation import Branch, ContinuationSettings, continue_curve, tangent
 from .family import SpeedFamily
-from .hopf import MIN_SPEED, HopfPoint, hopf_jacobian, hopf_points, hopf_residual, parameter_derivative, speed_derivative
+from .hopf import (
+    MIN_SPEED,
+    HopfPoint,
+    hopf_jacobian,
+    hopf_points,
+    hopf_residual,
+    parameter_derivative,
+    speed_derivative,
+)
 from .normal_form import first_lyapunov_coefficient
 from .parameters import ParameterError
 from .special_points import BranchStatus, PointKind, PointStatus, SpecialPoint

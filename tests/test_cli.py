@@ -71,3 +71,24 @@ def test_bad_input_is_one_line_exit_2(args, fragment):
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and fragment in lines[0] and "Traceback" not in err
+
+
+def test_hopf_mbs_fidelities(capsys):
+    assert main(["hopf", "--pressure", "2.5", "--model", "mbs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "mbs" and out["fidelity"] == "reduced"
+    assert [round(h["speed_kmh"], 2) for h in out["hopf"]] == [46.14, 70.5]
+    assert all(h["criticality"] is None for h in out["hopf"])  # no l1 for the MBS
+    # The full geometry damps tramp through the sliding contact patch: no shimmy at 2.5 bar.
+    assert main(["hopf", "--pressure", "2.5", "--model", "mbs", "--fidelity", "full", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["hopf"] == []
+
+
+def test_simulate_mbs_with_recording(tmp_path):
+    rrd = tmp_path / "run.rrd"
+    code, out, err = run("simulate", "--model", "mbs", "--pressure", "1.5", "--speed", "60", "--duration", "3",
+                         "--rerun", str(rrd), "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["model"] == "mbs" and result["final"]["mode"] == "yaw"
+    assert rrd.stat().st_size > 100_000

@@ -12,7 +12,7 @@ from scipy.integrate import solve_ivp
 
 from comparisons import paper_reference as paper
 from comparisons.verification import agrees_to_printed_digits
-from reduced_model.cycles import (CycleDiagram, branch_peak, classify_multipliers, cycle_at, cycle_diagram)
+from reduced_model.cycles import CycleDiagram, branch_peak, classify_multipliers, cycle_at, cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.special_points import BranchStatus, PointKind, PointStatus

@@ -139,7 +139,9 @@ def test_cycles_two_parameter_curves(tmp_path, capsys):
     (["simulate", "--pressure", "1.5", "--speed", "100", "--initial", "theta1"], "NAME=VALUE"),
     (["simulate", "--pressure", "1.5", "--speed", "100", "--initial", "psi=abc"], "not a number"),
     (["simulate", "--pressure", "1.5", "--speed", "100", "--initial", "psi=nan"], "must be finite"),
-    (["simulate", "--model", "mbs", "--pressure", "1.5", "--speed", "100"], "--model mbs is not available yet"),
+    (["simulate", "--model", "mbs", "--pressure", "1.5", "--speed", "60", "--assume", "bogus"], "unknown assumption"),
+    (["simulate", "--pressure", "1.5", "--speed", "60", "--fidelity", "full"], "--model mbs only"),
+    (["simulate", "--pressure", "1.5", "--speed", "60", "--rerun", "/nonexistent-dir/x.rrd"], "does not exist"),
     (["simulate", "--model", "abc", "--pressure", "1.5", "--speed", "100"], "invalid choice"),
     (["simulate", "--pressure", "9", "--speed", "100"], "cornering stiffness"),
 ])

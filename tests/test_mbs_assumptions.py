@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from comparisons.cli import main
-from reduced_model.hopf import HopfPoint, hopf_points
-from reduced_model.model import Effects
 from mbs_shimmy import Fidelity, MbsFamily, MbsModel, assumption_study, match_hopf
 from mbs_shimmy.assumption_study import study_fidelities
+from reduced_model.hopf import HopfPoint, hopf_points
+from reduced_model.model import Effects
 
 BAR, KMH = 1e5, 1 / 3.6
 

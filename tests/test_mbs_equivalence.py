@@ -9,13 +9,20 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from mbs_shimmy import (
+    AxleDimensions,
+    Fidelity,
+    MbsFamily,
+    MbsModel,
+    mbs_steady_amplitude,
+    reduced_steady_amplitude,
+    simulate,
+)
 from reduced_model.family import SpeedFamily
 from reduced_model.hopf import hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import YANG2024
 from reduced_model.trajectory import SpeedSchedule
-from mbs_shimmy import (AxleDimensions, Fidelity, MbsFamily, MbsModel, mbs_steady_amplitude,
-                        reduced_steady_amplitude, simulate)
 
 BAR, KMH = 1e5, 1 / 3.6
 

@@ -8,14 +8,13 @@ import numpy as np
 import pytest
 from exudyn.itemInterface import MarkerKinematicTreeRigid, NodeGenericODE2, ObjectKinematicTree
 
-from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024, ParameterError
-from mbs_shimmy import (DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, MbsFamily, MbsModel,
-                        assumptions_table)
+from mbs_shimmy import DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, MbsFamily, MbsModel, assumptions_table
 from mbs_shimmy.assumption_study import study_fidelities
 from mbs_shimmy.geometry import SIDES, disc_contact, knuckle_frame, knuckle_pose
 from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator
 from mbs_shimmy.system import TreeInertia
+from reduced_model.model import Effects
+from reduced_model.parameters import YANG2024, ParameterError
 
 BAR, KMH = 1e5, 1 / 3.6
 CURRENT = exu.ConfigurationType.Current

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024, ParameterError
-from reduced_model.trajectory import SimulationStatus, SpeedSchedule
 from mbs_shimmy import DEFAULT_STEP, Fidelity, MbsFamily, MbsModel, convergence, simulate
 from mbs_shimmy import forces as forces_module
 from mbs_shimmy.system import from_reduced, to_reduced
+from reduced_model.model import Effects
+from reduced_model.parameters import YANG2024, ParameterError
+from reduced_model.trajectory import SimulationStatus, SpeedSchedule
 
 BAR, KMH = 1e5, 1 / 3.6
 

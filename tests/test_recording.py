@@ -10,10 +10,18 @@ from rerun.chunk import RrdReader
 from scipy.integrate import solve_ivp
 
 from comparisons import recording
-from comparisons.recording import (EVENTS_ENTITY, FORCE_ENTITIES, MODE_ENTITY, SCENE_ENTITIES, SPEED_ENTITY,
-                                   STATE_ENTITIES, RecordingError, time_ns, write_recording)
-from comparisons.scene import (BODY_NAMES, AxleGeometry, ScenePoses, reduced_model_poses, rotate,
-                               wheel_lateral_axis)
+from comparisons.recording import (
+    EVENTS_ENTITY,
+    FORCE_ENTITIES,
+    MODE_ENTITY,
+    SCENE_ENTITIES,
+    SPEED_ENTITY,
+    STATE_ENTITIES,
+    RecordingError,
+    time_ns,
+    write_recording,
+)
+from comparisons.scene import BODY_NAMES, AxleGeometry, ScenePoses, reduced_model_poses, rotate, wheel_lateral_axis
 from reduced_model.model import STATE_NAMES, ShimmyModel
 from reduced_model.trajectory import SimulationStatus, Trajectory
 

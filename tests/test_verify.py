@@ -7,7 +7,6 @@ import sys
 
 import pytest
 
-from comparisons.cli import main
 from comparisons.report import CheckStatus, Report, Row, Section, render_markdown, write_atomically
 
 

@@ -7,15 +7,23 @@ import argparse
 from mbs_shimmy import assumption_study, assumptions_table
 from mbs_shimmy.assumption_study import study_fidelities
 
-from ..options import BAR, KMH, add_model_options, add_output_options, build_model, emit_json, positive_float, progress
+from ..options import (
+    BAR,
+    KMH,
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_model,
+    emit_json,
+    progress,
+)
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("assumptions", help="shifts of the Hopf speeds and of the peak shimmy amplitude when each "
                                            "assumption of the reduced model is dropped (multibody model)")
     add_model_options(p)
-    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
-                   help="upper end of the speed window, km/h (default 400)")
+    add_speed_window(p)
     p.add_argument("--no-cycles", action="store_true",
                    help="skip the limit-cycle amplitudes (long simulations); peak shifts are then null")
     add_output_options(p)

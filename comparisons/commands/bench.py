@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from ..benchmarks import BENCHMARKS, run_benchmarks
 from ..options import UsageError, add_output_options, emit_json, progress

@@ -9,8 +9,19 @@ from reduced_model.family import SpeedFamily
 from reduced_model.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.parameters import ParameterError
 
-from ..options import (BAR, KMH, UsageError, add_model_options, add_output_options, build_model, emit_json,
-                       interface_unit, positive_float, progress)
+from ..options import (
+    BAR,
+    KMH,
+    UsageError,
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_model,
+    emit_json,
+    interface_unit,
+    progress,
+    ticker,
+)
 
 PARAMS = ("pressure", "a0", "t0", "sigma0", "k5_0")
 
@@ -21,8 +32,7 @@ def add_parser(sub) -> None:
     p.add_argument("--range", required=True, nargs=2, type=float, metavar=("LO", "HI"),
                    help="parameter window (bar for pressure, SI otherwise)")
     add_model_options(p, pressure_required=False)
-    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
-                   help="upper end of the speed window, km/h (default 400)")
+    add_speed_window(p)
     add_output_options(p, plot=True)
     p.set_defaults(run=run)
 
@@ -60,11 +70,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--range: {exc}") from None
     quiet = args.json or not sys.stderr.isatty()
     with progress(10, "Hopf curves", quiet) as bar:
-        def tick(done, total):
-            bar.total = total
-            bar.n = done
-            bar.refresh()
-        diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, args.vmax * KMH, progress=tick)
+        diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, args.vmax * KMH, progress=ticker(bar))
     if args.plot:
         from ..plots import plot_hopf_diagram
         plot_hopf_diagram(diagram, family, args.plot)

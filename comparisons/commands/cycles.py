@@ -11,32 +11,28 @@ from reduced_model.cycles import CycleBranch, CycleDiagram, CyclePoint, branch_p
 from reduced_model.family import SpeedFamily
 from reduced_model.special_points import ConvergenceError, PointKind
 
-from ..options import (BAR, KMH, UsageError, add_model_options, add_output_options, build_model, emit_json,
-                       interface_unit, positive_float, progress)
+from ..options import (
+    BAR,
+    KMH,
+    UsageError,
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_model,
+    emit_json,
+    interface_unit,
+    progress,
+    ticker,
+)
 
 TWO_PARAMS = ("pressure", "a0", "t0", "sigma0", "k5_0")
-
-
-def non_negative_float(what: str):
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{what} must be a number, got '{text}'") from None
-        if not math.isfinite(value) or value < 0.0:
-            raise argparse.ArgumentTypeError(f"{what} must not be negative, got {text}")
-        return value
-    return parse
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("cycles", help="limit cycles (shimmy amplitudes) born at the Hopf points, with their "
                                       "folds, torus and period-doubling points")
     add_model_options(p)
-    p.add_argument("--vmin", type=non_negative_float("--vmin"), default=0.0, metavar="KMH",
-                   help="lower end of the speed window, km/h (default 0)")
-    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
-                   help="upper end of the speed window, km/h (default 400)")
+    add_speed_window(p, vmin=True)
     p.add_argument("--two-param", metavar="NAME", choices=TWO_PARAMS,
                    help="also continue every cycle fold and torus point in the (speed, NAME) plane "
                         f"(figures 8 and 18); NAME one of {', '.join(TWO_PARAMS)}; needs --range")
@@ -138,11 +134,7 @@ def run(args: argparse.Namespace) -> int:
     vmin, vmax = args.vmin * KMH, args.vmax * KMH
     quiet = args.json or not sys.stderr.isatty()
     with progress(1, "cycle branches", quiet) as bar:
-        def tick(done, total):
-            bar.total = total
-            bar.n = done
-            bar.refresh()
-        diagram = cycle_diagram(family, q, vmin, vmax, progress=tick)
+        diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar))
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
     if args.two_param:

@@ -6,16 +6,23 @@ import argparse
 
 from reduced_model.hopf import HopfPoint, hopf_points
 
-from ..options import (BAR, KMH, add_model_choice, add_model_options, add_output_options, build_family, emit_json,
-                       positive_float)
+from ..options import (
+    BAR,
+    KMH,
+    add_model_choice,
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_family,
+    emit_json,
+)
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("hopf", help="Hopf points (shimmy onset speeds) at one pressure")
     add_model_options(p)
     add_model_choice(p)
-    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
-                   help="upper end of the speed window, km/h (default 400)")
+    add_speed_window(p)
     add_output_options(p)
     p.set_defaults(run=run)
 

@@ -13,8 +13,20 @@ from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
-from ..options import (BAR, KMH, UsageError, add_model_choice, add_model_options, add_output_options, build_fidelity,
-                       build_model, check_output_path, emit_json, positive_float, progress)
+from ..options import (
+    BAR,
+    KMH,
+    UsageError,
+    add_model_choice,
+    add_model_options,
+    add_output_options,
+    build_fidelity,
+    build_model,
+    check_output_path,
+    emit_json,
+    positive_float,
+    progress,
+)
 
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
 CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
