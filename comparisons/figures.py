@@ -21,13 +21,20 @@ from typing import Callable
 import numpy as np
 
 from reduced_model import tyre
+from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve
+from reduced_model.cycles import CycleBranch, CycleDiagram, branch_peak, cycle_at, cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.hopf import hopf_points
 from reduced_model.hopf_curves import HopfCurve, HopfDiagram, hopf_diagram
 from reduced_model.model import Effects, ShimmyModel
+from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.parameters import YANG2024
-from reduced_model.special_points import PointKind, PointStatus
+from reduced_model.simulation import initial_state, simulate
+from reduced_model.special_points import ConvergenceError, PointKind, PointStatus
+from reduced_model.trajectory import SpeedSchedule, Trajectory
 
+from . import paper_reference as paper
+from .cycle_plots import CURVE_STYLES, draw_cycle_diagram, special_point_labels
 from .plots import plt, save_figure, stability_grid
 
 BAR = 1e5
@@ -145,10 +152,12 @@ class DiagramKey:
 
 @dataclass
 class DiagramStore:
-    """Hopf diagrams by :class:`DiagramKey`, each computed once per store."""
+    """Hopf diagrams by :class:`DiagramKey` and cycle diagrams by :class:`CycleKey`, each computed once per
+    store."""
 
     _diagrams: dict = field(default_factory=dict)
     _families: dict = field(default_factory=dict)
+    _cycles: dict = field(default_factory=dict)      # CycleKey -> (family, CycleDiagram)
 
     def family(self, key: DiagramKey) -> SpeedFamily:
         fkey = (key.effects, key.param, key.pressure_bar)
@@ -633,16 +642,6 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
 
 # --- periodic-orbit figures (limit-cycle branches, simulations, cycle bifurcation curves) --------------------
 
-from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve  # noqa: E402
-from reduced_model.cycles import CycleBranch, CycleDiagram, branch_peak, cycle_at, cycle_diagram  # noqa: E402
-from reduced_model.modes import ModeClassifier, ModeHistory  # noqa: E402
-from reduced_model.simulation import initial_state, simulate  # noqa: E402
-from reduced_model.special_points import ConvergenceError  # noqa: E402
-from reduced_model.trajectory import SpeedSchedule, Trajectory  # noqa: E402
-
-from . import paper_reference as paper  # noqa: E402
-from .cycle_plots import CURVE_STYLES, draw_cycle_diagram, special_point_labels  # noqa: E402
-
 FIG9_VMAX_KMH = 800.0   # HB4 of figure 9 lies at 720 km/h (t = 0.25 m) and 746 km/h (0.285 m): shown, not cut
 TRAIL_FIG9 = (0.25, 0.285)
 
@@ -652,7 +651,7 @@ class CycleKey:
     pressure_bar: float
     vmax_kmh: float
     params: tuple = ()          # ((name, value), ...): Table 1 entries changed from YANG2024
-    effects: Effects = Effects()
+    effects: Effects = field(default_factory=Effects)
     vmin_kmh: float = 0.0
 
 
@@ -662,7 +661,7 @@ def _cycle_family(key: CycleKey) -> SpeedFamily:
 
 def _store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, CycleDiagram]:
     """(family, cycle diagram) for ``key``, computed once per store (figures 9a, 10 and 11 share one)."""
-    cache = store.__dict__.setdefault("_cycle_diagrams", {})
+    cache = store._cycles
     if key not in cache:
         family = _cycle_family(key)
         cache[key] = (family, cycle_diagram(family, key.pressure_bar * BAR, key.vmin_kmh * KMH,
@@ -744,11 +743,14 @@ def _label_cycle_hopf(axes, diagram: CycleDiagram, names: tuple[str, ...] | None
     names = sorted(hopf_names(diagram, names), key=lambda nh: nh[1].speed)
     for ax in axes:
         raised = False
+        speeds = [h.speed_kmh for _, h in names]
         for i, (name, h) in enumerate(names):
             ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
-            raised = (not raised and i > 0 and h.speed_kmh - names[i - 1][1].speed_kmh < 0.09 * width_kmh)
-            ax.annotate(name, (h.speed_kmh, 0.0), textcoords="offset points", xytext=(2, 16 if raised else 5),
-                        fontsize=8, color="C0")
+            raised = (not raised and i > 0 and speeds[i] - speeds[i - 1] < 0.09 * width_kmh)
+            # A label whose right neighbour is close goes left of its point.
+            left = not raised and i + 1 < len(names) and speeds[i + 1] - speeds[i] < 0.09 * width_kmh
+            ax.annotate(name, (h.speed_kmh, 0.0), textcoords="offset points", xytext=(-2 if left else 2,
+                        16 if raised else 5), ha="right" if left else "left", fontsize=8, color="C0")
         if not names and not diagram.branches:
             ax.text(0.5, 0.5, "no Hopf point, no limit cycle:\nstraight running stable at every speed",
                     transform=ax.transAxes, ha="center", va="center", fontsize=9, color="0.3")

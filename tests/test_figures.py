@@ -25,7 +25,7 @@ def test_every_paper_figure_is_either_drawn_or_explained():
         drawn = n in figures.available_figures()
         assert drawn != (n in figures.UNAVAILABLE), n
         assert drawn == (figures.unavailable_reason(n) is None)
-    assert set(figures.available_figures()) >= {2, 5, 6, 7, 8, 12, 13, 14, 16, 17}
+    assert set(figures.available_figures()) >= {2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18}
     with pytest.raises(KeyError):
         figures.unavailable_reason(19)
 
@@ -64,19 +64,63 @@ def test_representative_figures(tmp_path, capsys):
     assert elapsed < 60.0
 
 
+# Periodic-orbit figures in CI: figure 3 (one branch, peak amplitudes) and figure 9 (folds and torus points on
+# two branches, a branch started at its upper Hopf point); about 15 s.  Figures 4, 10, 11, 15 and 18 are in the
+# slow test (figure 10 alone simulates 165 s of ramps).
+CI_CYCLES = (3, 9)
+
+
+def note(made, n, prefix):
+    (found,) = [x for x in made[n]["notes"] if x.startswith(prefix)]
+    return found
+
+
+def test_cycle_figures(tmp_path, capsys):
+    out, made, elapsed = make_and_check(tmp_path, capsys, CI_CYCLES)
+    assert note(made, 3, "Hopf points").startswith("Hopf points [km/h]: HB1 46.14 (paper 46.14), HB2 70.50")
+    assert "peak max|theta1| 3.449 deg (paper 3.45)" in note(made, 3, "yaw mode")
+    assert "peak max|psi| 0.137 deg (paper 0.14)" in note(made, 3, "yaw mode")
+    # Figure 9a: the paper's S1, T1, T2, S2 (T2 0.005 km/h from its printed value, see paper_reference).
+    for name, speed in (("S1", "184.75"), ("T1", "181.65"), ("T2", "157.38"), ("S2", "135.56")):
+        assert f"{speed} km/h (paper {figures.paper.FIG9A[name]:g})" in note(made, 9, f"(a) {name} "), name
+    assert "HB1 1.47, HB3 137.97, HB2 164.75, HB4 720.25" in note(made, 9, "(a) Hopf points")
+    # Figure 9b: the two modes merged into one branch from HB4 (HB1 is below the lowest continued speed).
+    assert note(made, 9, "(b) Hopf points").endswith("HB4 746.04")
+    assert len([x for x in made[9]["notes"] if x.startswith("(b) merged mode")]) == 1
+    assert {x.split(" ")[1] for x in made[9]["notes"] if "(cycle_fold)" in x or "(torus)" in x} == \
+        {"S1", "S2", "T1", "T2"}
+    assert elapsed < 40.0
+
+
+def test_hopf_names_follow_the_paper():
+    """HB1, HB2 bound the first branch and HB3, HB4 the second, whatever their speed order (figure 9a)."""
+    store = figures.DiagramStore()
+    _, d = figures._store_cycles(store, figures.CycleKey(1.5, 400.0, (("t0", 0.25),)))
+    names = {name: round(h.speed_kmh, 2) for name, h in figures.hopf_names(d)}
+    assert names == {"HB1": 1.47, "HB2": 164.75, "HB3": 137.97}
+
+
 @pytest.mark.slow
 def test_all_available_figures(tmp_path, capsys):
     out, made, elapsed = make_and_check(tmp_path, capsys, None)
     assert {u["number"] for u in out["unavailable"]} == set(figures.UNAVAILABLE)
-    assert elapsed < 90.0
+    # Figure 10: the jumps after S1 (ramp up) and before T2, near S2 (ramp down; paper_reference explains why).
+    assert "yaw -> tramp at" in note(made, 10, "(a) switch") and "190.75 km/h" in note(made, 10, "(a) switch")
+    assert "tramp -> yaw" in note(made, 10, "(b) switch")
+    # Figure 11: L1 settles on the tramp cycle, L2 on the yaw cycle.
+    assert "tramp mode" in note(made, 11, "L1") and "yaw mode" in note(made, 11, "L2")
+    # Figure 18: both torus curves end at HH1 (paper 0.53 bar), the fold curve at DH.
+    assert note(made, 18, "HH1").startswith("HH1: 163.11 km/h, 0.532 bar")
+    assert sum("0.5320 bar" in x for x in made[18]["notes"] if x.startswith("T")) == 2
+    assert elapsed < 180.0   # about 95 s on two idle cores; figure 10 (two 80 s ramps) is the longest
 
 
 def test_unavailable_figure_is_refused_with_exit_4(tmp_path):
-    code, out, err = run("figures", "--out", str(tmp_path), "--only", "2,3")
+    code, out, err = run("figures", "--out", str(tmp_path), "--only", "2,1")
     assert code == 4
     assert "fig  2" in out and (tmp_path / "fig02_lateral_force.png").stat().st_size > 10_000
-    assert "figure(s) 3 cannot be made yet" in err and "periodic-orbit continuation" in err
-    assert not list(tmp_path.glob("fig03*"))
+    assert "figure(s) 1 cannot be made yet" in err and "drawing of the model" in err
+    assert not list(tmp_path.glob("fig01*"))
 
 
 @pytest.mark.parametrize("args, fragment", [
