@@ -150,3 +150,13 @@ def test_bad_input_is_one_line_exit_2(args, fragment):
     assert code == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and fragment in lines[0] and "Traceback" not in err
+
+
+def test_empty_window_with_unstable_straight_running_is_not_no_shimmy(capsys):
+    """t0 = 0.285 m, 1.5 bar: the Hopf points lie below 0.5 km/h and above 400 km/h, shimmy everywhere between."""
+    from comparisons.cli import main
+    assert main(["cycles", "--pressure", "1.5", "--set", "t0=0.285", "--json"]) == 3
+    out = json.loads(capsys.readouterr().out)
+    assert out["complete"] is False and out["branches"] == [] and "unstable" in out["note"]
+    assert main(["cycles", "--pressure", "2.7", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["complete"] is True

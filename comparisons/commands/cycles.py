@@ -6,9 +6,12 @@ import argparse
 import math
 import sys
 
+import numpy as np
+
 from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve
 from reduced_model.cycles import CycleBranch, CycleDiagram, CyclePoint, branch_peak, cycle_diagram
 from reduced_model.family import SpeedFamily
+from reduced_model.hopf import MIN_SPEED
 from reduced_model.special_points import ConvergenceError, PointKind
 
 from ..options import (
@@ -135,6 +138,7 @@ def run(args: argparse.Namespace) -> int:
     quiet = args.json or not sys.stderr.isatty()
     with progress(1, "cycle branches", quiet) as bar:
         diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar))
+    unstable = unstable_without_hopf(diagram, family, q)
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
     if args.two_param:
@@ -162,6 +166,8 @@ def run(args: argparse.Namespace) -> int:
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
     if args.json:
         out = diagram_json(diagram, family, args.pressure, model.effects.names)
+        if unstable is not None:
+            out["complete"], out["note"] = False, unstable
         if args.two_param:
             out["two_param"] = {"param": args.two_param, "unit": interface_unit(args.two_param)[0],
                                 "curves": curves_json(curves, labels, factor)}
@@ -173,6 +179,8 @@ def run(args: argparse.Namespace) -> int:
             print_curves(curves, labels, args.two_param)
     problems = [f"branch from {b.start.speed_kmh:.3f} km/h stopped: {b.message}"
                 for b in diagram.branches if not b.complete]
+    if unstable is not None:
+        problems.append(unstable)
     problems += [f"curve {label}: " + (error or "; ".join(m for m, s in zip(c.messages, c.status)
                                                          if not s.is_complete))
                  for (c, error), label in zip(curves, labels) if c is None or not c.complete]
@@ -180,6 +188,19 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
     return 0
+
+
+def unstable_without_hopf(diagram: CycleDiagram, family: SpeedFamily, q: float) -> str | None:
+    """Why an empty diagram is not 'no shimmy': straight running unstable with its Hopf points outside the window."""
+    if diagram.hopf:
+        return None
+    # From MIN_SPEED: at V = 0 the slip equations have zero eigenvalues that round-off can put on either side.
+    speeds = np.linspace(max(diagram.vmin, MIN_SPEED), diagram.vmax, 81)
+    bad = [V for V in speeds if np.max(np.linalg.eigvals(family.linear_matrix(V, q)).real) > 1e-9]
+    if not bad:
+        return None
+    return (f"straight running is unstable at {min(bad) * 3.6:.1f}-{max(bad) * 3.6:.1f} km/h but no Hopf point lies "
+            f"in the window: the shimmy cycles there are born outside it (widen --vmin/--vmax)")
 
 
 def print_curves(curves, labels, name: str) -> None:
@@ -203,7 +224,9 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
     print(f"Limit cycles at {args.pressure:g} bar, {args.vmin:g}-{args.vmax:g} km/h, pressure effects: {effects}"
           + (f"; Table 1 overrides: {' '.join(args.overrides)}" if args.overrides else ""))
     if not diagram.hopf:
-        print("  no Hopf point in the window: no shimmy branch")
+        unstable = unstable_without_hopf(diagram, family, diagram.value)
+        print(f"  [INCOMPLETE] {unstable}" if unstable else
+              "  no Hopf point in the window and straight running stable throughout: no shimmy")
     labels = {id(p): text for text, p in special_point_labels(diagram)}
     for b in diagram.branches:
         head = f"  branch from HB at {b.start.speed_kmh:.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
