@@ -14,6 +14,9 @@ from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
 KMH = 1.0 / 3.6   # m/s per km/h
 BAR = 1e5         # Pa per bar
 
+# Second parameters of two-parameter diagrams (the list: pressure and the four tyre properties).
+SECOND_PARAMETERS = ("pressure", "a0", "t0", "sigma0", "k5_0")
+
 # Table 1 entries shown (and set) in other units than SI at the interface.
 INTERFACE_UNITS = {"pi0": ("bar", BAR)}
 

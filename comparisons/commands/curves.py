@@ -12,6 +12,7 @@ from reduced_model.parameters import ParameterError
 from ..options import (
     BAR,
     KMH,
+    SECOND_PARAMETERS,
     UsageError,
     add_model_options,
     add_output_options,
@@ -23,7 +24,7 @@ from ..options import (
     ticker,
 )
 
-PARAMS = ("pressure", "a0", "t0", "sigma0", "k5_0")
+PARAMS = SECOND_PARAMETERS
 
 
 def add_parser(sub) -> None:

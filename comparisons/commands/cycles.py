@@ -17,6 +17,7 @@ from reduced_model.special_points import ConvergenceError, PointKind
 from ..options import (
     BAR,
     KMH,
+    SECOND_PARAMETERS,
     UsageError,
     add_model_options,
     add_output_options,
@@ -28,7 +29,7 @@ from ..options import (
     ticker,
 )
 
-TWO_PARAMS = ("pressure", "a0", "t0", "sigma0", "k5_0")
+TWO_PARAMS = SECOND_PARAMETERS
 
 
 def add_parser(sub) -> None:
