@@ -19,8 +19,13 @@ from typing import Any
 from reduced_model.parameters import ParameterError, ShimmyParameters
 
 
-def _d(value: float, unit: str, reason: str) -> Any:
-    return field(default=value, metadata={"unit": unit, "reason": reason})
+def _d(value: float, unit: str, reason: str, *, range: tuple[float, float], plausible: tuple[float, float],
+       neutral: float | None = None) -> Any:
+    """A chosen dimension (SI).  ``range``: where the model stays physically meaningful (inclusive);
+    ``plausible``: where a real truck beam axle's value lies (for uncertainty studies); ``neutral``: the value at
+    which the element has no effect, if there is one."""
+    return field(default=value, metadata={"unit": unit, "reason": reason, "range": range, "plausible": plausible,
+                                          "neutral": neutral})
 
 
 @dataclass(frozen=True)
@@ -28,23 +33,34 @@ class AxleDimensions:
     """Masses, inertias and arm lengths of the multibody axle not given by the paper (SI)."""
 
     wheel_mass: float = _d(40.0, "kg", "truck wheel with tyre; gives I2 = 4.85 kg m^2 with a radius of "
-                                       "gyration 0.35 m at R = 0.4 m")
+                                       "gyration 0.35 m at R = 0.4 m",
+                   range=(1.0, 500.0), plausible=(30.0, 60.0))
     wheel_diametral_inertia: float = _d(2.6, "kg m^2", "wheel about a diameter; about half of I2 plus the "
-                                                      "tyre width, as for a ring-like rim and tyre")
-    knuckle_mass: float = _d(20.0, "kg", "knuckle, hub and brake; its centre of mass is put on the kingpin axis")
-    knuckle_transverse_inertia: float = _d(0.3, "kg m^2", "knuckle about axes across the kingpin")
-    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass on the roll axis, so it only adds roll inertia")
+                                                      "tyre width, as for a ring-like rim and tyre",
+                   range=(0.1, 50.0), plausible=(2.0, 3.5))
+    knuckle_mass: float = _d(20.0, "kg", "knuckle, hub and brake; its centre of mass is put on the kingpin axis",
+                   range=(1.0, 200.0), plausible=(12.0, 35.0))
+    knuckle_transverse_inertia: float = _d(0.3, "kg m^2", "knuckle about axes across the kingpin",
+                   range=(0.01, 10.0), plausible=(0.15, 0.6))
+    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass on the roll axis, so it only adds roll inertia",
+                   range=(10.0, 1000.0), plausible=(80.0, 200.0))
     tie_rod_arm: float = _d(0.2, "m", "steering arm length to the tie-rod joint, perpendicular to the kingpin, "
-                                      "pointing rearward")
-    drag_link_arm: float = _d(0.2, "m", "left steering arm to the drag link, pointing inboard")
-    drag_link_length: float = _d(0.8, "m", "drag link from the arm forward to the steering gear on the frame")
+                                      "pointing rearward",
+                   range=(0.05, 1.0), plausible=(0.15, 0.3))
+    drag_link_arm: float = _d(0.2, "m", "left steering arm to the drag link, pointing inboard",
+                   range=(0.05, 1.0), plausible=(0.15, 0.3))
+    drag_link_length: float = _d(0.8, "m", "drag link from the arm forward to the steering gear on the frame",
+                   range=(0.1, 3.0), plausible=(0.5, 1.2))
 
     def __post_init__(self) -> None:
         for f_ in dataclasses.fields(self):
             value = getattr(self, f_.name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0.0:
-                raise ParameterError(f"dimension {f_.name} must be a positive number "
-                                     f"({f_.metadata['unit']}), got {value!r}")
+            if not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ParameterError(f"dimension {f_.name} must be a finite number, got {value!r}")
+            lo, hi = f_.metadata["range"]
+            if not lo <= value <= hi:
+                raise ParameterError(f"dimension {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
+                                     f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
 
     def replace(self, **overrides: float) -> "AxleDimensions":
         names = {f_.name for f_ in dataclasses.fields(self)}
@@ -55,7 +71,8 @@ class AxleDimensions:
 
     def table(self) -> list[dict[str, Any]]:
         return [{"name": f_.name, "value": getattr(self, f_.name), "unit": f_.metadata["unit"],
-                 "reason": f_.metadata["reason"]} for f_ in dataclasses.fields(self)]
+                 "reason": f_.metadata["reason"], "range": f_.metadata["range"],
+                 "plausible": f_.metadata["plausible"]} for f_ in dataclasses.fields(self)]
 
     # --- derived inertias that make Table 1 hold at straight running ------------------------------------
     def knuckle_kingpin_inertia(self, params: ShimmyParameters) -> float:

@@ -22,9 +22,11 @@ _T1_HOP = "Yang et al., Table 1 (from Hopping [12])"
 _TEXT = "Yang et al., section 2 text"
 
 
-def _p(value: float, unit: str, source: str, description: str, printed: str = "") -> Any:
+def _p(value: float, unit: str, source: str, description: str, printed: str = "", *,
+       range: tuple[float, float]) -> Any:
+    """A Table 1 entry; ``range`` (SI, inclusive) is where the model stays physically meaningful."""
     return field(default=value, metadata={"unit": unit, "source": source, "description": description,
-                                          "printed": printed})
+                                          "printed": printed, "range": range})
 
 
 class ParameterError(ValueError):
@@ -36,83 +38,78 @@ class ShimmyParameters:
     """Parameters of the truck front-axle shimmy model, SI units (see each field's metadata)."""
 
     # --- steering and suspension (Li et al. [16]) -----------------------------------------------------
-    I1: float = _p(6.0, "kg m^2", _T1_LI, "inertia of one front wheel about its kingpin")
-    I2: float = _p(4.85, "kg m^2", _T1_LI, "inertia of one front wheel about its spin (y) axis")
-    I3: float = _p(160.0, "kg m^2", _T1_LI, "inertia of the front axle about the x-axis (tramp)")
-    k1: float = _p(35.5e3, "N m/rad", _T1_LI, "tie-rod angular stiffness about the kingpins")
-    k2: float = _p(17.0e3, "N m/rad", _T1_LI, "drag-link angular stiffness about the left kingpin")
-    k3: float = _p(32.0e3, "N m/rad", _T1_LI, "suspension roll stiffness about the x-axis")
-    k4: float = _p(80.0e3, "N/m", _T1_LI, "tyre lateral stiffness")
-    k5_0: float = _p(400.0e3, "N/m", _T1_LI, "tyre vertical stiffness at nominal pressure", "k_{5_0}")
-    c1: float = _p(10.0, "N m s/rad", _T1_LI, "tie-rod angular damping about the kingpins")
-    c2: float = _p(100.0, "N m s/rad", _T1_LI, "drag-link angular damping about the left kingpin")
-    c3: float = _p(1050.0, "N m s/rad", _T1_LI, "suspension roll damping about the x-axis")
-    c4: float = _p(44.0, "N m s/rad", _T1_LI, "equivalent wheel damping about the kingpin")
-    R: float = _p(0.4, "m", _T1_LI, "rolling radius")
-    L: float = _p(1.608, "m", _T1_LI, "wheel-centre distance")
-    f: float = _p(0.015, "-", _T1_LI, "rolling-resistance coefficient")
-    l: float = _p(0.07, "m", _T1_LI, "wheel offset (kingpin to wheel centre plane)")
-    gamma: float = _p(0.04, "rad", _T1_LI, "caster angle", "γ")
-    a0: float = _p(0.2, "m", _T1_LI, "half contact length at nominal pressure")
-    sigma0: float = _p(0.65, "m", _T1_LI, "relaxation length (section 3 model)", "σ_0")
-    t0: float = _p(0.07, "m", _T1_LI, "pneumatic trail (section 3 model)")
+    I1: float = _p(6.0, "kg m^2", _T1_LI, "inertia of one front wheel about its kingpin", range=(0.1, 1000.0))
+    I2: float = _p(4.85, "kg m^2", _T1_LI, "inertia of one front wheel about its spin (y) axis", range=(0.1, 1000.0))
+    I3: float = _p(160.0, "kg m^2", _T1_LI, "inertia of the front axle about the x-axis (tramp)", range=(1.0, 1e5))
+    k1: float = _p(35.5e3, "N m/rad", _T1_LI, "tie-rod angular stiffness about the kingpins", range=(100.0, 1e8))
+    k2: float = _p(17.0e3, "N m/rad", _T1_LI, "drag-link angular stiffness about the left kingpin", range=(0.0, 1e8))
+    k3: float = _p(32.0e3, "N m/rad", _T1_LI, "suspension roll stiffness about the x-axis", range=(0.0, 1e8))
+    k4: float = _p(80.0e3, "N/m", _T1_LI, "tyre lateral stiffness", range=(100.0, 1e8))
+    k5_0: float = _p(400.0e3, "N/m", _T1_LI, "tyre vertical stiffness at nominal pressure", "k_{5_0}",
+                     range=(1000.0, 1e8))
+    c1: float = _p(10.0, "N m s/rad", _T1_LI, "tie-rod angular damping about the kingpins", range=(0.0, 1e6))
+    c2: float = _p(100.0, "N m s/rad", _T1_LI, "drag-link angular damping about the left kingpin", range=(0.0, 1e6))
+    c3: float = _p(1050.0, "N m s/rad", _T1_LI, "suspension roll damping about the x-axis", range=(0.0, 1e6))
+    c4: float = _p(44.0, "N m s/rad", _T1_LI, "equivalent wheel damping about the kingpin", range=(0.0, 1e6))
+    R: float = _p(0.4, "m", _T1_LI, "rolling radius", range=(0.1, 1.5))
+    L: float = _p(1.608, "m", _T1_LI, "wheel-centre distance", range=(0.5, 3.0))
+    f: float = _p(0.015, "-", _T1_LI, "rolling-resistance coefficient", range=(0.0, 0.1))
+    l: float = _p(0.07, "m", _T1_LI, "wheel offset (kingpin to wheel centre plane)", range=(0.0, 0.5))
+    gamma: float = _p(0.04, "rad", _T1_LI, "caster angle", "γ", range=(-0.35, 0.35))
+    a0: float = _p(0.2, "m", _T1_LI, "half contact length at nominal pressure", range=(0.01, 0.5))
+    sigma0: float = _p(0.65, "m", _T1_LI, "relaxation length (section 3 model)", "σ_0", range=(0.01, 5.0))
+    t0: float = _p(0.07, "m", _T1_LI, "pneumatic trail (section 3 model)", range=(0.001, 0.5))
     # --- nominal operating point -------------------------------------------------------------------------
-    Fz0: float = _p(6000.0, "N", _TEXT, "nominal vertical wheel load", "F_z0")
-    Fz: float = _p(6000.0, "N", _TEXT, "actual vertical wheel load (the paper keeps Fz = Fz0)", "F_z")
-    pi0: float = _p(2.5e5, "Pa", _TEXT, "nominal inflation pressure (2.5 bar)", "p_i0")
+    Fz0: float = _p(6000.0, "N", _TEXT, "nominal vertical wheel load", "F_z0", range=(100.0, 1e5))
+    Fz: float = _p(6000.0, "N", _TEXT, "actual vertical wheel load (the paper keeps Fz = Fz0)", "F_z",
+                   range=(100.0, 1e5))
+    pi0: float = _p(2.5e5, "Pa", _TEXT, "nominal inflation pressure (2.5 bar)", "p_i0", range=(1e4, 2e6))
     # --- Magic-Formula lateral force, eqs. (2.6)-(2.9) -------------------------------------------------
-    p_cy1: float = _p(1.29, "-", _T1_PAC, "shape factor C_y", "p_{cv1}")
-    p_dy1: float = _p(0.875, "-", _T1_PAC, "peak friction mu_y at nominal load and pressure")
-    p_dy2: float = _p(-0.06452, "-", _T1_PAC, "variation of mu_y with load", "p_{+2}")
-    p_py3: float = _p(-0.16666, "-", _T1_PAC, "variation of mu_y with pressure", "p_my2")
-    p_py4: float = _p(0.2811, "-", _T1_PAC, "variation of mu_y with pressure squared")
-    p_ky1: float = _p(12.0628, "-", _T1_PAC, "cornering stiffness K_ya / Fz0 scale")
-    p_ky2: float = _p(1.715, "-", _T1_PAC, "load at which K_ya peaks, / Fz0")
-    p_ky3: float = _p(2.0005, "-", _T1_PAC, "curvature of K_ya against load")
-    p_py1: float = _p(-0.6255, "-", _T1_PAC, "variation of K_ya peak with pressure", "p_nv1")
-    p_py2: float = _p(-0.06523, "-", _T1_PAC, "variation of K_ya peak load with pressure", "p_pv2")
-    p_ey1: float = _p(-0.801, "-", _T1_HOP, "curvature factor E_y at nominal load and pressure")
-    p_ey2: float = _p(0.54602, "-", _T1_HOP, "variation of E_y with load")
-    p_ey3: float = _p(-0.91981, "-", _T1_HOP, "variation of E_y with load squared")
-    p_epy1: float = _p(0.58897, "-", _T1_HOP, "variation of E_y with pressure")
-    p_epy2: float = _p(0.08363, "-", _T1_HOP, "variation of E_y with pressure squared")
-    p_epey1: float = _p(0.40612, "-", _T1_HOP, "combined load-pressure variation of E_y")
+    p_cy1: float = _p(1.29, "-", _T1_PAC, "shape factor C_y", "p_{cv1}", range=(0.1, 3.0))
+    p_dy1: float = _p(0.875, "-", _T1_PAC, "peak friction mu_y at nominal load and pressure", range=(0.1, 3.0))
+    p_dy2: float = _p(-0.06452, "-", _T1_PAC, "variation of mu_y with load", "p_{+2}", range=(-2.0, 2.0))
+    p_py3: float = _p(-0.16666, "-", _T1_PAC, "variation of mu_y with pressure", "p_my2", range=(-2.0, 2.0))
+    p_py4: float = _p(0.2811, "-", _T1_PAC, "variation of mu_y with pressure squared", range=(-2.0, 2.0))
+    p_ky1: float = _p(12.0628, "-", _T1_PAC, "cornering stiffness K_ya / Fz0 scale", range=(0.1, 100.0))
+    p_ky2: float = _p(1.715, "-", _T1_PAC, "load at which K_ya peaks, / Fz0", range=(0.1, 10.0))
+    p_ky3: float = _p(2.0005, "-", _T1_PAC, "curvature of K_ya against load", range=(-10.0, 10.0))
+    p_py1: float = _p(-0.6255, "-", _T1_PAC, "variation of K_ya peak with pressure", "p_nv1", range=(-5.0, 5.0))
+    p_py2: float = _p(-0.06523, "-", _T1_PAC, "variation of K_ya peak load with pressure", "p_pv2", range=(-5.0, 5.0))
+    p_ey1: float = _p(-0.801, "-", _T1_HOP, "curvature factor E_y at nominal load and pressure", range=(-10.0, 1.0))
+    p_ey2: float = _p(0.54602, "-", _T1_HOP, "variation of E_y with load", range=(-10.0, 10.0))
+    p_ey3: float = _p(-0.91981, "-", _T1_HOP, "variation of E_y with load squared", range=(-10.0, 10.0))
+    p_epy1: float = _p(0.58897, "-", _T1_HOP, "variation of E_y with pressure", range=(-10.0, 10.0))
+    p_epy2: float = _p(0.08363, "-", _T1_HOP, "variation of E_y with pressure squared", range=(-10.0, 10.0))
+    p_epey1: float = _p(0.40612, "-", _T1_HOP, "combined load-pressure variation of E_y", range=(-10.0, 10.0))
     # --- pneumatic trail, eqs. (4.2)-(4.8) -----------------------------------------------------------
-    q_cz1: float = _p(1.0, "-", _T1_PAC, "shape factor C_t")
-    q_dz1: float = _p(0.175, "-", _T1_PAC, "peak trail D_t / R at nominal load and pressure")
-    q_dz2: float = _p(-0.00565, "-", _T1_PAC, "variation of D_t with load")
-    p_pz1: float = _p(0.4408, "-", _T1_PAC, "variation of D_t with pressure")
-    q_bz1: float = _p(12.035, "-", _T1_PAC, "stiffness factor B_t at nominal load")
-    q_bz2: float = _p(-1.33, "-", _T1_PAC, "variation of B_t with load")
-    q_bz3: float = _p(0.0, "-", _T1_PAC, "variation of B_t with load squared")
-    q_ez1: float = _p(-1.7924, "-", _T1_PAC, "curvature factor E_t at nominal load")
-    q_ez2: float = _p(0.8975, "-", _T1_PAC, "variation of E_t with load")
-    q_ez3: float = _p(0.0, "-", _T1_PAC, "variation of E_t with load squared")
-    q_ez4: float = _p(0.2895, "-", _T1_PAC, "asymmetry of E_t in slip angle")
+    q_cz1: float = _p(1.0, "-", _T1_PAC, "shape factor C_t", range=(0.1, 3.0))
+    q_dz1: float = _p(0.175, "-", _T1_PAC, "peak trail D_t / R at nominal load and pressure", range=(0.001, 1.0))
+    q_dz2: float = _p(-0.00565, "-", _T1_PAC, "variation of D_t with load", range=(-1.0, 1.0))
+    p_pz1: float = _p(0.4408, "-", _T1_PAC, "variation of D_t with pressure", range=(-5.0, 5.0))
+    q_bz1: float = _p(12.035, "-", _T1_PAC, "stiffness factor B_t at nominal load", range=(0.1, 100.0))
+    q_bz2: float = _p(-1.33, "-", _T1_PAC, "variation of B_t with load", range=(-50.0, 50.0))
+    q_bz3: float = _p(0.0, "-", _T1_PAC, "variation of B_t with load squared", range=(-50.0, 50.0))
+    q_ez1: float = _p(-1.7924, "-", _T1_PAC, "curvature factor E_t at nominal load", range=(-20.0, 1.0))
+    q_ez2: float = _p(0.8975, "-", _T1_PAC, "variation of E_t with load", range=(-20.0, 20.0))
+    q_ez3: float = _p(0.0, "-", _T1_PAC, "variation of E_t with load squared", range=(-20.0, 20.0))
+    q_ez4: float = _p(0.2895, "-", _T1_PAC, "asymmetry of E_t in slip angle", range=(-1.0, 1.0))
     # --- relaxation length and vertical stiffness, eqs. (4.9)-(4.10) ---------------------------------
-    c_y0: float = _p(96.92e3, "N/m", _T1, "tyre lateral stiffness at nominal load and pressure", "C_{y0}")
+    c_y0: float = _p(96.92e3, "N/m", _T1, "tyre lateral stiffness at nominal load and pressure", "C_{y0}",
+                     range=(1000.0, 1e7))
     p_cy1_rl: float = _p(0.5, "-", _T1_PAC, "variation of relaxation length with pressure (eq. 4.9)",
-                         "p_cy1 (second row)")
-    p_fz1: float = _p(0.7, "-", _T1_PAC, "variation of vertical stiffness with pressure (eq. 4.10)")
-
-    # Entries whose non-positive value makes the equations meaningless (division, square root, stiffness).
-    _POSITIVE = ("I1", "I2", "I3", "k1", "k2", "k3", "k4", "k5_0", "R", "L", "a0", "sigma0", "t0", "Fz0",
-                 "Fz", "pi0", "c_y0", "p_cy1", "p_dy1", "p_ky1", "p_ky2")
-    _NON_NEGATIVE = ("c1", "c2", "c3", "c4", "f", "l")
+                         "p_cy1 (second row)", range=(-5.0, 5.0))
+    p_fz1: float = _p(0.7, "-", _T1_PAC, "variation of vertical stiffness with pressure (eq. 4.10)",
+                      range=(-5.0, 5.0))
 
     def __post_init__(self) -> None:
         for f_ in dataclasses.fields(self):
             value = getattr(self, f_.name)
             if not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise ParameterError(f"parameter {f_.name} must be a finite number, got {value!r}")
-        for name in self._POSITIVE:
-            if getattr(self, name) <= 0.0:
-                raise ParameterError(f"parameter {name} must be positive ({self.unit(name)}), "
-                                     f"got {getattr(self, name)}")
-        for name in self._NON_NEGATIVE:
-            if getattr(self, name) < 0.0:
-                raise ParameterError(f"parameter {name} must not be negative ({self.unit(name)}), "
-                                     f"got {getattr(self, name)}")
+            lo, hi = f_.metadata["range"]
+            if not lo <= value <= hi:
+                raise ParameterError(f"parameter {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
+                                     f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
 
     # --- access by name ------------------------------------------------------------------------------
     @classmethod
@@ -135,6 +132,11 @@ class ShimmyParameters:
         return cls._field(name).metadata["source"]
 
     @classmethod
+    def physical_range(cls, name: str) -> tuple[float, float]:
+        """Inclusive physical range of an entry (SI)."""
+        return cls._field(name).metadata["range"]
+
+    @classmethod
     def description(cls, name: str) -> str:
         return cls._field(name).metadata["description"]
 
@@ -150,7 +152,7 @@ class ShimmyParameters:
         for f_ in dataclasses.fields(self):
             rows.append({"name": f_.name, "value": getattr(self, f_.name), "unit": f_.metadata["unit"],
                          "description": f_.metadata["description"], "source": f_.metadata["source"],
-                         "printed_as": f_.metadata["printed"]})
+                         "printed_as": f_.metadata["printed"], "range": f_.metadata["range"]})
         return rows
 
 

@@ -224,7 +224,7 @@ def test_load_table_interpolation():
 
 
 def test_dimensions_are_checked():
-    with pytest.raises(ParameterError, match="must be a positive number"):
+    with pytest.raises(ParameterError, match="wheel_mass = -1 kg is outside its physical range"):
         AxleDimensions(wheel_mass=-1.0)
     with pytest.raises(ParameterError, match="unknown dimension"):
         DEFAULT_DIMENSIONS.replace(wheel_radius=0.3)
