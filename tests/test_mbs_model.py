@@ -246,5 +246,5 @@ def test_family_over_a_table_entry_and_bad_values():
         MbsFamily(param="tyre_colour")
     with pytest.raises(ParameterError, match="pressure must be positive"):
         hopf_points(MbsFamily(), -1.0 * BAR, 0.0, 100.0, lyapunov=False)
-    with pytest.raises(ParameterError, match="t0 must be positive"):
+    with pytest.raises(ParameterError, match="t0 = -0.1 m is outside its physical range"):
         MbsFamily(param="t0").validate(-0.1)
