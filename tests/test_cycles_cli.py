@@ -122,7 +122,7 @@ def test_cycles_two_parameter_curves(tmp_path, capsys):
     (["cycles", "--pressure", "1.5", "--vmin", "-1"], "must not be negative"),
     (["cycles", "--pressure", "1.5", "--vmax", "0"], "must be positive"),
     (["cycles", "--pressure", "0"], "must be positive"),
-    (["cycles", "--pressure", "1.5", "--set", "t0=-1"], "t0 must be positive"),
+    (["cycles", "--pressure", "1.5", "--set", "t0=-1"], "t0 = -1 m is outside its physical range"),
     (["cycles", "--pressure", "1.5", "--two-param", "t0"], "--two-param needs --range"),
     (["cycles", "--pressure", "1.5", "--range", "0.1", "0.2"], "only used with --two-param"),
     (["cycles", "--pressure", "1.5", "--two-param", "t0", "--range", "0.1", "0.2"], "must contain the current t0"),
