@@ -107,7 +107,7 @@ def test_cli_json(capsys):
 @pytest.mark.parametrize("argv,message", [
     (["assumptions", "--pressure", "0"], "must be positive"),
     (["assumptions", "--pressure", "2", "--effects", "nope"], "unknown effect"),
-    (["assumptions", "--pressure", "2", "--set", "k4=-3", "--no-cycles"], "k4 must be positive"),
+    (["assumptions", "--pressure", "2", "--set", "k4=-3", "--no-cycles"], "k4 = -3 N/m is outside its physical range"),
     (["assumptions"], "required"),
 ])
 def test_cli_bad_input(argv, message, capsys):
