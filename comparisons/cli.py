@@ -1,18 +1,49 @@
-"""The ``shimmy`` command: dispatches to :mod:`comparisons.commands`; bad input is one line on stderr, exit 2."""
+"""The ``shimmy`` command: dispatches to :mod:`comparisons.commands`; every failure is one line on stderr.
+
+Exit codes (also in the README):
+
+====  =======================================================================================================
+0     success
+1     ``verify``: a check failed (a FAIL row in the report)
+2     bad input: an option, a value outside its physical range, an output path that cannot be written
+3     the computation did not complete: no convergence, a non-finite number or an overflow (the line says where)
+4     ``figures --only``: a requested figure cannot be made yet
+74    an output could not be written: disk full, read-only file system, stdout closed, full or a broken pipe
+130   interrupted (Ctrl-C, SIGINT); temporary files removed, completed outputs kept
+143   terminated (SIGTERM); as for 130
+====  =======================================================================================================
+"""
 
 from __future__ import annotations
 
 import argparse
 import importlib
 import importlib.util
+import os
+import signal
 import sys
+import threading
+import traceback
 
 from reduced_model.parameters import ParameterError
 from reduced_model.special_points import ConvergenceError
 
+from .files import LIVE_TEMPORARIES, STUCK_WRITERS, OutputFault, OutputPathError, check_outputs, \
+    remove_live_temporaries
 from .options import UsageError, resolve_pressures
 
 COMMANDS = ("verify", "hopf", "curves", "cycles", "simulate", "assumptions", "figures", "params", "bench")
+
+EXIT_FAILED = 1
+EXIT_USAGE = 2
+EXIT_INCOMPLETE = 3
+EXIT_WRITE = 74
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+GRACE_S = 0.7                 # after a signal: time given to unwind normally before the hard exit
+# Output options checked before any work, by attribute name; recordings are read back, so no device for them.
+OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
+RECORDING_OPTIONS = ("--rerun",)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,24 +62,197 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+class Interrupted(BaseException):
+    """SIGTERM, raised in the main thread like KeyboardInterrupt is for SIGINT."""
+
+
+def _say(line: str) -> None:
+    """One line on stderr, whatever state stderr is in."""
     try:
-        resolve_pressures(args)
-        return int(args.run(args) or 0)
-    except (UsageError, ParameterError) as exc:
-        sys.stderr.write(f"shimmy: error: {exc}\n")
-        return 2
-    except ConvergenceError as exc:
-        sys.stderr.write(f"shimmy: failed: {exc}\n")
-        return 3
-    except BrokenPipeError:  # output piped into head and the like
-        sys.stderr.close()
-        return 0
-    except KeyboardInterrupt:
-        sys.stderr.write("shimmy: interrupted\n")
-        return 130
+        sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+    except (OSError, ValueError, AttributeError):
+        try:
+            os.write(2, (line + "\n").encode("utf-8", "replace"))
+        except OSError:
+            pass
+
+
+def _stop_children() -> None:
+    """Terminate worker processes (figures): they remove their own temporary files on SIGTERM."""
+    import multiprocessing
+    children = multiprocessing.active_children()
+    for child in children:
+        child.terminate()
+    for child in children:
+        child.join(0.2)
+        if child.is_alive():
+            child.kill()
+
+
+def hard_exit(code: int, line: str | None) -> None:
+    """Leave now: remove temporary files, stop workers, say ``line``, exit without waiting for any thread."""
+    remove_live_temporaries()
+    try:
+        _stop_children()
+    except Exception:  # noqa: BLE001 - nothing may stop the exit
+        pass
+    if line:
+        _say(line)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # noqa: BLE001
+            pass
+    os._exit(code)
+
+
+class _Signals:
+    """SIGINT and SIGTERM: raise in the main thread, and if the run has not ended within GRACE_S (a C extension
+    holding the thread, a library that swallows KeyboardInterrupt in a callback), exit from a watchdog thread."""
+
+    def __init__(self) -> None:
+        self.code: int | None = None
+        self.done = threading.Event()
+        self.previous: dict[int, object] = {}
+
+    def install(self) -> None:
+        if threading.current_thread() is not threading.main_thread():
+            return
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.previous[sig] = signal.signal(sig, self.handle)
+
+    def restore(self) -> None:
+        self.done.set()
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+
+    def handle(self, signum, frame) -> None:
+        code = EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED
+        line = "shimmy: interrupted" if code == EXIT_INTERRUPTED else "shimmy: terminated"
+        if self.code is not None:   # second signal: leave at once
+            hard_exit(self.code, line)
+        self.code = code
+
+        def watchdog() -> None:
+            if not self.done.wait(GRACE_S):
+                hard_exit(code, line)
+        threading.Thread(target=watchdog, name="shimmy-signal-watchdog", daemon=True).start()
+        raise KeyboardInterrupt if code == EXIT_INTERRUPTED else Interrupted()
+
+
+def _where(exc: BaseException) -> str:
+    """The innermost frame of this project in the traceback: 'module.function'."""
+    place = "?"
+    for frame in traceback.extract_tb(exc.__traceback__):
+        path = frame.filename.replace(os.sep, "/")
+        for package in ("reduced_model/", "mbs_shimmy/", "comparisons/"):
+            if package in path:
+                module = package + path.rsplit(package, 1)[1]
+                place = f"{module[:-3].replace('/', '.')}.{frame.name}"
+    return place
+
+
+def check_output_options(args: argparse.Namespace) -> None:
+    """Every output file option of the command, before the work (see :func:`comparisons.files.check_outputs`)."""
+    items = [(flag, getattr(args, attr)) for attr, flag in OUTPUT_OPTIONS if getattr(args, attr, None) is not None]
+    try:
+        check_outputs(items, RECORDING_OPTIONS)
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _run(args: argparse.Namespace) -> int:
+    resolve_pressures(args)
+    check_output_options(args)
+    code = int(args.run(args) or 0)
+    if sys.stdout is None:
+        raise OutputFault("stdout is closed")
+    sys.stdout.flush()   # here, not at exit: a full or closed stdout must be reported like any other write
+    return code
+
+
+def _silence_stdout() -> None:
+    """After a stdout fault: nothing more may be written there (the interpreter's final flush would fail again)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.close(devnull)
+    except OSError:
+        pass
+    sys.stdout = open(os.devnull, "w")
+
+
+def main(argv: list[str] | None = None) -> int:
+    for stream in (sys.stdout, sys.stderr):   # file names with undecodable bytes are printed as they are
+        if stream is not None and hasattr(stream, "reconfigure"):
+            try:
+                stream.reconfigure(errors="surrogateescape")
+            except (ValueError, OSError):
+                pass
+    signals = _Signals()
+    signals.install()
+    try:
+        try:
+            args = build_parser().parse_args(argv)
+            return _run(args)
+        except (UsageError, ParameterError) as exc:
+            _say(f"shimmy: error: {exc}")
+            return EXIT_USAGE
+        except ConvergenceError as exc:
+            _say(f"shimmy: failed: {exc}")
+            return EXIT_INCOMPLETE
+        except (FloatingPointError, OverflowError, ZeroDivisionError) as exc:
+            _say(f"shimmy: failed: numerical {type(exc).__name__} in {_where(exc)}: {exc} "
+                 f"(a value far outside the model's meaning?)")
+            return EXIT_INCOMPLETE
+        except Exception as exc:
+            import numpy as np
+            if isinstance(exc, np.linalg.LinAlgError):
+                _say(f"shimmy: failed: singular or non-finite matrix in {_where(exc)}: {exc}")
+                return EXIT_INCOMPLETE
+            if isinstance(exc, OSError) and exc.errno is not None and _stdout_fault(exc):
+                raise OutputFault(f"cannot write to stdout: {exc.strerror}") from None
+            raise
+        except KeyboardInterrupt:
+            remove_live_temporaries()
+            _say("shimmy: interrupted")
+            return EXIT_INTERRUPTED
+        except Interrupted:
+            remove_live_temporaries()
+            _say("shimmy: terminated")
+            return EXIT_TERMINATED
+    except OutputFault as exc:
+        remove_live_temporaries()
+        _silence_stdout() if "stdout" in exc.message else None
+        _say(f"shimmy: write error: {exc.message}")
+        return EXIT_WRITE
+    except (BrokenPipeError, ConnectionResetError):
+        _silence_stdout()
+        _say("shimmy: write error: stdout: broken pipe (the reader went away)")
+        return EXIT_WRITE
+    finally:
+        signals.restore()
+
+
+def _stdout_fault(exc: OSError) -> bool:
+    import errno
+    return exc.errno in (errno.ENOSPC, errno.EPIPE, errno.EBADF, errno.EIO) and not exc.filename
+
+
+def entry() -> None:
+    """The console script: :func:`main`, then leave without waiting on a writer thread that never returned."""
+    code = main()
+    if STUCK_WRITERS or LIVE_TEMPORARIES:
+        hard_exit(code, None)
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError, AttributeError):
+        _silence_stdout()
+        _say("shimmy: write error: cannot write to stdout")
+        code = EXIT_WRITE
+    sys.exit(code)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()

@@ -30,33 +30,64 @@ def interface_unit(name: str) -> tuple[str, float]:
     return interface_of(entry(name).si_unit)
 
 
-def _number(what: str, allow_zero: bool):
+# Physical ranges of the inputs that are not axle entries (interface units; the README's table lists them).
+SPEED_RANGE_KMH = (0.5, 1000.0)       # below 0.5 km/h the slip equations degenerate (reduced_model.hopf.MIN_SPEED)
+PRESSURE_RANGE_BAR = (0.05, 20.0)
+DURATION_RANGE_S = (0.01, 1000.0)     # simulated time; 1000 s at 1 kHz samples is 8 MB of states
+RAMP_TIME_RANGE_S = (0.01, 1000.0)
+ANGLE_RANGE_DEG = (-45.0, 45.0)       # initial angles: a small-angle model, 45 deg is already far beyond it
+RATE_RANGE_DEG_S = (-1.0e4, 1.0e4)    # initial angular rates
+
+
+def parse_number(text: str, what: str, lo: float, hi: float, unit: str, lo_open: bool = False) -> float:
+    """A finite number within [lo, hi] (``(lo, hi]`` with ``lo_open``) or :class:`UsageError` naming the range."""
+    try:
+        value = float(text)
+    except (ValueError, TypeError):
+        raise UsageError(f"{what} must be a number, got '{text}'") from None
+    if not math.isfinite(value) or value > hi or value < lo or (lo_open and value == lo):
+        bracket = "(" if lo_open else "["
+        raise UsageError(f"{what} must be within {bracket}{lo:g}, {hi:g}] {unit}, got {text.strip()}")
+    return value
+
+
+def ranged(what: str, lo: float, hi: float, unit: str, lo_open: bool = False):
+    """An argparse ``type`` for :func:`parse_number` (one-line errors through the parser)."""
     def parse(text: str) -> float:
         try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{what} must be a number, got '{text}'") from None
-        if not math.isfinite(value) or value < 0.0 or (value == 0.0 and not allow_zero):
-            raise argparse.ArgumentTypeError(f"{what} must {'not be negative' if allow_zero else 'be positive'}, "
-                                             f"got {text}")
-        return value
+            return parse_number(text, what, lo, hi, unit, lo_open)
+        except UsageError as exc:
+            raise argparse.ArgumentTypeError(str(exc)[len(what) + 1:]) from None  # argparse names the option
     return parse
 
 
-def positive_float(what: str):
-    return _number(what, allow_zero=False)
-
-
-def non_negative_float(what: str):
-    return _number(what, allow_zero=True)
+def pressure_bar(what: str):
+    """A pressure option, bar."""
+    return ranged(what, *PRESSURE_RANGE_BAR, "bar")
 
 
 def add_speed_window(p: argparse.ArgumentParser, vmin: bool = False) -> None:
+    lo, hi = SPEED_RANGE_KMH
     if vmin:
-        p.add_argument("--vmin", type=non_negative_float("--vmin"), default=0.0, metavar="KMH",
-                       help="lower end of the speed window, km/h (default 0; never below 0.5)")
-    p.add_argument("--vmax", type=positive_float("--vmax"), default=400.0, metavar="KMH",
-                   help="upper end of the speed window, km/h (default 400)")
+        p.add_argument("--vmin", type=ranged("--vmin", 0.0, hi, "km/h"), default=0.0, metavar="KMH",
+                       help=f"lower end of the speed window, km/h (default 0; within [0, {hi:g}])")
+    p.add_argument("--vmax", type=ranged("--vmax", lo, hi, "km/h", lo_open=True), default=400.0, metavar="KMH",
+                   help=f"upper end of the speed window, km/h (default 400; within ({lo:g}, {hi:g}]: the window "
+                        f"must reach above {lo:g} km/h)")
+
+
+def check_window(lo: float, hi: float, name: str, unit: str) -> None:
+    """A second-parameter window (``--range LO HI``, interface units) inside the parameter's physical range."""
+    if name in PRESSURE_PARAMS:
+        a, b = PRESSURE_RANGE_BAR
+    else:
+        from .axle import entry
+        a, b = entry(name).range
+    for v in (lo, hi):
+        if not math.isfinite(v) or not a <= v <= b:
+            raise UsageError(f"--range for {name} must lie within [{a:g}, {b:g}] {unit}, got {lo:g} {hi:g}")
+    if not lo < hi:
+        raise UsageError(f"--range needs LO < HI, got {lo:g} {hi:g}")
 
 
 def parse_overrides(items: list[str] | None) -> dict[str, float]:
@@ -91,11 +122,11 @@ def add_axle_option(p: argparse.ArgumentParser) -> None:
 
 
 def add_model_options(p: argparse.ArgumentParser, pressure_required: bool = True) -> None:
-    p.add_argument("--pressure", type=positive_float("--pressure"), default=None, metavar="BAR",
+    p.add_argument("--pressure", type=pressure_bar("--pressure"), default=None, metavar="BAR",
                    help="inflation pressure of both tyres, bar" + ("" if pressure_required else " (default 2.5)"))
-    p.add_argument("--pressure-left", type=positive_float("--pressure-left"), default=None, metavar="BAR",
+    p.add_argument("--pressure-left", type=pressure_bar("--pressure-left"), default=None, metavar="BAR",
                    help="left tyre (wheel 2, theta2) pressure, bar; the right takes --pressure")
-    p.add_argument("--pressure-right", type=positive_float("--pressure-right"), default=None, metavar="BAR",
+    p.add_argument("--pressure-right", type=pressure_bar("--pressure-right"), default=None, metavar="BAR",
                    help="right tyre (wheel 1, theta1) pressure, bar; the left takes --pressure")
     p.add_argument("--effects", default="", metavar="LIST",
                    help="pressure effects beyond the lateral force: comma list of hcl,pt,rl,vs, or all")
@@ -120,7 +151,7 @@ def resolve_pressures(args: argparse.Namespace) -> None:
     right = both if right is None else right
     left = both if left is None else left
     for what, value in (("--pressure-right", right), ("--pressure-left", left)):
-        if not 0.05 <= value <= 20.0:
+        if not PRESSURE_RANGE_BAR[0] <= value <= PRESSURE_RANGE_BAR[1]:
             raise UsageError(f"{what if value is not both else '--pressure'} must be within [0.05, 20] bar, "
                              f"got {value:g}")
     args.pressure_right, args.pressure_left = float(right), float(left)
@@ -232,20 +263,31 @@ def build_model(args: argparse.Namespace) -> ShimmyModel:
     return ShimmyModel(params=axle.params, effects=effects)
 
 
-def check_output_path(path: str) -> None:
+def check_output_path(path: str, what: str = "output", recording: bool = False) -> None:
     """Fail before the work, not after it, when an output file cannot be written where asked."""
-    import os
-    folder = os.path.dirname(os.path.abspath(path))
-    if os.path.isdir(path):
-        raise UsageError(f"{path}: a directory is in the way")
-    if not os.path.isdir(folder):
-        raise UsageError(f"{path}: the folder {folder} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise UsageError(f"{path}: the folder is not writable")
+    from .files import OutputPathError, check_output
+    try:
+        check_output(path, what, recording)
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def finite_json(obj: Any) -> Any:
+    """``obj`` with every non-finite float (NaN, infinity) replaced by None: JSON has no such numbers."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_json(v) for v in obj]
+    if hasattr(obj, "tolist") and hasattr(obj, "dtype"):   # numpy scalars and arrays
+        return finite_json(obj.tolist())
+    return obj
 
 
 def emit_json(obj: Any) -> None:
-    json.dump(obj, sys.stdout, indent=2)
+    """Write ``obj`` as JSON on stdout; non-finite numbers become null (never NaN or Infinity)."""
+    json.dump(finite_json(obj), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
 
 

@@ -35,7 +35,7 @@ import numpy as np
 from reduced_model.model import STATE_NAMES, STATE_UNITS, ShimmyModel
 from reduced_model.trajectory import Trajectory
 
-from .files import atomic_path
+from .files import atomic_path, run_writer
 from .scene import BODY_NAMES, SIDES, AxleGeometry, ScenePoses, quaternion_about, trajectory_poses
 
 APP_ID = "shimmy"
@@ -183,7 +183,7 @@ def write_recording(path: str, trajectory: Trajectory, modes=None, switches: Seq
     recording_id = recording_id or str(uuid.uuid4())
     try:
         with atomic_path(final) as tmp:
-            _write(tmp, trajectory, poses, segments, events, title, geometry, recording_id)
+            run_writer(_write, tmp, trajectory, poses, segments, events, title, geometry, recording_id)
             _check_written(tmp, len(t), path)
     except RecordingError:
         raise

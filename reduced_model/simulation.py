@@ -86,7 +86,10 @@ def simulate(model: ShimmyModel, pressure: float | Sequence[float], schedule: Sp
         if progress is not None and t >= next_report[0]:
             next_report[0] = t + 0.01 * duration
             progress(min(t, duration))
-        return model.rhs(x, speed(t), pressure)
+        dx = model.rhs(x, speed(t), pressure)
+        if not np.isfinite(dx.sum()):   # LSODA retries a non-finite step forever: stop and say where
+            raise FloatingPointError(f"non-finite right-hand side of the reduced model at t = {t:.6g} s")
+        return dx
 
     def jac(t, x):
         return model.jacobian(x, speed(t), pressure)

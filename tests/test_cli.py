@@ -49,10 +49,10 @@ def test_params_lists_table1(capsys):
 
 
 @pytest.mark.parametrize("args, fragment", [
-    (["hopf", "--pressure", "-1"], "must be positive"),
-    (["hopf", "--pressure", "0"], "must be positive"),
+    (["hopf", "--pressure", "-1"], "must be within [0.05, 20] bar"),
+    (["hopf", "--pressure", "0"], "must be within [0.05, 20] bar"),
     (["hopf", "--pressure", "abc"], "must be a number"),
-    (["hopf", "--pressure", "2", "--vmax", "-5"], "must be positive"),
+    (["hopf", "--pressure", "2", "--vmax", "-5"], "must be within (0.5, 1000] km/h"),
     (["hopf", "--pressure", "2", "--set", "zz=1"], "unknown parameter 'zz'"),
     (["hopf", "--pressure", "2", "--set", "t0"], "NAME=VALUE"),
     (["hopf", "--pressure", "2", "--set", "t0=x"], "not a number"),
@@ -62,7 +62,7 @@ def test_params_lists_table1(capsys):
     (["hopf", "--pressure", "9"], "cornering stiffness"),
     (["hopf", "--pressure", "3.5", "--effects", "pt", "--set", "p_pz1=3"], "pneumatic trail"),
     (["curves", "--param", "t0", "--range", "0.3", "0.1"], "LO < HI"),
-    (["curves", "--param", "t0", "--range", "-0.1", "0.1"], "must be positive"),
+    (["curves", "--param", "t0", "--range", "-0.1", "0.1"], "must lie within [0.001, 0.5] m"),
     (["curves", "--param", "zz", "--range", "0.1", "0.2"], "invalid choice"),
     (["bench", "nosuch"], "unknown benchmark"),
 ])

@@ -16,6 +16,7 @@ from ..options import (
     add_model_options,
     add_output_options,
     add_speed_window,
+    check_window,
     build_axle,
     build_model,
     emit_json,
@@ -60,11 +61,8 @@ def diagram_json(diagram: HopfDiagram, factor: float) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     lo, hi = args.range
-    if not lo < hi:
-        raise UsageError(f"--range needs LO < HI, got {lo:g} {hi:g}")
     unit, factor = interface_unit(args.param)
-    if lo <= 0.0:
-        raise UsageError(f"--range for {args.param} must be positive, got LO = {lo:g} {unit}")
+    check_window(lo, hi, args.param, unit)
     model = build_model(args)
     family = SpeedFamily(model, args.param, pressure=operating_pressure(args))
     try:

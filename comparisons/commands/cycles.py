@@ -21,6 +21,7 @@ from ..options import (
     add_model_options,
     add_output_options,
     add_speed_window,
+    check_window,
     build_axle,
     build_model,
     emit_json,
@@ -101,8 +102,7 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
         raise UsageError("--two-param needs --range LO HI")
     lo, hi = args.range
     unit, factor = interface_unit(name)
-    if not 0.0 < lo < hi:
-        raise UsageError(f"--range needs 0 < LO < HI, got {lo:g} {hi:g} {unit}")
+    check_window(lo, hi, name, unit)
     value = SpeedFamily(model, name, pressure=operating_pressure(args)).nominal
     if not lo * factor <= value <= hi * factor:
         raise UsageError(f"--range {lo:g} {hi:g} {unit} must contain the current {name} = {value / factor:g} {unit}")

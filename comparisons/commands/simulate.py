@@ -8,7 +8,7 @@ import sys
 
 import numpy as np
 
-from reduced_model.model import STATE_NAMES
+from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
@@ -22,17 +22,23 @@ from ..options import (
     build_axle,
     build_fidelity,
     build_model,
-    check_output_path,
+    ANGLE_RANGE_DEG,
+    DURATION_RANGE_S,
+    RAMP_TIME_RANGE_S,
+    RATE_RANGE_DEG_S,
+    SPEED_RANGE_KMH,
     emit_json,
     inputs_json,
     operating_pressure,
     pressure_label,
-    positive_float,
+    parse_number,
     progress,
+    ranged,
 )
 
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
 CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
+MAX_CYCLES = 5.0e4         # periods of the fastest mode an integrator must resolve; about 80 s of LSODA here
 
 
 def add_parser(sub) -> None:
@@ -41,15 +47,21 @@ def add_parser(sub) -> None:
     add_model_options(p)
     add_model_choice(p)
     how = p.add_mutually_exclusive_group(required=True)
-    how.add_argument("--speed", type=positive_float("--speed"), metavar="KMH", help="constant speed, km/h")
+    how.add_argument("--speed", type=ranged("--speed", *SPEED_RANGE_KMH, "km/h"), metavar="KMH",
+                     help="constant speed, km/h (within [{:g}, {:g}])".format(*SPEED_RANGE_KMH))
     how.add_argument("--ramp", metavar="FROM:TO:SECONDS",
-                     help="speed ramp: FROM to TO km/h linearly in SECONDS s, then held")
-    p.add_argument("--duration", type=positive_float("--duration"), metavar="SECONDS",
+                     help="speed ramp: FROM to TO km/h linearly in SECONDS s, then held (speeds within "
+                          "[{:g}, {:g}] km/h, SECONDS within [{:g}, {:g}])".format(*SPEED_RANGE_KMH,
+                                                                                 *RAMP_TIME_RANGE_S))
+    p.add_argument("--duration", type=ranged("--duration", *DURATION_RANGE_S, "s"), metavar="SECONDS",
                    help=f"simulated time, s (default {CONSTANT_DURATION:g} at constant speed, ramp time + "
-                        f"{HOLD_AFTER_RAMP:g} for a ramp)")
+                        f"{HOLD_AFTER_RAMP:g} for a ramp; within [{DURATION_RANGE_S[0]:g}, "
+                        f"{DURATION_RANGE_S[1]:g}])")
     p.add_argument("--initial", action="append", metavar="NAME=VALUE",
-                   help=f"initial state, SI (rad, rad/s); names: {' '.join(STATE_NAMES)}; repeatable "
-                        f"(default theta1=0.01, the rest 0)")
+                   help=f"initial state in degrees and deg/s (angles within [{ANGLE_RANGE_DEG[0]:g}, "
+                        f"{ANGLE_RANGE_DEG[1]:g}] deg, rates within [{RATE_RANGE_DEG_S[0]:g}, "
+                        f"{RATE_RANGE_DEG_S[1]:g}] deg/s); names: {' '.join(STATE_NAMES)}; repeatable "
+                        f"(default theta1=0.573 deg (0.01 rad), the rest 0)")
     add_output_options(p, plot=True)
     p.add_argument("--rerun", metavar="FILE.rrd", help="write a Rerun recording of the run (3D scene, states, "
                                                         "speed, mode lane, switch events)")
@@ -60,16 +72,14 @@ def parse_ramp(text: str) -> SpeedSchedule:
     parts = text.split(":")
     if len(parts) != 3:
         raise UsageError(f"--ramp expects FROM:TO:SECONDS, got '{text}'")
-    try:
-        start, end, seconds = (float(x) for x in parts)
-    except ValueError:
-        raise UsageError(f"--ramp expects three numbers FROM:TO:SECONDS, got '{text}'") from None
-    if not all(math.isfinite(v) and v > 0.0 for v in (start, end, seconds)):
-        raise UsageError(f"--ramp speeds and duration must be positive, got '{text}'")
+    start, end = (parse_number(x, f"--ramp {what}", *SPEED_RANGE_KMH, "km/h") for x, what in
+                  zip(parts[:2], ("FROM", "TO")))
+    seconds = parse_number(parts[2], "--ramp SECONDS", *RAMP_TIME_RANGE_S, "s")
     return SpeedSchedule.ramp(start * KMH, end * KMH, seconds)
 
 
 def parse_initial(items: list[str] | None) -> np.ndarray:
+    """``--initial NAME=VALUE`` in degrees (angles) and degrees per second (rates) to the SI state vector."""
     if not items:
         return initial_state()
     values: dict[str, float] = {}
@@ -80,14 +90,29 @@ def parse_initial(items: list[str] | None) -> np.ndarray:
             raise UsageError(f"--initial expects NAME=VALUE, got '{item}'")
         if name not in STATE_NAMES:
             raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
-        try:
-            value = float(text)
-        except ValueError:
-            raise UsageError(f"--initial {name}: '{text}' is not a number") from None
-        if not math.isfinite(value):
-            raise UsageError(f"--initial {name} must be finite, got {text}")
-        values[name] = value
+        rate = STATE_UNITS[STATE_NAMES.index(name)] == "rad/s"
+        lo, hi = RATE_RANGE_DEG_S if rate else ANGLE_RANGE_DEG
+        values[name] = math.radians(parse_number(text, f"--initial {name}", lo, hi, "deg/s" if rate else "deg"))
     return initial_state(values)
+
+
+def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
+    """Refuse a run whose fastest oscillation would take the integrator minutes to resolve (exit 2, with why).
+
+    Within the physical ranges an axle can still combine a stiff tie rod with a light wheel (k1 = 1e8 N m/rad,
+    I1 = 0.1 kg m^2 oscillate at 7 kHz): both integrators must follow every period of such a mode, and 20 s take
+    hours.  The fastest frequency is read from the reduced model's linearisation at both ends of the speed range.
+    """
+    model = build_model(args)
+    pressure = operating_pressure(args)
+    speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
+    fastest = max(float(np.max(np.abs(np.linalg.eigvals(model.linear_matrix(v, pressure)).imag))) / (2 * np.pi)
+                  for v in speeds)
+    cycles = fastest * args.duration
+    if cycles > MAX_CYCLES:
+        raise UsageError(f"the axle's fastest oscillation, {fastest:.4g} Hz, would need {cycles:.3g} periods "
+                         f"resolved in {args.duration:g} s (limit {MAX_CYCLES:g}): shorten --duration or check the "
+                         f"stiffnesses and inertias (k1, k2, I1, ...)")
 
 
 def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.ndarray) -> Trajectory:
@@ -135,8 +160,7 @@ def run(args: argparse.Namespace) -> int:
     if args.duration is None:
         args.duration = default
     x0 = parse_initial(args.initial)
-    if args.rerun:
-        check_output_path(args.rerun)
+    check_work(args, schedule)
     trajectory = simulate_model(args, schedule, x0)
     history = ModeClassifier().classify(trajectory)
     if args.rerun:
