@@ -23,14 +23,12 @@ import os
 import signal
 import sys
 import threading
+import time
 import traceback
 
-from reduced_model.parameters import ParameterError
-from reduced_model.special_points import ConvergenceError
-
-from .files import LIVE_TEMPORARIES, STUCK_WRITERS, OutputFault, OutputPathError, check_outputs, \
+# Only the standard library and .files here: the signal handlers are installed before the model packages load.
+from .files import FAULTED_TEMPORARIES, LIVE_TEMPORARIES, STUCK_WRITERS, OutputFault, OutputPathError, check_outputs, \
     remove_live_temporaries
-from .options import UsageError, resolve_pressures
 
 COMMANDS = ("verify", "hopf", "curves", "cycles", "simulate", "assumptions", "figures", "params", "bench")
 
@@ -48,7 +46,7 @@ RECORDING_OPTIONS = ("--rerun",)
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, not usage + message
-        sys.stderr.write(f"shimmy: error: {message}\n")
+        _say(f"shimmy: error: {message}")
         raise SystemExit(2)
 
 
@@ -66,8 +64,16 @@ class Interrupted(BaseException):
     """SIGTERM, raised in the main thread like KeyboardInterrupt is for SIGINT."""
 
 
+def one_line(text: str) -> str:
+    """``text`` with control characters and line breaks escaped: user input echoed in a message stays one line."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() or 0xDC80 <= ord(c) <= 0xDCFF else repr(c)[1:-1] for c in text)
+
+
 def _say(line: str) -> None:
     """One line on stderr, whatever state stderr is in."""
+    line = one_line(line)
     try:
         sys.stderr.write(line + "\n")
         sys.stderr.flush()
@@ -155,6 +161,7 @@ def _where(exc: BaseException) -> str:
 
 def check_output_options(args: argparse.Namespace) -> None:
     """Every output file option of the command, before the work (see :func:`comparisons.files.check_outputs`)."""
+    from .options import UsageError
     items = [(flag, getattr(args, attr)) for attr, flag in OUTPUT_OPTIONS if getattr(args, attr, None) is not None]
     try:
         check_outputs(items, RECORDING_OPTIONS)
@@ -163,6 +170,7 @@ def check_output_options(args: argparse.Namespace) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from .options import resolve_pressures
     resolve_pressures(args)
     check_output_options(args)
     code = int(args.run(args) or 0)
@@ -193,6 +201,14 @@ def main(argv: list[str] | None = None) -> int:
     signals = _Signals()
     signals.install()
     try:
+        if sys.stdout is None:
+            raise OutputFault("stdout is closed")
+        import numpy as np
+
+        from reduced_model.parameters import ParameterError
+        from reduced_model.special_points import ConvergenceError
+
+        from .options import UsageError
         try:
             args = build_parser().parse_args(argv)
             return _run(args)
@@ -202,48 +218,44 @@ def main(argv: list[str] | None = None) -> int:
         except ConvergenceError as exc:
             _say(f"shimmy: failed: {exc}")
             return EXIT_INCOMPLETE
-        except (FloatingPointError, OverflowError, ZeroDivisionError) as exc:
-            _say(f"shimmy: failed: numerical {type(exc).__name__} in {_where(exc)}: {exc} "
-                 f"(a value far outside the model's meaning?)")
+        except (FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError) as exc:
+            _say(f"shimmy: failed: numerical {type(exc).__name__} in {_where(exc)}: {exc}")
             return EXIT_INCOMPLETE
-        except Exception as exc:
-            import numpy as np
-            if isinstance(exc, np.linalg.LinAlgError):
-                _say(f"shimmy: failed: singular or non-finite matrix in {_where(exc)}: {exc}")
-                return EXIT_INCOMPLETE
-            if isinstance(exc, OSError) and exc.errno is not None and _stdout_fault(exc):
+        except OSError as exc:
+            if _stdout_fault(exc):
                 raise OutputFault(f"cannot write to stdout: {exc.strerror}") from None
             raise
-        except KeyboardInterrupt:
-            remove_live_temporaries()
-            _say("shimmy: interrupted")
-            return EXIT_INTERRUPTED
-        except Interrupted:
-            remove_live_temporaries()
-            _say("shimmy: terminated")
-            return EXIT_TERMINATED
+    except KeyboardInterrupt:
+        remove_live_temporaries()
+        _stop_children()
+        _say("shimmy: interrupted")
+        return EXIT_INTERRUPTED
+    except Interrupted:
+        remove_live_temporaries()
+        _stop_children()
+        _say("shimmy: terminated")
+        return EXIT_TERMINATED
     except OutputFault as exc:
         remove_live_temporaries()
-        _silence_stdout() if "stdout" in exc.message else None
+        if "stdout" in exc.message:
+            _silence_stdout()
         _say(f"shimmy: write error: {exc.message}")
-        return EXIT_WRITE
-    except (BrokenPipeError, ConnectionResetError):
-        _silence_stdout()
-        _say("shimmy: write error: stdout: broken pipe (the reader went away)")
         return EXIT_WRITE
     finally:
         signals.restore()
 
 
 def _stdout_fault(exc: OSError) -> bool:
+    """An error of writing stdout (the only writes that carry no file name: the files go through .files)."""
     import errno
-    return exc.errno in (errno.ENOSPC, errno.EPIPE, errno.EBADF, errno.EIO) and not exc.filename
+    return exc.errno in (errno.ENOSPC, errno.EPIPE, errno.EBADF, errno.EIO, errno.ECONNRESET) and not exc.filename
 
 
 def entry() -> None:
     """The console script: :func:`main`, then leave without waiting on a writer thread that never returned."""
     code = main()
-    if STUCK_WRITERS or LIVE_TEMPORARIES:
+    if STUCK_WRITERS or LIVE_TEMPORARIES or FAULTED_TEMPORARIES:
+        time.sleep(0.2)   # a failed writer's thread may still create its file: remove it after that
         hard_exit(code, None)
     try:
         sys.stdout.flush()

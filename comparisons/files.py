@@ -34,6 +34,7 @@ WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO, errno.EFBIG,
 LIVE_TEMPORARIES: set[str] = set()
 _LOCK = threading.Lock()
 STUCK_WRITERS: list[threading.Thread] = []   # writer threads that never returned: the process must not wait on them
+FAULTED_TEMPORARIES: list[str] = []          # temporary names of failed writers: a writer thread may recreate them
 
 
 class OutputFault(BaseException):
@@ -192,7 +193,7 @@ def remove_temporary(tmp: str) -> None:
 
 def remove_live_temporaries() -> None:
     """Remove every temporary file of this process (from a signal handler or before a hard exit)."""
-    for tmp in list(LIVE_TEMPORARIES):
+    for tmp in list(LIVE_TEMPORARIES) + FAULTED_TEMPORARIES:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
     LIVE_TEMPORARIES.clear()
@@ -217,6 +218,8 @@ def run_writer(write: Callable[..., None], tmp: str, *args, stall_s: float = 20.
     """
     outcome: list[BaseException | None] = []
     where = os.path.dirname(os.path.abspath(tmp))
+    # The Rust side of Rerun logs its own errors on stderr; the fault is reported here, in one line.
+    os.environ.setdefault("RUST_LOG", "off")
 
     def target() -> None:
         try:
@@ -241,11 +244,13 @@ def run_writer(write: Callable[..., None], tmp: str, *args, stall_s: float = 20.
         free = _free_bytes(tmp)
         if now - since > stall_s or (free == 0 and now - since > 1.0):
             STUCK_WRITERS.append(thread)
+            FAULTED_TEMPORARIES.append(tmp)
             reason = "no space left on device" if free == 0 else f"the writer stalled for {stall_s:g} s"
             raise OutputFault(f"cannot write in {where}: {reason}")
     exc = outcome[0] if outcome else None
     if exc is None:
         return
+    FAULTED_TEMPORARIES.append(tmp)
     if is_write_fault(exc):
         raise OutputFault(f"cannot write in {where}: {exc.strerror or exc}") from None
     text = str(exc)
