@@ -38,7 +38,7 @@ EXIT_INCOMPLETE = 3
 EXIT_WRITE = 74
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
-GRACE_S = 0.7                 # after a signal: time given to unwind normally before the hard exit
+GRACE_S = 0.5                 # after a signal: time given to unwind normally before the hard exit
 # Output options checked before any work, by attribute name; recordings are read back, so no device for them.
 OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
 RECORDING_OPTIONS = ("--rerun",)
@@ -84,25 +84,26 @@ def _say(line: str) -> None:
             pass
 
 
-def _stop_children() -> None:
+def _stop_children(wait: float = 0.1) -> None:
     """Terminate worker processes (figures): they remove their own temporary files on SIGTERM."""
     import multiprocessing
     children = multiprocessing.active_children()
     for child in children:
         child.terminate()
+    deadline = time.monotonic() + wait
     for child in children:
-        child.join(0.2)
+        child.join(max(0.0, deadline - time.monotonic()))
         if child.is_alive():
             child.kill()
 
 
 def hard_exit(code: int, line: str | None) -> None:
-    """Leave now: remove temporary files, stop workers, say ``line``, exit without waiting for any thread."""
-    remove_live_temporaries()
+    """Leave now: stop workers, remove temporary files, say ``line``, exit without waiting for any thread."""
     try:
         _stop_children()
     except Exception:  # noqa: BLE001 - nothing may stop the exit
         pass
+    remove_live_temporaries()
     if line:
         _say(line)
     for stream in (sys.stdout, sys.stderr):
@@ -139,6 +140,10 @@ class _Signals:
         if self.code is not None:   # second signal: leave at once
             hard_exit(self.code, line)
         self.code = code
+        try:   # workers first: a pool waiting on them would hold the main thread
+            _stop_children(wait=0.0)
+        except Exception:  # noqa: BLE001 - the exit must go on
+            pass
 
         def watchdog() -> None:
             if not self.done.wait(GRACE_S):
@@ -200,6 +205,7 @@ def main(argv: list[str] | None = None) -> int:
                 pass
     signals = _Signals()
     signals.install()
+    os.environ["SHIMMY_RUN_ID"] = str(os.getpid())   # worker processes tag their temporary files with it
     try:
         if sys.stdout is None:
             raise OutputFault("stdout is closed")
@@ -226,13 +232,13 @@ def main(argv: list[str] | None = None) -> int:
                 raise OutputFault(f"cannot write to stdout: {exc.strerror}") from None
             raise
     except KeyboardInterrupt:
-        remove_live_temporaries()
         _stop_children()
+        remove_live_temporaries()
         _say("shimmy: interrupted")
         return EXIT_INTERRUPTED
     except Interrupted:
-        remove_live_temporaries()
         _stop_children()
+        remove_live_temporaries()
         _say("shimmy: terminated")
         return EXIT_TERMINATED
     except OutputFault as exc:

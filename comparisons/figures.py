@@ -35,7 +35,7 @@ from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 from . import paper_reference as paper
 from .cycle_plots import CURVE_STYLES, draw_cycle_diagram, special_point_labels
-from .files import worker_signals
+from .files import interrupts_blocked, worker_signals
 from .plots import plt, save_figure, stability_grid
 
 BAR = 1e5
@@ -215,7 +215,8 @@ def make_figures(numbers, out_dir: str, jobs: int = 1, on_done: Callable[[Figure
     with concurrent.futures.ProcessPoolExecutor(max_workers=min(jobs, len(numbers)),
                                                 mp_context=multiprocessing.get_context("spawn"),
                                                 initializer=worker_signals) as pool:
-        futures = [pool.submit(_make_in_worker, n, out_dir) for n in ordered]
+        with interrupts_blocked():
+            futures = [pool.submit(_make_in_worker, n, out_dir) for n in ordered]
         for future in concurrent.futures.as_completed(futures):
             results.append(future.result())
             if on_done is not None:

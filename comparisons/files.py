@@ -35,6 +35,17 @@ LIVE_TEMPORARIES: set[str] = set()
 _LOCK = threading.Lock()
 STUCK_WRITERS: list[threading.Thread] = []   # writer threads that never returned: the process must not wait on them
 FAULTED_TEMPORARIES: list[str] = []          # temporary names of failed writers: a writer thread may recreate them
+WATCHED_FOLDERS: set[str] = set()            # folders where worker processes of this run write (figures)
+
+
+def run_id() -> str:
+    """The id of this run in temporary names: the command's pid, inherited by its worker processes."""
+    return os.environ.get("SHIMMY_RUN_ID") or str(os.getpid())
+
+
+def watch_folder(path: str) -> None:
+    """Workers of this run write temporary files in ``path``: remove them too when the run is interrupted."""
+    WATCHED_FOLDERS.add(os.path.abspath(path))
 
 
 class OutputFault(BaseException):
@@ -76,7 +87,7 @@ def temporary_name(final: str) -> str:
     """
     folder, base = os.path.split(final)
     stem = re.sub(r"[^A-Za-z0-9._+-]", "_", base.encode("utf-8", "surrogateescape").decode("ascii", "replace"))
-    tag = "." + secrets.token_hex(4)
+    tag = f".{run_id()}-{secrets.token_hex(4)}"
     room = _name_max(folder or ".") - len(tag) - len(_TMP_SUFFIX) - 1
     return os.path.join(folder, "." + stem[:max(room, 1)] + tag + _TMP_SUFFIX)
 
@@ -192,11 +203,18 @@ def remove_temporary(tmp: str) -> None:
 
 
 def remove_live_temporaries() -> None:
-    """Remove every temporary file of this process (from a signal handler or before a hard exit)."""
+    """Remove every temporary file of this process and of its workers (after a signal, before a hard exit)."""
     for tmp in list(LIVE_TEMPORARIES) + FAULTED_TEMPORARIES:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
     LIVE_TEMPORARIES.clear()
+    mark = f".{run_id()}-"
+    for folder in WATCHED_FOLDERS:
+        with contextlib.suppress(OSError):
+            for name in os.listdir(folder):
+                if name.startswith(".") and name.endswith(_TMP_SUFFIX) and mark in name:
+                    with contextlib.suppress(OSError):
+                        os.unlink(os.path.join(folder, name))
 
 
 def _free_bytes(path: str) -> int | None:
@@ -271,3 +289,19 @@ def worker_signals() -> None:
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, terminate)
+
+
+@contextlib.contextmanager
+def interrupts_blocked() -> Iterator[None]:
+    """Block SIGINT while worker processes are started: they inherit the mask through exec, so a Ctrl-C at the
+    terminal (sent to the whole process group) cannot hit them before :func:`worker_signals` has run; the
+    parent handles it and stops them."""
+    import signal
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)

@@ -8,6 +8,7 @@ import sys
 import tempfile
 import time
 
+from ..files import watch_folder
 from ..options import UsageError, add_output_options, emit_json, progress
 
 DEFAULT_OUT = os.path.join("docs", "figures")
@@ -69,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
     missing = [n for n in (requested if requested is not None else sorted(PAPER_TITLES))
                if unavailable_reason(n) is not None]
     check_out_dir(args.out)
+    watch_folder(args.out)
     start = time.perf_counter()
     quiet = args.json or not sys.stderr.isatty()
     with progress(len(makeable), "figures", quiet) as bar:

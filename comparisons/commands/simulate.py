@@ -39,6 +39,7 @@ from ..options import (
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
 CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
 MAX_CYCLES = 5.0e4         # periods of the fastest mode an integrator must resolve; about 80 s of LSODA here
+MBS_MAX_DURATION = 100.0   # s: the MBS steps at 1 ms through a Python tyre element, about 2 s per simulated s
 
 
 def add_parser(sub) -> None:
@@ -103,6 +104,9 @@ def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
     I1 = 0.1 kg m^2 oscillate at 7 kHz): both integrators must follow every period of such a mode, and 20 s take
     hours.  The fastest frequency is read from the reduced model's linearisation at both ends of the speed range.
     """
+    if args.model == "mbs" and args.duration > MBS_MAX_DURATION:
+        raise UsageError(f"--duration with --model mbs must be at most {MBS_MAX_DURATION:g} s (about 2 s of "
+                         f"computing per simulated second), got {args.duration:g}")
     model = build_model(args)
     pressure = operating_pressure(args)
     speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
