@@ -362,6 +362,7 @@ def main(argv=None) -> int:
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--only", default="", help="run the cases whose name contains this text")
     a = ap.parse_args(argv)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))   # unmount and clean up when stopped
     scratch = tempfile.mkdtemp(prefix="shimmy-abuse-")
     try:
         with mounts(scratch) as no_tmpfs:
