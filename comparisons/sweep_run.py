@@ -94,7 +94,7 @@ def _write_table(path: str, table: pa.Table) -> None:
         pq.write_table(table, tmp)
 
 
-class _Cluster:
+class DaskCluster:
     """A Dask client on ``scheduler`` or on a fresh local cluster (closed on exit)."""
 
     def __init__(self, scheduler: str | None, workers: int | None):
@@ -166,7 +166,7 @@ def run_sweep(task: SweepTask, design: Design, out: str, *, scheduler: str | Non
         return SweepRun(pq.read_table(out), out, math.ceil(n / found["batch_size"]), 0, found["batch_size"], 0, "",
                         time.perf_counter() - t0)
     parts = out + ".parts"
-    with _Cluster(scheduler, workers) as cluster:
+    with DaskCluster(scheduler, workers) as cluster:
         if found is None:
             manifest["batch_size"] = size or batch_size(task, n, cluster.workers)
             _start(parts, manifest)

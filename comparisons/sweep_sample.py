@@ -89,7 +89,8 @@ class SweepTask:
             for f in self.mbs:
                 c = f"mbs_{_column_safe(f)}"
                 fields += [pa.field(f"{c}_hopf_kmh", floats), pa.field(f"{c}_hopf_hz", floats),
-                           pa.field(f"{c}_hopf_mode", strings), pa.field(f"{c}_onset_kmh", pa.float64())]
+                           pa.field(f"{c}_hopf_mode", strings), pa.field(f"{c}_onset_kmh", pa.float64()),
+                           pa.field(f"{c}_shift_kmh", floats)]
         if "assumptions" in self.compute:
             for name in self.assumption_names():
                 fields += [pa.field(f"shift_{name}_kmh", floats), pa.field(f"only_{name}_kmh", floats)]
@@ -148,6 +149,9 @@ class SweepTask:
                                                  pressure=pressure)
                     mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=False)
                     row.update(_hopf_columns(f"mbs_{_column_safe(f)}_", mp))
+                    # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
+                    shifts = {m.reduced_kmh: m.shift_kmh for m in mbs_shimmy.match_hopf(points, mp)}
+                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed_kmh) for h in points]
         if "assumptions" in self.compute:
             from mbs_shimmy import assumption_study
             study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
