@@ -246,7 +246,8 @@ def draw_onset_map(ax, table: pa.Table, design: Design, task: SweepTask) -> None
     onset = np.array([math.nan if v is None else v for v in table.column("onset_kmh").to_pylist()])
     has = status & np.isfinite(onset)
     size = max(4.0, min(40.0, 6000.0 / max(len(x), 1)))
-    sc = ax.scatter(x[has], y[has], c=onset[has], s=size, cmap="viridis_r", vmin=0.0, vmax=task.vmax_kmh,
+    lo, hi = (float(np.min(onset[has])), float(np.max(onset[has]))) if has.any() else (0.0, task.vmax_kmh)
+    sc = ax.scatter(x[has], y[has], c=onset[has], s=size, cmap="viridis_r", vmin=lo, vmax=max(hi, lo + 1e-9),
                     linewidths=0)
     ax.scatter(x[status & ~has], y[status & ~has], s=size, facecolors="none", edgecolors="0.5", linewidths=0.5,
                label="no Hopf point in the window")
