@@ -149,7 +149,7 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
                             CheckStatus.INFO, f"e.g. {first}"))
         rows.append(Row({"pressure_bar": s.pressure_bar, "verdict": "MBS with every assumption on = reduced model",
                          "reduced_model": f"{len(s.reduced_points())} Hopf points",
-                         "plausible_axles": f"max |diff| {worst:.2g} km/h in {n} axles"},
+                         "plausible_axles": f"max abs diff {worst:.2g} km/h in {n} axles"},
                         CheckStatus.PASS if ok else CheckStatus.FAIL,
                         "" if ok else (f"{s.failed} samples failed" if s.failed else
                                        f"differs by more than {HOPF_TOL_KMH} km/h")))
