@@ -28,7 +28,7 @@ import numpy as np
 import scipy.optimize
 
 from .continuation import Branch, ContinuationSettings, continue_curve, correct, tangent
-from .cycles import SPEED, SPEED_SCALE, CyclePoint, CycleProblem, CycleSettings, classify_multipliers, state_scales
+from .cycles import SPEED, CyclePoint, CycleProblem, CycleSettings, classify_multipliers, speed_scale, state_scales
 from .family import SpeedFamily
 from .hopf import MIN_SPEED
 from .parameters import ParameterError
@@ -71,7 +71,7 @@ class _CurveProblem:
         self.kind = kind
         omega = 2.0 * np.pi / cycle.period
         self.problem = CycleProblem(family, SPEED, cycle.speed, cycle.value, cycle.orbit,
-                                    state_scales(omega, cycle.orbit.n), SPEED_SCALE, settings)
+                                    state_scales(family, omega), speed_scale(family), settings)
         self.anchor = self.problem.pack(cycle.orbit, cycle.speed)
         self.w = self.problem.weights()
         c0, _ = self.problem.mean_square(self.anchor)
@@ -113,7 +113,7 @@ class _CurveProblem:
             rhs = np.zeros(len(u))
             rhs[-1] = 1.0
             dV_dc = J.solve_bordered(grad, rhs)[-1]
-            return float(dV_dc * self.c_scale / SPEED_SCALE)
+            return float(dV_dc * self.c_scale / p.p_scale)
         rest, _ = classify_multipliers(p.multipliers(u))
         pair = rest[rest.imag > 1e-7]
         if len(pair) == 0:

@@ -37,23 +37,27 @@ from . import collocation as col
 from .continuation import Branch, ContinuationSettings, continue_curve, correct
 from .family import SpeedFamily
 from .hopf import MIN_SPEED, HopfPoint, hopf_points, speed_derivative
-from .model import N_STATES, STATE_NAMES
+from .model import STATE_NAMES
 from .parameters import ParameterError
 from .special_points import BranchStatus, ConvergenceError, PointKind, PointStatus, SpecialPoint
 
 SPEED = "speed"
-SPEED_SCALE = 10.0          # m/s per unit of arclength
-ANGLE_SCALE = 0.1           # rad per unit of arclength for the angles; rates use ANGLE_SCALE * omega
-ANGLE_STATES = np.array([name in ("theta1", "theta2", "psi", "alpha1", "alpha2") for name in STATE_NAMES])
 COMPLEX_TOL = 1e-7          # |Im mu| below this: a real multiplier
 PERIOD_LIMIT = 50.0         # period growth (relative to the start) taken as approach to a homoclinic orbit
 
 
 @dataclass(frozen=True)
 class CycleSettings:
-    intervals: int = 40
+    """``tolerance`` bounds the estimated collocation error of every orbit relative to each state's amplitude
+    (:func:`reduced_model.collocation.relative_error`); the mesh gains intervals (up to ``max_intervals``) until
+    it is met, and loses them (down to ``min_intervals``) where the estimate is far below it."""
+
+    intervals: int = 40                # at the start of a branch
     degree: int = col.DEFAULT_DEGREE
-    adapt_every: int = 3               # accepted points between mesh adaptations (AUTO's IAD)
+    adapt_every: int = 3               # accepted points between mesh redistributions (AUTO's IAD)
+    tolerance: float = 1e-6
+    min_intervals: int = 20
+    max_intervals: int = 640
     start_amplitude: float = 0.02      # first amplitude, scaled (0.02: 0.002 rad on the largest angle)
     continuation: ContinuationSettings = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.5, max_steps=400,
                                                               newton_tol=1e-7, newton_max_iter=8,
@@ -72,6 +76,13 @@ class CyclePoint:
     trivial: complex = 1.0                        # the multiplier taken as the trivial one (nearest +1)
     stable: bool = False
     orbit: col.Orbit = field(default=None, compare=False, repr=False)
+    error: float = float("nan")      # estimated collocation error relative to the amplitudes
+    tolerance: float = float("nan")  # the tolerance it was computed for
+
+    @property
+    def meets_tolerance(self) -> bool:
+        """False when the mesh could not bring the error estimate below the tolerance (NaN: not checked)."""
+        return not self.error > self.tolerance
 
     @property
     def frequency_hz(self) -> float:
@@ -143,12 +154,16 @@ class CycleDiagram:
         return tuple(p for p in self.special_points if p.kind is kind)
 
 
-def state_scales(omega: float, n: int = N_STATES) -> np.ndarray:
-    """Typical size of each state for norms and mesh monitors: for the shimmy model, angles and rates at
-    frequency omega; for any other vector field (n != 8) ANGLE_SCALE for every state."""
-    if n != N_STATES:
-        return np.full(n, ANGLE_SCALE)
-    return np.where(ANGLE_STATES, ANGLE_SCALE, ANGLE_SCALE * omega)
+def state_scales(family, omega: float) -> np.ndarray:
+    """Typical size of each state for norms and mesh monitors, from the problem: ``family.state_scales(omega)``
+    when the family defines it (oscillation at omega rad/s), otherwise 1 for every state."""
+    fun = getattr(family, "state_scales", None)
+    return np.asarray(fun(omega), float) if fun is not None else np.ones(family.n)
+
+
+def speed_scale(family) -> float:
+    """Speed per unit of arclength, from the problem (``family.speed_scale``), otherwise 1."""
+    return float(getattr(family, "speed_scale", 1.0))
 
 
 def classify_multipliers(mu: np.ndarray) -> tuple[np.ndarray, complex]:
@@ -320,44 +335,73 @@ class CycleProblem:
         V, q = self.parameters(u[self.size + 1])
         mu = self.multipliers(u)
         rest, trivial = classify_multipliers(mu)
-        return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=orbit.maxima(), multipliers=mu,
-                          trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit)
+        amplitude = orbit.maxima()
+        return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
+                          trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
+                          error=col.relative_error(orbit, self.scales, amplitude),
+                          tolerance=self.settings.tolerance)
+
+    def needed_intervals(self, orbit: col.Orbit) -> int:
+        """Intervals for ``orbit`` to meet the tolerance: more when the estimate exceeds it, fewer (at most
+        halved) when it is below 1/20 of it, within [min_intervals, max_intervals]."""
+        st = self.settings
+        N = orbit.intervals
+        err = col.relative_error(orbit, self.scales)
+        if err > st.tolerance or not np.isfinite(err):
+            N = col.refined_intervals(N, err, st.tolerance, orbit.degree)
+        elif err < 0.05 * st.tolerance:
+            factor = (max(err, 1e-300) / (0.5 * st.tolerance)) ** (1.0 / (orbit.degree + 1))
+            N = int(np.ceil(N * max(factor, 0.5)))
+        return int(min(max(N, st.min_intervals), st.max_intervals))
 
     def scaled_rms(self, u: np.ndarray) -> float:
         """Size of the orbit in the weighted norm (zero at a Hopf point)."""
         return float(np.sqrt(np.sum(self.orbit_of(u).mean_square() / self.scales ** 2)))
 
     # --- between steps -------------------------------------------------------------------------------
-    def renormalize(self, u: np.ndarray) -> np.ndarray | None:
-        """Every ``adapt_every`` accepted points: adapt the mesh and make the current orbit the phase reference
-        (AUTO's IAD; in between the reference is a recent orbit, which fixes the phase just as well).
+    def renormalize(self, u: np.ndarray):
+        """Every ``adapt_every`` accepted points, and at once when the orbit misses the error tolerance: adapt
+        the mesh (number of intervals from :meth:`needed_intervals`, distribution by equidistribution) and make
+        the current orbit the phase reference (AUTO's IAD; in between the reference is a recent orbit, which
+        fixes the phase just as well).
 
         After re-meshing, the interpolated orbit is corrected on the new mesh (Newton on the hyperplane through
         it, orthogonal to the interpolated tangent), so that the branch stays on solutions of the discretisation
-        actually used.  Returns None when nothing changed.
+        actually used.  Returns None when nothing changed, else (new point, previous tangent carried over to the
+        new mesh) for the continuation to orient its tangent.
         """
         self.steps_since_adapt += 1
-        if self.steps_since_adapt < self.settings.adapt_every or self.last_tangent is None:
+        if self.last_tangent is None:
+            return None
+        orbit = self.orbit_of(u)
+        N = self.needed_intervals(orbit)
+        if N <= orbit.intervals and self.steps_since_adapt < self.settings.adapt_every:
             return None
         self.steps_since_adapt = 0
-        orbit = self.orbit_of(u)
-        new_mesh = col.adapted_mesh(orbit, self.scales)
-        if col.mesh_quality(self.mesh, new_mesh) > 0.05:
+        new_mesh = col.adapted_mesh(orbit, self.scales, intervals=N)
+        t_new = self.last_tangent
+        if N != orbit.intervals or col.mesh_quality(self.mesh, new_mesh) > 0.05:
             t_orbit = col.Orbit(mesh=self.mesh, nodes=self.last_tangent[:self.size].reshape(-1, self.n),
                                 period=1.0, degree=self.degree)
             moved = col.remesh(orbit, new_mesh)
             old_reference = self.reference
             self.set_reference(moved)
-            u_new = self.pack(moved, u[self.size + 1])
+            u_new = self.pack(moved, u[-1])
             t_new = np.concatenate([col.remesh(t_orbit, new_mesh).nodes.ravel(), self.last_tangent[-2:]])
-            result = correct(self, u_new, t_new, self.weights(), self.settings.continuation)
+            result = correct(self, u_new, t_new, self.weights(), self.settings.continuation,
+                             blocks=self.blocks_of_unknowns())
             if result is not None:
                 u = result[0]
                 orbit = self.orbit_of(u)
             else:
                 self.set_reference(old_reference)  # keep the old mesh
+                t_new = self.last_tangent
         self.set_reference(orbit)
-        return u
+        return u, t_new
+
+    def blocks_of_unknowns(self) -> tuple[slice, ...]:
+        """Node values, period, free parameter: Newton converges when each block's weighted step is small."""
+        return (slice(0, self.size), slice(self.size, self.size + 1), slice(self.size + 1, self.size + 2))
 
 
 # --------------------------------------------------------------------------------------------------------
@@ -381,14 +425,14 @@ def hopf_predictor(family: SpeedFamily, hopf: HopfPoint, amplitude: float,
     else:
         delta = -l1 * hopf.omega * z * z / mu_prime
     # Far from the normal form's validity the speed guess is useless; Newton fixes the speed anyway.
-    delta = float(np.clip(delta, -0.05 * SPEED_SCALE, 0.05 * SPEED_SCALE))
+    delta = float(np.clip(delta, -0.05 * speed_scale(family), 0.05 * speed_scale(family)))
     return hopf.speed + delta, z, q
 
 
 def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings = CycleSettings()
                   ) -> tuple[CycleProblem, np.ndarray, np.ndarray]:
     """Problem, first cycle u0 and the direction away from the Hopf point (``ConvergenceError`` on failure)."""
-    scales = state_scales(hopf.omega, family.n)
+    scales = state_scales(family, hopf.omega)
     period = 2.0 * np.pi / hopf.omega
     V1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
     mesh = col.uniform_mesh(settings.intervals)
@@ -397,12 +441,12 @@ def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings 
         return 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
 
     guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
-    problem = CycleProblem(family, SPEED, hopf.speed, hopf.value, guess, scales, SPEED_SCALE, settings)
+    problem = CycleProblem(family, SPEED, hopf.speed, hopf.value, guess, scales, speed_scale(family), settings)
     u_pred = problem.pack(guess, V1)
     w = problem.weights()
     direction = np.concatenate([guess.nodes.ravel(), [0.0, 0.0]])
     direction /= np.linalg.norm(direction * w)
-    result = correct(problem, u_pred, direction, w, settings.continuation)
+    result = correct(problem, u_pred, direction, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     if result is None:
         raise ConvergenceError(f"branch switching at the Hopf point at {hopf.speed_kmh:.3f} km/h: Newton did "
                                f"not converge on the first cycle")
@@ -428,8 +472,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                   accept_hook: Callable[[CyclePoint], None] | None = None) -> CycleBranch:
     """Pseudo-arclength continuation of cycles from u0 until the free parameter leaves [lo, hi], the branch
     returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails."""
-    ip = problem.size + 1
-    iT = problem.size
+    # The number of unknowns changes with the mesh: the free parameter and the period are always the last two.
+    ip, iT = -1, -2
     settings = problem.settings
     records = [problem.point(u0)]
     special: list[SpecialPoint] = []
@@ -482,7 +526,9 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         X_old, X_new = branch.points[k][:problem.size], u_new[:problem.size]
         if np.dot(X_old, X_new) < 0.0:
             branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-            return _hopf_end(branch.points, amplitudes)
+            return _hopf_end(branch.points, amplitudes, records[-1]) or (
+                f"complete: amplitude vanishes near {where(branch.points[-1])} (a Hopf point the defining "
+                f"system of the equilibrium did not converge to)")
         arclength.append(arclength[-1] + step)
         rec = problem.point(u_new)
         prev = records[-1]
@@ -499,37 +545,72 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             accept_hook(rec)
         if verdict is not None:
             return verdict
-        if amp < amplitudes[-2] and amp < 1.5 * start_amplitude and len(records) > 2:
-            return _hopf_end(branch.points, amplitudes)
+        # Near a Hopf point amp^2 is affine in the parameter: when it extrapolates to zero within one more
+        # step of the same size, the Hopf point of the equilibrium is solved for and the branch ends there.
+        if len(records) > 2 and amp < amplitudes[-2] and amp ** 2 <= amplitudes[-2] ** 2 - amp ** 2:
+            ended = _hopf_end(branch.points, amplitudes, rec)
+            if ended is not None:
+                return ended
         if u_new[iT] > PERIOD_LIMIT * start_period:
             return (f"degenerate: the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
                     f"(approach to a homoclinic orbit)")
         return None
 
-    def _hopf_end(points, amps) -> str:
-        """The branch shrinks onto straight running: find the Hopf point it ends at."""
+    def _hopf_end(points, amps, last: CyclePoint) -> str | None:
+        """The branch shrinks onto the equilibrium: solve the Hopf defining system from the extrapolated zero of
+        amp^2 and the orbit's first harmonic; None when it does not converge near there."""
         u1, u2 = points[-2], points[-1]
         a1, a2 = amps[-2] ** 2, amps[-1] ** 2
         p1, p2 = u1[ip], u2[ip]
         p_end = p2 - a2 * (p2 - p1) / (a2 - a1) if a2 != a1 else p2
-        omega = 2.0 * np.pi / u2[iT]
-        if problem.free == SPEED:
-            match = [h for h in hopf if abs(h.speed - p_end) < max(0.05 * abs(h.speed), 0.5)
-                     and abs(h.omega - omega) < 0.05 * h.omega]
-            if match:
-                h = min(match, key=lambda h: abs(h.speed - p_end))
-                end.append(h)
-                return f"complete: returns to the Hopf point at {h.speed_kmh:.3f} km/h"
-        return f"complete: amplitude vanishes near {where(np.concatenate([u2[:-1], [p_end]]))} (a Hopf point)"
+        located = end_hopf_point(problem.family, last, p_end) if problem.free == SPEED else None
+        if located is None:
+            return None
+        # The located point must lie where the branch was heading: within the last step (and a bit) of p_end.
+        if abs(located.speed - p_end) > 2.0 * abs(p2 - p1) + 1e-9 * abs(p_end):
+            return None
+        match = [h for h in hopf if abs(h.speed - located.speed) <= 1e-6 * max(1.0, abs(h.speed))
+                 and abs(h.omega - located.omega) <= 1e-6 * h.omega]
+        h = match[0] if match else located
+        end.append(h)
+        return f"complete: returns to the Hopf point at {h.speed_kmh:.3f} km/h"
 
-    w = problem.weights()
-    branch = continue_curve(problem, u0, direction, w, settings.continuation, accept=accept,
-                            renormalize=problem.renormalize)
+    def renormalize(u):
+        # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
+        result = problem.renormalize(u)
+        if result is not None and records and len(result[0]) != len(u):
+            records[-1] = problem.point(result[0])
+        return result
+
+    branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
+                            renormalize=renormalize, blocks=problem.blocks_of_unknowns)
     message = branch.message
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
     return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
                        status=branch.status, message=message, start=start, end=end[0] if end else None)
+
+
+def first_harmonic(orbit: col.Orbit) -> np.ndarray:
+    """int_0^1 x(tau) exp(-2 pi i tau) dtau by Gauss quadrature on the mesh: the eigenvector direction times
+    the amplitude near a Hopf point (x = 2 Re(z q exp(2 pi i tau)))."""
+    sch = col.scheme(orbit.degree)
+    tau = orbit.mesh[:-1, None] + orbit.widths[:, None] * sch.points[None, :]
+    Xc = col.collocation_states(orbit.interval_values(), sch)
+    wgt = orbit.widths[:, None] * sch.weights[None, :] * np.exp(-2j * np.pi * tau)
+    return np.einsum("jk,jkn->n", wgt, Xc)
+
+
+def end_hopf_point(family, last: CyclePoint, speed_guess: float) -> HopfPoint | None:
+    """The Hopf point of the equilibrium a shrinking branch runs into, by Newton on the Hopf defining system
+    (:func:`reduced_model.hopf.locate_hopf`) from the extrapolated speed, the cycle's frequency and its first
+    harmonic; None if Newton does not converge."""
+    from .hopf import locate_hopf
+    v = first_harmonic(last.orbit)
+    try:
+        return locate_hopf(family, last.value, speed_guess, 2.0 * np.pi / last.period, v)
+    except (ConvergenceError, np.linalg.LinAlgError, ParameterError):
+        return None
 
 
 def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: float,
@@ -551,8 +632,8 @@ def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: flo
     """Continue a computed cycle in ``free`` (``"speed"`` or the family's parameter) within [lo, hi];
     ``sign`` chooses the initial direction of the free parameter."""
     omega = 2.0 * np.pi / point.period
-    scales = state_scales(omega, point.orbit.n)
-    p_scale = SPEED_SCALE if free == SPEED else 0.1 * max(abs(point.value), 1e-12)
+    scales = state_scales(family, omega)
+    p_scale = speed_scale(family) if free == SPEED else 0.1 * max(abs(point.value), 1e-12)
     problem = CycleProblem(family, free, point.speed, point.value, point.orbit, scales, p_scale, settings)
     if free == SPEED:
         lo = max(lo, MIN_SPEED)
@@ -599,8 +680,8 @@ def cycle_at(family: SpeedFamily, near: CyclePoint, speed: float, settings: Cycl
     """
     omega = 2.0 * np.pi / near.period
     orbit = near.orbit if intervals is None else col.remesh(near.orbit, col.uniform_mesh(intervals))
-    problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(omega, orbit.n),
-                           SPEED_SCALE, settings)
+    problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(family, omega),
+                           speed_scale(family), settings)
     u_pred = problem.pack(orbit, speed)
     w = problem.weights()
     fix_speed = np.zeros_like(u_pred)
