@@ -119,7 +119,8 @@ class Branch:
 def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | None, weights,
                    settings: ContinuationSettings = ContinuationSettings(),
                    accept: Callable[[Branch], str | None] | None = None,
-                   renormalize: Callable[[np.ndarray], object] | None = None, blocks=None) -> Branch:
+                   renormalize: Callable[[np.ndarray], object] | None = None, blocks=None,
+                   step_bound: Callable[[np.ndarray, np.ndarray], float] | None = None) -> Branch:
     """Follow G(u) = 0 from u0 (already a solution) in ``direction``.
 
     ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`BranchStatus`
@@ -127,7 +128,9 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     one (same solution, new phase/normalisation or a new discretisation), or returns None to keep it; it may
     return (u, previous tangent in u's layout) when the number of unknowns changed.  The residual must be
     consistent with the renormalised point.  ``weights`` and ``blocks`` (slices of u for the Newton test, see
-    :func:`correct`) may be callables, re-read after every renormalisation.
+    :func:`correct`) may be callables, re-read after every renormalisation.  ``step_bound(u_old, u_new)`` is the
+    size of a step relative to a bound the caller sets (e.g. on one parameter): a step above 1 is retried
+    shorter, and the next step is not predicted longer than the bound allows.
     """
     def current():
         w_ = np.asarray(weights() if callable(weights) else weights, dtype=float)
@@ -154,8 +157,12 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                 u_new, J_new, iters = result
                 t_new = tangent(J_new, w, t)
                 turn = np.arccos(np.clip(np.dot(t_new * w, t * w), -1.0, 1.0))
-                if turn <= settings.max_turn:
+                ratio = step_bound(u, u_new) if step_bound is not None else 0.0
+                if turn <= settings.max_turn and ratio <= 1.0:
                     break
+                if turn <= settings.max_turn and ds / ratio >= settings.ds_min:
+                    ds = 0.95 * ds / ratio
+                    continue
             ds *= 0.5
             if ds < settings.ds_min:
                 branch.status = BranchStatus.STEP_UNDERFLOW
@@ -181,7 +188,10 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                 branch.weights, branch.blocks = w, blk
                 branch.points[-1] = renormalized
                 branch.tangents[-1] = tangent(residual(renormalized)[1], w, previous)
-        ds = min(ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6), settings.ds_max)
+        ds_next = ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6)
+        if step_bound is not None and ratio > 0.0:
+            ds_next = min(ds_next, 0.95 * ds / ratio)
+        ds = min(ds_next, settings.ds_max)
     branch.status = BranchStatus.MAX_STEPS
     branch.message = f"stopped after {settings.max_steps} steps"
     return branch

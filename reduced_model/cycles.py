@@ -112,6 +112,7 @@ class CycleBranch:
     message: str
     start: HopfPoint | None = None              # Hopf point the branch was born at
     end: HopfPoint | None = None                # Hopf point it returned to, if any
+    user_points: tuple[CyclePoint, ...] = ()    # orbits at the requested values of the free parameter
 
     @property
     def complete(self) -> bool:
@@ -379,25 +380,43 @@ class CycleProblem:
             return None
         self.steps_since_adapt = 0
         new_mesh = col.adapted_mesh(orbit, self.scales, intervals=N)
-        t_new = self.last_tangent
         if N != orbit.intervals or col.mesh_quality(self.mesh, new_mesh) > 0.05:
-            t_orbit = col.Orbit(mesh=self.mesh, nodes=self.last_tangent[:self.size].reshape(-1, self.n),
-                                period=1.0, degree=self.degree)
-            moved = col.remesh(orbit, new_mesh)
-            old_reference = self.reference
-            self.set_reference(moved)
-            u_new = self.pack(moved, u[-1])
-            t_new = np.concatenate([col.remesh(t_orbit, new_mesh).nodes.ravel(), self.last_tangent[-2:]])
-            result = correct(self, u_new, t_new, self.weights(), self.settings.continuation,
-                             blocks=self.blocks_of_unknowns())
-            if result is not None:
-                u = result[0]
-                orbit = self.orbit_of(u)
-            else:
-                self.set_reference(old_reference)  # keep the old mesh
-                t_new = self.last_tangent
+            return self.move_to_mesh(u, self.last_tangent, new_mesh)
         self.set_reference(orbit)
-        return u, t_new
+        return u, self.last_tangent
+
+    def move_to_mesh(self, u: np.ndarray, t: np.ndarray, mesh: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The solution u interpolated onto ``mesh`` and corrected there by Newton on the hyperplane through it
+        orthogonal to t (carried over too); on failure the old mesh and point are kept.  Returns (u, t)."""
+        orbit = self.orbit_of(u)
+        t_orbit = col.Orbit(mesh=self.mesh, nodes=t[:self.size].reshape(-1, self.n), period=1.0,
+                            degree=self.degree)
+        moved = col.remesh(orbit, mesh)
+        old_reference = self.reference
+        self.set_reference(moved)
+        u_new = self.pack(moved, u[-1])
+        t_new = np.concatenate([col.remesh(t_orbit, mesh).nodes.ravel(), t[-2:]])
+        result = correct(self, u_new, t_new, self.weights(), self.settings.continuation,
+                         blocks=self.blocks_of_unknowns())
+        if result is None:
+            self.set_reference(old_reference)
+            return u, t
+        self.set_reference(self.orbit_of(result[0]))
+        return result[0], t_new
+
+    def meet_tolerance(self, u: np.ndarray, t: np.ndarray, rounds: int = 4) -> np.ndarray:
+        """Refine the mesh of a single solution (at the start of a branch, or at a fixed parameter) until its
+        error estimate meets the tolerance or max_intervals is reached; t fixes the correcting hyperplane."""
+        for _ in range(rounds):
+            orbit = self.orbit_of(u)
+            N = self.needed_intervals(orbit)
+            if N <= orbit.intervals:
+                break
+            u_new, t = self.move_to_mesh(u, t, col.adapted_mesh(orbit, self.scales, intervals=N))
+            if len(u_new) == len(u):
+                break
+            u = u_new
+        return u
 
     def blocks_of_unknowns(self) -> tuple[slice, ...]:
         """Node values, period, free parameter: Newton converges when each block's weighted step is small."""
@@ -452,6 +471,7 @@ def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings 
                                f"not converge on the first cycle")
     u0 = result[0]
     problem.set_reference(problem.orbit_of(u0))
+    u0 = problem.meet_tolerance(u0, np.concatenate([u0[:-2], [0.0, 0.0]]))
     u_hopf = np.concatenate([np.zeros(problem.size), [period, hopf.speed]])
     return problem, u0, u0 - u_hopf
 
@@ -469,9 +489,15 @@ def _special(kind: PointKind, problem: CycleProblem, u: np.ndarray, bracket, sta
 
 def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, lo: float, hi: float,
                   hopf: tuple[HopfPoint, ...] = (), start: HopfPoint | None = None,
-                  accept_hook: Callable[[CyclePoint], None] | None = None) -> CycleBranch:
+                  accept_hook: Callable[[CyclePoint], None] | None = None, at: tuple[float, ...] = (),
+                  max_step: float | None = None) -> CycleBranch:
     """Pseudo-arclength continuation of cycles from u0 until the free parameter leaves [lo, hi], the branch
-    returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails."""
+    returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails.
+
+    ``at``: values of the free parameter where the orbits are located on the branch as events (AUTO's user
+    points, by Brent's method on the corrected branch: the continuation's own orbits), every time the branch
+    passes them; between a Hopf end and the nearest computed cycle they come from Newton at fixed parameter.
+    ``max_step`` bounds the change of the free parameter per continuation step (denser output)."""
     # The number of unknowns changes with the mesh: the free parameter and the period are always the last two.
     ip, iT = -1, -2
     settings = problem.settings
@@ -483,6 +509,9 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     start_period = float(u0[iT])
     end: list[HopfPoint] = []
     name = problem.free
+    user: list[tuple[float, CyclePoint]] = []     # (arclength, orbit)
+    targets = tuple(float(v) for v in at)
+    user += [(0.0, problem.point(u0)) for v in targets if v == u0[ip]]
 
     def where(u) -> str:
         V, q = problem.parameters(u[ip])
@@ -529,6 +558,16 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             return _hopf_end(branch.points, amplitudes, records[-1]) or (
                 f"complete: amplitude vanishes near {where(branch.points[-1])} (a Hopf point the defining "
                 f"system of the equilibrium did not converge to)")
+        p_old = branch.points[k][ip]
+        for target in targets:
+            if (p_old - target) * (u_new[ip] - target) < 0.0 or u_new[ip] == target:
+                try:
+                    s = step if u_new[ip] == target else scipy.optimize.brentq(
+                        lambda s: branch.point_at(k, s)[0][ip] - target, 0.0, step, xtol=1e-13, rtol=1e-12)
+                    u_at = u_new if s == step else branch.point_at(k, s)[0]
+                    user.append((arclength[-1] + s, problem.point(u_at)))
+                except (RuntimeError, ValueError):
+                    pass    # reported as missing by the caller (no orbit at that value on this branch)
         arclength.append(arclength[-1] + step)
         rec = problem.point(u_new)
         prev = records[-1]
@@ -577,18 +616,44 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
 
     def renormalize(u):
         # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
+        # So do the user points of the step just taken (re-solved at their values on the new mesh).
         result = problem.renormalize(u)
         if result is not None and records and len(result[0]) != len(u):
             records[-1] = problem.point(result[0])
+            for i in range(len(user)):
+                s_i, cyc = user[i]
+                if s_i > arclength[-2]:
+                    try:
+                        user[i] = (s_i, cycle_at(problem.family, cyc, cyc.speed, settings, mesh=problem.mesh))
+                    except ConvergenceError:
+                        pass    # keeps its coarser orbit, which says so through its error estimate
         return result
 
+    bound = None
+    if max_step is not None:
+        def bound(u_old, u_new):
+            return abs(u_new[ip] - u_old[ip]) / max_step
+
     branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
-                            renormalize=renormalize, blocks=problem.blocks_of_unknowns)
+                            renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound)
+    # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from it.
+    for hopf_end, near in ((start, records[0] if records else None), (end[0] if end else None,
+                                                                      records[-1] if records else None)):
+        if hopf_end is None or near is None or problem.free != SPEED:
+            continue
+        for target in targets:
+            if (hopf_end.speed - target) * (near.speed - target) < 0.0 and target != near.speed:
+                try:
+                    cyc = cycle_at(problem.family, near, target, settings)
+                except ConvergenceError:
+                    continue
+                user.append((-1.0 if near is records[0] else arclength[-1] + 1.0, cyc))
     message = branch.message
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
     return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
-                       status=branch.status, message=message, start=start, end=end[0] if end else None)
+                       status=branch.status, message=message, start=start, end=end[0] if end else None,
+                       user_points=tuple(c for _, c in sorted(user, key=lambda x: x[0])))
 
 
 def first_harmonic(orbit: col.Orbit) -> np.ndarray:
@@ -615,7 +680,7 @@ def end_hopf_point(family, last: CyclePoint, speed_guess: float) -> HopfPoint | 
 
 def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: float,
                      others: tuple[HopfPoint, ...] = (), settings: CycleSettings = CycleSettings(),
-                     accept_hook=None) -> CycleBranch:
+                     accept_hook=None, at: tuple[float, ...] = (), max_step: float | None = None) -> CycleBranch:
     """The branch of cycles born at ``hopf``, continued in speed within [vmin, vmax] (never below MIN_SPEED,
     where the slip equations lose their speed terms and the period of the cycles grows without bound)."""
     vmin = max(vmin, MIN_SPEED)
@@ -624,7 +689,8 @@ def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: fl
     except ConvergenceError as exc:
         return CycleBranch(free=SPEED, points=(), special_points=(), status=BranchStatus.NEWTON_FAILED,
                            message=f"newton_failed: {exc}", start=hopf)
-    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook)
+    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook,
+                         at=at, max_step=max_step)
 
 
 def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: float, hi: float,
@@ -645,10 +711,12 @@ def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: flo
 
 
 def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
-                  settings: CycleSettings = CycleSettings(), progress=None) -> CycleDiagram:
+                  settings: CycleSettings = CycleSettings(), progress=None, at: tuple[float, ...] = (),
+                  max_step: float | None = None) -> CycleDiagram:
     """Every branch of cycles born at a Hopf point of straight running in [vmin, vmax] (m/s) at q = value.
 
-    A Hopf point that an earlier branch returned to is not started again.
+    A Hopf point that an earlier branch returned to is not started again.  ``at`` (speeds, m/s) and
+    ``max_step`` (m/s) as in :func:`follow_branch`.
     """
     family.validate(value)
     hopf = hopf_points(family, value, vmin, vmax)
@@ -657,7 +725,7 @@ def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
     for i, h in enumerate(hopf):
         if not any(h is r for r in reached):
             b = branch_from_hopf(family, h, vmin, vmax, others=tuple(x for x in hopf if x is not h),
-                                 settings=settings)
+                                 settings=settings, at=at, max_step=max_step)
             branches.append(b)
             if b.end is not None:
                 reached.append(b.end)
@@ -671,27 +739,34 @@ def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
 # --------------------------------------------------------------------------------------------------------
 
 def cycle_at(family: SpeedFamily, near: CyclePoint, speed: float, settings: CycleSettings = CycleSettings(),
-             intervals: int | None = None) -> CyclePoint:
+             intervals: int | None = None, mesh: np.ndarray | None = None) -> CyclePoint:
     """The cycle at ``speed`` (same q) by Newton's method from the nearby cycle ``near`` (T free, speed fixed).
 
-    With ``intervals`` the cycle is computed on a uniform mesh of that many intervals (``near`` is interpolated
-    onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
+    With ``intervals`` the cycle is computed on a uniform mesh of that many intervals, with ``mesh`` on that mesh
+    (``near`` is interpolated onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
     not a function of the speed) or when ``near`` is too far away.
     """
     omega = 2.0 * np.pi / near.period
-    orbit = near.orbit if intervals is None else col.remesh(near.orbit, col.uniform_mesh(intervals))
+    if mesh is None and intervals is not None:
+        mesh = col.uniform_mesh(intervals)
+    orbit = near.orbit if mesh is None else col.remesh(near.orbit, mesh)
     problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(family, omega),
                            speed_scale(family), settings)
     u_pred = problem.pack(orbit, speed)
     w = problem.weights()
     fix_speed = np.zeros_like(u_pred)
     fix_speed[-1] = 1.0 / w[-1]                       # unit weighted norm: the hyperplane is p = speed
-    result = correct(problem, u_pred, fix_speed, w, settings.continuation)
+    result = correct(problem, u_pred, fix_speed, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     # x = 0 with any period solves the discretised problem too; a collapse onto it is a failure here.
     if result is None or problem.scaled_rms(result[0]) < 1e-3 * problem.scaled_rms(u_pred):
         raise ConvergenceError(f"no cycle found at {speed * 3.6:.4f} km/h from the one at "
                                f"{near.speed * 3.6:.4f} km/h")
-    return problem.point(result[0])
+    u = result[0]
+    if intervals is None and mesh is None:
+        fix = np.zeros_like(u)
+        fix[-1] = 1.0
+        u = problem.meet_tolerance(u, fix)
+    return problem.point(u)
 
 
 def branch_peak(family: SpeedFamily, branch: CycleBranch, name: str,
