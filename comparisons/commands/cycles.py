@@ -191,7 +191,10 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
                     "status": [s.value for s in curve.status], "messages": list(curve.messages),
                     "points": [[v * 3.6, q / factor] for v, q in zip(curve.speeds, curve.values)],
                     "ends_at_zero_amplitude": [None if e is None else [e[0] * 3.6, e[1] / factor]
-                                               for e in curve.ends]})
+                                               for e in curve.ends],
+                    "end_points": [None if e is None else {"kind": e.kind.value, "speed_kmh": e.speed * 3.6,
+                                                           "value": e.value / factor, "status": e.status.value}
+                                   for e in curve.end_points]})
     return out
 
 
