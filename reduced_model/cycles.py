@@ -37,7 +37,6 @@ from . import collocation as col
 from .continuation import Branch, ContinuationSettings, continue_curve, correct
 from .family import SpeedFamily
 from .hopf import MIN_SPEED, HopfPoint, hopf_points, speed_derivative
-from .model import STATE_NAMES
 from .parameters import ParameterError
 from .special_points import BranchStatus, ConvergenceError, PointKind, PointStatus, SpecialPoint
 
@@ -78,6 +77,7 @@ class CyclePoint:
     orbit: col.Orbit = field(default=None, compare=False, repr=False)
     error: float = float("nan")      # estimated collocation error relative to the amplitudes
     tolerance: float = float("nan")  # the tolerance it was computed for
+    names: tuple[str, ...] = ()      # state names, from the problem (``family.state_names``)
 
     @property
     def meets_tolerance(self) -> bool:
@@ -93,7 +93,10 @@ class CyclePoint:
         return self.speed * 3.6
 
     def max_abs(self, name: str) -> float:
-        return float(self.amplitude[STATE_NAMES.index(name)])
+        """max |x_name| over the orbit; the names come from the problem."""
+        if name not in self.names:
+            raise KeyError(f"no state '{name}' in this problem (states: {', '.join(self.names) or 'unnamed'})")
+        return float(self.amplitude[self.names.index(name)])
 
     @property
     def nontrivial(self) -> np.ndarray:
@@ -340,7 +343,8 @@ class CycleProblem:
         return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
                           trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
                           error=col.relative_error(orbit, self.scales, amplitude),
-                          tolerance=self.settings.tolerance)
+                          tolerance=self.settings.tolerance,
+                          names=tuple(getattr(self.family, "state_names", ())))
 
     def needed_intervals(self, orbit: col.Orbit) -> int:
         """Intervals for ``orbit`` to meet the tolerance: more when the estimate exceeds it, fewer (at most

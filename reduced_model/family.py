@@ -85,6 +85,7 @@ class SpeedFamily:
         return N_STATES
 
     speed_scale: float = field(default=SPEED_SCALE, init=False, repr=False)
+    state_names: tuple[str, ...] = field(default=STATE_NAMES, init=False, repr=False)
 
     def state_scales(self, omega: float) -> np.ndarray:
         """Typical size of each state in an oscillation at omega rad/s: angles ANGLE_SCALE, rates omega times
