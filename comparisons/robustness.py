@@ -44,20 +44,30 @@ def plausible_variations(axle: Axle) -> list[Variation]:
     return out
 
 
-def robustness_pressures(axle: Axle) -> tuple[float, ...]:
-    """The paper's two operating pressures for its axle; else the thirds of the axle's pressure range (bar)."""
+def robustness_pressures(axle: Axle) -> tuple[tuple[float, float], ...]:
+    """(right, left) bar: the paper's two operating pressures for its axle; else the thirds of the axle's pressure
+    range (``shimmy verify`` passes the cases of its plan instead)."""
     if axle.is_paper:
-        return (1.5, 2.5)
+        return ((1.5, 1.5), (2.5, 2.5))
     lo, hi = axle.pressure_range_bar
-    return (round(lo + (hi - lo) / 3, 3), round(lo + 2 * (hi - lo) / 3, 3))
+    return tuple((round(lo + k * (hi - lo) / 3, 3),) * 2 for k in (1, 2))
+
+
+def pressure_label(right: float, left: float) -> str:
+    return f"{right:g}" if right == left else f"{right:g}/{left:g}"
 
 
 @dataclass(frozen=True)
 class PressureStudy:
-    pressure_bar: float
+    pressure_right_bar: float
+    pressure_left_bar: float
     design: Design
     table: pa.Table
     file: str
+
+    @property
+    def label(self) -> str:
+        return pressure_label(self.pressure_right_bar, self.pressure_left_bar)
 
     def _ok(self) -> np.ndarray:
         return np.array([s == "ok" for s in self.table.column("status").to_pylist()])
@@ -113,22 +123,26 @@ class PressureStudy:
         return self.design.names[j], float(src[j])
 
 
-def run_robustness(axle: Axle, out_dir: str, samples: int, *, pressures: tuple[float, ...] | None = None,
-                   seed: int = SEED, scheduler: str | None = None, workers: int | None = None,
-                   progress=None) -> list[PressureStudy]:
-    """One sweep per pressure over the plausible dimensions; Parquet files ``robustness_<p>bar.parquet``."""
+def run_robustness(axle: Axle, out_dir: str, samples: int, *,
+                   pressures: tuple[tuple[float, float], ...] | None = None, seed: int = SEED,
+                   scheduler: str | None = None, workers: int | None = None, processes: bool = True,
+                   message=lambda text: None) -> list[PressureStudy]:
+    """One sweep per (right, left) pressure pair over the plausible dimensions; Parquet files
+    ``robustness_<p>bar.parquet`` in ``out_dir``."""
     from .sweep_run import DaskCluster, run_sweep
     design = make_design(plausible_variations(axle), samples, seed, "sobol")
     studies = []
-    with DaskCluster(scheduler, workers) as cluster:   # one cluster for every pressure
-        for p in pressures or robustness_pressures(axle):
-            task = SweepTask(axle=axle, effects=(), pressure_right_bar=p, pressure_left_bar=p, names=design.names,
-                             compute=("hopf",), mbs=("reduced", "full"))
-            path = os.path.join(out_dir, f"robustness_{str(p).replace('.', 'p')}bar.parquet")
+    with DaskCluster(scheduler, workers, processes) as cluster:   # one cluster for every pressure
+        for right, left in pressures or robustness_pressures(axle):
+            label = pressure_label(right, left)
+            message(f"Robustness: {samples} plausible axles at {label} bar")
+            task = SweepTask(axle=axle, effects=(), pressure_right_bar=right, pressure_left_bar=left,
+                             names=design.names, compute=("hopf",), mbs=("reduced", "full"))
+            path = os.path.join(out_dir, f"robustness_{label.replace('.', 'p').replace('/', '_')}bar.parquet")
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
                 shutil.rmtree(path + ".parts")
-            run = run_sweep(task, design, path, scheduler=cluster.address, progress=progress)
-            studies.append(PressureStudy(p, design, run.table, os.path.basename(path)))
+            run = run_sweep(task, design, path, scheduler=cluster.address)
+            studies.append(PressureStudy(right, left, design, run.table, os.path.basename(path)))
     return studies
 
 
@@ -144,10 +158,10 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
         ok = worst <= HOPF_TOL_KMH and s.failed == 0
         if s.impossible:
             first = s.impossible[0].split(": ", 1)[1]
-            rows.append(Row({"pressure_bar": s.pressure_bar, "verdict": "sampled axles that cannot exist",
+            rows.append(Row({"pressure_bar": s.label, "verdict": "sampled axles that cannot exist",
                              "plausible_axles": f"{len(s.impossible)} of {s.table.num_rows} excluded"},
                             CheckStatus.INFO, f"e.g. {first}"))
-        rows.append(Row({"pressure_bar": s.pressure_bar, "verdict": "MBS with every assumption on = reduced model",
+        rows.append(Row({"pressure_bar": s.label, "verdict": "MBS with every assumption on = reduced model",
                          "reduced_model": f"{len(s.reduced_points())} Hopf points",
                          "plausible_axles": f"max abs diff {worst:.2g} km/h in {n} axles"},
                         CheckStatus.PASS if ok else CheckStatus.FAIL,
@@ -155,13 +169,13 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
                                        f"differs by more than {HOPF_TOL_KMH} km/h")))
         present = {m for _, m in s.reduced_points()}
         for mode in ("yaw", "tramp"):
-            rows.append(Row({"pressure_bar": s.pressure_bar, "verdict": f"{mode} mode present (full geometry)",
+            rows.append(Row({"pressure_bar": s.label, "verdict": f"{mode} mode present (full geometry)",
                              "reduced_model": "yes" if mode in present else "no",
                              "plausible_axles": f"{_pct(s.mode_fraction(mode))} of {n} axles"}, CheckStatus.INFO))
         for i, (speed, mode) in enumerate(s.reduced_points()):
             y = s.shifts(i)
             have = np.isfinite(y)
-            cells = {"pressure_bar": s.pressure_bar, "verdict": f"HB{i + 1} ({mode}) shift, full geometry",
+            cells = {"pressure_bar": s.label, "verdict": f"HB{i + 1} ({mode}) shift, full geometry",
                      "reduced_model": f"{speed:.2f} km/h"}
             if have.any():
                 p5, p50, p95 = np.quantile(y[have], QUANTILES)
@@ -176,16 +190,30 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
     return rows
 
 
+def _planned_pressures(ctx) -> tuple[tuple[float, float], ...] | None:
+    """The first two symmetric cases of verify's plan where the reduced model shimmies, and its asymmetric case."""
+    if getattr(ctx, "plan", None) is None:
+        return None
+    from .verification import shimmy_cases
+    from .verify_plan import CaseKind
+    cases = shimmy_cases(ctx)
+    pairs = [(c.pressure_right_bar, c.pressure_left_bar) for c in cases if c.kind is not CaseKind.ASYMMETRIC][:2]
+    pairs += [(c.pressure_right_bar, c.pressure_left_bar) for c in cases if c.kind is CaseKind.ASYMMETRIC]
+    return tuple(dict.fromkeys(pairs)) or None
+
+
 def robustness_section(ctx) -> Section:
     """The ``shimmy verify`` section; ``ctx`` has ``out``, ``quick`` and (optionally) ``axle``."""
     axle = getattr(ctx, "axle", None) or paper_axle()
     samples = SAMPLES_QUICK if ctx.quick else SAMPLES_FULL
-    studies = run_robustness(axle, ctx.out, samples)
+    # quick: a few dozen samples, less work than starting worker processes; one worker in this process
+    studies = run_robustness(axle, ctx.out, samples, pressures=_planned_pressures(ctx), processes=not ctx.quick,
+                             message=getattr(ctx, "progress", lambda text: None))
     names = ", ".join(studies[0].design.names)
     return Section(
         key="robustness", title="Robustness: the full-geometry verdicts over plausible multibody dimensions",
         columns=("pressure_bar", "verdict", "reduced_model", "plausible_axles"), rows=tuple(study_rows(studies)),
-        text=(f"{samples} plausible axles: {names} drawn uniformly from each one's plausible range (axle file "
+        text=(f"{samples} plausible axles at the planned pressures (bar; right/left where they differ): {names} drawn uniformly from each one's plausible range (axle file "
               f"`[plausible]`, scrambled Sobol' sample, seed {SEED}), the same axles at each pressure; MBS Hopf points "
               f"with every assumption on and off, 0-400 km/h, computed by `shimmy sweep` on a local Dask cluster "
               f"(results: {', '.join(f'`{s.file}`' for s in studies)}). Check: with every assumption on the MBS keeps "

@@ -95,9 +95,11 @@ def _write_table(path: str, table: pa.Table) -> None:
 
 
 class DaskCluster:
-    """A Dask client on ``scheduler`` or on a fresh local cluster (closed on exit)."""
+    """A Dask client on ``scheduler`` or on a fresh local cluster (closed on exit).  ``processes=False``: one
+    single-threaded worker inside this process, for small sweeps where starting worker processes (each importing
+    numpy, scipy and Exudyn) would cost more than the work."""
 
-    def __init__(self, scheduler: str | None, workers: int | None):
+    def __init__(self, scheduler: str | None, workers: int | None, processes: bool = True):
         from distributed import Client, LocalCluster
         self.cluster = None
         if scheduler:
@@ -106,9 +108,9 @@ class DaskCluster:
             except (OSError, TimeoutError) as exc:
                 raise UsageError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
         else:
-            n = workers or os.cpu_count() or 1
-            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                                        silence_logs=logging.ERROR)
+            n = (workers or os.cpu_count() or 1) if processes else 1
+            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
+                                        dashboard_address=None, silence_logs=logging.ERROR)
             self.client = Client(self.cluster)
         self.address = self.client.scheduler.address
         self.workers = max(1, sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values()))

@@ -69,6 +69,16 @@ def test_verify_cycles_jumps_assumptions(quick_report):
     assert {"full", "small_angles", "slip_heading_only"} <= names
 
 
+
+def test_verify_robustness_over_plausible_dimensions(quick_report):
+    _, out = quick_report
+    rows = section(quick_report, "robustness")["rows"]
+    checks = [r for r in rows if r["verdict"].startswith("MBS with every assumption on")]
+    assert [r["pressure_bar"] for r in checks] == ["1.5", "2.5"] and all(r["status"] == "pass" for r in checks)
+    hb1 = next(r for r in rows if r["pressure_bar"] == "1.5" and r["verdict"].startswith("HB1"))
+    assert hb1["plausible_axles"].startswith("+5.9 km/h")       # the chosen dimensions give +5.88 km/h
+    assert (out / "robustness_1p5bar.parquet").exists() and not list(out.glob("*.parts"))
+
 def test_failed_row_makes_report_fail():
     section = Section("x", "X", ("a",), (Row({"a": 1.0}, CheckStatus.PASS), Row({"a": 2.0}, CheckStatus.FAIL)))
     report = Report((section,), quick=True)
