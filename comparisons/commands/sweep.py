@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 
@@ -133,6 +134,17 @@ class _Progress:
             self.bar.close()
 
 
+def _quiet_shutdown() -> None:
+    """After Ctrl-C, Dask's loop thread and atexit hooks may still report the cancelled start-up: the user asked
+    for the stop and has been told what was kept, so those reports are dropped."""
+    import logging
+    import threading
+    for name in ("distributed", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+    sys.unraisablehook = lambda unraisable: None
+    threading.excepthook = lambda hook_args: None
+
+
 def run(args: argparse.Namespace) -> int:
     from ..sweep_analysis import OutputChoice, sensitivity, write_plot
     from ..sweep_design import make_design, parse_vary
@@ -148,6 +160,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         result = run_sweep(task, design, args.out, scheduler=args.scheduler, workers=args.workers,
                            size=args.batch_size, resume=args.resume, progress=bar)
+    except KeyboardInterrupt:
+        bar.close()
+        _quiet_shutdown()
+        parts = args.out + ".parts"
+        kept = len([f for f in os.listdir(parts) if f.startswith("batch-")]) if os.path.isdir(parts) else 0
+        sys.stderr.write(f"shimmy: interrupted; {kept} finished batches kept in {parts}: the same command with "
+                         f"--resume continues\n")
+        return 130
     finally:
         bar.close()
     sens = sensitivity(result.table, design, output)
