@@ -35,6 +35,7 @@ TARGET_BATCH_S = 1.0
 BATCHES_PER_WORKER = 4       # at least, so that the last batches do not leave a worker idle for long
 MANIFEST = "manifest.json"
 METADATA_KEY = b"shimmy_sweep"
+WAIT_FOR_WORKERS_S = 60.0
 
 
 @dataclass(frozen=True)
@@ -107,6 +108,12 @@ class DaskCluster:
                 self.client = Client(scheduler, timeout="10s")
             except (OSError, TimeoutError) as exc:
                 raise UsageError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+            try:   # a scheduler without workers would hold the sweep forever
+                self.client.wait_for_workers(1, timeout=WAIT_FOR_WORKERS_S)
+            except TimeoutError:
+                self.client.close()
+                raise UsageError(f"--scheduler {scheduler}: no worker joined within {WAIT_FOR_WORKERS_S:g} s "
+                                 f"(start one with 'dask worker {scheduler}')") from None
         else:
             n = (workers or os.cpu_count() or 1) if processes else 1
             self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
