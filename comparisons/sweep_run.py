@@ -19,6 +19,8 @@ import logging
 import math
 import os
 import shutil
+import signal
+import threading
 import time
 from dataclasses import dataclass
 from typing import Callable
@@ -95,6 +97,10 @@ def _write_table(path: str, table: pa.Table) -> None:
         pq.write_table(table, tmp)
 
 
+def _main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
 class DaskCluster:
     """A Dask client on ``scheduler`` or on a fresh local cluster (closed on exit).  ``processes=False``: one
     single-threaded worker inside this process, for small sweeps where starting worker processes (each importing
@@ -116,8 +122,17 @@ class DaskCluster:
                                  f"(start one with 'dask worker {scheduler}')") from None
         else:
             n = (workers or os.cpu_count() or 1) if processes else 1
-            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
-                                        dashboard_address=None, silence_logs=logging.ERROR)
+            # Worker processes are started with Ctrl-C ignored (inherited across spawn, and Python then installs no
+            # KeyboardInterrupt handler): a Ctrl-C at the terminal reaches the whole process group, and only this
+            # process should answer it, by closing the cluster and keeping the finished batches.  So a Ctrl-C in
+            # the few seconds the cluster takes to start is ignored here too.
+            previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if processes and _main_thread() else None
+            try:
+                self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
+                                            dashboard_address=None, silence_logs=logging.ERROR)
+            finally:
+                if previous is not None:
+                    signal.signal(signal.SIGINT, previous)
             self.client = Client(self.cluster)
         self.address = self.client.scheduler.address
         self.workers = max(1, sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values()))

@@ -192,3 +192,27 @@ def test_external_scheduler_and_worker_give_identical_results(tmp_path):
         for p in reversed(procs):
             p.terminate()
             p.wait(timeout=30)
+
+
+@pytest.mark.slow
+def test_ctrl_c_at_the_terminal_keeps_finished_batches_and_resume_completes(tmp_path):
+    """SIGINT to the whole process group, as a terminal's Ctrl-C: one line, exit 130, finished batches kept; the
+    same command with --resume computes only the others."""
+    import signal
+    argv = [os.path.join(os.path.dirname(sys.executable), "shimmy"), "sweep", "--vary", "pressure=uniform:0.5:3.5",
+            "--samples", "3000", "--batch-size", "100", "--out", "k.parquet"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    parts = tmp_path / "k.parquet.parts"
+    deadline = time.time() + 120
+    while len(list(parts.glob("batch-*"))) < 3 and time.time() < deadline:
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    lines = [line for line in err.splitlines() if not line.startswith("sweep:")]
+    assert proc.returncode == 130 and len(lines) == 1 and "--resume continues" in lines[0], err
+    kept = len(list(parts.glob("batch-*")))
+    assert 3 <= kept < 30
+    done = subprocess.run(argv + ["--resume", "--json"], capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    run = json.loads(done.stdout)["run"]
+    assert run["computed_batches"] == 30 - kept and run["samples"] == 3000 and run["failed"] == 0
