@@ -15,7 +15,6 @@ from ..options import (
     check_output_path,
     emit_json,
     inputs_json,
-    positive_float,
     pressure_label,
     progress,
 )
