@@ -217,7 +217,7 @@ def write_recording(path: str, trajectory: Trajectory, modes=None, switches: Seq
     """
     _check_target(path)
     run = _prepare(trajectory, modes, switches, model, pressure, geometry)
-    return _write_file(path, [run], title, single_blueprint(), recording_id)
+    return _write_file(path, [run], title, single_blueprint(_span([run])), recording_id)
 
 
 @dataclass(frozen=True)
@@ -243,8 +243,12 @@ def write_comparison(path: str, runs: Sequence[ComparedRun], title: str = "", *,
         raise ValueError(f"write_comparison needs runs of different models, got {keys}")
     prepared = [_prepare(r.trajectory, r.modes, r.switches, model, pressure, geometry, key=r.trajectory.model,
                          title=r.title, colour=RUN_COLOURS[k % len(RUN_COLOURS)]) for k, r in enumerate(runs)]
-    blueprint = comparison_blueprint([(r.key, r.title) for r in prepared])
+    blueprint = comparison_blueprint([(r.key, r.title) for r in prepared], _span(prepared))
     return _write_file(path, prepared, title, blueprint, recording_id)
+
+
+def _span(runs: list[_Run]) -> tuple[float, float]:
+    return (min(float(r.trajectory.t[0]) for r in runs), max(float(r.trajectory.t[-1]) for r in runs))
 
 
 def _check_target(path: str) -> None:

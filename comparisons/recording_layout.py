@@ -70,15 +70,34 @@ def mode_colour(label: str, index: int) -> int:
     return MODE_COLOURS.get(label, OTHER_MODE_COLOURS[index % len(OTHER_MODE_COLOURS)])
 
 
-def _angles_view(rrb, paths: RunPaths, names, title: str):
-    return rrb.TimeSeriesView(origin="/states", contents=[paths.state(n) for n in names], name=title)
+def _whole_run(span: tuple[float, float]):
+    """A time axis showing the whole run (the viewer's default follows the time cursor with a narrower window)."""
+    import rerun as rr
+    from rerun.blueprint.archetypes import TimeAxis
+    return TimeAxis(view_range=rr.TimeRange(start=rr.TimeRangeBoundary.absolute(seconds=span[0]),
+                                            end=rr.TimeRangeBoundary.absolute(seconds=span[1])))
 
 
-def single_blueprint():
-    """One run: the 3D axle and the text of /info on the left; angles, rates, forces, speed, mode lane and
-    events on the right."""
+def _plot(span, **kwargs):
+    import rerun.blueprint as rrb
+    return rrb.TimeSeriesView(axis_x=_whole_run(span), **kwargs)
+
+
+def _panels():
     import rerun.blueprint as rrb
     from rerun.blueprint.components import PanelState
+    return (rrb.TimePanel(timeline=TIMELINE, state=PanelState.Collapsed),
+            rrb.BlueprintPanel(state=PanelState.Collapsed), rrb.SelectionPanel(state=PanelState.Collapsed))
+
+
+def _states_plot(span, paths: RunPaths, names, title: str):
+    return _plot(span, origin="/states", contents=[paths.state(n) for n in names], name=title)
+
+
+def single_blueprint(span: tuple[float, float]):
+    """One run over ``span`` (s): the 3D axle and the text of /info on the left; angles, rates, forces, speed,
+    mode lane and events on the right."""
+    import rerun.blueprint as rrb
     p = RunPaths()
     return rrb.Blueprint(
         rrb.Horizontal(
@@ -88,44 +107,38 @@ def single_blueprint():
                 row_shares=[3, 1],
             ),
             rrb.Vertical(
-                _angles_view(rrb, p, ("theta1", "theta2", "psi"), "wheel yaw theta1, theta2, axle tramp psi [deg]"),
+                _states_plot(span, p, ("theta1", "theta2", "psi"), "wheel yaw theta1, theta2, axle tramp psi [deg]"),
                 rrb.Tabs(
-                    _angles_view(rrb, p, ("alpha1", "alpha2"), "tyre slip angles alpha1, alpha2 [deg]"),
-                    _angles_view(rrb, p, ("theta1_dot", "theta2_dot", "psi_dot"), "angular rates [deg/s]"),
-                    rrb.TimeSeriesView(origin="/tyre_forces", name="tyre lateral forces [N]"),
+                    _states_plot(span, p, ("alpha1", "alpha2"), "tyre slip angles alpha1, alpha2 [deg]"),
+                    _states_plot(span, p, ("theta1_dot", "theta2_dot", "psi_dot"), "angular rates [deg/s]"),
+                    _plot(span, origin="/tyre_forces", name="tyre lateral forces [N]"),
                 ),
-                rrb.TimeSeriesView(origin=p.speed, name="speed [km/h]"),
-                rrb.StateTimelineView(origin=p.mode, name="detected mode"),
+                _plot(span, origin=p.speed, name="speed [km/h]"),
+                rrb.StateTimelineView(origin=p.mode, name="detected mode", time_view=_whole_run(span)),
                 rrb.TextLogView(origin=p.events, name="mode switches"),
                 row_shares=[4, 3, 1.4, 1.2, 1.2],
             ),
             column_shares=[1, 1.3],
         ),
-        rrb.TimePanel(timeline=TIMELINE, state=PanelState.Expanded),
-        rrb.BlueprintPanel(state=PanelState.Collapsed),
-        rrb.SelectionPanel(state=PanelState.Collapsed),
+        *_panels(),
     )
 
 
-def comparison_blueprint(runs: list[tuple[str, str]]):
-    """Several runs of one experiment, ``runs`` = [(key, title)]: the 3D axles next to each other with /info,
-    one plot per state overlaying the runs, the speed, and one mode lane per run."""
+def comparison_blueprint(runs: list[tuple[str, str]], span: tuple[float, float]):
+    """Several runs of one experiment over ``span`` (s), ``runs`` = [(key, title)]: the 3D axles next to each
+    other with /info, one plot per state overlaying the runs, the speed, and one mode lane per run."""
     import rerun.blueprint as rrb
-    from rerun.blueprint.components import PanelState
     scenes = [rrb.Spatial3DView(origin=RunPaths(key).scene, name=title) for key, title in runs]
-    plots = [rrb.TimeSeriesView(origin=f"/states/{STATE_LEAVES[n]}",
-                                name=f"{STATE_WORDS[n]} [{STATE_UNIT_LABELS[n]}]")
+    plots = [_plot(span, origin=f"/states/{STATE_LEAVES[n]}", name=f"{STATE_WORDS[n]} [{STATE_UNIT_LABELS[n]}]")
              for n in ("theta1", "theta2", "psi", "alpha1", "alpha2", "theta1_dot", "theta2_dot", "psi_dot")]
-    plots.append(rrb.TimeSeriesView(origin="/speed_kmh", name="speed [km/h]"))
+    plots.append(_plot(span, origin="/speed_kmh", name="speed [km/h]"))
     return rrb.Blueprint(
         rrb.Vertical(
             rrb.Horizontal(*scenes, rrb.TextDocumentView(origin=INFO_ENTITY, name="about this recording"),
                            column_shares=[2] * len(scenes) + [1.2]),
             rrb.Grid(*plots, grid_columns=3),
-            rrb.StateTimelineView(origin="/mode", name="detected mode, one lane per model"),
+            rrb.StateTimelineView(origin="/mode", name="detected mode, one lane per model", time_view=_whole_run(span)),
             row_shares=[3, 5, 1.2],
         ),
-        rrb.TimePanel(timeline=TIMELINE, state=PanelState.Expanded),
-        rrb.BlueprintPanel(state=PanelState.Collapsed),
-        rrb.SelectionPanel(state=PanelState.Collapsed),
+        *_panels(),
     )
