@@ -10,7 +10,7 @@ import sys
 from reduced_model.parameters import ParameterError
 from reduced_model.special_points import ConvergenceError
 
-from .options import UsageError
+from .options import UsageError, resolve_pressures
 
 COMMANDS = ("verify", "hopf", "curves", "cycles", "simulate", "assumptions", "figures", "params", "bench")
 
@@ -34,6 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
+        resolve_pressures(args)
         return int(args.run(args) or 0)
     except (UsageError, ParameterError) as exc:
         sys.stderr.write(f"shimmy: error: {exc}\n")

@@ -112,14 +112,15 @@ def study_fidelities() -> list[tuple[str, Fidelity]]:
 def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float, *,
                      dims: AxleDimensions = DEFAULT_DIMENSIONS, vmax: float = 400 / 3.6, cycles: bool = True,
                      settle: float = 12.0, progress=None) -> AssumptionStudy:
-    """The shifts table at one pressure (Pa).  ``cycles=False`` skips the limit-cycle amplitudes (None)."""
+    """The shifts table at one pressure (Pa, or (right, left)).  ``cycles=False`` skips the cycle amplitudes (None)."""
     model = ShimmyModel(params, effects)
-    reduced = hopf_points(SpeedFamily(model), pressure, 0.0, vmax, lyapunov=False)
+    q = SpeedFamily(model, pressure=pressure).nominal
+    reduced = hopf_points(SpeedFamily(model, pressure=pressure), q, 0.0, vmax, lyapunov=False)
     peak: SteadyAmplitude | None = reduced_peak(model, pressure, vmax, settle) if cycles else None
     rows = []
     for k, (name, fidelity) in enumerate(study_fidelities()):
-        family = MbsFamily(MbsModel(params, effects, fidelity, dims))
-        mbs = hopf_points(family, pressure, 0.0, vmax, lyapunov=False)
+        family = MbsFamily(MbsModel(params, effects, fidelity, dims), pressure=pressure)
+        mbs = hopf_points(family, q, 0.0, vmax, lyapunov=False)
         mbs_deg = red_deg = settled = None
         if peak is not None:
             # start from the reduced model's cycle: the MBS's own one, if it has one there, is close
@@ -131,5 +132,5 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float
         rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_deg, red_deg, settled))
         if progress is not None:
             progress(k + 1)
-    return AssumptionStudy(pressure / 1e5, effects.names, tuple(h.speed_kmh for h in reduced),
+    return AssumptionStudy(q / 1e5, effects.names, tuple(h.speed_kmh for h in reduced),
                            peak.speed * KMH if peak else None, peak.theta1_deg if peak else None, tuple(rows))

@@ -110,13 +110,13 @@ def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: F
 
 def unstable_windows(model: ShimmyModel, pressure: float, vmax: float) -> list[tuple[float, float]]:
     """Speed intervals (m/s) between consecutive Hopf points where straight running is unstable."""
-    family = SpeedFamily(model)
-    points = hopf_points(family, pressure, 0.0, vmax, lyapunov=False)
+    family = SpeedFamily(model, pressure=pressure)
+    points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=False)
     edges = [0.0] + [h.speed for h in points] + [vmax]
     windows = []
     for a, b in zip(edges[:-1], edges[1:]):
         mid = 0.5 * (a + b)
-        if b - a > 1e-6 and np.max(np.linalg.eigvals(family.linear_matrix(mid, pressure)).real) > 0.0:
+        if b - a > 1e-6 and np.max(np.linalg.eigvals(family.linear_matrix(mid, family.nominal)).real) > 0.0:
             windows.append((a, b))
     return windows
 

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import exudyn as exu
 import numpy as np
 
+from reduced_model.family import PRESSURE_PARAMS, pressure_at, pressure_value
 from reduced_model.model import N_STATES, Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
 
@@ -123,18 +124,19 @@ class MbsFamily:
     """The MBS as a speed family for :func:`reduced_model.hopf.hopf_points` (with ``lyapunov=False``).
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
-    with V in m/s and q the value of ``param`` (``"pressure"`` in Pa, or a Table 1 entry in SI); matrices are in
+    with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as
+    in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in
     the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`).
     """
 
     model: MbsModel = field(default_factory=MbsModel)
     param: str = "pressure"
-    pressure: float | tuple[float, float] = 2.5e5   # used when param is not "pressure"
+    pressure: float | tuple[float, float] = 2.5e5   # operating pressure(s), (right, left)
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
-        if self.param != "pressure":
+        if self.param not in PRESSURE_PARAMS:
             ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
 
     @classmethod
@@ -148,6 +150,13 @@ class MbsFamily:
     def n(self) -> int:
         return N_STATES
 
+    @property
+    def nominal(self) -> float:
+        """Current value of q (the operating point)."""
+        if self.param in PRESSURE_PARAMS:
+            return pressure_value(self.param, self.pressure)
+        return float(getattr(self.model.params, self.param))
+
     def _at(self, q: float) -> tuple[MbsEvaluator, ConstantSpeed]:
         q = float(q)
         found = self._cache.get(q)
@@ -156,8 +165,8 @@ class MbsFamily:
                 self._cache.clear()
                 self._affine.clear()
             speed = ConstantSpeed(0.0)
-            if self.param == "pressure":
-                model, pressure = self.model, q
+            if self.param in PRESSURE_PARAMS:
+                model, pressure = self.model, pressure_at(self.param, q, self.pressure)
             else:
                 model = MbsModel(self.model.params.replace(**{self.param: q}), self.model.effects,
                                  self.model.fidelity, self.model.dims)

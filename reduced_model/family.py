@@ -2,7 +2,9 @@
 
 This is the "problem" in BifurcationKit's sense: it only evaluates the vector field and its Jacobian; the
 continuation algorithms in :mod:`reduced_model.hopf` and :mod:`reduced_model.hopf_curves` never see the physics.
-q is ``"pressure"`` (both tyres, Pa) or any entry of :class:`~reduced_model.parameters.ShimmyParameters`.
+q is ``"pressure"`` (both tyres, Pa), ``"pressure_right"`` / ``"pressure_left"`` (one tyre, the other held at its
+operating pressure) or any entry of :class:`~reduced_model.parameters.ShimmyParameters`.  With different left and
+right operating pressures, ``"pressure"`` moves both by the same amount and q is their mean.
 """
 
 from __future__ import annotations
@@ -16,7 +18,41 @@ from .model import N_STATES, ShimmyModel
 from .parameters import ParameterError, ShimmyParameters
 
 # How parameters are shown at the interface (label, factor from SI); everything else is shown in SI.
-DISPLAY = {"pressure": ("bar", 1e-5), "speed": ("km/h", 3.6)}
+DISPLAY = {"pressure": ("bar", 1e-5), "pressure_left": ("bar", 1e-5), "pressure_right": ("bar", 1e-5),
+           "speed": ("km/h", 3.6)}
+PRESSURE_PARAMS = ("pressure", "pressure_right", "pressure_left")
+
+
+def pressure_pair(pressure: float | Sequence[float]) -> tuple[float, float]:
+    """(right, left) tyre pressures of one value or a pair (Pa)."""
+    if isinstance(pressure, (int, float, np.floating)):
+        return float(pressure), float(pressure)
+    right, left = pressure
+    return float(right), float(left)
+
+
+def pressure_at(param: str, q: float, operating: float | Sequence[float]) -> float | tuple[float, float]:
+    """The tyre pressures when pressure parameter ``param`` is q (one float where both tyres are alike)."""
+    right, left = pressure_pair(operating)
+    if param == "pressure":
+        if right == left:
+            return q
+        mean = 0.5 * (right + left)
+        right, left = q + (right - mean), q + (left - mean)
+    elif param == "pressure_right":
+        right = q
+    elif param == "pressure_left":
+        left = q
+    else:
+        raise ValueError(f"not a pressure parameter: {param}")
+    return right if right == left else (right, left)
+
+
+def pressure_value(param: str, operating: float | Sequence[float]) -> float:
+    """q of a pressure parameter at the operating pressures."""
+    right, left = pressure_pair(operating)
+    return {"pressure": 0.5 * (right + left) if right != left else right, "pressure_right": right,
+            "pressure_left": left}[param]
 
 
 def display_unit(name: str) -> tuple[str, float]:
@@ -35,7 +71,7 @@ class SpeedFamily:
     _cache: dict = field(default_factory=dict, init=False, compare=False, repr=False)
 
     def __post_init__(self) -> None:
-        if self.param != "pressure":
+        if self.param not in PRESSURE_PARAMS:
             ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
 
     @property
@@ -45,16 +81,16 @@ class SpeedFamily:
     @property
     def nominal(self) -> float:
         """Current value of q, used as its scale in continuation."""
-        if self.param == "pressure":
-            return float(np.mean(np.atleast_1d(self.pressure)))
+        if self.param in PRESSURE_PARAMS:
+            return pressure_value(self.param, self.pressure)
         return float(getattr(self.model.params, self.param))
 
     def at(self, q: float) -> tuple[ShimmyModel, float | Sequence[float]]:
         q = float(q)
         found = self._cache.get(q)
         if found is None:
-            if self.param == "pressure":
-                found = (self.model, q)
+            if self.param in PRESSURE_PARAMS:
+                found = (self.model, pressure_at(self.param, q, self.pressure))
             else:
                 found = (self.model.with_params(**{self.param: q}), self.pressure)
             if len(self._cache) > 4096:

@@ -8,13 +8,16 @@ from mbs_shimmy import assumption_study, assumptions_table
 from mbs_shimmy.assumption_study import study_fidelities
 
 from ..options import (
-    BAR,
     KMH,
     add_model_options,
     add_output_options,
     add_speed_window,
+    build_axle,
     build_model,
     emit_json,
+    inputs_json,
+    operating_pressure,
+    pressure_label,
     progress,
 )
 
@@ -42,13 +45,17 @@ def run(args: argparse.Namespace) -> int:
     model = build_model(args)
     rows = len(study_fidelities())
     with progress(rows, "assumptions", args.json) as bar:
-        study = assumption_study(model.params, model.effects, args.pressure * BAR, vmax=args.vmax * KMH,
+        study = assumption_study(model.params, model.effects, operating_pressure(args), dims=build_axle(args).dims,
+                                 vmax=args.vmax * KMH,
                                  cycles=not args.no_cycles, progress=lambda k: bar.update(1))
     if args.json:
-        emit_json(study.to_json())
+        out = study.to_json()
+        del out["pressure_bar"], out["effects"]
+        emit_json({**inputs_json(args), **out})
         return 0
     effects = ",".join(model.effects.names) or "none (section 3 model)"
-    print(f"Assumptions of the reduced model at {args.pressure:g} bar, pressure effects: {effects}")
+    print(f"Assumptions of the reduced model at {pressure_label(args)}, pressure effects: {effects}")
+    print(f"  {build_axle(args).label()}")
     print("reduced-model Hopf speeds: " + (", ".join(f"{v:.2f}" for v in study.reduced_hopf_kmh) or "none")
           + " km/h")
     if study.peak_speed_kmh is not None:

@@ -10,16 +10,19 @@ from reduced_model.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.parameters import ParameterError
 
 from ..options import (
-    BAR,
     KMH,
     SECOND_PARAMETERS,
     UsageError,
     add_model_options,
     add_output_options,
     add_speed_window,
+    build_axle,
     build_model,
     emit_json,
+    inputs_json,
     interface_unit,
+    operating_pressure,
+    pressure_label,
     progress,
     ticker,
 )
@@ -31,7 +34,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("curves", help="Hopf curves in the (speed, parameter) plane")
     p.add_argument("--param", required=True, choices=PARAMS, help="second parameter")
     p.add_argument("--range", required=True, nargs=2, type=float, metavar=("LO", "HI"),
-                   help="parameter window (bar for pressure, SI otherwise)")
+                   help="parameter window (bar for pressures, otherwise the units of 'shimmy params')")
     add_model_options(p, pressure_required=False)
     add_speed_window(p)
     add_output_options(p, plot=True)
@@ -63,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     if lo <= 0.0:
         raise UsageError(f"--range for {args.param} must be positive, got LO = {lo:g} {unit}")
     model = build_model(args)
-    family = SpeedFamily(model, args.param, pressure=args.pressure * BAR)
+    family = SpeedFamily(model, args.param, pressure=operating_pressure(args))
     try:
         for q in (lo * factor, hi * factor):
             family.validate(q)
@@ -76,10 +79,12 @@ def run(args: argparse.Namespace) -> int:
         from ..plots import plot_hopf_diagram
         plot_hopf_diagram(diagram, family, args.plot)
     if args.json:
-        emit_json(diagram_json(diagram, factor))
+        emit_json({**inputs_json(args), **diagram_json(diagram, factor)})
     else:
         print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
-              f"[{diagram.vmin * 3.6:g}, {args.vmax:g}] km/h" + ("" if args.param == "pressure" else f", at {args.pressure:g} bar"))
+              f"[{diagram.vmin * 3.6:g}, {args.vmax:g}] km/h"
+              + ("" if args.param == "pressure" else f", at {pressure_label(args)}"))
+        print(f"  {build_axle(args).label()}")
         for i, c in enumerate(diagram.curves, 1):
             print(f"  curve {i}: {len(c.speeds)} points; ends: {c.messages[0]} | {c.messages[1]}")
         for s in diagram.special_points:

@@ -15,16 +15,19 @@ from reduced_model.hopf import MIN_SPEED
 from reduced_model.special_points import ConvergenceError, PointKind
 
 from ..options import (
-    BAR,
     KMH,
     SECOND_PARAMETERS,
     UsageError,
     add_model_options,
     add_output_options,
     add_speed_window,
+    build_axle,
     build_model,
     emit_json,
+    inputs_json,
     interface_unit,
+    operating_pressure,
+    pressure_label,
     progress,
     ticker,
 )
@@ -100,7 +103,7 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
     unit, factor = interface_unit(name)
     if not 0.0 < lo < hi:
         raise UsageError(f"--range needs 0 < LO < HI, got {lo:g} {hi:g} {unit}")
-    value = args.pressure * BAR if name == "pressure" else float(getattr(model.params, name))
+    value = SpeedFamily(model, name, pressure=operating_pressure(args)).nominal
     if not lo * factor <= value <= hi * factor:
         raise UsageError(f"--range {lo:g} {hi:g} {unit} must contain the current {name} = {value / factor:g} {unit}")
     return name, value, lo * factor, hi * factor
@@ -129,11 +132,11 @@ def run(args: argparse.Namespace) -> int:
     model = build_model(args)
     if args.two_param:
         name, q, lo, hi = _two_param_window(args, model)
-        family = SpeedFamily(model, name, pressure=args.pressure * BAR)
+        family = SpeedFamily(model, name, pressure=operating_pressure(args))
         family.validate(lo), family.validate(hi)
     else:
-        family = SpeedFamily(model, "pressure")
-        q = args.pressure * BAR
+        family = SpeedFamily(model, "pressure", pressure=operating_pressure(args))
+        q = family.nominal
     family.validate(q)
     vmin, vmax = args.vmin * KMH, args.vmax * KMH
     quiet = args.json or not sys.stderr.isatty()
@@ -167,6 +170,8 @@ def run(args: argparse.Namespace) -> int:
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
     if args.json:
         out = diagram_json(diagram, family, args.pressure, model.effects.names)
+        del out["pressure_bar"], out["effects"]
+        out = {**inputs_json(args), **out}
         if unstable is not None:
             out["complete"], out["note"] = False, unstable
         if args.two_param:
@@ -222,8 +227,8 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
     from ..cycle_plots import special_point_labels
 
     effects = ",".join(build_model(args).effects.names) or "none (section 3 model)"
-    print(f"Limit cycles at {args.pressure:g} bar, {args.vmin:g}-{args.vmax:g} km/h, pressure effects: {effects}"
-          + (f"; Table 1 overrides: {' '.join(args.overrides)}" if args.overrides else ""))
+    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h, pressure effects: {effects}")
+    print(f"  {build_axle(args).label()}")
     if not diagram.hopf:
         unstable = unstable_without_hopf(diagram, family, diagram.value)
         print(f"  [INCOMPLETE] {unstable}" if unstable else

@@ -7,14 +7,16 @@ import argparse
 from reduced_model.hopf import HopfPoint, hopf_points
 
 from ..options import (
-    BAR,
     KMH,
     add_model_choice,
     add_model_options,
     add_output_options,
     add_speed_window,
+    build_axle,
     build_family,
     emit_json,
+    inputs_json,
+    pressure_label,
 )
 
 
@@ -37,17 +39,18 @@ def run(args: argparse.Namespace) -> int:
     family = build_family(args)
     mbs = args.model == "mbs"
     # The MBS is not evaluated at complex states, so its points carry no first Lyapunov coefficient.
-    points = hopf_points(family, args.pressure * BAR, 0.0, args.vmax * KMH, lyapunov=not mbs)
+    points = hopf_points(family, family.nominal, 0.0, args.vmax * KMH, lyapunov=not mbs)
     effects = list(family.model.effects.names)
     if args.json:
-        out = {"pressure_bar": args.pressure, "effects": effects, "hopf": [hopf_row(h) for h in points]}
+        out = {**inputs_json(args), "hopf": [hopf_row(h) for h in points]}
         if mbs:
             out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
         emit_json(out)
         return 0
     what = f"MBS, fidelity {family.model.fidelity.label}" if mbs else "reduced model"
-    print(f"Hopf points at {args.pressure:g} bar, 0-{args.vmax:g} km/h ({what}), pressure effects: "
+    print(f"Hopf points at {pressure_label(args)}, 0-{args.vmax:g} km/h ({what}), pressure effects: "
           f"{','.join(effects) or 'none (section 3 model)'}")
+    print(f"  {build_axle(args).label()}")
     if not points:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):

@@ -14,16 +14,19 @@ from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 from ..options import (
-    BAR,
     KMH,
     UsageError,
     add_model_choice,
     add_model_options,
     add_output_options,
+    build_axle,
     build_fidelity,
     build_model,
     check_output_path,
     emit_json,
+    inputs_json,
+    operating_pressure,
+    pressure_label,
     positive_float,
     progress,
 )
@@ -93,14 +96,14 @@ def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.nda
     fidelity = build_fidelity(args)
     if fidelity is not None:
         from mbs_shimmy import simulate as simulate_mbs
-        return simulate_mbs(model.params, model.effects, fidelity, args.pressure * BAR, schedule, x0,
-                            args.duration, poses=bool(args.rerun))
+        return simulate_mbs(model.params, model.effects, fidelity, operating_pressure(args), schedule, x0,
+                            args.duration, dims=build_axle(args).dims, poses=bool(args.rerun))
     quiet = args.json or not sys.stderr.isatty()
     with progress(100, "simulating", quiet) as bar:
         def tick(t):
             bar.n = int(100 * t / args.duration)
             bar.refresh()
-        return simulate(model, args.pressure * BAR, schedule, args.duration, x0, progress=tick)
+        return simulate(model, operating_pressure(args), schedule, args.duration, x0, progress=tick)
 
 
 def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
@@ -140,19 +143,20 @@ def run(args: argparse.Namespace) -> int:
         from ..recording import RecordingError, write_recording
         try:
             write_recording(args.rerun, trajectory, history.segments(), history.switches,
-                            title=f"{trajectory.model} model, {args.pressure:g} bar", model=build_model(args),
-                            pressure=args.pressure * BAR)
+                            title=f"{trajectory.model} model, {pressure_label(args)}", model=build_model(args),
+                            pressure=operating_pressure(args))
         except RecordingError as exc:
             raise UsageError(str(exc)) from None
     if args.plot:
         from ..cycle_plots import plot_trajectory
         plot_trajectory(trajectory, history, args.plot)
     if args.json:
-        emit_json(result_json(trajectory, history))
+        emit_json({**inputs_json(args), **result_json(trajectory, history)})
     else:
         out = result_json(trajectory, history)
         how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
-        print(f"{trajectory.model} model at {args.pressure:g} bar, {how}, {out['duration_s']:g} s simulated")
+        print(f"{trajectory.model} model at {pressure_label(args)}, {how}, {out['duration_s']:g} s simulated")
+        print(f"  {build_axle(args).label()}")
         print(f"  integrator: {trajectory.integrator}")
         print(f"  initial mode: {out['initial_mode']}")
         for s in out["mode_switches"]:
