@@ -1,19 +1,17 @@
-"""Figures: matplotlib only, kept out of the model packages."""
+"""Figures: matplotlib only, kept out of the model packages.  matplotlib's object API (``Figure``): no pyplot
+state, no backend chosen at import, nothing to close."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from reduced_model.family import SpeedFamily
+from reduced_model.hopf_curves import HopfDiagram
+from reduced_model.special_points import PointKind
 
-from reduced_model.family import SpeedFamily  # noqa: E402
-from reduced_model.hopf_curves import HopfDiagram  # noqa: E402
-from reduced_model.special_points import PointKind  # noqa: E402
-
-from .files import atomic_path  # noqa: E402
-from .options import interface_unit  # noqa: E402
+from .files import atomic_path
+from .options import interface_unit
 
 MARKERS = {PointKind.HOPF_FOLD: ("o", "F"), PointKind.HOPF_HOPF: ("s", "HH"),
            PointKind.GENERALIZED_HOPF: ("D", "DH"), PointKind.ZERO_HOPF: ("^", "ZH")}
@@ -21,11 +19,8 @@ MARKERS = {PointKind.HOPF_FOLD: ("o", "F"), PointKind.HOPF_HOPF: ("s", "HH"),
 
 def save_figure(fig, path: str) -> None:
     """Save through a temporary file (:func:`comparisons.files.atomic_path`): no truncated PNG at ``path``."""
-    try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=130, bbox_inches="tight", format="png")
-    finally:
-        plt.close(fig)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=130, bbox_inches="tight", format="png")
 
 
 def stability_grid(family: SpeedFamily, speeds: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -60,7 +55,8 @@ def draw_hopf_diagram(ax, diagram: HopfDiagram, family: SpeedFamily, color="k", 
 
 
 def plot_hopf_diagram(diagram: HopfDiagram, family: SpeedFamily, path: str, title: str | None = None) -> None:
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.subplots()
     draw_hopf_diagram(ax, diagram, family)
     effects = ",".join(family.model.effects.names) or "section 3 model"
     ax.set_title(title or f"Hopf curves ({effects}); shaded: straight running stable", fontsize=10)
