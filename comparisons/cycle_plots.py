@@ -12,7 +12,7 @@ from reduced_model.modes import ModeHistory
 from reduced_model.special_points import PointKind
 from reduced_model.trajectory import Trajectory
 
-from .plots import save_figure, stability_grid
+from .plots import place_labels, save_figure, stability_grid
 
 LABELS = {PointKind.CYCLE_FOLD: ("S", "o"), PointKind.TORUS: ("T", "s"), PointKind.PERIOD_DOUBLING: ("PD", "^")}
 MODEL_NAMES = {"reduced": "reduced model", "mbs": "multibody model (Exudyn)"}
@@ -40,10 +40,15 @@ def _stability_runs(branch: CycleBranch):
     return runs
 
 
-def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k") -> None:
+def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None) -> None:
+    """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
+    max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
+    point) pairs; default HB1, HB2, ... by speed).  Labels are placed so that they do not collide."""
     speeds = np.linspace(diagram.vmin, diagram.vmax, 801)
     unstable = stability_grid(family, speeds, np.array([diagram.value]))[0] > 0
     labels = special_point_labels(diagram)
+    if hopf_labels is None:
+        hopf_labels = [(f"HB{i}", h) for i, h in enumerate(sorted(diagram.hopf, key=lambda h: h.speed), 1)]
     for ax, (name, ylabel) in zip(axes, PANELS):
         # Straight running on the axis: solid where stable, dashed where not.
         for flag, style in ((False, "-"), (True, "--")):
@@ -58,19 +63,20 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
                 if branch.end is not None and pts[-1] is branch.points[-1]:
                     v, a = v + [branch.end.speed_kmh], a + [0.0]
                 ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
-        for i, h in enumerate(diagram.hopf, 1):
-            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5)
-            ax.annotate(f"HB{i}", (h.speed_kmh, 0.0), textcoords="offset points", xytext=(2, 5), fontsize=8,
-                        color="C0")
+        items = []
+        for text, h in hopf_labels:
+            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
+            items.append((h.speed_kmh, 0.0, text, "C0"))
         for text, p in labels:
             amp = np.degrees(p.data["amplitude"][STATE_NAMES.index(name)])
             marker = LABELS.get(p.kind, ("", "x"))[1]
             ax.plot(p.speed * 3.6, amp, marker, color="C3", ms=6, mfc="none")
-            ax.annotate(text, (p.speed * 3.6, amp), textcoords="offset points", xytext=(4, 4), fontsize=8,
-                        color="C3")
+            items.append((p.speed * 3.6, amp, text, "C3"))
         ax.set_xlim(diagram.vmin * 3.6, diagram.vmax * 3.6)
         ax.set_ylabel(ylabel)
-        ax.set_ylim(bottom=-0.02 * max(ax.get_ylim()[1], 1e-3))
+        top = max(ax.get_ylim()[1], 1e-3)
+        ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
+        place_labels(ax, items)
     axes[-1].set_xlabel("speed V [km/h]")
 
 

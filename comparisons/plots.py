@@ -61,3 +61,40 @@ def plot_hopf_diagram(diagram: HopfDiagram, family: SpeedFamily, path: str, titl
     effects = ",".join(family.model.effects.names) or "section 3 model"
     ax.set_title(title or f"Hopf curves ({effects}); shaded: straight running stable", fontsize=10)
     save_figure(fig, path)
+
+
+def place_labels(ax, items, fontsize: float = 8.0, avoid=()) -> None:
+    """Annotate points without labels overlapping each other or the marked points.
+
+    ``items``: (x, y, text, colour) in data coordinates; ``avoid``: further (x, y) data points to keep clear.
+    Each label takes the first of a ring of offsets whose (estimated) box is free; call after the axes limits
+    are set."""
+    fig = ax.figure
+    to_px = fig.dpi / 72.0
+    taken = [_box(ax.transData.transform((x, y)), (-4, -4), (8, 8), to_px) for x, y, *_ in items]
+    taken += [_box(ax.transData.transform(xy), (-4, -4), (8, 8), to_px) for xy in avoid]
+    offsets = ((5, 4), (5, -12), (-8, 4), (-8, -12), (5, 14), (-8, 14), (5, -22), (-8, -22), (14, -4), (-16, -4),
+               (5, 24), (-8, 24), (5, -32), (-8, -32))
+    for x, y, text, colour in items:
+        w, h = 0.62 * fontsize * max(len(line) for line in text.split("\n")), 1.25 * fontsize * (text.count("\n") + 1)
+        anchor = ax.transData.transform((x, y))
+        chosen = offsets[0]
+        for dx, dy in offsets:
+            left = dx if dx >= 0 else dx - w + 8
+            box = _box(anchor, (left, dy), (w, h), to_px)
+            if not any(_overlap(box, other) for other in taken):
+                chosen = (dx, dy)
+                break
+        left = chosen[0] if chosen[0] >= 0 else chosen[0] - w + 8
+        taken.append(_box(anchor, (left, chosen[1]), (w, h), to_px))
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=(left, chosen[1]), fontsize=fontsize,
+                    color=colour, zorder=7, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
+
+
+def _box(anchor, offset, size, to_px):
+    x0, y0 = anchor[0] + offset[0] * to_px, anchor[1] + offset[1] * to_px
+    return (x0, y0, x0 + size[0] * to_px, y0 + size[1] * to_px)
+
+
+def _overlap(a, b) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]

@@ -5,9 +5,9 @@ that two figures sharing a diagram compute it once) and returns a :class:`Drawin
 notes (the computed numbers worth comparing with the paper's text).  Axes and units follow the paper: speed in
 km/h, pressure in bar, lengths in m, stiffness in N/m, slip angles in degrees.
 
-Modules by kind of figure: :mod:`.tyre_figures` (2, 12, 16), :mod:`.hopf_figures` (5-8, 13, 14),
+Modules by kind of figure: :mod:`.tyre_figures` (2, 12, 16), :mod:`.hopf_figures` (5-7, 13, 14),
 :mod:`.cumulative` (17), :mod:`.cycle_figures` (3, 4, 9, 15), :mod:`.simulation_figures` (10, 11),
-:mod:`.cycle_curve_figures` (18, and the cycle curves of 8); :mod:`.registry` makes them, :mod:`.drawing` holds
+:mod:`.cycle_curve_figures` (8 and 18: Hopf curves with cycle-fold and torus curves); :mod:`.registry` makes them, :mod:`.drawing` holds
 the shared drawing helpers.
 
 Figures that need what the project cannot compute yet are listed in :data:`UNAVAILABLE` with the reason;

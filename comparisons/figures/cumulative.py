@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from __future__ import annotations
-
-
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
@@ -13,10 +10,11 @@ from reduced_model.hopf_curves import HopfDiagram
 from reduced_model.model import Effects
 from reduced_model.special_points import PointKind
 
-from .drawing import _draw_curves, _incomplete_notes, _located, _special_notes, _speed_axis
+from .. import paper_reference as paper
+from ..plots import place_labels
+from .drawing import marker_key, _draw_curves, _incomplete_notes, _located, _special_notes, _speed_axis
 from .hopf_figures import _pressure_key
 from .registry import BAR, DiagramStore, Drawing, EFFECT_STYLES, register
-
 
 
 ZOOM_SEEDS = 41   # a curve lying between two seed lines of a zoom window would be missed: see _uncovered
@@ -52,6 +50,28 @@ Z2 = (0.01, 0.6, 150.0, 260.0)    # where the two modes meet at low pressure
 P17_BAR = (Z2[0], 3.0)
 
 
+def _z2_names(zoom: HopfDiagram, effects: Effects, label: str, colour, notes: list) -> list:
+    """The paper's names in Z2: the cusp where HB2 and HB3 meet once HCL follows pressure (a fold of the Hopf
+    curve, paper 220.5 km/h, 0.078 bar) and HH1, where they cross once PT follows too (paper 0.53 bar)."""
+    ref = paper.SECTION5.get(",".join(effects.names), {})
+    out = []
+    if "cusp_kmh" in ref:
+        folds = _located(zoom, PointKind.HOPF_FOLD)
+        if folds:
+            f = min(folds, key=lambda p: abs(p.speed * 3.6 - ref["cusp_kmh"]))
+            out.append((f.speed * 3.6, f.value / BAR, f"cusp ({label})", colour))
+            notes.append(f"{label}: cusp (HB2 meets HB3) at {f.speed * 3.6:.2f} km/h, {f.value / BAR:.4f} bar "
+                         f"(paper {ref['cusp_kmh']:g} km/h, {ref['cusp_bar']:g} bar)")
+    if "hopf_hopf_bar" in ref:
+        crossings = _located(zoom, PointKind.HOPF_HOPF)
+        if crossings:
+            h = min(crossings, key=lambda p: abs(p.value / BAR - ref["hopf_hopf_bar"]))
+            out.append((h.speed * 3.6, h.value / BAR, f"HH1 ({label})", colour))
+            notes.append(f"{label}: HH1 (HB2 crosses HB3) at {h.speed * 3.6:.2f} km/h, {h.value / BAR:.4f} bar "
+                         f"(paper {ref['hopf_hopf_bar']:g} bar)")
+    return out
+
+
 @register(17, "cumulative_effects_hopf_curves", cost=18)
 def draw_cumulative(store: DiagramStore) -> Drawing:
     fig = Figure(figsize=(11.0, 5.6))
@@ -59,6 +79,7 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
     ax = fig.add_subplot(grid[:, 0])
     zooms = (fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, 1]))
     notes, complete = [], True
+    z2_labels = []
     for effects, (label, colour) in zip(Effects.cumulative(), EFFECT_STYLES):
         diagram = store.diagram(_pressure_key(effects, *P17_BAR))
         _draw_curves(ax, diagram, BAR, colour, label=label)
@@ -83,6 +104,8 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
                 zax.plot(s.speed * 3.6, s.value / BAR, "s", color=colour, ms=4, mfc="white")
             complete &= zd.complete
             notes += _incomplete_notes(f"{label} zoom: ", zd)
+            if (plo, phi, vlo, vhi) == Z2:
+                z2_labels += _z2_names(zd, effects, label, colour, notes)
     for name, zax, (plo, phi, vlo, vhi) in zip(("Z1", "Z2"), zooms, (Z1, Z2)):
         zax.set_xlim(vlo, vhi)
         zax.set_ylim(plo, phi)
@@ -93,6 +116,8 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
         zax.grid(alpha=0.3)
         ax.add_patch(Rectangle((vlo, plo), vhi - vlo, phi - plo, fill=False, ls="--", lw=0.8, color="0.3"))
         ax.annotate(name, (vhi, phi), textcoords="offset points", xytext=(2, 2), fontsize=8)
+    place_labels(zooms[1], z2_labels)
+    marker_key(zooms[0], kinds=(PointKind.HOPF_FOLD, PointKind.HOPF_HOPF), loc="lower center")
     _speed_axis(ax)
     ax.set_ylim(*P17_BAR)
     ax.set_ylabel("inflation pressure $p_i$ [bar]")

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from __future__ import annotations
-
-import dataclasses
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -16,7 +13,6 @@ from reduced_model.special_points import ConvergenceError, PointStatus
 from .. import paper_reference as paper
 from ..cycle_plots import draw_cycle_diagram, special_point_labels
 from .registry import CycleKey, DiagramStore, Drawing, FIG9_VMAX_KMH, P_I0_BAR, register, _store_cycles, TRAIL_FIG9, VMAX_KMH
-
 
 
 def _peak(family: SpeedFamily, branch: CycleBranch, name: str):
@@ -88,20 +84,9 @@ def hopf_names(diagram: CycleDiagram, names: tuple[str, ...] | None = None) -> l
     return out
 
 
-def _label_cycle_hopf(axes, diagram: CycleDiagram, names: tuple[str, ...] | None, width_kmh: float) -> None:
-    """Hopf points on the axis with their names; a name too close to the previous one is raised."""
-    names = sorted(hopf_names(diagram, names), key=lambda nh: nh[1].speed)
-    for ax in axes:
-        raised = False
-        speeds = [h.speed_kmh for _, h in names]
-        for i, (name, h) in enumerate(names):
-            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
-            raised = (not raised and i > 0 and speeds[i] - speeds[i - 1] < 0.09 * width_kmh)
-            # A label whose right neighbour is close goes left of its point.
-            left = not raised and i + 1 < len(names) and speeds[i + 1] - speeds[i] < 0.09 * width_kmh
-            ax.annotate(name, (h.speed_kmh, 0.0), textcoords="offset points", xytext=(-2 if left else 2,
-                        16 if raised else 5), ha="right" if left else "left", fontsize=8, color="C0")
-        if not names and not diagram.branches:
+def _no_hopf_text(axes, diagram: CycleDiagram) -> None:
+    if not diagram.hopf and not diagram.branches:
+        for ax in axes:
             ax.text(0.5, 0.5, "no Hopf point, no limit cycle:\nstraight running stable at every speed",
                     transform=ax.transAxes, ha="center", va="center", fontsize=9, color="0.3")
 
@@ -114,10 +99,11 @@ def _cycle_panels(store: DiagramStore, panels, vmax_kmh: float, figure_title: st
     notes, complete = [], True
     for j, (title, key) in enumerate(panels):
         family, diagram = _store_cycles(store, key)
-        # The Hopf points are labelled here with the paper's names (HB1, HB2 bound the yaw mode, HB3, HB4 the
-        # second one), not by speed order as draw_cycle_diagram does.
-        draw_cycle_diagram(axes[:, j], dataclasses.replace(diagram, hopf=()), family)
-        _label_cycle_hopf(axes[:, j], diagram, ((paper_args or [{}] * columns)[j]).get("hopf_labels"), vmax_kmh)
+        # The Hopf points carry the paper's names (HB1, HB2 bound the yaw mode, HB3, HB4 the second one), not
+        # numbers by speed order.
+        names = hopf_names(diagram, ((paper_args or [{}] * columns)[j]).get("hopf_labels"))
+        draw_cycle_diagram(axes[:, j], diagram, family, hopf_labels=names)
+        _no_hopf_text(axes[:, j], diagram)
         axes[0, j].set_title(title, fontsize=10)
         for ax in axes[:, j]:
             ax.set_xlim(0.0, vmax_kmh)

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from __future__ import annotations
-
-
 import numpy as np
 
 from reduced_model.family import SpeedFamily
@@ -14,7 +11,6 @@ from reduced_model.special_points import PointKind, PointStatus
 
 from ..plots import stability_grid
 from .registry import KMH, MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
-
 
 
 def _pressure_label(p_bar: float) -> str:
@@ -98,3 +94,24 @@ def _incomplete_notes(prefix: str, diagram: HopfDiagram) -> list[str]:
 def _speed_axis(ax, vmax_kmh: float = VMAX_KMH, vmin_kmh: float = 0.0) -> None:
     ax.set_xlim(vmin_kmh, vmax_kmh)
     ax.set_xlabel("speed V [km/h]")
+
+
+# Marker keys in words (figures 6, 7, 13, 14, 17): hollow markers on the curves of each colour.
+SPECIAL_MARKERS = ((PointKind.HOPF_FOLD, "o", "fold of a Hopf curve (F)"), (PointKind.HOPF_HOPF, "s", "Hopf-Hopf point (HH)"),
+                   (PointKind.GENERALIZED_HOPF, "D", "degenerate Hopf point (DH)"))
+
+
+def marker_key(ax, kinds=(PointKind.HOPF_FOLD, PointKind.HOPF_HOPF, PointKind.GENERALIZED_HOPF), shading=None,
+               **legend_kwargs):
+    """A legend that says in words what the hollow markers (and the grey shading) mean; added as an artist so
+    that the axes' own legend stays."""
+    from matplotlib.legend import Legend
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    handles = [Line2D([], [], ls="none", marker=m, color="0.3", mfc="white", ms=5, label=text)
+               for kind, m, text in SPECIAL_MARKERS if kind in kinds]
+    handles += [Patch(color=c, label=t) for c, t in (shading or ())]
+    legend = Legend(ax, handles, [h.get_label() for h in handles], fontsize=7, framealpha=0.9, **legend_kwargs)
+    legend.set_clip_on(False)    # else clipped to the axes and left out of the saved figure's tight box
+    ax.add_artist(legend)
+    return legend

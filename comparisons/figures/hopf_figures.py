@@ -1,21 +1,18 @@
-"""Hopf-curve figures in (V, q) planes (figures 5, 6, 7, 8, 13, 14)."""
+"""Hopf-curve figures in (V, q) planes (figures 5, 6, 7, 13, 14; figure 8 adds cycle curves, see
+:mod:`.cycle_curve_figures`)."""
 
 from __future__ import annotations
-
-from __future__ import annotations
-
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024
-from reduced_model.special_points import PointKind, PointStatus
+from reduced_model.special_points import PointKind
 
 from ..plots import stability_grid
-from .drawing import _curve_of, _draw_curves, _fold_is_maximum, _incomplete_notes, _label_hopf_points, _located, _mark, _point_note, _pressure_label, _shade_stable, _special_notes, _speed_axis
-from .registry import BAR, DiagramKey, DiagramStore, Drawing, FOUR_PRESSURES_BAR, K5_PRESSURES_BAR, MIN_LABEL_SPEED_KMH, P_I0_BAR, PRESSURE_COLOURS, register, VMAX_KMH
-
+from .drawing import SPECIAL_MARKERS, marker_key, _curve_of, _draw_curves, _fold_is_maximum, _incomplete_notes, _label_hopf_points, _located, _mark, _point_note, _pressure_label, _shade_stable, _special_notes, _speed_axis
+from .registry import BAR, DiagramKey, DiagramStore, Drawing, FOUR_PRESSURES_BAR, K5_PRESSURES_BAR, P_I0_BAR, PRESSURE_COLOURS, register, VMAX_KMH
 
 
 def _pressure_key(effects: Effects = Effects(), lo_bar=0.05, hi_bar=3.0, vmin_kmh=0.0, vmax_kmh=VMAX_KMH,
@@ -55,9 +52,19 @@ def draw_pressure_curves(store: DiagramStore) -> Drawing:
 
 
 def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float, ylabel: str,
-                          pressures=FOUR_PRESSURES_BAR, unit: str = "m", sci: bool = False) -> tuple:
+                          pressures=FOUR_PRESSURES_BAR, unit: str = "m", sci: bool = False, zoom=None) -> tuple:
+    """Hopf curves in (V, param) at four pressures; ``zoom`` = (vlo, vhi, qlo, qhi) adds an inset where the
+    curves crowd (their markers would collide at full scale)."""
     fig = Figure(figsize=(8.4, 4.8))
     ax = fig.subplots()
+    panels = [ax]
+    if zoom is not None:
+        inset = ax.inset_axes((0.58, 0.56, 0.4, 0.4))
+        inset.set_xlim(zoom[0], zoom[1])
+        inset.set_ylim(zoom[2], zoom[3])
+        inset.tick_params(labelsize=7)
+        ax.indicate_inset_zoom(inset, edgecolor="0.3")
+        panels.append(inset)
     notes, complete, diagrams = [], True, {}
     speeds = values = None
     stable_count = 0
@@ -69,12 +76,11 @@ def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float,
             values = np.linspace(diagram.lo, diagram.hi, 121)
         stable_count = stable_count + (stability_grid(family, speeds, values) == 0)
         colour = PRESSURE_COLOURS[p]
-        _draw_curves(ax, diagram, 1.0, colour, label=_pressure_label(p))
-        for f in _located(diagram, PointKind.HOPF_FOLD):
-            ax.plot(f.speed * 3.6, f.value, "o", color=colour, ms=4, mfc="white", zorder=4)
-        for kind, marker in ((PointKind.HOPF_HOPF, "s"), (PointKind.GENERALIZED_HOPF, "D")):
-            for s in _located(diagram, kind):
-                ax.plot(s.speed * 3.6, s.value, marker, color=colour, ms=4, mfc="white", zorder=4)
+        for panel in panels:
+            _draw_curves(panel, diagram, 1.0, colour, label=_pressure_label(p) if panel is ax else None)
+            for kind, marker, _ in SPECIAL_MARKERS:
+                for s in _located(diagram, kind):
+                    panel.plot(s.speed * 3.6, s.value, marker, color=colour, ms=4, mfc="white", zorder=4)
         notes += _special_notes(f"{p:g} bar: ", diagram, unit, 1.0)
         notes += _incomplete_notes(f"{p:g} bar: ", diagram)
         complete &= diagram.complete
@@ -82,20 +88,23 @@ def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float,
     # One grey level per number of pressures at which straight running is stable: overlapping tints of four
     # colours mix into an unreadable brown.
     n = len(pressures)
-    ax.contourf(speeds * 3.6, values, stable_count, levels=np.arange(0.5, n + 1), zorder=0,
-                colors=[str(0.97 - 0.06 * k) for k in range(n)])
-    ax.axhline(getattr(YANG2024, param), color="0.4", lw=0.7, ls=":")
+    greys = [str(0.97 - 0.06 * k) for k in range(n)]
+    for panel in panels:
+        panel.contourf(speeds * 3.6, values, stable_count, levels=np.arange(0.5, n + 1), zorder=0, colors=greys)
+        panel.axhline(getattr(YANG2024, param), color="0.4", lw=0.7, ls=":")
     _speed_axis(ax)
     ax.set_ylim(lo, hi)
     ax.set_ylabel(ylabel)
     if sci:
         ax.ticklabel_format(axis="y", style="sci", scilimits=(5, 5))
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), title="tyre pressure", title_fontsize=8)
+    marker_key(ax, shading=[(greys[0], "straight running stable at one pressure"),
+                            (greys[-1], f"... at all {n} (darker: more)")],
+               loc="upper left", bbox_to_anchor=(1.01, 0.55), title="markers and shading", title_fontsize=8)
     return fig, ax, notes, complete, diagrams
 
 
-_FOUR_NOTE = ("grey: straight running stable at 1, 2, 3 or all 4 pressures (darker: more); "
-              "o fold, s Hopf-Hopf, D degenerate Hopf;\ndotted: Table 1 value")
+_FOUR_NOTE = "markers and shading: see the key on the right; dotted: Table 1 value"
 
 
 @register(6, "half_contact_length_hopf_curves", cost=3)
@@ -115,45 +124,11 @@ def draw_trail_curves(store: DiagramStore) -> Drawing:
     return Drawing(fig, tuple(notes), complete)
 
 
-@register(8, "trail_hopf_curves_1p5bar", cost=3)
-def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
-    key = DiagramKey(Effects(), "t0", 1.5, *T0_RANGE, 0.0, VMAX_KMH)
-    diagram, family = store.diagram(key), store.family(key)
-    fig = Figure(figsize=(6.8, 5.0))
-    ax = fig.subplots()
-    _shade_stable(ax, family, diagram, 1.0)
-    _draw_curves(ax, diagram, 1.0, "k")
-    _label_hopf_points(ax, family, YANG2024.t0, 1.0, VMAX_KMH)
-    notes = []
-    for i, hh in enumerate(_located(diagram, PointKind.HOPF_HOPF), 1):
-        name = "HH" if len(_located(diagram, PointKind.HOPF_HOPF)) == 1 else f"HH{i}"
-        _mark(ax, hh, 1.0, f"{name} (t = {hh.value:.3f} m)", colour="tab:red", marker="s", offset=(-95, -3))
-        notes.append(_point_note(name, hh, "m", 1.0))
-    for i, dh in enumerate(_located(diagram, PointKind.GENERALIZED_HOPF), 1):
-        _mark(ax, dh, 1.0, f"DH{i} (t = {dh.value:.3f} m)", colour="tab:blue", marker="D", offset=(6, -3))
-        notes.append(_point_note(f"DH{i} (criticality changes)", dh, "m", 1.0))
-    offsets = iter(((6, -12), (6, -12), (-40, 8), (6, -12)))
-    for i, f in enumerate(_located(diagram, PointKind.HOPF_FOLD), 1):
-        _mark(ax, f, 1.0, f"F{i} ({f.value:.3f} m)", offset=next(offsets, (6, 4)))
-        notes.append(_point_note(f"fold F{i}", f, "m", 1.0))
-    for p in diagram.points_of(PointKind.HOPF_FOLD):
-        if p.status is not PointStatus.LOCATED or p.speed * 3.6 < MIN_LABEL_SPEED_KMH:
-            notes.append(_point_note(f"fold at the window edge, not labelled ({p.status.value})", p, "m", 1.0))
-    ax.axhline(YANG2024.t0, color="0.4", lw=0.7, ls=":")
-    _speed_axis(ax)
-    ax.set_ylim(key.lo, key.hi)
-    ax.set_ylabel("pneumatic trail t [m]")
-    ax.set_title("Fig. 8: Hopf curves in (V, t) at 1.5 bar (0.6 $p_{i0}$); shaded: straight running stable\n"
-                 "HB labels on the Table 1 trail (dotted); torus/saddle-node curves need periodic orbits",
-                 fontsize=9)
-    notes += _incomplete_notes("", diagram)
-    return Drawing(fig, tuple(notes), diagram.complete)
-
-
 @register(13, "relaxation_length_hopf_curves", cost=12)
 def draw_relaxation_length(store: DiagramStore) -> Drawing:
-    fig, ax, notes, complete, _ = _four_pressure_figure(store, "sigma0", 0.01, 1.5,
-                                                        "relaxation length σ [m]")
+    # The folds of the four low-speed loops crowd below 0.1 m and 50 km/h: shown enlarged.
+    fig, ax, notes, complete, _ = _four_pressure_figure(store, "sigma0", 0.01, 1.5, "relaxation length σ [m]",
+                                                        zoom=(5.0, 50.0, 0.01, 0.08))
     ax.set_title("Fig. 13: Hopf curves in (V, σ) at four pressures\n" + _FOUR_NOTE, fontsize=9)
     return Drawing(fig, tuple(notes), complete)
 

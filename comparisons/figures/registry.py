@@ -3,13 +3,10 @@ recipes share, and making figures (in worker processes when asked)."""
 
 from __future__ import annotations
 
-from __future__ import annotations
-
 import os
 import time
 from dataclasses import dataclass, field
 from typing import Callable
-
 
 from reduced_model.cycles import CycleDiagram, cycle_diagram
 from reduced_model.family import SpeedFamily

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from __future__ import annotations
-
-
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -18,8 +15,6 @@ from .. import paper_reference as paper
 from ..cycle_plots import special_point_labels
 from .cycle_figures import _trail_key
 from .registry import BAR, DiagramStore, Drawing, KMH, register, _store_cycles
-
-
 
 # Figure 10: the speed ramps of tests/test_simulation.py (1 km/h per s through the bistable window), each
 # started from the default small disturbance theta1 = 0.01 rad where only one mode is stable.

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from __future__ import annotations
-
-
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -13,7 +10,6 @@ from reduced_model.parameters import YANG2024
 
 from .drawing import _pressure_label
 from .registry import BAR, DiagramStore, Drawing, P_I0_BAR, PRESSURE_COLOURS, register, SLIP_PRESSURES_BAR
-
 
 
 @register(2, "lateral_force")
