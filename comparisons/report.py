@@ -39,8 +39,16 @@ class Column:
 
 COLUMN_LABELS: dict[str, Column] = {
     "model": Column("model (tyre properties following pressure)"),
+    "case": Column("case (tyre pressures)"),
     "pressure_bar": Column("tyre pressure [bar]"),
-    "point": Column("Hopf point (HB1 ... by speed)"),
+    "pressure_right_bar": Column("right tyre, wheel 1 [bar]"),
+    "pressure_left_bar": Column("left tyre, wheel 2 [bar]"),
+    "kind": Column("kind of case"),
+    "reason": Column("why this case"),
+    "quantity": Column("quantity"),
+    "paper": Column("paper (printed)"),
+    "computed": Column("computed", dash="not found"),
+    "point": Column("what (Hopf point HB1.. by speed, eigenvalues, cycle fold, torus point, stable cycle)"),
     "paper_kmh": Column("paper [km/h]", dash="the paper prints no value for it"),
     "reduced_kmh": Column("reduced model [km/h]", dash="the reduced model has no such point or jump"),
     "mbs_reduced_kmh": Column("MBS with the reduced model's assumptions [km/h]",
@@ -56,7 +64,7 @@ COLUMN_LABELS: dict[str, Column] = {
     "continuation_theta1_deg": Column("continuation: max |theta1| [deg]"),
     "mbs_reduced_theta1_deg": Column("MBS with the reduced model's assumptions: max |theta1| [deg]",
                                      dash="the MBS run did not settle (no finite amplitude)"),
-    "relative_diff": Column("MBS against continuation, relative difference [%]", factor=100.0,
+    "relative_diff": Column("relative difference, MBS against the reduced model [%]", factor=100.0,
                             dash="no finite MBS amplitude to compare"),
     "mbs_full_theta1_deg": Column("MBS, full geometry: max |theta1| [deg]",
                                   dash="the full-geometry run did not settle (no finite amplitude)"),
@@ -65,6 +73,8 @@ COLUMN_LABELS: dict[str, Column] = {
     "model_diff_kmh": Column("MBS minus reduced model [km/h]", dash="a model did not jump"),
     "final_L1": Column("final mode from start L1"),
     "final_L2": Column("final mode from start L2"),
+    "final_1": Column("final mode from the first start"),
+    "final_2": Column("final mode from the second start"),
     "assumption_off": Column("assumption switched off in the MBS"),
     "hopf_shifts_kmh": Column("Hopf speed shifts, MBS minus reduced, per Hopf point [km/h]",
                               dash="'-' in the list: that Hopf point has no partner in the MBS"),
@@ -158,6 +168,8 @@ class Report:
     quick: bool
     notes: tuple[str, ...] = field(default=())
     metadata: RunMetadata | None = None
+    plan: object = None          # comparisons.verify_plan.Plan
+    axle: object = None          # comparisons.axle.Axle
 
     @property
     def failed(self) -> bool:
@@ -262,10 +274,22 @@ def _legend(report: Report) -> list[str]:
 
 # --- Markdown --------------------------------------------------------------------------------------------------
 
+def _axle_lines(report: Report) -> list[str]:
+    if report.axle is None:
+        return []
+    axle = report.axle
+    out = [f"Axle: {axle.label()}" + (f" (sha256 {axle.sha256[:12]})" if axle.sha256 else "") + "."]
+    if axle.inherited:
+        out.append(f"Inherited from the paper's axle: {', '.join(axle.inherited)}.")
+    return out
+
+
 def render_markdown(report: Report) -> str:
-    out = ["# shimmy verification report", "",
-           f"Mode: {'quick' if report.quick else 'full'}. Overall: "
-           f"{'FAILED' if report.failed else 'all equivalence checks passed'}.", ""]
+    out = ["# shimmy verification report", ""]
+    for line in _axle_lines(report):
+        out += [line, ""]
+    out += [f"Mode: {'quick' if report.quick else 'full'}. Overall: "
+            f"{'FAILED' if report.failed else 'all equivalence checks passed'}.", ""]
     if report.metadata is not None:
         out += ["## Run", "", markdown_table(["what", "value"], [{"what": a, "value": b}
                                                                    for a, b in report.metadata.rows()]), ""]
@@ -338,7 +362,7 @@ def render_html(report: Report, folder: str) -> str:
     overall = "FAILED" if report.failed else "all equivalence checks passed"
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
            "<title>shimmy verification report</title>", f"<style>{_CSS}</style></head><body>",
-           "<h1>shimmy verification report</h1>",
+           "<h1>shimmy verification report</h1>", *(f"<p>{html.escape(x)}</p>" for x in _axle_lines(report)),
            f"<p>Mode: {'quick' if report.quick else 'full'}. Overall: <strong class="
            f"\"{'overall-fail' if report.failed else 'overall-pass'}\">{overall}</strong>.</p>"]
     if report.metadata is not None:

@@ -47,7 +47,7 @@ def test_markdown_headers_in_words_and_dashes_explained():
     header = next(line for line in text.splitlines() if line.startswith("| model"))
     assert "mbs_reduced_kmh" not in header and "[km/h]" in header and "tyre pressure [bar]" in header
     assert "| 0.12 |" in text                                     # relative difference shown in per cent
-    assert "relative difference [%]" in text
+    assert "relative difference, MBS against the reduced model [%]" in text
     # Each column holding a "-" is explained under its table, in words.
     dash_lines = [line for line in text.splitlines() if line.startswith('A "-" in the table')]
     assert len(dash_lines) == 2
