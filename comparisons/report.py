@@ -65,7 +65,8 @@ COLUMN_LABELS: dict[str, Column] = {
     "mbs_reduced_theta1_deg": Column("MBS with the reduced model's assumptions: max |theta1| [deg]",
                                      dash="the MBS run did not settle (no finite amplitude)"),
     "relative_diff": Column("relative difference, MBS against the reduced model [%]", factor=100.0,
-                            dash="no finite MBS amplitude to compare"),
+                            dash="not compared in that row (Hopf table: only the eigenvalue rows hold it), or no "
+                                 "finite MBS amplitude to compare"),
     "mbs_full_theta1_deg": Column("MBS, full geometry: max |theta1| [deg]",
                                   dash="the full-geometry run did not settle (no finite amplitude)"),
     "run": Column("run"),
@@ -252,9 +253,9 @@ def _cell(value, factor: float = 1.0) -> str:
 def markdown_table(columns, rows: list[dict], headers=None, factors=None) -> str:
     headers = list(headers or columns)
     factors = factors or {}
-    lines = ["| " + " | ".join(h.replace("|", "/") for h in headers) + " |", "|" + "---|" * len(columns)]
+    lines = ["| " + " | ".join(h.replace("|", "\\|") for h in headers) + " |", "|" + "---|" * len(columns)]
     for r in rows:
-        lines.append("| " + " | ".join(_cell(r.get(c), factors.get(c, 1.0)).replace("|", "/") for c in columns)
+        lines.append("| " + " | ".join(_cell(r.get(c), factors.get(c, 1.0)).replace("|", "\\|") for c in columns)
                      + " |")
     return "\n".join(lines)
 

@@ -155,3 +155,24 @@ def test_html_escapes_and_marks_failures(tmp_path):
     page = render_html(Report((s,), quick=False), str(tmp_path))
     assert "&lt;X &amp; Y&gt;" in page and "<b>" not in page and 'class="FAIL"' in page
     assert "overall-fail" in page
+
+
+def test_step_progress_messages_and_bar():
+    """verify's protocol: a message per step as it starts, "done: <step>" for the announced top-level steps."""
+    out = io.StringIO()
+    with StepProgress(stream=out) as progress:
+        progress.set_steps(["Plan", "Hopf speeds"])
+        for message in ("Plan", "done: Plan", "Hopf speeds", "Hopf speeds: 1.5 bar", "Hopf speeds: 2.5 bar",
+                        "done: Hopf speeds"):
+            progress(message)
+    lines = out.getvalue().splitlines()
+    assert [line.split(" (")[0] for line in lines] == [
+        "verify: [1/2] Plan: done in 0.0 s", "verify:   Hopf speeds: 1.5 bar", "verify:   Hopf speeds: 2.5 bar",
+        "verify: [2/2] Hopf speeds: done in 0.0 s"]
+    tty = io.StringIO()
+    with StepProgress(stream=tty, bar=True) as progress:
+        progress.set_steps(["Plan"])
+        progress("Plan")
+        progress("planning the cases")
+        progress("done: Plan")
+    assert "verify: planning the cases" in tty.getvalue() and "[1/1] Plan: done" in tty.getvalue()
