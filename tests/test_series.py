@@ -32,6 +32,7 @@ def test_csv_and_parquet_hold_the_run(tmp_path, capsys):
     assert a.column("theta1_deg")[0].as_py() == pytest.approx(np.degrees(0.01), rel=1e-12)   # default start
     np.testing.assert_allclose(a.column("speed_kmh").to_numpy(), 60.0, rtol=1e-14)
     assert set(a.column("mode").to_pylist()) == {"yaw"} and out["final"]["mode"] == "yaw"
+    assert out["schedule"] == {"speed_kmh": 60.0} and out["fidelity"] is None and out["duration_requested_s"] == 1.5
     meta = json.loads(b.schema.metadata[b"shimmy"])
     assert meta["units"]["psi_dot_deg_per_s"] == "deg/s" and meta["axle"]["overrides"] == {"t0": 0.08}
     assert meta["pressure_bar"] == 1.5 and meta["schedule"] == "60 km/h"

@@ -127,6 +127,18 @@ def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
     }
 
 
+def schedule_json(args: argparse.Namespace) -> dict:
+    """The run's inputs beyond the axle and pressures: speed schedule, duration asked, start, MBS fidelity."""
+    if args.speed is not None:
+        schedule = {"speed_kmh": args.speed}
+    else:
+        start, end, seconds = (float(x) for x in args.ramp.split(":"))
+        schedule = {"ramp": {"from_kmh": start, "to_kmh": end, "seconds": seconds}}
+    fidelity = build_fidelity(args)
+    return {"schedule": schedule, "duration_requested_s": args.duration, "initial": list(args.initial or []),
+            "fidelity": None if fidelity is None else fidelity.label}
+
+
 def run(args: argparse.Namespace) -> int:
     if args.speed is not None:
         schedule = SpeedSchedule.constant(args.speed * KMH)
@@ -167,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
         write_series(args.series, series_table(trajectory, history.segments(),
                                                {**inputs_json(args), "schedule": how}))
     if args.json:
-        emit_json({**inputs_json(args), **result_json(trajectory, history)})
+        emit_json({**inputs_json(args), **schedule_json(args), **result_json(trajectory, history)})
     else:
         out = result_json(trajectory, history)
         print(f"{trajectory.model} model at {pressure_label(args)}, {how}, {out['duration_s']:g} s simulated")
