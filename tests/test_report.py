@@ -176,3 +176,12 @@ def test_step_progress_messages_and_bar():
         progress("planning the cases")
         progress("done: Plan")
     assert "verify: planning the cases" in tty.getvalue() and "[1/1] Plan: done" in tty.getvalue()
+
+
+def test_continuation_messages_in_interface_units():
+    from comparisons.units import interface_message
+    text = "ends on the window boundary at 147.707 km/h, pressure = 50000 | left at 400 km/h, pressure = 128521"
+    assert interface_message(text, "pressure", "bar", 1e5) == (
+        "ends on the window boundary at 147.707 km/h, pressure = 0.5 bar | left at 400 km/h, pressure = 1.28521 bar")
+    assert interface_message("t0 = 0.08194", "t0", "m", 1.0) == "t0 = 0.08194 m"
+    assert interface_message("pressure_left = 50000", "pressure", "bar", 1e5) == "pressure_left = 50000"

@@ -14,6 +14,7 @@ from reduced_model.special_points import ConvergenceError, PointKind, PointStatu
 from .. import paper_reference as paper
 from ..cycle_plots import CURVE_STYLES, special_point_labels
 from ..plots import place_labels
+from ..units import interface_message
 from .drawing import _label_hopf_points, _draw_curves, _incomplete_notes, _located, _mark, _point_note, _shade_stable, _speed_axis
 from .hopf_figures import T0_RANGE, _pressure_key
 from .registry import BAR, MIN_LABEL_SPEED_KMH, VMAX_KMH, DiagramKey, DiagramStore, Drawing, KMH, register
@@ -55,8 +56,9 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
         end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / factor:.4f} {unit}"
                              + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
                                 if (v, q) in located else " (extrapolated)") for v, q in ends)
+        messages = " | ".join(interface_message(m, family.param, unit, factor) for m in curve.messages)
         notes.append(f"{text} ({curve.kind.value}, from {point.speed * 3.6:.2f} km/h at {start / factor:g} {unit}): "
-                     f"{end_text or 'no zero-amplitude end'}; {' | '.join(curve.messages)}")
+                     f"{end_text or 'no zero-amplitude end'}; {messages}")
         complete &= curve.complete
     return items, complete
 
