@@ -100,3 +100,20 @@ def test_side_by_side_recording(tmp_path):
     assert views["StateTimeline"] == {"/mode"}
     with pytest.raises(ValueError, match="different models"):
         write_comparison(str(tmp_path / "x.rrd"), [ComparedRun(reduced), ComparedRun(reduced)], pressure=1.5 * BAR)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(__import__("comparisons.screenshots", fromlist=["x"]).lavapipe_icd() is None,
+                    reason="no software Vulkan driver (Debian: apt-get install -y mesa-vulkan-drivers)")
+def test_screenshot_in_the_real_viewer(tmp_path):
+    """The README's screenshots come from the real viewer, headless (about 10 s)."""
+    import matplotlib.image
+    from comparisons.screenshots import take_screenshots
+    model, reduced, mbs = side_by_side_runs()
+    path = str(tmp_path / "both.rrd")
+    write_comparison(path, [ComparedRun(reduced, [(0.0, "yaw")]), ComparedRun(mbs, [(0.0, "yaw")])], "both",
+                     model=model, pressure=1.5 * BAR)
+    (png,) = take_screenshots(path, [1.0], str(tmp_path / "shots"), size="1200x800")
+    image = matplotlib.image.imread(png)
+    assert image.shape[0] >= 800 and image.shape[1] >= 1200
+    assert np.std(image[..., :3]) > 0.05          # not a blank frame
