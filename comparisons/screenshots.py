@@ -14,6 +14,7 @@ import argparse
 import glob
 import os
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -30,6 +31,14 @@ class ScreenshotError(RuntimeError):
 def lavapipe_icd() -> str | None:
     found = [p for p in LAVAPIPE_ICDS if os.path.exists(p)] + glob.glob("/usr/share/vulkan/icd.d/lvp_icd*.json")
     return found[0] if found else None
+
+
+def _group_alive(pgid: int) -> bool:
+    try:
+        os.killpg(pgid, 0)
+        return True
+    except ProcessLookupError:
+        return False
 
 
 def _free_port() -> int:
@@ -55,7 +64,8 @@ class HeadlessViewer:
         self.log = tempfile.TemporaryFile()
         self.process = subprocess.Popen(
             [_rerun_executable(), "--headless", "--renderer", "vulkan", "--window-size", size, "--port",
-             str(self.port), "--hide-welcome-screen"], env=env, stdout=self.log, stderr=subprocess.STDOUT)
+             str(self.port), "--hide-welcome-screen"], env=env, stdout=self.log, stderr=subprocess.STDOUT,
+            start_new_session=True)   # its own process group: the `rerun` script runs the viewer as a child
         self.client = self._connect(timeout)
 
     def _connect(self, timeout: float):
@@ -90,13 +100,18 @@ class HeadlessViewer:
         self.client.save_screenshot(os.path.abspath(png))
 
     def close(self) -> None:
-        if self.process.poll() is None:
-            self.process.terminate()
+        """Stop the viewer: the process group this object started (the script and the viewer it runs)."""
+        for sig in (signal.SIGTERM, signal.SIGKILL):
+            try:
+                os.killpg(self.process.pid, sig)
+            except ProcessLookupError:
+                break
             try:
                 self.process.wait(timeout=10)
+                if not _group_alive(self.process.pid):
+                    break
             except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
+                continue
         self.log.close()
 
     def __enter__(self):
