@@ -29,6 +29,7 @@ SAMPLES_QUICK = 32
 SEED = 2024
 HOPF_TOL_KMH = 0.01          # MBS (reduced fidelity) against the reduced model, as in the Hopf section
 QUANTILES = (0.05, 0.5, 0.95)
+FIGURE = "robustness.png"
 
 
 def plausible_variations(axle: Axle) -> list[Variation]:
@@ -54,7 +55,8 @@ def robustness_pressures(axle: Axle) -> tuple[tuple[float, float], ...]:
 
 
 def pressure_label(right: float, left: float) -> str:
-    return f"{right:g}" if right == left else f"{right:g}/{left:g}"
+    """As verify labels its cases."""
+    return f"{right:g} bar" if right == left else f"R {right:g} / L {left:g} bar"
 
 
 @dataclass(frozen=True)
@@ -135,10 +137,11 @@ def run_robustness(axle: Axle, out_dir: str, samples: int, *,
     with DaskCluster(scheduler, workers, processes) as cluster:   # one cluster for every pressure
         for right, left in pressures or robustness_pressures(axle):
             label = pressure_label(right, left)
-            message(f"Robustness: {samples} plausible axles at {label} bar")
+            message(f"Robustness: {samples} plausible axles at {label}")
             task = SweepTask(axle=axle, effects=(), pressure_right_bar=right, pressure_left_bar=left,
                              names=design.names, compute=("hopf",), mbs=("reduced", "full"))
-            path = os.path.join(out_dir, f"robustness_{label.replace('.', 'p').replace('/', '_')}bar.parquet")
+            tag = f"{right:g}" if right == left else f"R{right:g}_L{left:g}"
+            path = os.path.join(out_dir, f"robustness_{tag.replace('.', 'p')}bar.parquet")
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
                 shutil.rmtree(path + ".parts")
             run = run_sweep(task, design, path, scheduler=cluster.address)
@@ -158,25 +161,25 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
         ok = worst <= HOPF_TOL_KMH and s.failed == 0
         if s.impossible:
             first = s.impossible[0].split(": ", 1)[1]
-            rows.append(Row({"pressure_bar": s.label, "verdict": "sampled axles that cannot exist",
+            rows.append(Row({"case": s.label, "quantity": "sampled axles that cannot exist",
                              "plausible_axles": f"{len(s.impossible)} of {s.table.num_rows} excluded"},
                             CheckStatus.INFO, f"e.g. {first}"))
-        rows.append(Row({"pressure_bar": s.label, "verdict": "MBS with every assumption on = reduced model",
-                         "reduced_model": f"{len(s.reduced_points())} Hopf points",
+        rows.append(Row({"case": s.label, "quantity": "MBS with every assumption on = reduced model",
+                         "reduced_value": f"{len(s.reduced_points())} Hopf points",
                          "plausible_axles": f"max abs diff {worst:.2g} km/h in {n} axles"},
                         CheckStatus.PASS if ok else CheckStatus.FAIL,
                         "" if ok else (f"{s.failed} samples failed" if s.failed else
                                        f"differs by more than {HOPF_TOL_KMH} km/h")))
         present = {m for _, m in s.reduced_points()}
         for mode in ("yaw", "tramp"):
-            rows.append(Row({"pressure_bar": s.label, "verdict": f"{mode} mode present (full geometry)",
-                             "reduced_model": "yes" if mode in present else "no",
+            rows.append(Row({"case": s.label, "quantity": f"{mode} mode present (full geometry)",
+                             "reduced_value": "yes" if mode in present else "no",
                              "plausible_axles": f"{_pct(s.mode_fraction(mode))} of {n} axles"}, CheckStatus.INFO))
         for i, (speed, mode) in enumerate(s.reduced_points()):
             y = s.shifts(i)
             have = np.isfinite(y)
-            cells = {"pressure_bar": s.label, "verdict": f"HB{i + 1} ({mode}) shift, full geometry",
-                     "reduced_model": f"{speed:.2f} km/h"}
+            cells = {"case": s.label, "quantity": f"HB{i + 1} ({mode}) shift, full geometry",
+                     "reduced_value": f"{speed:.2f} km/h"}
             if have.any():
                 p5, p50, p95 = np.quantile(y[have], QUANTILES)
                 top = s.most_influential(i)
@@ -202,6 +205,37 @@ def _planned_pressures(ctx) -> tuple[tuple[float, float], ...] | None:
     return tuple(dict.fromkeys(pairs)) or None
 
 
+def plot_robustness(studies: list[PressureStudy], path: str) -> None:
+    """Per case: the full geometry's Hopf speeds over the plausible axles (one dot per axle and point, by
+    frequency) against the reduced model's (vertical lines)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .files import atomic_path
+    fig, axes = plt.subplots(1, len(studies), figsize=(5.2 * len(studies), 3.8), squeeze=False)
+    for ax, s in zip(axes[0], studies):
+        for speed, mode in s.reduced_points():
+            ax.axvline(speed, color="tab:red" if mode == "tramp" else "tab:blue", lw=1.2, ls="--")
+        for k, (speeds, hz, modes) in enumerate(zip(s.column("mbs_full_hopf_kmh"), s.column("mbs_full_hopf_hz"),
+                                                    s.column("mbs_full_hopf_mode"))):
+            colours = ["tab:red" if m == "tramp" else "tab:blue" for m in modes]
+            ax.scatter(speeds, hz, s=8, c=colours, alpha=0.5, linewidths=0)
+        n = len(s.column("status"))
+        if not any(s.column("mbs_full_hopf_kmh")):
+            ax.text(200, 8, "no full-geometry Hopf point\nin any plausible axle", ha="center", va="center")
+        ax.set_ylim(0, 16)
+        ax.set_title(f"{s.label}: full geometry in {n} plausible axles (dots),\nreduced model (dashed); "
+                     f"blue yaw, red tramp", fontsize=9)
+        ax.set_xlim(0, 400)
+        ax.set_xlabel("Hopf speed [km/h]")
+        ax.set_ylabel("frequency [Hz]")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=100, format="png")
+    plt.close(fig)
+
+
 def robustness_section(ctx) -> Section:
     """The ``shimmy verify`` section; ``ctx`` has ``out``, ``quick`` and (optionally) ``axle``."""
     axle = getattr(ctx, "axle", None) or paper_axle()
@@ -210,10 +244,12 @@ def robustness_section(ctx) -> Section:
     studies = run_robustness(axle, ctx.out, samples, pressures=_planned_pressures(ctx), processes=not ctx.quick,
                              message=getattr(ctx, "progress", lambda text: None))
     names = ", ".join(studies[0].design.names)
+    plot_robustness(studies, os.path.join(ctx.out, FIGURE))
     return Section(
         key="robustness", title="Robustness: the full-geometry verdicts over plausible multibody dimensions",
-        columns=("pressure_bar", "verdict", "reduced_model", "plausible_axles"), rows=tuple(study_rows(studies)),
-        text=(f"{samples} plausible axles at the planned pressures (bar; right/left where they differ): {names} drawn uniformly from each one's plausible range (axle file "
+        columns=("case", "quantity", "reduced_value", "plausible_axles"), rows=tuple(study_rows(studies)),
+        figures=(FIGURE,),
+        text=(f"{samples} plausible axles at the planned cases: {names} drawn uniformly from each one's plausible range (axle file "
               f"`[plausible]`, scrambled Sobol' sample, seed {SEED}), the same axles at each pressure; MBS Hopf points "
               f"with every assumption on and off, 0-400 km/h, computed by `shimmy sweep` on a local Dask cluster "
               f"(results: {', '.join(f'`{s.file}`' for s in studies)}). Check: with every assumption on the MBS keeps "

@@ -27,7 +27,7 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     (study,) = run_robustness(axle, str(tmp_path), 6, pressures=((1.5, 1.5),), processes=False)
     assert (tmp_path / "robustness_1p5bar.parquet").exists()
     rows = study_rows([study])
-    check = next(r for r in rows if r.cells["verdict"].startswith("MBS with every assumption on"))
+    check = next(r for r in rows if r.cells["quantity"].startswith("MBS with every assumption on"))
     assert check.status is CheckStatus.PASS
     ok = [r for r in study.table.to_pylist() if r["status"] == "ok"]
     assert ok and study.failed == 0 and len(ok) + len(study.impossible) == 6
@@ -37,6 +37,6 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     full = next(x for x in direct.rows if x.assumption == "full")
     want = [h.shift_kmh for h in full.hopf if h.reduced_kmh is not None]
     assert r["mbs_full_shift_kmh"] == want
-    shift_row = next(x for x in rows if x.cells["verdict"].startswith("HB1"))
+    shift_row = next(x for x in rows if x.cells["quantity"].startswith("HB1"))
     median = float(np.median([x["mbs_full_shift_kmh"][0] for x in ok]))
     assert f"{median:+.1f} km/h" in shift_row.cells["plausible_axles"]
