@@ -30,7 +30,7 @@ import traceback
 from .files import FAULTED_TEMPORARIES, LIVE_TEMPORARIES, STUCK_WRITERS, OutputFault, OutputPathError, check_outputs, \
     remove_live_temporaries
 
-COMMANDS = ("verify", "hopf", "curves", "cycles", "simulate", "assumptions", "figures", "params", "bench")
+COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "simulate", "assumptions", "figures", "params", "bench", "sweep")
 
 EXIT_FAILED = 1
 EXIT_USAGE = 2
@@ -39,6 +39,8 @@ EXIT_WRITE = 74
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
 GRACE_S = 0.5                 # after a signal: time given to unwind normally before the hard exit
+# Commands that answer an interrupt themselves: sweep closes its Dask cluster and says which batches it kept.
+GRACE_BY_COMMAND = {"sweep": 10.0}
 # Output options checked before any work, by attribute name; recordings are read back, so no device for them.
 OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
 RECORDING_OPTIONS = ("--rerun",)
@@ -120,6 +122,7 @@ class _Signals:
 
     def __init__(self) -> None:
         self.code: int | None = None
+        self.grace = GRACE_S
         self.done = threading.Event()
         self.previous: dict[int, object] = {}
 
@@ -140,13 +143,14 @@ class _Signals:
         if self.code is not None:   # second signal: leave at once
             hard_exit(self.code, line)
         self.code = code
-        try:   # workers first: a pool waiting on them would hold the main thread
-            _stop_children(wait=0.0)
-        except Exception:  # noqa: BLE001 - the exit must go on
-            pass
+        if self.grace <= GRACE_S:   # workers first: a pool waiting on them would hold the main thread
+            try:
+                _stop_children(wait=0.0)
+            except Exception:  # noqa: BLE001 - the exit must go on
+                pass
 
         def watchdog() -> None:
-            if not self.done.wait(GRACE_S):
+            if not self.done.wait(self.grace):
                 hard_exit(code, line)
         threading.Thread(target=watchdog, name="shimmy-signal-watchdog", daemon=True).start()
         raise KeyboardInterrupt if code == EXIT_INTERRUPTED else Interrupted()
@@ -217,6 +221,8 @@ def main(argv: list[str] | None = None) -> int:
         from .options import UsageError
         try:
             args = build_parser().parse_args(argv)
+            signals.grace = GRACE_BY_COMMAND.get(args.command, GRACE_S)
+            args.argv = list(sys.argv[1:] if argv is None else argv)    # echoed in reports
             return _run(args)
         except (UsageError, ParameterError) as exc:
             _say(f"shimmy: error: {exc}")
