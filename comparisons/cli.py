@@ -210,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
     signals = _Signals()
     signals.install()
     os.environ["SHIMMY_RUN_ID"] = str(os.getpid())   # worker processes tag their temporary files with it
+    # Rerun's Rust side logs its own errors on stderr (read once, when it loads); faults are reported in one line.
+    os.environ.setdefault("RUST_LOG", "off")
     try:
         if sys.stdout is None:
             raise OutputFault("stdout is closed")

@@ -61,6 +61,19 @@ def ranged(what: str, lo: float, hi: float, unit: str, lo_open: bool = False):
     return parse
 
 
+def positive_float(what: str):
+    """An argparse ``type``: a finite number above zero (settings without a physical range, e.g. tolerances)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a number, got '{text}'") from None
+        if not math.isfinite(value) or value <= 0.0:
+            raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
+        return value
+    return parse
+
+
 def pressure_bar(what: str):
     """A pressure option, bar."""
     return ranged(what, *PRESSURE_RANGE_BAR, "bar")

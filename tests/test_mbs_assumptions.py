@@ -105,7 +105,7 @@ def test_cli_json(capsys):
 
 
 @pytest.mark.parametrize("argv,message", [
-    (["assumptions", "--pressure", "0"], "must be positive"),
+    (["assumptions", "--pressure", "0"], "must be within [0.05, 20] bar"),
     (["assumptions", "--pressure", "2", "--effects", "nope"], "unknown effect"),
     (["assumptions", "--pressure", "2", "--set", "k4=-3", "--no-cycles"], "k4 = -3 N/m is outside its physical range"),
     (["assumptions"], "required"),
