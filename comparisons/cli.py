@@ -271,6 +271,10 @@ def entry() -> None:
     if STUCK_WRITERS or LIVE_TEMPORARIES or FAULTED_TEMPORARIES:
         time.sleep(0.2)   # a failed writer's thread may still create its file: remove it after that
         hard_exit(code, None)
+    if code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+        # A KeyboardInterrupt that hit a C extension's PyRun_String while it was imported marks the interpreter,
+        # which would then end itself by SIGINT (status -2) however the interrupt was handled: leave directly.
+        hard_exit(code, None)
     try:
         sys.stdout.flush()
     except (OSError, ValueError, AttributeError):

@@ -24,6 +24,7 @@ import concurrent.futures
 import contextlib
 import json
 import math
+import re
 import os
 import shutil
 import signal
@@ -133,7 +134,8 @@ def run_case(case: Case, timeout: float = TIMEOUT_S) -> Outcome:
     problems = []
     if code not in case.expect:
         problems.append(f"exit {code}, expected {'/'.join(map(str, case.expect))}")
-    lines = [ln for ln in text.splitlines() if ln.strip()]
+    # Progress lines of long commands ("verify: [3/7] ...", "sweep: ...") are not messages.
+    lines = [ln for ln in text.splitlines() if ln.strip() and not re.match(r"(verify|sweep|figures): ", ln)]
     if len(lines) > 1:
         problems.append(f"{len(lines)} lines on stderr")
     if code != 0 and not lines:
@@ -194,7 +196,7 @@ def input_cases() -> list[Case]:
         c.append(Case(f"hopf --vmax {v}", ["hopf", "--pressure", "2.5", "--vmax", v], R))
     c.append(Case("hopf --vmax 0.51", ["hopf", "--pressure", "2.5", "--vmax", "0.51", "--json"], O))
     for lo, hi in [("0", "0.5"), ("0.1", "0.4"), ("300", "200"), ("0", "1e308"), ("-1", "100"), ("nan", "100"),
-                   ("100", "100")]:
+                   ("0.2", "0.2")]:
         c.append(Case(f"cycles --vmin {lo} --vmax {hi}", ["cycles", "--pressure", "2.5", "--vmin", lo, "--vmax", hi],
                       R))
     for v in ["0", "0.4", "1e308", "1e-300", "-3", "nan", "inf", "1001", "abc"]:
@@ -325,7 +327,7 @@ def signal_cases(scratch: str, quick: bool) -> list[Case]:
                           ["verify", "--quick", "--out", os.path.join(scratch, "rep")], (130,), signal_after=after,
                           watch=(os.path.join(scratch, "rep"),)))
             c.append(Case(f"SIGTERM at {after} s of figures",
-                          ["figures", "--only", "2,5,6", "--jobs", "2", "--out", os.path.join(scratch, "figs")],
+                          ["figures", "--jobs", "2", "--out", os.path.join(scratch, "figs")],
                           (143,), signal_after=after, signum=signal.SIGTERM, watch=(os.path.join(scratch, "figs"),)))
     return c
 
