@@ -51,13 +51,57 @@ class AxleDimensions:
                    range=(0.05, 1.0), plausible=(0.15, 0.3))
     drag_link_length: float = _d(0.8, "m", "drag link from the arm forward to the steering gear on the frame",
                    range=(0.1, 3.0), plausible=(0.5, 1.2))
+    # --- the geometry of issue 9: each entry has a neutral value at which its element has no effect -----------
+    kingpin_inclination: float = _d(0.1222, "rad", "kingpin inclination (7 deg), the kingpin's inward tilt at the "
+                                                   "top seen from the front; truck beam axles use 5-9 deg (Reimpell, "
+                                                   "Stoll & Betzler, The Automotive Chassis, 2001, sec. 3.6); with "
+                                                   "the hub offset l it gives the scrub radius l - R tan(inclination) "
+                                                   "(21 mm with Table 1)",
+                   range=(0.0, 0.35), plausible=(0.087, 0.157), neutral=0.0)
+    steering_arm_angle: float = _d(0.161, "rad", "inward angle of the tie-rod arms from the vehicle's x-axis (9.2 "
+                                                 "deg): their lines meet at the rear axle of a 4.5 m wheelbase "
+                                                 "(Ackermann's condition, atan((L/2 - l) / 4.5 m)); 0 = parallel arms",
+                   range=(-0.5, 0.5), plausible=(0.12, 0.2), neutral=0.0)
+    roll_axis_above_wheel_centre: float = _d(0.1, "m", "height of the axle's roll axis above the wheel centres: a "
+                                                       "leaf-sprung beam axle rolls about the spring seats, 0.05-0.2 m "
+                                                       "above the axle (roll centre 0.5 m above the road with R = 0.4 m)",
+                   range=(-0.3, 1.0), plausible=(0.05, 0.25), neutral=0.0)
+    axle_mount_lateral_stiffness: float = _d(1.0e6, "N/m", "lateral stiffness of both leaf springs at the axle seats "
+                                                          "together (order of magnitude, 0.3-1.5 kN/mm per spring); "
+                                                          "inf = rigid mounts",
+                   range=(1e4, math.inf), plausible=(0.4e6, 3.0e6), neutral=math.inf)
+    axle_mount_lateral_damping: float = _d(1.6e3, "N s/m", "lateral damping of the axle mounts: 5 % of critical on the "
+                                                           "axle's 260 kg (inter-leaf friction, bushes); no effect with "
+                                                           "rigid mounts",
+                   range=(0.0, 1e6), plausible=(0.5e3, 5e3))
+    steering_gear_stiffness: float = _d(80.0e3, "N m/rad", "torsional stiffness of the steering gear's output (Pitman) "
+                                                          "shaft to the frame: column and hands-on steering wheel, about "
+                                                          "200 N m/rad at the wheel, through a 20:1 gear (x 400); inf = "
+                                                          "rigid gear",
+                   range=(1e3, math.inf), plausible=(30.0e3, 200.0e3), neutral=math.inf)
+    steering_gear_damping: float = _d(800.0, "N m s/rad", "damping of the Pitman shaft to the frame: about 2 N m s/rad "
+                                                          "of hands and column at the steering wheel x 400; no effect "
+                                                          "with a rigid gear",
+                   range=(0.0, 1e6), plausible=(200.0, 3000.0))
+    steering_gear_inertia: float = _d(30.0, "kg m^2", "inertia about the Pitman shaft: steering wheel and column "
+                                                      "(about 0.075 kg m^2) through the 20:1 gear (x 400); no effect "
+                                                      "with a rigid gear",
+                   range=(0.01, 1000.0), plausible=(10.0, 60.0))
+    pitman_arm: float = _d(0.2, "m", "Pitman arm from the steering-gear shaft down to the drag-link ball; no effect "
+                                     "with a rigid gear",
+                   range=(0.05, 1.0), plausible=(0.15, 0.3))
+    drag_link_inclination: float = _d(0.0873, "rad", "rise of the drag link towards the steering gear seen from the "
+                                                     "side (5 deg): the gear sits on the frame above the steering arm; "
+                                                     "with the axle's roll it steers the left wheel (roll steer)",
+                   range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
 
     def __post_init__(self) -> None:
         for f_ in dataclasses.fields(self):
             value = getattr(self, f_.name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ParameterError(f"dimension {f_.name} must be a finite number, got {value!r}")
             lo, hi = f_.metadata["range"]
+            if not isinstance(value, (int, float)) or math.isnan(value) or (math.isinf(value) and value != hi):
+                rigid = " or inf (rigid)" if hi == math.inf else ""
+                raise ParameterError(f"dimension {f_.name} must be a finite number{rigid}, got {value!r}")
             if not lo <= value <= hi:
                 raise ParameterError(f"dimension {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
                                      f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
@@ -72,7 +116,8 @@ class AxleDimensions:
     def table(self) -> list[dict[str, Any]]:
         return [{"name": f_.name, "value": getattr(self, f_.name), "unit": f_.metadata["unit"],
                  "reason": f_.metadata["reason"], "range": f_.metadata["range"],
-                 "plausible": f_.metadata["plausible"]} for f_ in dataclasses.fields(self)]
+                 "plausible": f_.metadata["plausible"], "neutral": f_.metadata["neutral"]}
+                for f_ in dataclasses.fields(self)]
 
     # --- derived inertias that make Table 1 hold at straight running ------------------------------------
     def knuckle_kingpin_inertia(self, params: ShimmyParameters) -> float:
