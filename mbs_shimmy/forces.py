@@ -132,15 +132,26 @@ class AxleForces:
         sd.SetODE2Coordinates(q0)
         sd.SetODE2Coordinates_t(v0)
 
-    def knuckle_poses(self) -> tuple:
-        """(K, v_K, e, s, omega) of both knuckles from Exudyn's markers (current configuration)."""
+    def knuckle_poses(self, q, qd) -> tuple:
+        """(K, v_K, e, s, omega) of both knuckles at the tree state (q, q') written in Exudyn's current
+        configuration: K and the knuckle's rotation (hence e and s) are Exudyn's marker outputs; the velocities are
+        J q' with the same joint axes and points (roll axis x through O, kingpin e through K, lateral travel y),
+        omega = psi' x + theta' e and v_K = y' y + psi' x (K - O) - the columns that also project the forces.
+        (Exudyn's Velocity and AngularVelocity outputs give the same, ``tests/test_mbs_model.py``, at 10 us a call
+        against 4-7 us for a pose: they would double the cost of a stage.)"""
         out = []
         get = self.get
-        for m, (a, b, c) in zip(self.markers, self.spin_local):
+        psid = qd[self.i_psi]
+        Oy, yd = (q[self.i_lat], qd[self.i_lat]) if self.i_lat >= 0 else (0.0, 0.0)
+        Oz = self.Oz
+        for m, (a, b, c), thd in zip(self.markers, self.spin_local, (qd[self.i_th1], qd[self.i_th2])):
             Rm = get(m, _ROT).tolist()
-            out.append((get(m, _POS).tolist(), get(m, _VEL).tolist(), (Rm[2], Rm[5], Rm[8]),
-                        (Rm[0] * a + Rm[1] * b + Rm[2] * c, Rm[3] * a + Rm[4] * b + Rm[5] * c,
-                         Rm[6] * a + Rm[7] * b + Rm[8] * c), get(m, _OMEGA).tolist()))
+            K = get(m, _POS).tolist()
+            e = (Rm[2], Rm[5], Rm[8])
+            out.append((K, (0.0, yd - psid * (K[2] - Oz), psid * (K[1] - Oy)),
+                        e, (Rm[0] * a + Rm[1] * b + Rm[2] * c, Rm[3] * a + Rm[4] * b + Rm[5] * c,
+                            Rm[6] * a + Rm[7] * b + Rm[8] * c),
+                        (psid + thd * e[0], thd * e[1], thd * e[2])))
         return tuple(out)
 
     # ------------------------------------------------------------------------------------------------------
@@ -159,7 +170,7 @@ class AxleForces:
         t1, t2 = self.tyres
         out = list(self.alignment)
         if self.need_exact:
-            p1, p2 = self.knuckle_poses()
+            p1, p2 = self.knuckle_poses(q, qd)
         if self.linear:
             r1 = t1.linear(psi, th1, psid, thd1, al1, V, record)
             r2 = t2.linear(psi, th2, psid, thd2, al2, V, record)

@@ -65,7 +65,7 @@ def test_knuckle_poses_are_exudyns_and_right():
         q = rng.standard_normal(5) * np.array([0.01, 0.1, 0.4, 0.4, 0.1])
         qd = rng.standard_normal(5) * np.array([0.1, 1.0, 3.0, 3.0, 1.0])
         system.set_state(np.concatenate([q, qd, [0.01, -0.02]]))
-        poses = system.forces.knuckle_poses()
+        poses = system.forces.knuckle_poses(q, qd)
         y, psi = q[0], q[1]
         A = _rot([1, 0, 0], psi)
         O = np.array([0.0, y, P.R + h])
@@ -81,6 +81,11 @@ def test_knuckle_poses_are_exudyns_and_right():
             assert np.allclose(K_, K, atol=1e-14) and np.allclose(vK_, vK, atol=1e-13)
             assert np.allclose(e_, e, atol=1e-14) and np.allclose(s_, Rk @ [0, 1, 0], atol=1e-14)
             assert np.allclose(w_, omega, atol=1e-13)
+            # and the velocities are Exudyn's own marker velocities
+            mk = system.markers.knuckles[i]
+            assert np.allclose(vK_, system.mbs.GetMarkerOutput(mk, exu.OutputVariableType.Velocity), atol=1e-13)
+            assert np.allclose(w_, system.mbs.GetMarkerOutput(mk, exu.OutputVariableType.AngularVelocity),
+                               atol=1e-13)
 
 
 def test_disc_contact_point_is_on_road_and_wheel_plane():
@@ -185,7 +190,7 @@ def test_spinning_wheel_equals_rotor_moment():
 
     class RotorOnly:
         def evaluate(self, t, q, qd, states=None):
-            return [*forces.rotor_moments(*forces.knuckle_poses(), V), 0.0, 0.0]
+            return [*forces.rotor_moments(*forces.knuckle_poses(q, qd), V), 0.0, 0.0]
 
     system.forces = RotorOnly()
     for connector in system.connectors.values():      # the linkage is not part of this comparison
