@@ -138,7 +138,7 @@ def test_bad_input(kwargs, match):
 
 
 def test_benchmark_step_keeps_1e4_accuracy():
-    """The benchmark's setting (RK67, h = 1/210 s) over its whole 10 s run at 1.5 bar, 100 km/h, full geometry:
+    """The benchmark's setting (RK67, h = 1/240 s) over its whole 10 s run at 1.5 bar, 100 km/h, full geometry:
     within 1e-4 of each state's amplitude of the run at h/4, and the differences shrink at the method's order."""
     from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP
     kwargs = dict(effects=Effects(), fidelity=Fidelity.full(), pressure=1.5 * BAR,
