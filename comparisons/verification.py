@@ -290,7 +290,9 @@ def assumptions_section(ctx: Context) -> Section:
         key="assumptions", title="What each assumption of the reduced model costs (MBS, one switch off at a time)",
         columns=("pressure_bar", "assumption_off", "hopf_shifts_kmh", "peak_theta1_shift_deg"), rows=tuple(rows),
         text=("Shift of every Hopf speed (MBS minus reduced, in the order of the reduced model's Hopf points; '-' where "
-              "a point has no partner) and of the peak limit-cycle amplitude, from `shimmy assumptions`."
+              "a point has no partner) and of the peak limit-cycle amplitude, from `shimmy assumptions`. Rows named "
+              "after a geometric element of the full axle (no_kingpin_inclination, ..., rigid_steering_gear): full "
+              "geometry minus full geometry without that element."
               + (" Quick mode skips the amplitudes." if ctx.quick else "")))
 
 
