@@ -66,19 +66,19 @@ class AxleDimensions:
                                                        "leaf-sprung beam axle rolls about the spring seats, 0.05-0.2 m "
                                                        "above the axle (roll centre 0.5 m above the road with R = 0.4 m)",
                    range=(-0.3, 1.0), plausible=(0.05, 0.25), neutral=0.0)
-    axle_mount_lateral_stiffness: float = _d(1.0e6, "N/m", "lateral stiffness of both leaf springs at the axle seats "
-                                                          "together (order of magnitude, 0.3-1.5 kN/mm per spring); "
-                                                          "inf = rigid mounts",
-                   range=(1e4, math.inf), plausible=(0.4e6, 3.0e6), neutral=math.inf)
+    axle_mount_lateral_compliance: float = _d(1.0e-6, "m/N", "lateral compliance of both leaf springs at the axle seats "
+                                                            "together: 1 / (1.0 MN/m), an order-of-magnitude value "
+                                                            "(0.3-1.5 kN/mm per spring); 0 = rigid mounts",
+                   range=(0.0, 1e-4), plausible=(0.33e-6, 2.5e-6), neutral=0.0)
     axle_mount_lateral_damping: float = _d(1.6e3, "N s/m", "lateral damping of the axle mounts: 5 % of critical on the "
-                                                           "axle's 260 kg (inter-leaf friction, bushes); no effect with "
+                                                           "axle's 240 kg (inter-leaf friction, bushes); no effect with "
                                                            "rigid mounts",
                    range=(0.0, 1e6), plausible=(0.5e3, 5e3))
-    steering_gear_stiffness: float = _d(80.0e3, "N m/rad", "torsional stiffness of the steering gear's output (Pitman) "
-                                                          "shaft to the frame: column and hands-on steering wheel, about "
-                                                          "200 N m/rad at the wheel, through a 20:1 gear (x 400); inf = "
-                                                          "rigid gear",
-                   range=(1e3, math.inf), plausible=(30.0e3, 200.0e3), neutral=math.inf)
+    steering_gear_compliance: float = _d(1.25e-5, "rad/(N m)", "torsional compliance of the steering gear's output "
+                                                               "(Pitman) shaft to the frame, 1 / (80 kN m/rad): column "
+                                                               "and hands-on steering wheel, about 200 N m/rad at the "
+                                                               "wheel, through a 20:1 gear (x 400); 0 = rigid gear",
+                   range=(0.0, 1e-3), plausible=(5.0e-6, 3.3e-5), neutral=0.0)
     steering_gear_damping: float = _d(800.0, "N m s/rad", "damping of the Pitman shaft to the frame: about 2 N m s/rad "
                                                           "of hands and column at the steering wheel x 400; no effect "
                                                           "with a rigid gear",
@@ -98,10 +98,9 @@ class AxleDimensions:
     def __post_init__(self) -> None:
         for f_ in dataclasses.fields(self):
             value = getattr(self, f_.name)
+            if not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ParameterError(f"dimension {f_.name} must be a finite number, got {value!r}")
             lo, hi = f_.metadata["range"]
-            if not isinstance(value, (int, float)) or math.isnan(value) or (math.isinf(value) and value != hi):
-                rigid = " or inf (rigid)" if hi == math.inf else ""
-                raise ParameterError(f"dimension {f_.name} must be a finite number{rigid}, got {value!r}")
             if not lo <= value <= hi:
                 raise ParameterError(f"dimension {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
                                      f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")

@@ -57,8 +57,8 @@ class ElementFlags:
 def layout_of(fidelity: Fidelity, dims: AxleDimensions):
     """The tree's coordinates (:class:`mbs_shimmy.system.Layout`) for these switches and dimensions."""
     from .system import Layout
-    lateral = Assumption.RIGID_AXLE_MOUNTS not in fidelity and math.isfinite(dims.axle_mount_lateral_stiffness)
-    gear = Assumption.RIGID_STEERING_GEAR not in fidelity and math.isfinite(dims.steering_gear_stiffness)
+    lateral = Assumption.RIGID_AXLE_MOUNTS not in fidelity and dims.axle_mount_lateral_compliance > 0.0
+    gear = Assumption.RIGID_STEERING_GEAR not in fidelity and dims.steering_gear_compliance > 0.0
     return Layout(lateral, gear)
 
 

@@ -254,7 +254,7 @@ def _tree_object(node: int, layout: Layout, g: AxleGeometry, inertia: TreeInerti
     roll_parent = -1
     if layout.lateral:
         link(J.PrismaticY, -1, np.eye(3), (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0), none,
-             dims.axle_mount_lateral_stiffness, dims.axle_mount_lateral_damping)
+             1.0 / dims.axle_mount_lateral_compliance, dims.axle_mount_lateral_damping)
         roll_parent = 0
     iroll = len(types)
     link(J.RevoluteX, roll_parent, np.eye(3), g.origin, inertia.masses[0], inertia.coms[0], inertia.inertias[0],
@@ -265,7 +265,8 @@ def _tree_object(node: int, layout: Layout, g: AxleGeometry, inertia: TreeInerti
              inertia.masses[1 + i], inertia.coms[1 + i], inertia.inertias[1 + i], 0.0, params.c4)
     if layout.gear:
         link(J.RevoluteY, -1, np.eye(3), g.gear_shaft_point(), 1.0, (0.0, 0.0, 0.0),
-             np.diag([1.0, dims.steering_gear_inertia, 1.0]), dims.steering_gear_stiffness, dims.steering_gear_damping)
+             np.diag([1.0, dims.steering_gear_inertia, 1.0]), 1.0 / dims.steering_gear_compliance,
+             dims.steering_gear_damping)
     for _ in range(2):
         link(J.PrismaticX, -1, np.eye(3), (0.0, 0.0, 0.0), 1.0, (0.0, 0.0, 0.0), none, 0.0, 0.0)
     n = len(types)

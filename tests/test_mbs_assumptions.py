@@ -167,3 +167,16 @@ def test_peak_amplitude_shifts_at_2_5_bar():
                 "constant_load": -0.315, "quasi_steady_speed": 0.0, "full": -3.4485}
     for name, value in expected.items():
         assert shifts[name] == pytest.approx(value, abs=0.005), name
+
+
+@pytest.mark.parametrize("dims,expected", [
+    ({"drag_link_inclination": 0.0}, [46.3557, 79.7482]),           # the gear's compliance alone (no roll steer)
+    ({"steering_gear_compliance": 0.0}, [57.2073, 87.4880]),         # roll steer alone (rigid gear)
+    ({"drag_link_inclination": 0.0, "steering_gear_compliance": 0.0}, []),
+])
+def test_steering_gear_row_split_into_compliance_and_roll_steer(dims, expected):
+    """The `rigid_steering_gear` row holds two effects; at 1.5 bar each alone makes the yaw mode unstable."""
+    from mbs_shimmy import DEFAULT_DIMENSIONS
+    family = MbsFamily(MbsModel(fidelity=Fidelity.full(), dims=DEFAULT_DIMENSIONS.replace(**dims)))
+    points = hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    assert [h.speed_kmh for h in points] == pytest.approx(expected, abs=1e-3)

@@ -34,7 +34,11 @@ def test_fidelity_parse():
     with pytest.raises(ParameterError, match="unknown assumption 'small_angle'"):
         Fidelity.parse("small_angle")
     assert [r.name for r in assumptions_table().rows] == [a.value for a in Assumption]
-    assert [name for name, _ in study_fidelities()][-1] == "full"
+    names = [name for name, _ in study_fidelities()]
+    assert names[names.index("full") + 1:] == [a.value for a in ELEMENT_ASSUMPTIONS]
+    # the first-order kinematics have no form of the new elements: a clear error, not a silent neutral value
+    with pytest.raises(ParameterError, match="small_angles .* has no first-order form of no_kingpin_inclination"):
+        MbsModel(fidelity=Fidelity.parse("small_angles")).forces(2.0 * BAR, ConstantSpeed(1.0))
 
 
 def _random_states(n, seed=3):
@@ -277,7 +281,7 @@ def test_steering_gear_in_series_and_roll_steer():
     d_phi = -rp * math.cos(eps)
     k = P.k2 / d_theta ** 2
     assert K[it, it] - P.k1 == pytest.approx(P.k2, rel=1e-7)
-    assert K[ig, ig] == pytest.approx(d.steering_gear_stiffness + k * d_phi ** 2, rel=1e-7)
+    assert K[ig, ig] == pytest.approx(1.0 / d.steering_gear_compliance + k * d_phi ** 2, rel=1e-7)
     assert K[it, ig] == pytest.approx(k * d_theta * d_phi, rel=1e-7)
     assert K[it, ip] == pytest.approx(k * d_theta * d_psi, rel=1e-6)
     assert C[ig, ig] == pytest.approx(d.steering_gear_damping + P.c2 / d_theta ** 2 * d_phi ** 2, rel=1e-9)
