@@ -27,7 +27,7 @@ from reduced_model.trajectory import SpeedSchedule
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import Fidelity
-from .simulation import simulate
+from .simulation import extended_states, simulate
 
 SETTLE = 12.0            # s
 WINDOW = 2.0             # s: several periods of either mode (5-14 Hz)
@@ -92,18 +92,21 @@ def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: F
                          pressure: float | Sequence[float], speed: float, x0: np.ndarray | None = None,
                          settle: float = SETTLE, window: float = WINDOW,
                          dims: AxleDimensions = DEFAULT_DIMENSIONS, step: float = 1e-3) -> SteadyAmplitude:
-    """Steady amplitude of the MBS at constant ``speed`` (m/s) from ``x0`` (reduced-model state order)."""
+    """Steady amplitude of the MBS at constant ``speed`` (m/s) from ``x0`` (reduced-model state order, the new
+    coordinates of the full axle at rest at zero, or all states in the extended order); ``final_state`` is in the
+    extended order, so that a continued run keeps the new coordinates."""
     x = _default_start() if x0 is None else np.asarray(x0, dtype=float)
     total = 0.0
     while True:
         traj = simulate(params, effects, fidelity, pressure, SpeedSchedule.constant(speed), x, settle, dims=dims,
                         step=step, poses=False)
         if not traj.complete:
-            return SteadyAmplitude(speed, math.nan, math.nan, False, traj.x[-1].copy() if len(traj.t) else x,
+            return SteadyAmplitude(speed, math.nan, math.nan, False,
+                                   extended_states(traj)[-1].copy() if len(traj.t) else x,
                                    f"MBS run stopped: {traj.message}")
         total += settle
         a1, ap, settled = _amplitudes(traj.t, traj.x, settle, window)
-        x = traj.x[-1].copy()
+        x = extended_states(traj)[-1].copy()
         if settled or total >= MAX_TIME:
             return SteadyAmplitude(speed, a1, ap, settled, x, f"{traj.integrator}, {total:g} s")
 

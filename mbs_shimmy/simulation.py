@@ -180,6 +180,13 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
                       extra=extra)
 
 
+def extended_states(trajectory: Trajectory) -> np.ndarray:
+    """(N, n) states of an MBS trajectory in the extended order: the reduced model's eight, then the new
+    coordinates and rates (:attr:`mbs_shimmy.system.Layout.state_names`)."""
+    extra = trajectory.extra.get("extra_states", {})
+    return np.column_stack([trajectory.x] + [np.asarray(v) for v in extra.values()])
+
+
 def _stored(system) -> tuple[np.ndarray, np.ndarray]:
     data = {name: np.asarray(system.mbs.GetSensorStoredData(s)) for name, s in system.sensors.items()}
     q = data["q"]

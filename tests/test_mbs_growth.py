@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from mbs_shimmy import Fidelity, MbsFamily, MbsModel, simulate
+from mbs_shimmy.simulation import extended_states
 from reduced_model.hopf import hopf_points
-from reduced_model.model import N_STATES
 from reduced_model.trajectory import SpeedSchedule
 
 BAR, KMH = 1e5, 1 / 3.6
@@ -33,8 +33,7 @@ def envelope_rate(family: MbsFamily, pressure: float, speed: float) -> tuple[flo
     traj = simulate(fidelity=family.model.fidelity, pressure=pressure, schedule=SpeedSchedule.constant(speed),
                     x0=x0, duration=DURATION, poses=False)
     assert traj.complete
-    names = family.state_names
-    x = np.column_stack([traj.x] + [traj.extra["extra_states"][n] for n in names[N_STATES:]])
+    x = extended_states(traj)
     z = np.abs(x @ w)
     slope = np.polyfit(traj.t, np.log(z), 1)[0]
     return float(slope), float(lam[k].real)

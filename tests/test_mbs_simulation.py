@@ -8,6 +8,7 @@ from scipy.integrate import solve_ivp
 
 from mbs_shimmy import DEFAULT_STEP, Fidelity, MbsFamily, MbsModel, convergence, simulate
 from mbs_shimmy import forces as forces_module
+from mbs_shimmy.simulation import extended_states
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule
@@ -50,7 +51,7 @@ def test_full_simulation_matches_independent_integrator():
     traj = simulate(fidelity=Fidelity.full(), pressure=p, schedule=SpeedSchedule.constant(V), x0=x0, duration=0.6,
                     poses=False)
     xr = ref.sol(traj.t).T[:, L.y_to_x]
-    xs = np.column_stack([traj.x] + [traj.extra["extra_states"][n] for n in L.state_names[8:]])
+    xs = extended_states(traj)
     assert np.all(np.max(np.abs(xs - xr), axis=0) <= 1e-4 * np.max(np.abs(xr), axis=0))
 
 
