@@ -3,7 +3,8 @@
 For one pressure (and pressure effects, Table 1 overrides), rows are each assumption of the paper switched off
 alone (all others on) and ``full`` (all off), each against the reduced model; then each new geometric element
 (kingpin inclination, raised roll axis, lateral mounts, Ackermann arms, steering gear), measured as ``full``
-against ``full`` without that element (its "reduced" side is then the MBS without the element).  Per row: every Hopf point of the MBS against the reduced model's, matched
+against ``full`` without that element (its "reduced" side is then the MBS without the element).  Per row: every
+Hopf point of the MBS against the reduced model's, matched
 one-to-one by speed and frequency (a mode that vanishes or appears is unmatched: the other side is None), and
 the steady theta1 amplitude of the MBS at the speed where the reduced model's limit cycle is largest, against the
 reduced model's there (:mod:`mbs_shimmy.limit_cycle`).  The Hopf points of both models come from the same

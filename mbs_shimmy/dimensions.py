@@ -62,17 +62,18 @@ class AxleDimensions:
                                                  "deg): their lines meet at the rear axle of a 4.5 m wheelbase "
                                                  "(Ackermann's condition, atan((L/2 - l) / 4.5 m)); 0 = parallel arms",
                    range=(-0.5, 0.5), plausible=(0.12, 0.2), neutral=0.0)
-    roll_axis_above_wheel_centre: float = _d(0.1, "m", "height of the axle's roll axis above the wheel centres: a "
-                                                       "leaf-sprung beam axle rolls about the spring seats, 0.05-0.2 m "
-                                                       "above the axle (roll centre 0.5 m above the road with R = 0.4 m)",
+    roll_axis_above_wheel_centre: float = _d(0.1, "m", "height of the axle's roll axis above the wheel centres: "
+                                                       "a leaf-sprung beam axle rolls about the spring seats, "
+                                                       "0.05-0.2 m above the axle (roll centre 0.5 m above the road "
+                                                       "with R = 0.4 m)",
                    range=(-0.3, 1.0), plausible=(0.05, 0.25), neutral=0.0)
-    axle_mount_lateral_compliance: float = _d(1.0e-6, "m/N", "lateral compliance of both leaf springs at the axle seats "
-                                                            "together: 1 / (1.0 MN/m), an order-of-magnitude value "
-                                                            "(0.3-1.5 kN/mm per spring); 0 = rigid mounts",
+    axle_mount_lateral_compliance: float = _d(1.0e-6, "m/N", "lateral compliance of both leaf springs at the axle "
+                                                            "seats together: 1 / (1.0 MN/m), an order-of-magnitude "
+                                                            "value (0.3-1.5 kN/mm per spring); 0 = rigid mounts",
                    range=(0.0, 1e-4), plausible=(0.33e-6, 2.5e-6), neutral=0.0)
-    axle_mount_lateral_damping: float = _d(1.6e3, "N s/m", "lateral damping of the axle mounts: 5 % of critical on the "
-                                                           "axle's 240 kg (inter-leaf friction, bushes); no effect with "
-                                                           "rigid mounts",
+    axle_mount_lateral_damping: float = _d(1.6e3, "N s/m", "lateral damping of the axle mounts: 5 % of critical "
+                                                           "on the axle's 240 kg (inter-leaf friction, bushes); no "
+                                                           "effect with rigid mounts",
                    range=(0.0, 1e6), plausible=(0.5e3, 5e3))
     steering_gear_compliance: float = _d(1.25e-5, "rad/(N m)", "torsional compliance of the steering gear's output "
                                                                "(Pitman) shaft to the frame, 1 / (80 kN m/rad): column "

@@ -1,11 +1,12 @@
 """Geometry of the multibody axle: the constant vectors at straight running that the Exudyn tree is built from.
 
 Frame: the vehicle frame, moving with the speed V along x; origin on the road below the axle centre, x forward, y
-left, z up (the paper's o-xyz, section 2).  Generalized coordinates of the kinematic tree: ``q = (psi, theta1,
-theta2)``: axle roll about the x-axis through O = (0, 0, R) (wheel-centre height), then each knuckle about its
-kingpin, which lies in the wheel's x-z plane at lateral distance l inboard of the wheel centre and is tilted
-rearward at the top by the caster angle gamma (Table 1; Figure 1 of the paper).  Wheel 1 is the right wheel
-(side s = -1), wheel 2 the left (s = +1), as in the reduced model.
+left, z up (the paper's o-xyz, section 2).  The axle rolls about an x-axis h above the wheel centres (h = 0 in the
+paper), each knuckle turns about its kingpin, which passes at wheel-centre height l inboard of the wheel centre and
+is tilted rearward at the top by the caster angle gamma (Table 1; Figure 1 of the paper) and inward by the kingpin
+inclination.  Wheel 1 is the right wheel (side s = -1), wheel 2 the left (s = +1), as in the reduced model.  The
+poses at any state are Exudyn's (:mod:`mbs_shimmy.system`); this module only gives the straight-running vectors
+the tree and its markers are built from, and the disc-road contact.
 
 Everything here is plain Python floats on 3-tuples: these functions run inside the Exudyn user functions, where
 numpy's per-call overhead on 3-vectors would cost more than the arithmetic.

@@ -4,13 +4,16 @@ The built-in ``ComputeODE2Eigenvalues`` / ``ComputeLinearizedSystem`` ignore fir
 angles) and are wrong for spinning wheels on redundant coordinates (``shared/notes/exudyn.md``).  Instead the
 Jacobian of the complete first-order system
 
-    y = (psi, theta1, theta2, psi', theta1', theta2', alpha1, alpha2),
+    y = (q, q', alpha1, alpha2),  q = ([y_axle], psi, theta1, theta2, [phi_gear])  (tree order),
     y' = (q', M(q)^-1 f(q, q', alpha, t), g(q, q', alpha, t))
 
 is formed from what Exudyn's solver itself evaluates at states written into the ``Current`` configuration: the
 mass matrix M (``ComputeMassMatrix``) and the right-hand side f (``ComputeODE2RHS``: joint spring-dampers, the
 tree's velocity terms, the force user function) of the tree, whose last two coordinates carry the slip angles as
-velocities with unit mass (:mod:`mbs_shimmy.system`), so that their rows of M^-1 f are g.  The derivatives are
+velocities with unit mass (:mod:`mbs_shimmy.system`), so that their rows of M^-1 f are g.  f includes the Exudyn
+connectors (tie-rod, drag link) and the joint spring-dampers of the mounts and the steering gear.  Matrices and
+states are returned in the extended order (:attr:`MbsFamily.state_names`: the reduced model's eight states, then
+the new coordinates and their rates).  The derivatives are
 fourth-order central differences (five-point stencil, step h = 1e-4 in every coordinate, rad or rad/s): the
 truncation error is of order h^4 times the fifth derivative,
 (B_y h)^4 ~ 1e-12 relative through the Magic Formula, and with all assumptions on the generalized forces are
@@ -36,7 +39,7 @@ import exudyn as exu
 import numpy as np
 
 from reduced_model.family import PRESSURE_PARAMS, pressure_at, pressure_value
-from reduced_model.model import N_STATES, Effects
+from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
@@ -133,8 +136,9 @@ class MbsFamily:
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as
-    in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in
-    the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`).
+    in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in the extended state order
+    :attr:`state_names` (the reduced model's :data:`reduced_model.model.STATE_NAMES`, then ``y_axle``,
+    ``y_axle_dot``, ``phi_gear``, ``phi_gear_dot`` where the full axle has them).
     """
 
     model: MbsModel = field(default_factory=MbsModel)

@@ -5,7 +5,7 @@ solvers evaluate the tyre states consistently at every stage, so the implicit so
 ODE1 derivative (``shared/notes/exudyn.md``) does not arise.  The default is the classical RK44 with
 h = :data:`DEFAULT_STEP` = 1 ms, sampled every millisecond like the reduced model's trajectories: at 1.5 bar and
 100 km/h its error is about 3e-6 of each state's amplitude, and halving the step changes a run by less than 1e-4
-(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/210 s) is the cheapest
+(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/240 s) is the cheapest
 setting found that stays within 1e-4 (all states, 10 s at 100 km/h; the benchmark's).  ``step`` and ``method``
 can be chosen, and :func:`convergence` compares a run with the same run at a smaller step.
 
@@ -166,7 +166,8 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
                    f"state {_describe(watch.state[layout.y_to_x], layout)}")
     elif not ok:
         status = SimulationStatus.SOLVER_FAILED
-        last = f"last stored t = {t[-1]:.6g} s, state {_describe(y[-1][layout.y_to_x], layout)}" if len(t) else "no output"
+        last = (f"last stored t = {t[-1]:.6g} s, state {_describe(y[-1][layout.y_to_x], layout)}" if len(t)
+                else "no output")
         message = f"{message or 'Exudyn solver failed'}; {last}"
     x_ext = y[:, layout.y_to_x] if len(t) else np.zeros((0, layout.n))
     x = x_ext[:, :N_STATES]

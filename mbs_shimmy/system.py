@@ -334,7 +334,8 @@ def build_system(params: ShimmyParameters, effects: Effects, fidelity: Fidelity,
             drag_end = marker(i("phi_gear"), (0.0, 0.0, -g.pitman_arm))
         else:
             ground = mbs.AddObject(ObjectGround())
-            drag_end = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=list(g.drag_link_frame_point())))
+            drag_end = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground,
+                                                        localPosition=list(g.drag_link_frame_point())))
         system.markers = Markers(knuckles, tie, (drag_arm, drag_end), marker(i("psi"), (0.0, 0.0, 0.0)))
     if forces.linear:
         # the paper's linkage: k1 (theta2 - theta1), c1 (...) and k2 theta2, c2 theta2' on the coordinates

@@ -9,7 +9,8 @@ Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; it
   pressure effect ``vs``; Fz_static is Table 1's F_z, so at straight running the loaded radius is R), and the
   rolling resistance -f Fz along the wheel heading x_w;
 * lateral spring -k4 y along the wheel's lateral direction y_w, y = lateral displacement of P from its
-  straight-running position (Table 1's k4);
+  straight-running position (Table 1's k4), only with the assumption ``separate_lateral_spring``: otherwise the
+  lateral compliance is the relaxation equation's carcass spring K/sigma alone (counted once);
 * Magic-Formula lateral force F_y(alpha) of :mod:`reduced_model.tyre` (eqs. 2.4-2.9) along y_w, acting at the
   pneumatic trail t(alpha) behind P, i.e. with the moment -t F_y about the road normal; ``pt`` makes the trail
   slip-dependent (4.2-4.8);
