@@ -52,16 +52,18 @@ class AxleDimensions:
     drag_link_length: float = _d(0.8, "m", "drag link from the arm forward to the steering gear on the frame",
                    range=(0.1, 3.0), plausible=(0.5, 1.2))
     # --- the geometry of issue 9: each entry has a neutral value at which its element has no effect -----------
-    kingpin_inclination: float = _d(0.1222, "rad", "kingpin inclination (7 deg), the kingpin's inward tilt at the "
-                                                   "top seen from the front; truck beam axles use 5-9 deg (Reimpell, "
-                                                   "Stoll & Betzler, The Automotive Chassis, 2001, sec. 3.6); with "
-                                                   "the hub offset l it gives the scrub radius l - R tan(inclination) "
-                                                   "(21 mm with Table 1)",
-                   range=(0.0, 0.35), plausible=(0.087, 0.157), neutral=0.0)
-    steering_arm_angle: float = _d(0.161, "rad", "inward angle of the tie-rod arms from the vehicle's x-axis (9.2 "
-                                                 "deg): their lines meet at the rear axle of a 4.5 m wheelbase "
-                                                 "(Ackermann's condition, atan((L/2 - l) / 4.5 m)); 0 = parallel arms",
-                   range=(-0.5, 0.5), plausible=(0.12, 0.2), neutral=0.0)
+    kingpin_inclination: float = _d(math.radians(7.0), "rad",
+                                    "kingpin inclination (7 deg), the kingpin's inward tilt at the top seen from the "
+                                    "front; truck beam axles use 5-9 deg (Reimpell, Stoll & Betzler, The Automotive "
+                                    "Chassis, 2001, sec. 3.6); with the hub offset l it gives the scrub radius "
+                                    "l - R tan(inclination) (21 mm with Table 1)",
+                   range=(0.0, math.radians(20.0)), plausible=(math.radians(5.0), math.radians(9.0)), neutral=0.0)
+    steering_arm_angle: float = _d(math.atan(0.734 / 4.5), "rad",
+                                   "inward angle of the tie-rod arms from the vehicle's x-axis (9.26 deg): their lines "
+                                   "meet at the rear axle of a 4.5 m wheelbase (Ackermann's condition, "
+                                   "atan((L/2 - l) / 4.5 m)); 0 = parallel arms",
+                   range=(math.radians(-30.0), math.radians(30.0)), plausible=(math.radians(7.0), math.radians(11.5)),
+                   neutral=0.0)
     roll_axis_above_wheel_centre: float = _d(0.1, "m", "height of the axle's roll axis above the wheel centres: "
                                                        "a leaf-sprung beam axle rolls about the spring seats, "
                                                        "0.05-0.2 m above the axle (roll centre 0.5 m above the road "
@@ -91,10 +93,12 @@ class AxleDimensions:
     pitman_arm: float = _d(0.2, "m", "Pitman arm from the steering-gear shaft down to the drag-link ball; no effect "
                                      "with a rigid gear",
                    range=(0.05, 1.0), plausible=(0.15, 0.3))
-    drag_link_inclination: float = _d(0.0873, "rad", "rise of the drag link towards the steering gear seen from the "
-                                                     "side (5 deg): the gear sits on the frame above the steering arm; "
-                                                     "with the axle's roll it steers the left wheel (roll steer)",
-                   range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
+    drag_link_inclination: float = _d(math.radians(5.0), "rad",
+                                      "rise of the drag link towards the steering gear seen from the side (5 deg): the "
+                                      "gear sits on the frame above the steering arm; with the axle's roll it steers "
+                                      "the left wheel (roll steer)",
+                   range=(math.radians(-30.0), math.radians(30.0)), plausible=(0.0, math.radians(12.0)),
+                   neutral=0.0)
 
     def __post_init__(self) -> None:
         for f_ in dataclasses.fields(self):
