@@ -947,8 +947,8 @@ def draw_phase_portrait(store: DiagramStore) -> Drawing:
     return Drawing(fig, tuple(notes), complete)
 
 
-# Figure 18: the window of the two-parameter cycle continuation (tests/test_cycles_curves.py).  Below 0.2 bar the
-# torus curves need more than 300 continuation steps (over 25 s each) and do not reach the window's edge.
+# Figure 18: the window of the two-parameter cycle continuation (tests/test_cycles_curves.py).  Below 0.2 bar T1
+# and T2 run on to 0.05 bar without meeting (tests/test_cycle_curve_ends.py, slow): the paper's HH2 is not there.
 FIG18_EFFECTS = "hcl,pt"
 FIG18_WINDOW = (0.2, 0.6, 100.0, 300.0)     # bar, bar, km/h, km/h
 FIG18_VIEW_KMH = (130.0, 230.0)
@@ -993,7 +993,10 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
         ends = [e for e in curve.ends if e is not None]
         for v, q in ends:
             ax.plot(v * 3.6, q / BAR, "*", color=colour, ms=9, zorder=6)
-        end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / BAR:.4f} bar" for v, q in ends)
+        located = {(p.speed, p.value): p for p in curve.end_points if p is not None}
+        end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / BAR:.4f} bar"
+                             + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
+                                if (v, q) in located else " (extrapolated)") for v, q in ends)
         notes.append(f"{text} ({curve.kind.value}, from {point.speed * 3.6:.2f} km/h at {FIG18_START_BAR:g} bar): "
                      f"{end_text or 'no zero-amplitude end'}; {' | '.join(curve.messages)}")
         complete &= curve.complete
@@ -1009,9 +1012,10 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     ax.set_ylabel("inflation pressure $p_i$ [bar]")
     ax.legend(fontsize=8, loc="upper right", framealpha=0.9)
     ax.set_title("Fig. 18: enlarged (V, $p_i$) diagram, effects HCL + PT; shaded: straight running stable\n"
-                 f"stars: cycle curves end at zero amplitude; dotted: {FIG18_START_BAR:g} bar (where they start)",
+                 f"stars: cycle curves end at HH1 and DH (located); dotted: {FIG18_START_BAR:g} bar (where they start)",
                  fontsize=9)
-    notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; the paper's HH2, where "
-                 "they meet again, is below it (not computed)")
+    notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; continued down to 0.05 bar "
+                 "they neither cross nor end at a Hopf-Hopf point (they pass the two Hopf-Hopf points of 0.1007 bar "
+                 "with max|theta1| 2.6 and 2.1 deg): no HH2 where the paper draws one (README, differences)")
     notes += _incomplete_notes("", hopf)
     return Drawing(fig, tuple(notes), complete)

@@ -105,7 +105,7 @@ def add_model_options(p: argparse.ArgumentParser, pressure_required: bool = True
 
 def resolve_pressures(args: argparse.Namespace) -> None:
     """Fill ``args.pressure_right``/``pressure_left`` (bar) and ``args.pressure`` (their mean) from the options."""
-    if getattr(args, "_pressures_resolved", False) or not hasattr(args, "pressure_left"):
+    if getattr(args, "_pressures_resolved", False) or not hasattr(args, "pressure_required"):
         return
     both, left, right = args.pressure, args.pressure_left, args.pressure_right
     if both is None and (left is None or right is None):

@@ -46,6 +46,8 @@ class Report:
     sections: tuple[Section, ...]
     quick: bool
     notes: tuple[str, ...] = field(default=())
+    plan: object = None          # comparisons.verify_plan.Plan
+    axle: object = None          # comparisons.axle.Axle
 
     @property
     def failed(self) -> bool:
@@ -74,9 +76,14 @@ def markdown_table(columns, rows: list[dict]) -> str:
 
 
 def render_markdown(report: Report) -> str:
-    out = ["# shimmy verification report", "",
-           f"Mode: {'quick' if report.quick else 'full'}. Overall: "
-           f"{'FAILED' if report.failed else 'all equivalence checks passed'}.", "",
+    out = ["# shimmy verification report", ""]
+    if report.axle is not None:
+        out += [f"Axle: {report.axle.label()}" + (f" (sha256 {report.axle.sha256[:12]})" if report.axle.sha256
+                                                  else "") + ".", ""]
+        if report.axle.inherited:
+            out += [f"Inherited from the paper's axle: {', '.join(report.axle.inherited)}.", ""]
+    out += [f"Mode: {'quick' if report.quick else 'full'}. Overall: "
+            f"{'FAILED' if report.failed else 'all equivalence checks passed'}.", "",
            "## Summary", "",
            markdown_table(["section", "checks", "pass", "known differences", "fail", "info"], report.summary_rows()),
            ""]

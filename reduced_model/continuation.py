@@ -19,6 +19,7 @@ import numpy as np
 from .special_points import BranchStatus
 
 Residual = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]  # u -> (G(u), DG(u))
+Blocks = tuple[slice, ...] | None                                 # blocks of unknowns with their own scales
 
 
 @dataclass(frozen=True)
@@ -58,9 +59,20 @@ def tangent(J: np.ndarray, w: np.ndarray, previous: np.ndarray | None) -> np.nda
     return t
 
 
+def step_norm(du: np.ndarray, w: np.ndarray, blocks: Blocks) -> float:
+    """Size of a Newton step: the largest weighted norm over the blocks of unknowns (the whole vector as one
+    block when ``blocks`` is None), so that no block's convergence hides behind another's scale."""
+    if blocks is None:
+        return float(np.linalg.norm(du * w))
+    return max(float(np.linalg.norm(du[b] * w[b])) for b in blocks)
+
+
 def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray, settings: ContinuationSettings,
-            anchor: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, int] | None:
-    """Newton on [G(u); <t, u - u_pred>_W] = 0.  Returns (u, DG(u), iterations) or None on failure."""
+            anchor: np.ndarray | None = None, blocks: Blocks = None) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """Newton on [G(u); <t, u - u_pred>_W] = 0.  Returns (u, DG(u), iterations) or None on failure.
+
+    Converged when every block of the step (``blocks``, slices of u, each measured in its own weights) is below
+    ``settings.newton_tol``."""
     u = u_pred.copy()
     row = t * w * w
     for it in range(1, settings.newton_max_iter + 1):
@@ -70,7 +82,7 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
         F = np.concatenate([G, [row @ (u - u_pred)]])
         du = _solve_bordered(J, row, -F)
         u = u + du
-        if np.linalg.norm(du * w) < settings.newton_tol:
+        if step_norm(du, w, blocks) < settings.newton_tol:
             G, J = residual(u)
             if np.max(np.abs(G)) < 1e-7 * (1.0 + np.max(np.abs(u))):
                 return u, J, it
@@ -91,28 +103,41 @@ class Branch:
     status: BranchStatus = BranchStatus.MAX_STEPS
     message: str = ""
 
+    blocks: tuple[slice, ...] | None = None
+
     def point_at(self, k: int, s: float) -> tuple[np.ndarray, np.ndarray]:
-        """Corrected point at arclength s from point k along its tangent, and the tangent there."""
+        """Corrected point at arclength s from point k along its tangent, and the tangent there (only for the
+        last step: after a re-discretisation earlier points may have another size)."""
         u_pred = self.points[k] + s * self.tangents[k]
-        result = correct(self.residual, u_pred, self.tangents[k], self.weights, self.settings)
+        result = correct(self.residual, u_pred, self.tangents[k], self.weights, self.settings, blocks=self.blocks)
         if result is None:
             raise RuntimeError(f"corrector failed at s = {s:.3g} after point {k}")
         u, J, _ = result
         return u, tangent(J, self.weights, self.tangents[k])
 
 
-def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | None, weights: np.ndarray,
+def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | None, weights,
                    settings: ContinuationSettings = ContinuationSettings(),
                    accept: Callable[[Branch], str | None] | None = None,
-                   renormalize: Callable[[np.ndarray], np.ndarray] | None = None) -> Branch:
+                   renormalize: Callable[[np.ndarray], object] | None = None, blocks=None,
+                   step_bound: Callable[[np.ndarray, np.ndarray], float] | None = None) -> Branch:
     """Follow G(u) = 0 from u0 (already a solution) in ``direction``.
 
     ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`BranchStatus`
     value name (with optional ': message') to stop.  ``renormalize`` maps an accepted point to an equivalent
-    one (same solution, new phase/normalisation), or returns None to keep it,; the residual must be consistent with the renormalised point.
+    one (same solution, new phase/normalisation or a new discretisation), or returns None to keep it; it may
+    return (u, previous tangent in u's layout) when the number of unknowns changed.  The residual must be
+    consistent with the renormalised point.  ``weights`` and ``blocks`` (slices of u for the Newton test, see
+    :func:`correct`) may be callables, re-read after every renormalisation.  ``step_bound(u_old, u_new)`` is the
+    size of a step relative to a bound the caller sets (e.g. on one parameter): a step above 1 is retried
+    shorter, and the next step is not predicted longer than the bound allows.
     """
-    w = np.asarray(weights, dtype=float)
-    branch = Branch(residual=residual, weights=w, settings=settings)
+    def current():
+        w_ = np.asarray(weights() if callable(weights) else weights, dtype=float)
+        return w_, (blocks() if callable(blocks) else blocks)
+
+    w, blk = current()
+    branch = Branch(residual=residual, weights=w, settings=settings, blocks=blk)
     G, J = residual(u0)
     if np.max(np.abs(G)) > 1e-6 * (1.0 + np.max(np.abs(u0))):
         branch.status, branch.message = BranchStatus.NEWTON_FAILED, "start point is not a solution"
@@ -127,13 +152,17 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     for _ in range(settings.max_steps):
         u, t = branch.points[-1], branch.tangents[-1]
         while True:
-            result = correct(residual, u + ds * t, t, w, settings)
+            result = correct(residual, u + ds * t, t, w, settings, blocks=blk)
             if result is not None:
                 u_new, J_new, iters = result
                 t_new = tangent(J_new, w, t)
                 turn = np.arccos(np.clip(np.dot(t_new * w, t * w), -1.0, 1.0))
-                if turn <= settings.max_turn:
+                ratio = step_bound(u, u_new) if step_bound is not None else 0.0
+                if turn <= settings.max_turn and ratio <= 1.0:
                     break
+                if turn <= settings.max_turn and ds / ratio >= settings.ds_min:
+                    ds = 0.95 * ds / ratio
+                    continue
             ds *= 0.5
             if ds < settings.ds_min:
                 branch.status = BranchStatus.STEP_UNDERFLOW
@@ -152,9 +181,17 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
             # After the events of this step are located: they need the residual the step was computed with.
             renormalized = renormalize(branch.points[-1])
             if renormalized is not None:
+                previous = branch.tangents[-1]
+                if isinstance(renormalized, tuple):
+                    renormalized, previous = renormalized
+                w, blk = current()
+                branch.weights, branch.blocks = w, blk
                 branch.points[-1] = renormalized
-                branch.tangents[-1] = tangent(residual(renormalized)[1], w, branch.tangents[-1])
-        ds = min(ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6), settings.ds_max)
+                branch.tangents[-1] = tangent(residual(renormalized)[1], w, previous)
+        ds_next = ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6)
+        if step_bound is not None and ratio > 0.0:
+            ds_next = min(ds_next, 0.95 * ds / ratio)
+        ds = min(ds_next, settings.ds_max)
     branch.status = BranchStatus.MAX_STEPS
     branch.message = f"stopped after {settings.max_steps} steps"
     return branch

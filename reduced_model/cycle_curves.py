@@ -16,8 +16,11 @@ augmented system.  What is left is one scalar equation in two unknowns,
 continued by the pseudo-arclength engine (:mod:`reduced_model.continuation`) with its 1 x 2 Jacobian from
 forward differences of phi (each needs one more inner solve).  The curves run until they leave the (V, q)
 window, or the amplitude vanishes: a fold curve then ends at a generalized Hopf (Bautin) point of straight
-running, a torus curve at a Hopf-Hopf point (Kuznetsov 2004, sections 8.3 and 8.6), which gives an independent
-check against :mod:`reduced_model.hopf_curves`.
+running, a torus curve at a Hopf-Hopf point (Kuznetsov 2004, sections 8.3 and 8.6).  That end point is not taken
+from the extrapolation to zero amplitude: the Hopf curve through the extrapolated point is continued in a small
+window around it (:func:`reduced_model.hopf_curves.hopf_curve`) and the codimension-two point is located there
+by its own test function (l1 = 0 for a generalized Hopf point, a second eigenvalue pair crossing the imaginary
+axis for a Hopf-Hopf point), to the Hopf continuation's accuracy; the extrapolation only says where to look.
 """
 
 from __future__ import annotations
@@ -28,11 +31,13 @@ import numpy as np
 import scipy.optimize
 
 from .continuation import Branch, ContinuationSettings, continue_curve, correct, tangent
-from .cycles import SPEED, SPEED_SCALE, CyclePoint, CycleProblem, CycleSettings, classify_multipliers, state_scales
+from .cycles import SPEED, CyclePoint, CycleProblem, CycleSettings, classify_multipliers, speed_scale, state_scales
 from .family import SpeedFamily
-from .hopf import MIN_SPEED
+from .hopf import MIN_SPEED, hopf_points
 from .parameters import ParameterError
-from .special_points import BranchStatus, ConvergenceError, PointKind, SpecialPoint
+from .special_points import BranchStatus, ConvergenceError, PointKind, PointStatus, SpecialPoint
+
+END_KIND = {PointKind.TORUS: PointKind.HOPF_HOPF, PointKind.CYCLE_FOLD: PointKind.GENERALIZED_HOPF}
 
 INNER_MAX_ITER = 12
 INNER_TOL_SQRT = 1e-6      # weighted Newton step after which the inner cycle solve stops (error ~ step^2)
@@ -56,6 +61,7 @@ class CycleCurve:
     status: tuple[BranchStatus, BranchStatus]
     messages: tuple[str, str]
     ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (V, q) where the amplitude vanishes
+    end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
 
     @property
     def complete(self) -> bool:
@@ -71,7 +77,7 @@ class _CurveProblem:
         self.kind = kind
         omega = 2.0 * np.pi / cycle.period
         self.problem = CycleProblem(family, SPEED, cycle.speed, cycle.value, cycle.orbit,
-                                    state_scales(omega, cycle.orbit.n), SPEED_SCALE, settings)
+                                    state_scales(family, omega), speed_scale(family), settings)
         self.anchor = self.problem.pack(cycle.orbit, cycle.speed)
         self.w = self.problem.weights()
         c0, _ = self.problem.mean_square(self.anchor)
@@ -113,7 +119,7 @@ class _CurveProblem:
             rhs = np.zeros(len(u))
             rhs[-1] = 1.0
             dV_dc = J.solve_bordered(grad, rhs)[-1]
-            return float(dV_dc * self.c_scale / SPEED_SCALE)
+            return float(dV_dc * self.c_scale / p.p_scale)
         rest, _ = classify_multipliers(p.multipliers(u))
         pair = rest[rest.imag > 1e-7]
         if len(pair) == 0:
@@ -179,6 +185,7 @@ def _follow(curve: _CurveProblem, y0: np.ndarray, direction: np.ndarray, lo: flo
             settings: ContinuationSettings):
     points: list[CyclePoint] = []
     end: list[tuple[float, float]] = []
+    end_point: list[SpecialPoint] = []
     start_state = (curve.anchor.copy(), curve.pair_angle)
     curve.problem.set_reference(curve.problem.orbit_of(curve.anchor))
 
@@ -211,10 +218,20 @@ def _follow(curve: _CurveProblem, y0: np.ndarray, direction: np.ndarray, lo: flo
             a, b = points[-2], points[-1]
             ca, cb = branch.points[-2][0], y[0]
             lam = cb / (cb - ca) if cb != ca else 0.0
-            end.append((b.speed + lam * (b.speed - a.speed), b.value + lam * (b.value - a.value)))
+            guess = (b.speed + lam * (b.speed - a.speed), b.value + lam * (b.value - a.value))
             what = "Hopf-Hopf" if curve.kind is PointKind.TORUS else "generalized Hopf"
-            return (f"complete: the amplitude vanishes at {end[0][0] * 3.6:.3f} km/h, "
-                    f"{curve.problem.family.param} = {end[0][1]:.6g} (a {what} point)")
+            param = curve.problem.family.param
+            located = locate_end(curve.problem.family, curve.kind, guess, b, abs(b.speed - a.speed),
+                                 abs(b.value - a.value), vmin, vmax)
+            if located is None:
+                end.append(guess)
+                return (f"complete: the amplitude vanishes near {guess[0] * 3.6:.3f} km/h, {param} = "
+                        f"{guess[1]:.6g} (extrapolated; no {what} point located there)")
+            end.append((located.speed, located.value))
+            end_point.append(located)
+            return (f"complete: ends at the {what} point located at {located.speed * 3.6:.6f} km/h, {param} = "
+                    f"{located.value:.8g} (zero amplitude extrapolated {abs(guess[0] - located.speed) * 3.6:.1e} "
+                    f"km/h, {abs(guess[1] - located.value):.1e} away)")
         return None
 
     weights = np.array([1.0, 1.0 / curve.q_scale])
@@ -226,7 +243,7 @@ def _follow(curve: _CurveProblem, y0: np.ndarray, direction: np.ndarray, lo: flo
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last point at {points[-1].speed * 3.6:.3f} km/h, " \
                   f"{curve.problem.family.param} = {points[-1].value:.6g})"
-    return points, branch.status, message, (end[0] if end else None)
+    return points, branch.status, message, (end[0] if end else None), (end_point[0] if end_point else None)
 
 
 def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float, hi: float, vmin: float,
@@ -247,9 +264,40 @@ def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float,
     weights = np.array([1.0, 1.0 / curve.q_scale])
     t0 = tangent(curve(y0)[1], weights, None)
     halves = [_follow(curve, y0, s * t0, lo, hi, vmin, vmax, continuation) for s in (1.0, -1.0)]
-    (fwd, s_fwd, m_fwd, e_fwd), (bwd, s_bwd, m_bwd, e_bwd) = halves
+    (fwd, s_fwd, m_fwd, e_fwd, p_fwd), (bwd, s_bwd, m_bwd, e_bwd, p_bwd) = halves
     pts = list(reversed(bwd[1:])) + fwd
     return CycleCurve(kind=point.kind, param=family.param,
                       speeds=np.array([p.speed for p in pts]), values=np.array([p.value for p in pts]),
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
-                      status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd), ends=(e_bwd, e_fwd))
+                      status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd), ends=(e_bwd, e_fwd),
+                      end_points=(p_bwd, p_fwd))
+
+
+def locate_end(family: SpeedFamily, kind: PointKind, guess: tuple[float, float], last: CyclePoint, dV: float,
+               dq: float, vmin: float, vmax: float) -> SpecialPoint | None:
+    """The codimension-two point of straight running where a curve of cycle bifurcations of ``kind`` ends, near
+    ``guess`` = (V, q): Hopf points at q = guess[1] within a few curve steps dV of guess[0] (the one with the
+    cycle's frequency), the Hopf curve through it continued in a window of a few steps (dV, dq) around the
+    guess, and the point of kind END_KIND[kind] located on it by its test function.  None if there is none."""
+    from .hopf_curves import hopf_curve
+
+    V0, q0 = guess
+    half_V = max(4.0 * dV, 1e-3 * abs(V0))
+    half_q = max(4.0 * dq, 1e-4 * abs(q0))
+    v_lo, v_hi = max(V0 - half_V, vmin), min(V0 + half_V, vmax)
+    try:
+        candidates = hopf_points(family, q0, v_lo, v_hi, lyapunov=False)
+    except (ParameterError, ConvergenceError):
+        return None
+    if not candidates:
+        return None
+    omega = 2.0 * np.pi / last.period
+    start = min(candidates, key=lambda h: abs(h.omega - omega))
+    try:
+        hc = hopf_curve(family, start, q0 - half_q, q0 + half_q, v_lo, v_hi)
+    except (ParameterError, ConvergenceError, np.linalg.LinAlgError):
+        return None
+    found = [p for p in hc.special_points if p.kind is END_KIND[kind] and p.status is PointStatus.LOCATED]
+    if not found:
+        return None
+    return min(found, key=lambda p: ((p.speed - V0) / half_V) ** 2 + ((p.value - q0) / half_q) ** 2)

@@ -37,23 +37,26 @@ from . import collocation as col
 from .continuation import Branch, ContinuationSettings, continue_curve, correct
 from .family import SpeedFamily
 from .hopf import MIN_SPEED, HopfPoint, hopf_points, speed_derivative
-from .model import N_STATES, STATE_NAMES
 from .parameters import ParameterError
 from .special_points import BranchStatus, ConvergenceError, PointKind, PointStatus, SpecialPoint
 
 SPEED = "speed"
-SPEED_SCALE = 10.0          # m/s per unit of arclength
-ANGLE_SCALE = 0.1           # rad per unit of arclength for the angles; rates use ANGLE_SCALE * omega
-ANGLE_STATES = np.array([name in ("theta1", "theta2", "psi", "alpha1", "alpha2") for name in STATE_NAMES])
 COMPLEX_TOL = 1e-7          # |Im mu| below this: a real multiplier
 PERIOD_LIMIT = 50.0         # period growth (relative to the start) taken as approach to a homoclinic orbit
 
 
 @dataclass(frozen=True)
 class CycleSettings:
-    intervals: int = 40
+    """``tolerance`` bounds the estimated collocation error of every orbit relative to each state's amplitude
+    (:func:`reduced_model.collocation.relative_error`); the mesh gains intervals (up to ``max_intervals``) until
+    it is met, and loses them (down to ``min_intervals``) where the estimate is far below it."""
+
+    intervals: int = 40                # at the start of a branch
     degree: int = col.DEFAULT_DEGREE
-    adapt_every: int = 3               # accepted points between mesh adaptations (AUTO's IAD)
+    adapt_every: int = 3               # accepted points between mesh redistributions (AUTO's IAD)
+    tolerance: float = 1e-6
+    min_intervals: int = 20
+    max_intervals: int = 640
     start_amplitude: float = 0.02      # first amplitude, scaled (0.02: 0.002 rad on the largest angle)
     continuation: ContinuationSettings = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.5, max_steps=400,
                                                               newton_tol=1e-7, newton_max_iter=8,
@@ -72,6 +75,14 @@ class CyclePoint:
     trivial: complex = 1.0                        # the multiplier taken as the trivial one (nearest +1)
     stable: bool = False
     orbit: col.Orbit = field(default=None, compare=False, repr=False)
+    error: float = float("nan")      # estimated collocation error relative to the amplitudes
+    tolerance: float = float("nan")  # the tolerance it was computed for
+    names: tuple[str, ...] = ()      # state names, from the problem (``family.state_names``)
+
+    @property
+    def meets_tolerance(self) -> bool:
+        """False when the mesh could not bring the error estimate below the tolerance (NaN: not checked)."""
+        return not self.error > self.tolerance
 
     @property
     def frequency_hz(self) -> float:
@@ -82,7 +93,10 @@ class CyclePoint:
         return self.speed * 3.6
 
     def max_abs(self, name: str) -> float:
-        return float(self.amplitude[STATE_NAMES.index(name)])
+        """max |x_name| over the orbit; the names come from the problem."""
+        if name not in self.names:
+            raise KeyError(f"no state '{name}' in this problem (states: {', '.join(self.names) or 'unnamed'})")
+        return float(self.amplitude[self.names.index(name)])
 
     @property
     def nontrivial(self) -> np.ndarray:
@@ -101,6 +115,7 @@ class CycleBranch:
     message: str
     start: HopfPoint | None = None              # Hopf point the branch was born at
     end: HopfPoint | None = None                # Hopf point it returned to, if any
+    user_points: tuple[CyclePoint, ...] = ()    # orbits at the requested values of the free parameter
 
     @property
     def complete(self) -> bool:
@@ -143,12 +158,16 @@ class CycleDiagram:
         return tuple(p for p in self.special_points if p.kind is kind)
 
 
-def state_scales(omega: float, n: int = N_STATES) -> np.ndarray:
-    """Typical size of each state for norms and mesh monitors: for the shimmy model, angles and rates at
-    frequency omega; for any other vector field (n != 8) ANGLE_SCALE for every state."""
-    if n != N_STATES:
-        return np.full(n, ANGLE_SCALE)
-    return np.where(ANGLE_STATES, ANGLE_SCALE, ANGLE_SCALE * omega)
+def state_scales(family, omega: float) -> np.ndarray:
+    """Typical size of each state for norms and mesh monitors, from the problem: ``family.state_scales(omega)``
+    when the family defines it (oscillation at omega rad/s), otherwise 1 for every state."""
+    fun = getattr(family, "state_scales", None)
+    return np.asarray(fun(omega), float) if fun is not None else np.ones(family.n)
+
+
+def speed_scale(family) -> float:
+    """Speed per unit of arclength, from the problem (``family.speed_scale``), otherwise 1."""
+    return float(getattr(family, "speed_scale", 1.0))
 
 
 def classify_multipliers(mu: np.ndarray) -> tuple[np.ndarray, complex]:
@@ -320,44 +339,92 @@ class CycleProblem:
         V, q = self.parameters(u[self.size + 1])
         mu = self.multipliers(u)
         rest, trivial = classify_multipliers(mu)
-        return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=orbit.maxima(), multipliers=mu,
-                          trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit)
+        amplitude = orbit.maxima()
+        return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
+                          trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
+                          error=col.relative_error(orbit, self.scales, amplitude),
+                          tolerance=self.settings.tolerance,
+                          names=tuple(getattr(self.family, "state_names", ())))
+
+    def needed_intervals(self, orbit: col.Orbit) -> int:
+        """Intervals for ``orbit`` to meet the tolerance: more when the estimate exceeds it, fewer (at most
+        halved) when it is below 1/20 of it, within [min_intervals, max_intervals]."""
+        st = self.settings
+        N = orbit.intervals
+        err = col.relative_error(orbit, self.scales)
+        if err > st.tolerance or not np.isfinite(err):
+            N = col.refined_intervals(N, err, st.tolerance, orbit.degree)
+        elif err < 0.05 * st.tolerance:
+            factor = (max(err, 1e-300) / (0.5 * st.tolerance)) ** (1.0 / (orbit.degree + 1))
+            N = int(np.ceil(N * max(factor, 0.5)))
+        return int(min(max(N, st.min_intervals), st.max_intervals))
 
     def scaled_rms(self, u: np.ndarray) -> float:
         """Size of the orbit in the weighted norm (zero at a Hopf point)."""
         return float(np.sqrt(np.sum(self.orbit_of(u).mean_square() / self.scales ** 2)))
 
     # --- between steps -------------------------------------------------------------------------------
-    def renormalize(self, u: np.ndarray) -> np.ndarray | None:
-        """Every ``adapt_every`` accepted points: adapt the mesh and make the current orbit the phase reference
-        (AUTO's IAD; in between the reference is a recent orbit, which fixes the phase just as well).
+    def renormalize(self, u: np.ndarray):
+        """Every ``adapt_every`` accepted points, and at once when the orbit misses the error tolerance: adapt
+        the mesh (number of intervals from :meth:`needed_intervals`, distribution by equidistribution) and make
+        the current orbit the phase reference (AUTO's IAD; in between the reference is a recent orbit, which
+        fixes the phase just as well).
 
         After re-meshing, the interpolated orbit is corrected on the new mesh (Newton on the hyperplane through
         it, orthogonal to the interpolated tangent), so that the branch stays on solutions of the discretisation
-        actually used.  Returns None when nothing changed.
+        actually used.  Returns None when nothing changed, else (new point, previous tangent carried over to the
+        new mesh) for the continuation to orient its tangent.
         """
         self.steps_since_adapt += 1
-        if self.steps_since_adapt < self.settings.adapt_every or self.last_tangent is None:
+        if self.last_tangent is None:
+            return None
+        orbit = self.orbit_of(u)
+        N = self.needed_intervals(orbit)
+        if N <= orbit.intervals and self.steps_since_adapt < self.settings.adapt_every:
             return None
         self.steps_since_adapt = 0
-        orbit = self.orbit_of(u)
-        new_mesh = col.adapted_mesh(orbit, self.scales)
-        if col.mesh_quality(self.mesh, new_mesh) > 0.05:
-            t_orbit = col.Orbit(mesh=self.mesh, nodes=self.last_tangent[:self.size].reshape(-1, self.n),
-                                period=1.0, degree=self.degree)
-            moved = col.remesh(orbit, new_mesh)
-            old_reference = self.reference
-            self.set_reference(moved)
-            u_new = self.pack(moved, u[self.size + 1])
-            t_new = np.concatenate([col.remesh(t_orbit, new_mesh).nodes.ravel(), self.last_tangent[-2:]])
-            result = correct(self, u_new, t_new, self.weights(), self.settings.continuation)
-            if result is not None:
-                u = result[0]
-                orbit = self.orbit_of(u)
-            else:
-                self.set_reference(old_reference)  # keep the old mesh
+        new_mesh = col.adapted_mesh(orbit, self.scales, intervals=N)
+        if N != orbit.intervals or col.mesh_quality(self.mesh, new_mesh) > 0.05:
+            return self.move_to_mesh(u, self.last_tangent, new_mesh)
         self.set_reference(orbit)
+        return u, self.last_tangent
+
+    def move_to_mesh(self, u: np.ndarray, t: np.ndarray, mesh: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The solution u interpolated onto ``mesh`` and corrected there by Newton on the hyperplane through it
+        orthogonal to t (carried over too); on failure the old mesh and point are kept.  Returns (u, t)."""
+        orbit = self.orbit_of(u)
+        t_orbit = col.Orbit(mesh=self.mesh, nodes=t[:self.size].reshape(-1, self.n), period=1.0,
+                            degree=self.degree)
+        moved = col.remesh(orbit, mesh)
+        old_reference = self.reference
+        self.set_reference(moved)
+        u_new = self.pack(moved, u[-1])
+        t_new = np.concatenate([col.remesh(t_orbit, mesh).nodes.ravel(), t[-2:]])
+        result = correct(self, u_new, t_new, self.weights(), self.settings.continuation,
+                         blocks=self.blocks_of_unknowns())
+        if result is None:
+            self.set_reference(old_reference)
+            return u, t
+        self.set_reference(self.orbit_of(result[0]))
+        return result[0], t_new
+
+    def meet_tolerance(self, u: np.ndarray, t: np.ndarray, rounds: int = 4) -> np.ndarray:
+        """Refine the mesh of a single solution (at the start of a branch, or at a fixed parameter) until its
+        error estimate meets the tolerance or max_intervals is reached; t fixes the correcting hyperplane."""
+        for _ in range(rounds):
+            orbit = self.orbit_of(u)
+            N = self.needed_intervals(orbit)
+            if N <= orbit.intervals:
+                break
+            u_new, t = self.move_to_mesh(u, t, col.adapted_mesh(orbit, self.scales, intervals=N))
+            if len(u_new) == len(u):
+                break
+            u = u_new
         return u
+
+    def blocks_of_unknowns(self) -> tuple[slice, ...]:
+        """Node values, period, free parameter: Newton converges when each block's weighted step is small."""
+        return (slice(0, self.size), slice(self.size, self.size + 1), slice(self.size + 1, self.size + 2))
 
 
 # --------------------------------------------------------------------------------------------------------
@@ -381,14 +448,14 @@ def hopf_predictor(family: SpeedFamily, hopf: HopfPoint, amplitude: float,
     else:
         delta = -l1 * hopf.omega * z * z / mu_prime
     # Far from the normal form's validity the speed guess is useless; Newton fixes the speed anyway.
-    delta = float(np.clip(delta, -0.05 * SPEED_SCALE, 0.05 * SPEED_SCALE))
+    delta = float(np.clip(delta, -0.05 * speed_scale(family), 0.05 * speed_scale(family)))
     return hopf.speed + delta, z, q
 
 
 def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings = CycleSettings()
                   ) -> tuple[CycleProblem, np.ndarray, np.ndarray]:
     """Problem, first cycle u0 and the direction away from the Hopf point (``ConvergenceError`` on failure)."""
-    scales = state_scales(hopf.omega, family.n)
+    scales = state_scales(family, hopf.omega)
     period = 2.0 * np.pi / hopf.omega
     V1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
     mesh = col.uniform_mesh(settings.intervals)
@@ -397,17 +464,18 @@ def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings 
         return 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
 
     guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
-    problem = CycleProblem(family, SPEED, hopf.speed, hopf.value, guess, scales, SPEED_SCALE, settings)
+    problem = CycleProblem(family, SPEED, hopf.speed, hopf.value, guess, scales, speed_scale(family), settings)
     u_pred = problem.pack(guess, V1)
     w = problem.weights()
     direction = np.concatenate([guess.nodes.ravel(), [0.0, 0.0]])
     direction /= np.linalg.norm(direction * w)
-    result = correct(problem, u_pred, direction, w, settings.continuation)
+    result = correct(problem, u_pred, direction, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     if result is None:
         raise ConvergenceError(f"branch switching at the Hopf point at {hopf.speed_kmh:.3f} km/h: Newton did "
                                f"not converge on the first cycle")
     u0 = result[0]
     problem.set_reference(problem.orbit_of(u0))
+    u0 = problem.meet_tolerance(u0, np.concatenate([u0[:-2], [0.0, 0.0]]))
     u_hopf = np.concatenate([np.zeros(problem.size), [period, hopf.speed]])
     return problem, u0, u0 - u_hopf
 
@@ -425,11 +493,17 @@ def _special(kind: PointKind, problem: CycleProblem, u: np.ndarray, bracket, sta
 
 def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, lo: float, hi: float,
                   hopf: tuple[HopfPoint, ...] = (), start: HopfPoint | None = None,
-                  accept_hook: Callable[[CyclePoint], None] | None = None) -> CycleBranch:
+                  accept_hook: Callable[[CyclePoint], None] | None = None, at: tuple[float, ...] = (),
+                  max_step: float | None = None) -> CycleBranch:
     """Pseudo-arclength continuation of cycles from u0 until the free parameter leaves [lo, hi], the branch
-    returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails."""
-    ip = problem.size + 1
-    iT = problem.size
+    returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails.
+
+    ``at``: values of the free parameter where the orbits are located on the branch as events (AUTO's user
+    points, by Brent's method on the corrected branch: the continuation's own orbits), every time the branch
+    passes them; between a Hopf end and the nearest computed cycle they come from Newton at fixed parameter.
+    ``max_step`` bounds the change of the free parameter per continuation step (denser output)."""
+    # The number of unknowns changes with the mesh: the free parameter and the period are always the last two.
+    ip, iT = -1, -2
     settings = problem.settings
     records = [problem.point(u0)]
     special: list[SpecialPoint] = []
@@ -439,6 +513,9 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     start_period = float(u0[iT])
     end: list[HopfPoint] = []
     name = problem.free
+    user: list[tuple[float, CyclePoint]] = []     # (arclength, orbit)
+    targets = tuple(float(v) for v in at)
+    user += [(0.0, problem.point(u0)) for v in targets if v == u0[ip]]
 
     def where(u) -> str:
         V, q = problem.parameters(u[ip])
@@ -482,7 +559,19 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         X_old, X_new = branch.points[k][:problem.size], u_new[:problem.size]
         if np.dot(X_old, X_new) < 0.0:
             branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-            return _hopf_end(branch.points, amplitudes)
+            return _hopf_end(branch.points, amplitudes, records[-1]) or (
+                f"complete: amplitude vanishes near {where(branch.points[-1])} (a Hopf point the defining "
+                f"system of the equilibrium did not converge to)")
+        p_old = branch.points[k][ip]
+        for target in targets:
+            if (p_old - target) * (u_new[ip] - target) < 0.0 or u_new[ip] == target:
+                try:
+                    s = step if u_new[ip] == target else scipy.optimize.brentq(
+                        lambda s: branch.point_at(k, s)[0][ip] - target, 0.0, step, xtol=1e-13, rtol=1e-12)
+                    u_at = u_new if s == step else branch.point_at(k, s)[0]
+                    user.append((arclength[-1] + s, problem.point(u_at)))
+                except (RuntimeError, ValueError):
+                    pass    # reported as missing by the caller (no orbit at that value on this branch)
         arclength.append(arclength[-1] + step)
         rec = problem.point(u_new)
         prev = records[-1]
@@ -499,42 +588,103 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             accept_hook(rec)
         if verdict is not None:
             return verdict
-        if amp < amplitudes[-2] and amp < 1.5 * start_amplitude and len(records) > 2:
-            return _hopf_end(branch.points, amplitudes)
+        # Near a Hopf point amp^2 is affine in the parameter: when it extrapolates to zero within one more
+        # step of the same size, the Hopf point of the equilibrium is solved for and the branch ends there.
+        if len(records) > 2 and amp < amplitudes[-2] and amp ** 2 <= amplitudes[-2] ** 2 - amp ** 2:
+            ended = _hopf_end(branch.points, amplitudes, rec)
+            if ended is not None:
+                return ended
         if u_new[iT] > PERIOD_LIMIT * start_period:
             return (f"degenerate: the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
                     f"(approach to a homoclinic orbit)")
         return None
 
-    def _hopf_end(points, amps) -> str:
-        """The branch shrinks onto straight running: find the Hopf point it ends at."""
+    def _hopf_end(points, amps, last: CyclePoint) -> str | None:
+        """The branch shrinks onto the equilibrium: solve the Hopf defining system from the extrapolated zero of
+        amp^2 and the orbit's first harmonic; None when it does not converge near there."""
         u1, u2 = points[-2], points[-1]
         a1, a2 = amps[-2] ** 2, amps[-1] ** 2
         p1, p2 = u1[ip], u2[ip]
         p_end = p2 - a2 * (p2 - p1) / (a2 - a1) if a2 != a1 else p2
-        omega = 2.0 * np.pi / u2[iT]
-        if problem.free == SPEED:
-            match = [h for h in hopf if abs(h.speed - p_end) < max(0.05 * abs(h.speed), 0.5)
-                     and abs(h.omega - omega) < 0.05 * h.omega]
-            if match:
-                h = min(match, key=lambda h: abs(h.speed - p_end))
-                end.append(h)
-                return f"complete: returns to the Hopf point at {h.speed_kmh:.3f} km/h"
-        return f"complete: amplitude vanishes near {where(np.concatenate([u2[:-1], [p_end]]))} (a Hopf point)"
+        located = end_hopf_point(problem.family, last, p_end) if problem.free == SPEED else None
+        if located is None:
+            return None
+        # The located point must lie where the branch was heading: within the last step (and a bit) of p_end.
+        if abs(located.speed - p_end) > 2.0 * abs(p2 - p1) + 1e-9 * abs(p_end):
+            return None
+        match = [h for h in hopf if abs(h.speed - located.speed) <= 1e-6 * max(1.0, abs(h.speed))
+                 and abs(h.omega - located.omega) <= 1e-6 * h.omega]
+        h = match[0] if match else located
+        end.append(h)
+        return f"complete: returns to the Hopf point at {h.speed_kmh:.3f} km/h"
 
-    w = problem.weights()
-    branch = continue_curve(problem, u0, direction, w, settings.continuation, accept=accept,
-                            renormalize=problem.renormalize)
+    def renormalize(u):
+        # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
+        # So do the user points of the step just taken (re-solved at their values on the new mesh).
+        result = problem.renormalize(u)
+        if result is not None and records and len(result[0]) != len(u):
+            records[-1] = problem.point(result[0])
+            for i in range(len(user)):
+                s_i, cyc = user[i]
+                if s_i > arclength[-2]:
+                    try:
+                        user[i] = (s_i, cycle_at(problem.family, cyc, cyc.speed, settings, mesh=problem.mesh))
+                    except ConvergenceError:
+                        pass    # keeps its coarser orbit, which says so through its error estimate
+        return result
+
+    bound = None
+    if max_step is not None:
+        def bound(u_old, u_new):
+            return abs(u_new[ip] - u_old[ip]) / max_step
+
+    branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
+                            renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound)
+    # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from it.
+    for hopf_end, near in ((start, records[0] if records else None), (end[0] if end else None,
+                                                                      records[-1] if records else None)):
+        if hopf_end is None or near is None or problem.free != SPEED:
+            continue
+        for target in targets:
+            if (hopf_end.speed - target) * (near.speed - target) < 0.0 and target != near.speed:
+                try:
+                    cyc = cycle_at(problem.family, near, target, settings)
+                except ConvergenceError:
+                    continue
+                user.append((-1.0 if near is records[0] else arclength[-1] + 1.0, cyc))
     message = branch.message
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
     return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
-                       status=branch.status, message=message, start=start, end=end[0] if end else None)
+                       status=branch.status, message=message, start=start, end=end[0] if end else None,
+                       user_points=tuple(c for _, c in sorted(user, key=lambda x: x[0])))
+
+
+def first_harmonic(orbit: col.Orbit) -> np.ndarray:
+    """int_0^1 x(tau) exp(-2 pi i tau) dtau by Gauss quadrature on the mesh: the eigenvector direction times
+    the amplitude near a Hopf point (x = 2 Re(z q exp(2 pi i tau)))."""
+    sch = col.scheme(orbit.degree)
+    tau = orbit.mesh[:-1, None] + orbit.widths[:, None] * sch.points[None, :]
+    Xc = col.collocation_states(orbit.interval_values(), sch)
+    wgt = orbit.widths[:, None] * sch.weights[None, :] * np.exp(-2j * np.pi * tau)
+    return np.einsum("jk,jkn->n", wgt, Xc)
+
+
+def end_hopf_point(family, last: CyclePoint, speed_guess: float) -> HopfPoint | None:
+    """The Hopf point of the equilibrium a shrinking branch runs into, by Newton on the Hopf defining system
+    (:func:`reduced_model.hopf.locate_hopf`) from the extrapolated speed, the cycle's frequency and its first
+    harmonic; None if Newton does not converge."""
+    from .hopf import locate_hopf
+    v = first_harmonic(last.orbit)
+    try:
+        return locate_hopf(family, last.value, speed_guess, 2.0 * np.pi / last.period, v)
+    except (ConvergenceError, np.linalg.LinAlgError, ParameterError):
+        return None
 
 
 def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: float,
                      others: tuple[HopfPoint, ...] = (), settings: CycleSettings = CycleSettings(),
-                     accept_hook=None) -> CycleBranch:
+                     accept_hook=None, at: tuple[float, ...] = (), max_step: float | None = None) -> CycleBranch:
     """The branch of cycles born at ``hopf``, continued in speed within [vmin, vmax] (never below MIN_SPEED,
     where the slip equations lose their speed terms and the period of the cycles grows without bound)."""
     vmin = max(vmin, MIN_SPEED)
@@ -543,7 +693,8 @@ def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: fl
     except ConvergenceError as exc:
         return CycleBranch(free=SPEED, points=(), special_points=(), status=BranchStatus.NEWTON_FAILED,
                            message=f"newton_failed: {exc}", start=hopf)
-    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook)
+    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook,
+                         at=at, max_step=max_step)
 
 
 def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: float, hi: float,
@@ -551,8 +702,8 @@ def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: flo
     """Continue a computed cycle in ``free`` (``"speed"`` or the family's parameter) within [lo, hi];
     ``sign`` chooses the initial direction of the free parameter."""
     omega = 2.0 * np.pi / point.period
-    scales = state_scales(omega, point.orbit.n)
-    p_scale = SPEED_SCALE if free == SPEED else 0.1 * max(abs(point.value), 1e-12)
+    scales = state_scales(family, omega)
+    p_scale = speed_scale(family) if free == SPEED else 0.1 * max(abs(point.value), 1e-12)
     problem = CycleProblem(family, free, point.speed, point.value, point.orbit, scales, p_scale, settings)
     if free == SPEED:
         lo = max(lo, MIN_SPEED)
@@ -564,10 +715,12 @@ def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: flo
 
 
 def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
-                  settings: CycleSettings = CycleSettings(), progress=None) -> CycleDiagram:
+                  settings: CycleSettings = CycleSettings(), progress=None, at: tuple[float, ...] = (),
+                  max_step: float | None = None) -> CycleDiagram:
     """Every branch of cycles born at a Hopf point of straight running in [vmin, vmax] (m/s) at q = value.
 
-    A Hopf point that an earlier branch returned to is not started again.
+    A Hopf point that an earlier branch returned to is not started again.  ``at`` (speeds, m/s) and
+    ``max_step`` (m/s) as in :func:`follow_branch`.
     """
     family.validate(value)
     hopf = hopf_points(family, value, vmin, vmax)
@@ -576,7 +729,7 @@ def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
     for i, h in enumerate(hopf):
         if not any(h is r for r in reached):
             b = branch_from_hopf(family, h, vmin, vmax, others=tuple(x for x in hopf if x is not h),
-                                 settings=settings)
+                                 settings=settings, at=at, max_step=max_step)
             branches.append(b)
             if b.end is not None:
                 reached.append(b.end)
@@ -590,27 +743,34 @@ def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
 # --------------------------------------------------------------------------------------------------------
 
 def cycle_at(family: SpeedFamily, near: CyclePoint, speed: float, settings: CycleSettings = CycleSettings(),
-             intervals: int | None = None) -> CyclePoint:
+             intervals: int | None = None, mesh: np.ndarray | None = None) -> CyclePoint:
     """The cycle at ``speed`` (same q) by Newton's method from the nearby cycle ``near`` (T free, speed fixed).
 
-    With ``intervals`` the cycle is computed on a uniform mesh of that many intervals (``near`` is interpolated
-    onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
+    With ``intervals`` the cycle is computed on a uniform mesh of that many intervals, with ``mesh`` on that mesh
+    (``near`` is interpolated onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
     not a function of the speed) or when ``near`` is too far away.
     """
     omega = 2.0 * np.pi / near.period
-    orbit = near.orbit if intervals is None else col.remesh(near.orbit, col.uniform_mesh(intervals))
-    problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(omega, orbit.n),
-                           SPEED_SCALE, settings)
+    if mesh is None and intervals is not None:
+        mesh = col.uniform_mesh(intervals)
+    orbit = near.orbit if mesh is None else col.remesh(near.orbit, mesh)
+    problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(family, omega),
+                           speed_scale(family), settings)
     u_pred = problem.pack(orbit, speed)
     w = problem.weights()
     fix_speed = np.zeros_like(u_pred)
     fix_speed[-1] = 1.0 / w[-1]                       # unit weighted norm: the hyperplane is p = speed
-    result = correct(problem, u_pred, fix_speed, w, settings.continuation)
+    result = correct(problem, u_pred, fix_speed, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     # x = 0 with any period solves the discretised problem too; a collapse onto it is a failure here.
     if result is None or problem.scaled_rms(result[0]) < 1e-3 * problem.scaled_rms(u_pred):
         raise ConvergenceError(f"no cycle found at {speed * 3.6:.4f} km/h from the one at "
                                f"{near.speed * 3.6:.4f} km/h")
-    return problem.point(result[0])
+    u = result[0]
+    if intervals is None and mesh is None:
+        fix = np.zeros_like(u)
+        fix[-1] = 1.0
+        u = problem.meet_tolerance(u, fix)
+    return problem.point(u)
 
 
 def branch_peak(family: SpeedFamily, branch: CycleBranch, name: str,

@@ -14,8 +14,14 @@ from typing import Sequence
 
 import numpy as np
 
-from .model import N_STATES, ShimmyModel
+from .model import N_STATES, STATE_NAMES, ShimmyModel
 from .parameters import ParameterError, ShimmyParameters
+
+# Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
+# unit of arclength, and the angle of an oscillation per unit of arclength (rates scale with the frequency).
+SPEED_SCALE = 10.0     # m/s
+ANGLE_SCALE = 0.1      # rad
+ANGLE_STATES = np.array([name in ("theta1", "theta2", "psi", "alpha1", "alpha2") for name in STATE_NAMES])
 
 # How parameters are shown at the interface (label, factor from SI); everything else is shown in SI.
 DISPLAY = {"pressure": ("bar", 1e-5), "pressure_left": ("bar", 1e-5), "pressure_right": ("bar", 1e-5),
@@ -77,6 +83,14 @@ class SpeedFamily:
     @property
     def n(self) -> int:
         return N_STATES
+
+    speed_scale: float = field(default=SPEED_SCALE, init=False, repr=False)
+    state_names: tuple[str, ...] = field(default=STATE_NAMES, init=False, repr=False)
+
+    def state_scales(self, omega: float) -> np.ndarray:
+        """Typical size of each state in an oscillation at omega rad/s: angles ANGLE_SCALE, rates omega times
+        that (used by the generic cycle code for its norms)."""
+        return np.where(ANGLE_STATES, ANGLE_SCALE, ANGLE_SCALE * omega)
 
     @property
     def nominal(self) -> float:

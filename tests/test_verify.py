@@ -34,18 +34,29 @@ def section(quick_report, key):
 
 
 def test_verify_hopf_rows(quick_report):
-    rows = {(r["model"], r["pressure_bar"], r["point"]): r for r in section(quick_report, "hopf")["rows"]}
-    assert rows[("section 3", 2.5, "HB1")]["status"] == "pass"
-    assert abs(rows[("section 3", 2.5, "HB1")]["mbs_reduced_kmh"] - 46.1426) < 1e-3
-    assert rows[("section 3", 1.5, "HB1")]["status"] == "known difference"
-    assert rows[("section 3", 2.7, "none")]["status"] == "pass"
+    rows = {(r["model"], r["case"], r["point"]): r for r in section(quick_report, "hopf")["rows"]}
+    assert rows[("section 3", "2.5 bar", "HB1")]["status"] == "pass"
+    assert abs(rows[("section 3", "2.5 bar", "HB1")]["mbs_reduced_kmh"] - 46.1426) < 1e-3
+    assert rows[("section 3", "2.7 bar", "none")]["status"] == "pass"
+    assert all(r["status"] == "pass" for r in rows.values() if r["point"] == "eigenvalues")
     # The full geometry removes the tramp mode at 1.5 bar: no partner for HB3, HB4.
-    assert rows[("section 3", 1.5, "HB3")]["mbs_full_kmh"] is None
+    assert rows[("section 3", "1.5 bar", "HB3")]["mbs_full_kmh"] is None
+
+
+def test_verify_paper_section_and_plan(quick_report):
+    summary = json.loads(quick_report[0].stdout)
+    assert [(c["pressure_right_bar"], c["kind"]) for c in summary["plan"]][:3] == [
+        (1.5, "paper"), (2.5, "paper"), (2.7, "paper")]
+    assert summary["axle"]["name"] == "YANG2024" and summary["axle"]["differs_from_paper"] == []
+    paper = {r["quantity"]: r for r in section(quick_report, "paper")["rows"]}
+    assert paper["HB1 at 1.5 bar (km/h)"]["status"] == "known difference"
+    assert paper["HB2 at 2.5 bar (km/h)"]["status"] == "pass"
+    assert paper["Hopf points at 2.7 bar"]["status"] == "pass"
 
 
 def test_verify_cycles_jumps_assumptions(quick_report):
     _, out = quick_report
-    cycles = section(quick_report, "cycles")["rows"]
+    cycles = [r for r in section(quick_report, "cycles")["rows"] if r["point"] == "stable cycle"]
     assert len(cycles) >= 6 and all(r["status"] == "pass" for r in cycles)
     assert (out / "cycles_2p5bar.png").stat().st_size > 10_000
     jumps = {r["run"].split(" ")[0] + " " + r["run"].split(" ")[1]: r for r in section(quick_report, "jumps")["rows"]}
@@ -101,3 +112,39 @@ def test_interrupted_write_leaves_no_file(tmp_path):
     assert not target.exists() and os.listdir(tmp_path) == []
     with pytest.raises(IsADirectoryError):
         write_atomically(str(tmp_path), "x")
+
+
+@pytest.fixture(scope="module")
+def axle_report(tmp_path_factory):
+    """The paper's truck with t0 = 0.25 m from an axle file: verify must find the bistable window by itself."""
+    folder = tmp_path_factory.mktemp("verify_axle")
+    axle = folder / "t025.toml"
+    axle.write_text('name = "paper, t0 = 0.25 m"\nbase = "YANG2024"\n[table1]\nt0 = 0.25\n')
+    out = folder / "rep"
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--no-recordings",
+                           "--axle", str(axle), "--out", str(out), "--json"],
+                          capture_output=True, text=True, timeout=400)
+    return proc, out
+
+
+def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
+    proc, out = axle_report
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["axle"]["name"] == "paper, t0 = 0.25 m"
+    assert [d["name"] for d in summary["axle"]["differs_from_paper"]] == ["t0"]
+    bistable = [c for c in summary["plan"] if c["kind"] == "bistable" and "window_kmh" in c]
+    assert len(bistable) == 1 and bistable[0]["pressure_left_bar"] == bistable[0]["pressure_right_bar"]
+    low, high = bistable[0]["window_kmh"]
+    assert low < 185.0 and high > 157.0          # it overlaps figure 9a's T2..S1 (157.38-184.75 km/h at 1.5 bar)
+    assert all(c["reason"] for c in summary["plan"])
+    assert "paper" not in [s["key"] for s in summary["sections"]]    # printed numbers only for the paper's axle
+    jumps = section(axle_report, "jumps")["rows"]
+    ramps = [r for r in jumps if r["run"].startswith("ramp")]
+    assert len(ramps) == 2 and all(r["status"] == "pass" for r in ramps)
+    assert all(r["reduced_kmh"] is not None and r["mbs_reduced_kmh"] is not None for r in ramps)
+    starts = [r for r in jumps if "two starts" in r["run"]]
+    assert len(starts) == 2 and all(r["status"] == "pass" for r in starts)
+    assert not list(out.glob("*.rrd"))          # --no-recordings
+    text = (out / "report.md").read_text()
+    assert "Axle: axle paper, t0 = 0.25 m" in text and "sha256" in text

@@ -9,9 +9,17 @@ import sys
 import numpy as np
 
 from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve
-from reduced_model.cycles import CycleBranch, CycleDiagram, CyclePoint, branch_peak, cycle_diagram
+from reduced_model.cycles import (
+    CycleBranch,
+    CycleDiagram,
+    CyclePoint,
+    CycleSettings,
+    branch_peak,
+    classify_multipliers,
+    cycle_diagram,
+)
 from reduced_model.family import SpeedFamily
-from reduced_model.hopf import MIN_SPEED
+from reduced_model.hopf import MIN_SPEED, HopfPoint
 from reduced_model.special_points import ConvergenceError, PointKind
 
 from ..options import (
@@ -27,12 +35,30 @@ from ..options import (
     inputs_json,
     interface_unit,
     operating_pressure,
+    positive_float,
     pressure_label,
     progress,
     ticker,
 )
 
 TWO_PARAMS = SECOND_PARAMETERS
+DEFAULT_SETTINGS = CycleSettings()
+DEFAULT_WINDOW_KMH = (0.0, 400.0)   # continuation window when --vmin = --vmax asks for one speed
+
+
+def speed_list(text: str) -> tuple[float, ...]:
+    """'60,80.5' -> (60.0, 80.5) km/h, each finite and at least 0.5 km/h."""
+    out = []
+    for item in text.split(","):
+        try:
+            v = float(item)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"--at expects speeds in km/h separated by commas, got '{text}'") \
+                from None
+        if not math.isfinite(v) or v < MIN_SPEED * 3.6 - 1e-12:
+            raise argparse.ArgumentTypeError(f"--at {item}: speeds must be at least {MIN_SPEED * 3.6:g} km/h")
+        out.append(v)
+    return tuple(out)
 
 
 def add_parser(sub) -> None:
@@ -45,6 +71,15 @@ def add_parser(sub) -> None:
                         f"(figures 8 and 18); NAME one of {', '.join(TWO_PARAMS)}; needs --range")
     p.add_argument("--range", nargs=2, type=float, metavar=("LO", "HI"),
                    help="window of NAME for --two-param (bar for pressure, SI otherwise)")
+    p.add_argument("--at", type=speed_list, metavar="KMH[,KMH...]",
+                   help="also the orbits exactly at these speeds, km/h, on every branch that passes them (located "
+                        "on the branch like AUTO's user points); --vmin = --vmax = KMH asks for that speed alone")
+    p.add_argument("--max-step", type=positive_float("--max-step"), metavar="KMH",
+                   help="largest speed change between computed cycles, km/h (denser output)")
+    p.add_argument("--tolerance", type=positive_float("--tolerance"), default=DEFAULT_SETTINGS.tolerance,
+                   metavar="REL", help="collocation error allowed in every orbit, relative to each state's "
+                                       f"amplitude (default {DEFAULT_SETTINGS.tolerance:g}); the mesh gains "
+                                       "intervals until it is met, points that cannot meet it are marked")
     add_output_options(p, plot=True)
     p.set_defaults(run=run)
 
@@ -53,9 +88,47 @@ def degrees(x: float) -> float:
     return math.degrees(float(x))
 
 
+def largest(mu: np.ndarray) -> complex:
+    """The non-trivial multiplier of largest modulus."""
+    rest, _ = classify_multipliers(mu)
+    return complex(rest[np.argmax(np.abs(rest))])
+
+
 def point_row(p: CyclePoint) -> dict:
-    return {"speed_kmh": p.speed_kmh, "frequency_hz": p.frequency_hz, "max_theta1_deg": degrees(p.max_abs("theta1")),
-            "max_psi_deg": degrees(p.max_abs("psi")), "stable": p.stable}
+    mu = largest(p.multipliers)
+    return {"kind": "cycle", "speed_kmh": p.speed_kmh, "period_s": p.period, "frequency_hz": p.frequency_hz,
+            "max_theta1_deg": degrees(p.max_abs("theta1")), "max_theta2_deg": degrees(p.max_abs("theta2")),
+            "max_psi_deg": degrees(p.max_abs("psi")), "largest_multiplier": [mu.real, mu.imag],
+            "largest_multiplier_abs": abs(mu), "stable": p.stable, "error_estimate": p.error,
+            "meets_tolerance": p.meets_tolerance, "intervals": p.orbit.intervals}
+
+
+def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
+    """A Hopf end of a branch as a point of zero amplitude: multipliers exp(lambda T) of straight running, one
+    of the critical pair's two unit multipliers being the trivial one."""
+    period = 2.0 * np.pi / h.omega
+    mu = np.exp(np.linalg.eigvals(family.linear_matrix(h.speed, h.value)) * period)
+    big = largest(mu)
+    return {"kind": "hopf", "speed_kmh": h.speed_kmh, "period_s": period, "frequency_hz": h.frequency_hz,
+            "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0,
+            "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,
+            "error_estimate": 0.0, "meets_tolerance": True, "intervals": 0}
+
+
+def orbit_row(p: CyclePoint, branch: int) -> dict:
+    """An orbit at a requested speed: everything of :func:`point_row` and all Floquet multipliers."""
+    row = point_row(p)
+    row.pop("kind")
+    return {"branch": branch, **row, "multipliers": [[m.real, m.imag] for m in p.multipliers]}
+
+
+def at_json(diagram: CycleDiagram, speeds_kmh) -> list[dict]:
+    out = []
+    for v in speeds_kmh:
+        orbits = [orbit_row(p, i) for i, b in enumerate(diagram.branches) for p in b.user_points
+                  if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
+        out.append({"speed_kmh": v, "orbits": orbits})
+    return out
 
 
 def peaks(family: SpeedFamily, b: CycleBranch) -> dict:
@@ -76,7 +149,8 @@ def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
             "complete": b.complete, "status": b.status.value, "message": b.message,
             "peak": peaks(family, b) if b.points else None,
             "frequency_range_hz": list(b.frequency_range) if b.points else None,
-            "points": [point_row(p) for p in b.points]}
+            "points": ([hopf_row(b.start, family)] if b.start else []) + [point_row(p) for p in b.points]
+            + ([hopf_row(b.end, family)] if b.end else [])}
 
 
 def diagram_json(diagram: CycleDiagram, family: SpeedFamily, pressure_bar: float, effects) -> dict:
@@ -120,13 +194,36 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
                     "status": [s.value for s in curve.status], "messages": list(curve.messages),
                     "points": [[v * 3.6, q / factor] for v, q in zip(curve.speeds, curve.values)],
                     "ends_at_zero_amplitude": [None if e is None else [e[0] * 3.6, e[1] / factor]
-                                               for e in curve.ends]})
+                                               for e in curve.ends],
+                    "end_points": [None if e is None else {"kind": e.kind.value, "speed_kmh": e.speed * 3.6,
+                                                           "value": e.value / factor, "status": e.status.value}
+                                   for e in curve.end_points]})
     return out
 
 
-def run(args: argparse.Namespace) -> int:
+def _speeds(args: argparse.Namespace) -> tuple[float, float, tuple[float, ...]]:
+    """(vmin, vmax, --at speeds), km/h, checked.  --vmin = --vmax = V asks for the orbits at V: the branches
+    are then continued over the default window (they are born at Hopf points elsewhere)."""
+    at = tuple(args.at or ())
+    if args.vmin == args.vmax:
+        if at and set(at) != {args.vmin}:
+            raise UsageError(f"--vmin = --vmax = {args.vmin:g} km/h asks for that speed alone; --at "
+                             f"{','.join(f'{v:g}' for v in at)} km/h differs")
+        if args.vmin < MIN_SPEED * 3.6 - 1e-12:
+            raise UsageError(f"--vmin = --vmax = {args.vmin:g} km/h: cycles are computed from "
+                             f"{MIN_SPEED * 3.6:g} km/h on")
+        return DEFAULT_WINDOW_KMH[0], max(DEFAULT_WINDOW_KMH[1], args.vmax), (args.vmin,)
     if not args.vmin < args.vmax:
         raise UsageError(f"--vmin must be below --vmax, got {args.vmin:g} and {args.vmax:g} km/h")
+    outside = [v for v in at if not args.vmin <= v <= args.vmax]
+    if outside:
+        raise UsageError(f"--at {','.join(f'{v:g}' for v in outside)} km/h lies outside the window "
+                         f"{args.vmin:g}-{args.vmax:g} km/h")
+    return args.vmin, args.vmax, at
+
+
+def run(args: argparse.Namespace) -> int:
+    vmin_kmh, vmax_kmh, at_kmh = _speeds(args)
     if args.range is not None and args.two_param is None:
         raise UsageError("--range is only used with --two-param")
     model = build_model(args)
@@ -138,10 +235,14 @@ def run(args: argparse.Namespace) -> int:
         family = SpeedFamily(model, "pressure", pressure=operating_pressure(args))
         q = family.nominal
     family.validate(q)
-    vmin, vmax = args.vmin * KMH, args.vmax * KMH
+    vmin, vmax = vmin_kmh * KMH, vmax_kmh * KMH
     quiet = args.json or not sys.stderr.isatty()
+    options = {"at": tuple(v * KMH for v in at_kmh),
+               "max_step": args.max_step * KMH if args.max_step else None}
+    if args.tolerance != DEFAULT_SETTINGS.tolerance:
+        options["settings"] = CycleSettings(tolerance=args.tolerance)
     with progress(1, "cycle branches", quiet) as bar:
-        diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar))
+        diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar), **options)
     unstable = unstable_without_hopf(diagram, family, q)
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
@@ -172,6 +273,10 @@ def run(args: argparse.Namespace) -> int:
         out = diagram_json(diagram, family, args.pressure, model.effects.names)
         del out["pressure_bar"], out["effects"]
         out = {**inputs_json(args), **out}
+        out.update({"tolerance": args.tolerance, "max_step_kmh": args.max_step,
+                    "all_meet_tolerance": not inaccurate(diagram)})
+        if at_kmh:
+            out["at"] = at_json(diagram, at_kmh)
         if unstable is not None:
             out["complete"], out["note"] = False, unstable
         if args.two_param:
@@ -180,7 +285,10 @@ def run(args: argparse.Namespace) -> int:
             out["complete"] = out["complete"] and all(c is not None and c.complete for c, _ in curves)
         emit_json(out)
     else:
+        args.vmin, args.vmax = vmin_kmh, vmax_kmh    # the continuation window, for the header
         print_diagram(diagram, family, args)
+        if at_kmh:
+            print_at(diagram, at_kmh)
         if args.two_param:
             print_curves(curves, labels, args.two_param)
     problems = [f"branch from {b.start.speed_kmh:.3f} km/h stopped: {b.message}"
@@ -190,10 +298,36 @@ def run(args: argparse.Namespace) -> int:
     problems += [f"curve {label}: " + (error or "; ".join(m for m, s in zip(c.messages, c.status)
                                                          if not s.is_complete))
                  for (c, error), label in zip(curves, labels) if c is None or not c.complete]
+    missed = inaccurate(diagram)
+    if missed:
+        sys.stderr.write(f"shimmy: warning: {len(missed)} cycles miss the error tolerance {args.tolerance:g} even "
+                         f"with {DEFAULT_SETTINGS.max_intervals} intervals (marked in the output), first at "
+                         f"{missed[0].speed_kmh:.3f} km/h\n")
     if problems:
         sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
     return 0
+
+
+def inaccurate(diagram: CycleDiagram) -> list[CyclePoint]:
+    return [p for b in diagram.branches for p in (*b.points, *b.user_points) if not p.meets_tolerance]
+
+
+def print_at(diagram: CycleDiagram, speeds_kmh) -> None:
+    print("  orbits at the requested speeds (located on the branches):")
+    for v in speeds_kmh:
+        rows = [(i, p) for i, b in enumerate(diagram.branches) for p in b.user_points
+                if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
+        if not rows:
+            print(f"    {v:g} km/h: no branch in the window passes this speed")
+        for i, p in rows:
+            mu = largest(p.multipliers)
+            flag = "" if p.meets_tolerance else f"  [error estimate {p.error:.1e} above tolerance]"
+            print(f"    {v:g} km/h, branch {i}: period {p.period:.6f} s ({p.frequency_hz:.5f} Hz), "
+                  f"max|theta1| {degrees(p.max_abs('theta1')):.5f} deg, max|theta2| "
+                  f"{degrees(p.max_abs('theta2')):.5f} deg, max|psi| {degrees(p.max_abs('psi')):.5f} deg, "
+                  f"largest multiplier |mu| {abs(mu):.6f}, {'stable' if p.stable else 'unstable'}{flag}")
+            print("      multipliers: " + ", ".join(f"{m.real:.6g}{m.imag:+.6g}i" for m in p.multipliers))
 
 
 def unstable_without_hopf(diagram: CycleDiagram, family: SpeedFamily, q: float) -> str | None:

@@ -1,0 +1,71 @@
+"""Curves of cycle folds and torus points end at codimension-two points of straight running that are located by
+their own test functions on the Hopf curves, not extrapolated: they must agree with the independent Hopf-curve
+continuation (:func:`reduced_model.hopf_curves.hopf_diagram`) to 1e-6 in both parameters."""
+
+import numpy as np
+import pytest
+
+from reduced_model.cycle_curves import cycle_bifurcation_curve
+from reduced_model.cycles import cycle_diagram
+from reduced_model.family import SpeedFamily
+from reduced_model.hopf_curves import hopf_diagram
+from reduced_model.model import Effects, ShimmyModel
+from reduced_model.special_points import PointKind, PointStatus
+
+BAR, KMH = 1e5, 1 / 3.6
+
+
+def test_figure8_tramp_curves_end_at_the_located_hopf_hopf_and_bautin_points():
+    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
+    cycles = cycle_diagram(family, 0.25, vmin, vmax)
+    hopf = hopf_diagram(family, lo, hi, vmin, vmax)
+    (hh,) = hopf.points_of(PointKind.HOPF_HOPF)
+    dh2 = max(hopf.points_of(PointKind.GENERALIZED_HOPF), key=lambda p: p.value)
+    s2 = min(cycles.points_of(PointKind.CYCLE_FOLD), key=lambda p: p.speed)
+    t2 = min(cycles.points_of(PointKind.TORUS), key=lambda p: p.speed)
+    for start, target in ((t2, hh), (s2, dh2)):
+        curve = cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax)
+        (end,) = [p for p in curve.end_points if p is not None]
+        assert end.kind is target.kind and end.status is PointStatus.LOCATED
+        assert end.speed * 3.6 == pytest.approx(target.speed * 3.6, abs=1e-6)
+        assert end.value == pytest.approx(target.value, abs=1e-6 * target.value)
+        assert (end.speed, end.value) in curve.ends and "located" in " ".join(curve.messages)
+
+
+def _crossings(a_speeds, a_values, b_speeds, b_values, q_scale):
+    """Intersections of two polylines in (V, q / q_scale)."""
+    P = np.column_stack([a_speeds, a_values / q_scale])
+    Q = np.column_stack([b_speeds, b_values / q_scale])
+    hits = []
+    for i in range(len(P) - 1):
+        for j in range(len(Q) - 1):
+            M = np.column_stack([P[i + 1] - P[i], Q[j] - Q[j + 1]])
+            if abs(np.linalg.det(M)) < 1e-300:
+                continue
+            s, t = np.linalg.solve(M, Q[j] - P[i])
+            if 0.0 <= s <= 1.0 and 0.0 <= t <= 1.0:
+                hits.append(P[i] + s * (P[i + 1] - P[i]))
+    return hits
+
+
+@pytest.mark.slow
+def test_figure18_torus_curves_do_not_meet_again_down_to_0_05_bar():
+    """The paper's HH2 (T1 and T2 meeting again below HH1): continued from 0.25 bar down to 0.05 bar, T1 and T2
+    both leave the window at 0.05 bar with amplitudes of about 2 deg, never cross, and meet only at HH1."""
+    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure")
+    lo, hi, vmin, vmax = 0.05 * BAR, 0.6 * BAR, 50 * KMH, 400 * KMH
+    cycles = cycle_diagram(family, 0.25 * BAR, vmin, vmax)
+    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.speed)
+    curves = [cycle_bifurcation_curve(family, t, lo, hi, vmin, vmax) for t in (t1, t2)]
+    for c in curves:
+        assert c.complete and c.values.min() == pytest.approx(lo, rel=1e-9)
+        low = int(np.argmin(c.values))
+        assert np.degrees(c.amplitudes[low][0]) > 1.5
+        (end,) = [p for p in c.end_points if p is not None]
+        assert end.kind is PointKind.HOPF_HOPF and end.value / BAR == pytest.approx(0.532, abs=5e-4)
+    assert curves[0].end_points[1].speed == pytest.approx(curves[1].end_points[1].speed, abs=1e-9)
+    a, b = curves
+    hits = _crossings(a.speeds * 3.6, a.values, b.speeds * 3.6, b.values, BAR)
+    # The only common point is HH1, the shared end.
+    assert all(abs(h[1] - 0.532) < 1e-3 for h in hits)
