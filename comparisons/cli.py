@@ -12,7 +12,7 @@ from reduced_model.special_points import ConvergenceError
 
 from .options import UsageError, resolve_pressures
 
-COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "simulate", "assumptions", "figures", "params", "bench")
+COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "simulate", "assumptions", "figures", "params", "bench", "sweep")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -81,6 +81,8 @@ COLUMN_LABELS: dict[str, Column] = {
                               dash="'-' in the list: that Hopf point has no partner in the MBS"),
     "peak_theta1_shift_deg": Column("shift of the peak max |theta1| [deg]",
                                     dash="not computed (quick mode), or no cycle in one of the models"),
+    "reduced_value": Column("reduced model (does not depend on the multibody dimensions)"),
+    "plausible_axles": Column("over the plausible axles (median, 5-95 % range or share)"),
     "status": Column("check"),
     "note": Column("note"),
     "error": Column("error"),

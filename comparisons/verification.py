@@ -267,6 +267,8 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     if ctx.plan.bistable:
         steps.append(("Bistable jumps", jumps_section))
     steps.append(("Assumptions", assumptions_section))
+    from .robustness import robustness_section
+    steps.append(("Robustness", robustness_section))
     return steps
 
 

@@ -93,6 +93,17 @@ def test_verify_report_html_figures_recordings_progress(quick_report):
     assert any(line.startswith("verify:   Bistable jumps: ramp up") for line in lines)
 
 
+def test_verify_robustness_over_plausible_dimensions(quick_report):
+    _, out = quick_report
+    rows = section(quick_report, "robustness")["rows"]
+    checks = [r for r in rows if r["quantity"].startswith("MBS with every assumption on")]
+    assert [r["case"] for r in checks] == ["1.5 bar", "2.5 bar"] and all(r["status"] == "pass" for r in checks)
+    hb1 = next(r for r in rows if r["case"] == "1.5 bar" and r["quantity"].startswith("HB1"))
+    assert hb1["plausible_axles"].startswith("+5.9 km/h")       # the chosen dimensions give +5.88 km/h
+    assert (out / "robustness_1p5bar.parquet").exists() and not list(out.glob("*.parts"))
+    assert (out / "robustness.png").stat().st_size > 10_000
+
+
 def test_failed_row_makes_report_fail():
     section = Section("x", "X", ("a",), (Row({"a": 1.0}, CheckStatus.PASS), Row({"a": 2.0}, CheckStatus.FAIL)))
     report = Report((section,), quick=True)
