@@ -13,6 +13,7 @@ Public API (SI inside; pressures in Pa, speeds in m/s):
 
 from dataclasses import dataclass
 
+from . import engine  # noqa: F401  (first: chooses Exudyn's compiled module before anything imports exudyn)
 from .assumption_study import AssumptionRow, AssumptionStudy, HopfShift, assumption_study, match_hopf
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity

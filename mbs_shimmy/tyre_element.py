@@ -191,14 +191,14 @@ class TyreElement:
         self.a, self.sigma = wheel.a, wheel.sigma
         self.pt, self.hcl, self.rl = effects.pt, int(effects.hcl), effects.rl
         self.t0 = params.t0
-        self._force = tyre.MagicFormula.force
-        self._trail = tyre.TrailFormula.trail
+        self._force = tyre.MagicFormula.force_scalar
+        self._trail = tyre.TrailFormula.trail_scalar
 
     def lateral(self, alpha: float, load: float) -> tuple[float, float, float, float]:
         """(F_y, t, a, sigma) at slip alpha and vertical load (the static-load values with ``constant_load``)."""
         if self.table is None:
-            Fy = float(self._force(self._mf, alpha))
-            t = float(self._trail(self._tr, alpha)) if self.pt else self.t0
+            Fy = self._force(self._mf, alpha)
+            t = self._trail(self._tr, alpha) if self.pt else self.t0
             return Fy, t, self.a, self.sigma
         if load <= 0.0:                        # lifted wheel: no grip; the other properties at 1 % of the load
             B, D, E, Bt, Dt, Et0, a, sigma = self.table.direct(0.01 * self.static_load)
@@ -206,12 +206,12 @@ class TyreElement:
         v = self.table.at(load)
         mf = self._mf
         mf.B, mf.D, mf.E = v[0], v[1], v[2]
-        Fy = float(self._force(mf, alpha))
+        Fy = self._force(mf, alpha)
         i = 3
         if self.pt:
             tr = self._tr
             tr.Bt, tr.Dt, tr.Et0 = v[3], v[4], v[5]
-            t = float(self._trail(tr, alpha))
+            t = self._trail(tr, alpha)
             i = 6
         else:
             t = self.t0
