@@ -6,8 +6,9 @@ ODE1 derivative (``shared/notes/exudyn.md``) does not arise.  The default is the
 h = :data:`DEFAULT_STEP` = 1 ms, sampled every millisecond like the reduced model's trajectories: at 1.5 bar and
 100 km/h its error is about 3e-6 of each state's amplitude, and halving the step changes a run by less than 1e-4
 (``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/240 s) is the cheapest
-setting found that stays within 1e-4 (all states, 10 s at 100 km/h; the benchmark's).  ``step`` and ``method``
-can be chosen, and :func:`convergence` compares a run with the same run at a smaller step.
+setting found that stays within 1e-4 (all states, 10 s at 100 km/h).  DOPRI5 with automatic step size at the tolerances of
+:data:`BENCH_SETTINGS` stays within 1e-4 of the same run with 0.56 times the force evaluations (the benchmark's).  ``step`` and ``method`` (and for DOPRI5 the tolerances) can be
+chosen, and :func:`convergence` compares a run with the same run at a smaller step.
 
 The wheel spin follows the speed schedule, Omega(t) = V(t)/R, through the rotor moments of
 :mod:`mbs_shimmy.forces`.  A run stops early with status ``diverged`` when an angle leaves the range where the model
@@ -39,6 +40,15 @@ DEFAULT_STEP = 1e-3          # s
 # every state's amplitude (measured against step/4: ``tests/test_mbs_simulation.py``); used by the benchmark.
 FAST_METHOD = "RK67"
 FAST_STEP = 1.0 / 240.0      # s
+# The benchmark's settings (``shimmy bench mbs_simulation_full mbs_simulation_reduced``), the cheapest found within
+# 1e-4 of every state's amplitude of RK67 at 1/960 s over its run (``tests/test_mbs_benchmark_accuracy.py``).  Full
+# geometry: Exudyn's DOPRI5 with automatic step size, largest step 10 ms (also the sampling interval), relative
+# tolerance 1e-5 and absolute 1e-7 (rad, m): 3.1e-5 with 9 400 force evaluations against RK67's 16 800 at 1/240 s
+# (3.8e-5): the fixed step is set by the fastest mode (114 rad/s) all the time, the adaptive one only while that mode
+# is large.  Reduced fidelity: DOPRI5 would need rtol 3e-6 and 14 700 evaluations for 7.6e-5 (worst state alpha2),
+# so it keeps RK67 at 1/240 s (3.8e-5).
+BENCH_SETTINGS = {"full": {"method": "DOPRI5", "step": 0.01, "rtol": 1e-5, "atol": 1e-7},
+                  "reduced": {"method": FAST_METHOD, "step": FAST_STEP}}
 OUTPUT_INTERVAL = 1e-3       # s between stored samples
 DIVERGENCE_ANGLE = 1.0       # rad: beyond this a steer, tramp or slip angle makes the geometry meaningless
 METHODS = {"RK44": exu.DynamicSolverType.RK44, "RK67": exu.DynamicSolverType.RK67,
@@ -88,12 +98,14 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
              pressure: float | Sequence[float] = 2.5e5, schedule: SpeedSchedule | None = None,
              x0: np.ndarray | None = None, duration: float = 2.0, *, dims: AxleDimensions = DEFAULT_DIMENSIONS,
              step: float = DEFAULT_STEP, method: str = DEFAULT_METHOD, output_interval: float | None = None,
-             poses: bool = True) -> Trajectory:
+             poses: bool = True, rtol: float | None = None, atol: float | None = None) -> Trajectory:
     """Simulate the MBS over [0, duration] s from ``x0`` (reduced-model state order and SI; default theta1 =
     0.01 rad) with the speed ``schedule`` (default 60 km/h).  Pressure in Pa (one value or (right, left)).
 
     ``poses`` adds body poses and contact forces to ``extra`` (see :func:`pose_record`).  Samples every
-    ``output_interval`` s (default the larger of 1 ms and the step).
+    ``output_interval`` s (default the larger of 1 ms and the step).  With an adaptive method (``DOPRI5``)
+    ``step`` is the largest step and ``rtol`` / ``atol`` the relative / absolute error tolerances of a step
+    (default Exudyn's); the samples are then the first steps past each ``output_interval``.
     """
     effects = effects or Effects()
     fidelity = fidelity or Fidelity.reduced()
@@ -104,6 +116,9 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
         raise ParameterError(f"unknown integrator '{method}' (known: {', '.join(METHODS)})")
     if not (math.isfinite(step) and 0.0 < step <= 0.05):
         raise ParameterError(f"step must be in (0, 0.05] s, got {step!r}")
+    for name, tol in (("rtol", rtol), ("atol", atol)):
+        if tol is not None and not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0.0):
+            raise ParameterError(f"{name} must be a positive number, got {tol!r}")
     if output_interval is None:
         output_interval = max(OUTPUT_INTERVAL, step)
     if not (math.isfinite(output_interval) and output_interval >= step * (1 - 1e-9)):
@@ -134,13 +149,17 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
     ti.numberOfSteps = n_steps
     ti.verboseMode = 0
     ti.automaticStepSize = method not in FIXED_STEP_METHODS
+    if rtol is not None:
+        ti.relativeTolerance = float(rtol)
+    if atol is not None:
+        ti.absoluteTolerance = float(atol)
     ti.explicit.computeEndOfStepAccelerations = False
     settings.solution.file.write = False
     settings.solution.sensors.writePeriod = output_interval
     h = duration / n_steps
     integrator = (f"Exudyn {method} (explicit Runge-Kutta on the kinematic tree), fixed step {h:.6g} s"
                   if method in FIXED_STEP_METHODS else
-                  f"Exudyn {method}, adaptive step, tolerances {ti.absoluteTolerance:g} abs / "
+                  f"Exudyn {method}, adaptive step up to {h:.6g} s, tolerances {ti.absoluteTolerance:g} abs / "
                   f"{ti.relativeTolerance:g} rel")
 
     status, message = SimulationStatus.COMPLETE, ""
