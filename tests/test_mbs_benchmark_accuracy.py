@@ -51,3 +51,14 @@ def test_bad_tolerances(tol):
     from reduced_model.parameters import ParameterError
     with pytest.raises(ParameterError, match="must be a positive number"):
         simulate(method="DOPRI5", **tol)
+
+
+def test_scalar_tyre_formulas_equal_the_numpy_ones():
+    """The MBS evaluates the Magic Formula and the trail with :mod:`math` on floats (``force_scalar``,
+    ``trail_scalar``): the same formula as the numpy form, equal to rounding over the slip range."""
+    from reduced_model import tyre
+    from reduced_model.parameters import YANG2024
+    mf, tr = tyre.magic_formula(YANG2024, 1.5e5), tyre.trail_formula(YANG2024, 1.5e5)
+    alphas = np.linspace(-0.5, 0.5, 201)
+    assert np.allclose([mf.force_scalar(float(a)) for a in alphas], mf.force(alphas), rtol=1e-14, atol=1e-9)
+    assert np.allclose([tr.trail_scalar(float(a)) for a in alphas], tr.trail(alphas), rtol=1e-14, atol=1e-15)
