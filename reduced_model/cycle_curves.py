@@ -1,5 +1,8 @@
 """Two-parameter curves of cycle folds and torus (Neimark-Sacker) points in the (V, q) plane (figures 8 and 18).
 
+Cycle folds are followed by the minimally augmented system on the collocation discretisation
+(:mod:`reduced_model.cycle_fold_system`); torus points still by the reduced formulation below.
+
 Defining system.  A codimension-one cycle bifurcation is the zero set of its test function restricted to the
 manifold of cycles (Govaerts, Numerical Methods for Bifurcations of Dynamical Equilibria, SIAM 2000, ch. 3 and
 7, "minimally augmented systems"; Kuznetsov 2004, section 10.3).  Here the cycles are parametrised by
@@ -252,6 +255,9 @@ def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float,
     """The curve of cycle folds or torus points through ``point`` (from a speed branch of ``family`` at fixed
     q), followed both ways in the window [vmin, vmax] x [lo, hi]."""
     vmin = max(vmin, MIN_SPEED)
+    if point.kind is PointKind.CYCLE_FOLD:
+        from .cycle_fold_system import fold_curve
+        return fold_curve(family, point, lo, hi, vmin, vmax, settings)
     cycle: CyclePoint = point.data["cycle"]
     curve = _CurveProblem(family, point.kind, cycle, settings)
     y0 = np.array([1.0, cycle.value])

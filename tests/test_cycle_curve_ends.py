@@ -69,3 +69,50 @@ def test_figure18_torus_curves_do_not_meet_again_down_to_0_05_bar():
     hits = _crossings(a.speeds * 3.6, a.values, b.speeds * 3.6, b.values, BAR)
     # The only common point is HH1, the shared end.
     assert all(abs(h[1] - 0.532) < 1e-3 for h in hits)
+
+
+class Bautin:
+    """The generalized Hopf normal form r' = r (mu + beta r^2 - r^4), theta' = W with mu = V - SHIFT: cycles fold
+    along mu = -beta^2 / 4 at r^2 = beta / 2 (beta > 0), a curve that ends at the Bautin point mu = beta = 0."""
+
+    param = "beta"
+    n = 2
+    nominal = 1.0
+    SHIFT, W = 3.0, 2.0
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y = X[0], X[1]
+        r2 = x * x + y * y
+        g = V - self.SHIFT + q * r2 - r2 * r2
+        return np.array([g * x - self.W * y, self.W * x + g * y])
+
+    def linear_matrix(self, V, q):
+        return self.rhs(1j * 1e-30 * np.eye(2), V, q).imag / 1e-30
+
+    def jacobian(self, x, V, q):
+        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(2), V, q).imag / 1e-30
+
+    def equilibrium(self, V, q):
+        return np.zeros(2)
+
+    def validate(self, q):
+        pass
+
+
+def test_fold_curve_of_the_bautin_normal_form_by_the_minimally_augmented_system():
+    from reduced_model.cycle_fold_system import fold_curve
+    from reduced_model.cycles import branch_from_hopf
+    from reduced_model.hopf import hopf_points
+
+    family = Bautin()
+    (h,) = hopf_points(family, 2.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
+    (fold,) = branch_from_hopf(family, h, family.SHIFT - 3.0, family.SHIFT + 0.5).points_of(PointKind.CYCLE_FOLD)
+    curve = fold_curve(family, fold, -0.5, 3.0, family.SHIFT - 5.0, family.SHIFT + 1.0)
+    mu, beta = curve.speeds - family.SHIFT, curve.values
+    assert np.max(np.abs(mu + beta ** 2 / 4)) < 1e-10
+    assert np.max(np.abs(np.max(curve.amplitudes, axis=1) ** 2 - beta / 2)) < 1e-8
+    assert curve.complete and beta.max() == pytest.approx(3.0, abs=1e-9)       # the window's edge
+    (end,) = [p for p in curve.end_points if p is not None]
+    assert end.kind is PointKind.GENERALIZED_HOPF
+    assert end.speed == pytest.approx(family.SHIFT, abs=1e-9) and abs(end.value) < 1e-9
