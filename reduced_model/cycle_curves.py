@@ -65,6 +65,10 @@ class CycleCurve:
     messages: tuple[str, str]
     ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (V, q) where the amplitude vanishes
     end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
+    special_points: tuple[SpecialPoint, ...] = ()    # codimension-two points of cycles detected along the curve
+
+    def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
+        return tuple(p for p in self.special_points if p.kind is kind)
 
     @property
     def complete(self) -> bool:

@@ -34,10 +34,21 @@ import scipy.sparse.linalg
 
 from . import collocation as col
 from .continuation import ContinuationSettings, continue_curve, tangent
-from .cycles import SPEED, CyclePoint, CycleProblem, CycleSettings, speed_scale, state_scales
+from .cycles import (
+    SPEED,
+    CyclePoint,
+    CycleProblem,
+    CycleSettings,
+    _complex_outside,
+    _negative_outside,
+    period_doubling_test,
+    speed_scale,
+    state_scales,
+    torus_test,
+)
 from .hopf import MIN_SPEED
 from .parameters import ParameterError
-from .special_points import BranchStatus, PointKind, SpecialPoint
+from .special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
 
 FD_RELATIVE = 1e-6          # central differences: step relative to the scale of the direction
 FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps=300, newton_tol=1e-8,
@@ -190,10 +201,26 @@ class FoldSystem:
         return self.cp.point(U[:K + 2])
 
 
+def critical_multipliers(mu: np.ndarray) -> np.ndarray:
+    """The multipliers of a fold cycle other than the two nearest +1 (the trivial one and the fold's)."""
+    order = np.argsort(np.abs(mu - 1.0))
+    return np.delete(mu, order[:2])
+
+
+# Codimension-two points of cycles along a fold curve: (kind, count that changes, test function).
+FOLD_CODIM2 = ((PointKind.FOLD_FLIP, _negative_outside, period_doubling_test),
+               (PointKind.FOLD_NEIMARK_SACKER, _complex_outside, torus_test))
+
+
 def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
                settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
     """The curve of cycle folds through the located fold ``point`` of a speed branch, both ways, within
     [vmin, vmax] x [lo, hi], by the minimally augmented system (module docstring).
+
+    Along the curve, fold-flip points (another multiplier through -1) and fold-Neimark-Sacker points (a complex
+    pair through the unit circle) are detected by the change in the number of multipliers outside the unit
+    circle, with the two multipliers at +1 left out, and located by Brent's method on the period-doubling or torus
+    test function along the corrected curve (Kuznetsov 2004, section 10.3; Govaerts 2000, ch. 7).
 
     Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
     from .cycle_curves import CycleCurve, locate_end
@@ -211,11 +238,13 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
     t0 = tangent(system(U0)[1], weights, None)
     start_state = (system.b.copy(), system.c.copy(), system.cp.reference)
     halves = []
+    special: list[SpecialPoint] = []
     for sign in (1.0, -1.0):
         system.b, system.c = start_state[0].copy(), start_state[1].copy()
         system.cp.set_reference(start_state[2])
         points: list[CyclePoint] = [system.point(U0)]
         ends: list = []
+        arclength = [0.0]
         param = getattr(family, "param", "q")
 
         def accept(branch, points=points, ends=ends) -> str | None:
@@ -253,7 +282,27 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
                     pass    # keep the point just outside
                 points.append(system.point(U))
                 return f"complete: left the window at {U[-2] * 3.6:.3f} km/h, {param} = {U[-1]:.6g}"
-            points.append(system.point(U))
+            p_new = system.point(U)
+            k = len(branch.points) - 2
+            step = branch.steps[-1]
+            for kind, count, test in FOLD_CODIM2:
+                before, after = (critical_multipliers(p.multipliers) for p in (points[-1], p_new))
+                if count(before) == count(after):
+                    continue
+
+                def fun(s):
+                    return test(critical_multipliers(system.point(branch.point_at(k, s)[0]).multipliers))
+                try:
+                    s_star = scipy.optimize.brentq(fun, 0.0, step, xtol=1e-12, rtol=1e-10)
+                    where, status = system.point(branch.point_at(k, s_star)[0]), PointStatus.LOCATED
+                except (RuntimeError, ValueError):
+                    where, status = p_new, PointStatus.NOT_CONVERGED
+                special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=status, data={"cycle": where, "period": where.period,
+                                                                 "multipliers": where.multipliers}))
+            arclength.append(arclength[-1] + step)
+            points.append(p_new)
             return None
 
         branch = continue_curve(system, U0, sign * t0, weights, continuation, accept=accept,
@@ -266,4 +315,4 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
                       ends=tuple(None if e is None else (e.speed, e.value) for e in (e_bwd, e_fwd)),
-                      end_points=(e_bwd, e_fwd))
+                      end_points=(e_bwd, e_fwd), special_points=tuple(special))

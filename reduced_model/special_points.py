@@ -15,6 +15,8 @@ class PointKind(enum.Enum):
     CYCLE_FOLD = "cycle_fold"
     TORUS = "torus"
     PERIOD_DOUBLING = "period_doubling"
+    FOLD_FLIP = "fold_flip"                        # on a cycle-fold curve: a multiplier through -1
+    FOLD_NEIMARK_SACKER = "fold_neimark_sacker"    # on a cycle-fold curve: a complex pair through the unit circle
 
 
 class PointStatus(enum.Enum):

@@ -116,3 +116,65 @@ def test_fold_curve_of_the_bautin_normal_form_by_the_minimally_augmented_system(
     (end,) = [p for p in curve.end_points if p is not None]
     assert end.kind is PointKind.GENERALIZED_HOPF
     assert end.speed == pytest.approx(family.SHIFT, abs=1e-9) and abs(end.value) < 1e-9
+
+
+FLIP_BETA = 0.8
+
+
+class BautinWithBlock(Bautin):
+    """The Bautin oscillator with a linear block attached whose damping a = beta - 1.5 depends on the second
+    parameter: rotating at half the cycle's angle (``flip``), its multipliers are -exp(T (a +- FLIP_BETA r));
+    as a plain oscillator at 3.1 rad/s, exp(T (a +- 3.1 i)).  Along the fold curve (r^2 = beta / 2, T = pi) they
+    cross -1 where beta - 1.5 +- FLIP_BETA sqrt(beta / 2) = 0 (fold-flip), the unit circle at beta = 1.5
+    (fold-Neimark-Sacker)."""
+
+    n = 4
+
+    def __init__(self, flip: bool):
+        self.flip = flip
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y, u, v = X
+        a = q - 1.5
+        if self.flip:
+            half = 0.5 * self.W
+            block = [a * u - half * v + FLIP_BETA * (x * u + y * v), half * u + a * v + FLIP_BETA * (y * u - x * v)]
+        else:
+            block = [a * u - 3.1 * v, 3.1 * u + a * v]
+        return np.concatenate([Bautin.rhs(self, X[:2], V, q), block])
+
+    def linear_matrix(self, V, q):
+        return self.rhs(1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
+
+    def jacobian(self, x, V, q):
+        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
+
+    def equilibrium(self, V, q):
+        return np.zeros(4)
+
+
+@pytest.mark.parametrize("flip", [True, False])
+def test_fold_flip_and_fold_neimark_sacker_points_on_a_fold_curve(flip):
+    from scipy.optimize import brentq
+
+    from reduced_model.cycle_fold_system import fold_curve
+    from reduced_model.cycles import branch_from_hopf
+    from reduced_model.hopf import hopf_points
+
+    family = BautinWithBlock(flip)
+    (h,) = [h for h in hopf_points(family, 1.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
+            if abs(h.omega - family.W) < 1e-9]
+    branch = branch_from_hopf(family, h, family.SHIFT - 3.0, family.SHIFT + 0.5)
+    (fold,) = branch.points_of(PointKind.CYCLE_FOLD)
+    curve = fold_curve(family, fold, 0.3, 2.5, family.SHIFT - 5.0, family.SHIFT + 1.0)
+    if flip:
+        expected = sorted(brentq(lambda b, s=s: b - 1.5 + s * FLIP_BETA * np.sqrt(b / 2), 0.01, 3.0) for s in (1, -1))
+        found = curve.points_of(PointKind.FOLD_FLIP)
+    else:
+        expected = [1.5]
+        found = curve.points_of(PointKind.FOLD_NEIMARK_SACKER)
+    assert sorted(p.value for p in found) == pytest.approx(expected, abs=1e-9)
+    assert all(p.status is PointStatus.LOCATED for p in found)
+    assert all(p.speed == pytest.approx(family.SHIFT - p.value ** 2 / 4, abs=1e-9) for p in found)
+    assert len(curve.special_points) == len(expected)
