@@ -42,6 +42,9 @@ from .special_points import BranchStatus, ConvergenceError, PointKind, PointStat
 
 END_KIND = {PointKind.TORUS: PointKind.HOPF_HOPF, PointKind.CYCLE_FOLD: PointKind.GENERALIZED_HOPF}
 
+# Strong resonances on a torus curve: the critical pair exp(+-i theta) at theta = 2 pi / 3 and pi / 2 (Kuznetsov
+# 2004, section 9.5); located where the tracked angle crosses them.
+RESONANCES = ((PointKind.RESONANCE_1_3, 2.0 * np.pi / 3.0), (PointKind.RESONANCE_1_4, 0.5 * np.pi))
 INNER_MAX_ITER = 12
 INNER_TOL_SQRT = 1e-6      # weighted Newton step after which the inner cycle solve stops (error ~ step^2)
 END_AMPLITUDE = 0.01        # scaled RMS below which a curve is taken to end at a Hopf-type codim-2 point
@@ -193,6 +196,8 @@ def _follow(curve: _CurveProblem, y0: np.ndarray, direction: np.ndarray, lo: flo
     points: list[CyclePoint] = []
     end: list[tuple[float, float]] = []
     end_point: list[SpecialPoint] = []
+    special: list[SpecialPoint] = []
+    arclength = [0.0]
     start_state = (curve.anchor.copy(), curve.pair_angle)
     curve.problem.set_reference(curve.problem.orbit_of(curve.anchor))
 
@@ -218,8 +223,12 @@ def _follow(curve: _CurveProblem, y0: np.ndarray, direction: np.ndarray, lo: flo
             points.append(point)
             return (f"complete: left the window at {point.speed * 3.6:.3f} km/h, "
                     f"{curve.problem.family.param} = {point.value:.6g}")
+        angle_old = abs(curve.pair_angle) if curve.pair_angle is not None else None
         point = curve.accept_point(y)
         points.append(point)
+        if curve.kind is PointKind.TORUS and angle_old is not None:
+            _resonances(curve, branch, k, angle_old, abs(curve.pair_angle), arclength[-1], special)
+        arclength.append(arclength[-1] + branch.steps[-1])
         rms = np.sqrt(max(y[0], 0.0) * curve.c_scale)
         if rms < END_AMPLITUDE and len(points) > 1:
             a, b = points[-2], points[-1]
@@ -250,7 +259,44 @@ def _follow(curve: _CurveProblem, y0: np.ndarray, direction: np.ndarray, lo: flo
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last point at {points[-1].speed * 3.6:.3f} km/h, " \
                   f"{curve.problem.family.param} = {points[-1].value:.6g})"
-    return points, branch.status, message, (end[0] if end else None), (end_point[0] if end_point else None)
+    return (points, branch.status, message, (end[0] if end else None), (end_point[0] if end_point else None),
+            special)
+
+
+def _tracked_angle(curve: _CurveProblem, u: np.ndarray) -> float:
+    """|arg| of the complex non-trivial multiplier whose angle is nearest the tracked one (NaN if none)."""
+    rest, _ = classify_multipliers(curve.problem.multipliers(u))
+    pair = rest[rest.imag > 1e-7]
+    if len(pair) == 0:
+        return float("nan")
+    angles = np.abs(np.angle(pair))
+    return float(angles[np.argmin(np.abs(angles - abs(curve.pair_angle)))])
+
+
+def _resonances(curve: _CurveProblem, branch: Branch, k: int, before: float, after: float, s0: float,
+                found: list[SpecialPoint]) -> None:
+    """Strong resonances 1:3 and 1:4 crossed by the critical angle in the last step, located by Brent."""
+    for kind, theta in RESONANCES:
+        if (before - theta) * (after - theta) > 0.0:
+            continue
+        step = branch.steps[-1]
+        try:
+            s = scipy.optimize.brentq(lambda s: _tracked_angle(curve, curve.cycle_at(branch.point_at(k, s)[0]))
+                                      - theta, 0.0, step, xtol=1e-12, rtol=1e-10)
+            y, status = branch.point_at(k, s)[0], PointStatus.LOCATED
+        except (RuntimeError, ValueError, ConvergenceError):
+            y, status = branch.points[-1], PointStatus.NOT_CONVERGED
+        u = curve.cycle_at(y)
+        curve.problem.set_fixed(value=y[1])
+        point = curve.problem.point(u)
+        # The evaluations moved the problem's fixed q: put back the accepted point's.
+        curve.problem.set_fixed(value=branch.points[-1][1])
+        found.append(SpecialPoint(kind=kind, speed=point.speed, value=point.value, bracket=(s0, s0 + step),
+                                  status=status, data={"cycle": point, "period": point.period,
+                                                       "multipliers": point.multipliers}))
+
+
+
 
 
 def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float, hi: float, vmin: float,
@@ -266,7 +312,7 @@ def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float,
     curve = _CurveProblem(family, point.kind, cycle, settings)
     y0 = np.array([1.0, cycle.value])
     # Re-solve at (c0, q0) with q fixed: the located point to the inner tolerance.
-    fix_q = np.array([1.0, 0.0])
+    fix_q = np.array([0.0, 1.0])
     result = correct(curve, y0, fix_q, np.array([1.0, 1.0 / curve.q_scale]), CURVE_SETTINGS)
     if result is None:
         raise ConvergenceError(f"could not re-locate the {point.kind.value} at {point.speed * 3.6:.3f} km/h")
@@ -274,13 +320,13 @@ def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float,
     weights = np.array([1.0, 1.0 / curve.q_scale])
     t0 = tangent(curve(y0)[1], weights, None)
     halves = [_follow(curve, y0, s * t0, lo, hi, vmin, vmax, continuation) for s in (1.0, -1.0)]
-    (fwd, s_fwd, m_fwd, e_fwd, p_fwd), (bwd, s_bwd, m_bwd, e_bwd, p_bwd) = halves
+    (fwd, s_fwd, m_fwd, e_fwd, p_fwd, r_fwd), (bwd, s_bwd, m_bwd, e_bwd, p_bwd, r_bwd) = halves
     pts = list(reversed(bwd[1:])) + fwd
     return CycleCurve(kind=point.kind, param=family.param,
                       speeds=np.array([p.speed for p in pts]), values=np.array([p.value for p in pts]),
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd), ends=(e_bwd, e_fwd),
-                      end_points=(p_bwd, p_fwd))
+                      end_points=(p_bwd, p_fwd), special_points=tuple(r_bwd + r_fwd))
 
 
 def locate_end(family: SpeedFamily, kind: PointKind, guess: tuple[float, float], last: CyclePoint, dV: float,

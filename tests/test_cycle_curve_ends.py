@@ -178,3 +178,51 @@ def test_fold_flip_and_fold_neimark_sacker_points_on_a_fold_curve(flip):
     assert all(p.status is PointStatus.LOCATED for p in found)
     assert all(p.speed == pytest.approx(family.SHIFT - p.value ** 2 / 4, abs=1e-9) for p in found)
     assert len(curve.special_points) == len(expected)
+
+
+class CycleWithOscillator:
+    """The supercritical cycle (radius sqrt(mu), frequency W) with an attached oscillator of frequency q and
+    damping mu - C: its torus curve is the line V = SHIFT + C for every q (multipliers exp(T (mu - C +- i q)),
+    T = 2 pi / W), on which the critical angle T q passes the strong resonances 1:4 at q = W / 4 and 1:3 at W / 3."""
+
+    param = "omega2"
+    n = 4
+    nominal = 1.0
+    SHIFT, W, C = 3.0, 2.0, 0.3
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y, u, v = X
+        mu = V - self.SHIFT
+        r2 = x * x + y * y
+        a = mu - self.C
+        return np.array([mu * x - self.W * y - x * r2, self.W * x + mu * y - y * r2, a * u - q * v, q * u + a * v])
+
+    def linear_matrix(self, V, q):
+        return self.rhs(1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
+
+    def jacobian(self, x, V, q):
+        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
+
+    def equilibrium(self, V, q):
+        return np.zeros(4)
+
+    def validate(self, q):
+        pass
+
+
+def test_torus_curve_and_strong_resonances_of_a_known_torus_curve():
+    from reduced_model.cycles import branch_from_hopf
+    from reduced_model.hopf import hopf_points
+
+    family = CycleWithOscillator()
+    (h,) = [h for h in hopf_points(family, 0.8, family.SHIFT - 0.2, family.SHIFT + 0.2)
+            if abs(h.omega - family.W) < 1e-9]
+    (torus,) = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0).points_of(PointKind.TORUS)
+    curve = cycle_bifurcation_curve(family, torus, 0.3, 0.9, 0.0, family.SHIFT + 2.0)
+    assert curve.complete and curve.values.min() == pytest.approx(0.3) and curve.values.max() == pytest.approx(0.9)
+    assert np.max(np.abs(curve.speeds - family.SHIFT - family.C)) < 1e-10
+    (r3,) = curve.points_of(PointKind.RESONANCE_1_3)
+    (r4,) = curve.points_of(PointKind.RESONANCE_1_4)
+    assert r3.value == pytest.approx(family.W / 3, abs=1e-9) and r4.value == pytest.approx(family.W / 4, abs=1e-9)
+    assert r3.status is PointStatus.LOCATED and r4.status is PointStatus.LOCATED
