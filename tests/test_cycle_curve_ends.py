@@ -71,13 +71,30 @@ def test_figure18_torus_curves_do_not_meet_again_down_to_0_05_bar():
     assert all(abs(h[1] - 0.532) < 1e-3 for h in hits)
 
 
-class Bautin:
+class ComplexStepFamily:
+    """What the cycle code needs from a family, for a vector field rhs(X, V, q) analytic in X."""
+
+    n = 2
+    nominal = 1.0
+
+    def linear_matrix(self, V, q):
+        return self.rhs(1j * 1e-30 * np.eye(self.n), V, q).imag / 1e-30
+
+    def jacobian(self, x, V, q):
+        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(self.n), V, q).imag / 1e-30
+
+    def equilibrium(self, V, q):
+        return np.zeros(self.n)
+
+    def validate(self, q):
+        pass
+
+
+class Bautin(ComplexStepFamily):
     """The generalized Hopf normal form r' = r (mu + beta r^2 - r^4), theta' = W with mu = V - SHIFT: cycles fold
     along mu = -beta^2 / 4 at r^2 = beta / 2 (beta > 0), a curve that ends at the Bautin point mu = beta = 0."""
 
     param = "beta"
-    n = 2
-    nominal = 1.0
     SHIFT, W = 3.0, 2.0
 
     def rhs(self, X, V, q):
@@ -86,18 +103,6 @@ class Bautin:
         r2 = x * x + y * y
         g = V - self.SHIFT + q * r2 - r2 * r2
         return np.array([g * x - self.W * y, self.W * x + g * y])
-
-    def linear_matrix(self, V, q):
-        return self.rhs(1j * 1e-30 * np.eye(2), V, q).imag / 1e-30
-
-    def jacobian(self, x, V, q):
-        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(2), V, q).imag / 1e-30
-
-    def equilibrium(self, V, q):
-        return np.zeros(2)
-
-    def validate(self, q):
-        pass
 
 
 def test_fold_curve_of_the_bautin_normal_form_by_the_minimally_augmented_system():
@@ -144,15 +149,6 @@ class BautinWithBlock(Bautin):
             block = [a * u - 3.1 * v, 3.1 * u + a * v]
         return np.concatenate([Bautin.rhs(self, X[:2], V, q), block])
 
-    def linear_matrix(self, V, q):
-        return self.rhs(1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
-
-    def jacobian(self, x, V, q):
-        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
-
-    def equilibrium(self, V, q):
-        return np.zeros(4)
-
 
 @pytest.mark.parametrize("flip", [True, False])
 def test_fold_flip_and_fold_neimark_sacker_points_on_a_fold_curve(flip):
@@ -180,14 +176,13 @@ def test_fold_flip_and_fold_neimark_sacker_points_on_a_fold_curve(flip):
     assert len(curve.special_points) == len(expected)
 
 
-class CycleWithOscillator:
+class CycleWithOscillator(ComplexStepFamily):
     """The supercritical cycle (radius sqrt(mu), frequency W) with an attached oscillator of frequency q and
     damping mu - C: its torus curve is the line V = SHIFT + C for every q (multipliers exp(T (mu - C +- i q)),
     T = 2 pi / W), on which the critical angle T q passes the strong resonances 1:4 at q = W / 4 and 1:3 at W / 3."""
 
     param = "omega2"
     n = 4
-    nominal = 1.0
     SHIFT, W, C = 3.0, 2.0, 0.3
 
     def rhs(self, X, V, q):
@@ -197,18 +192,6 @@ class CycleWithOscillator:
         r2 = x * x + y * y
         a = mu - self.C
         return np.array([mu * x - self.W * y - x * r2, self.W * x + mu * y - y * r2, a * u - q * v, q * u + a * v])
-
-    def linear_matrix(self, V, q):
-        return self.rhs(1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
-
-    def jacobian(self, x, V, q):
-        return self.rhs(np.asarray(x, float)[:, None] + 1j * 1e-30 * np.eye(4), V, q).imag / 1e-30
-
-    def equilibrium(self, V, q):
-        return np.zeros(4)
-
-    def validate(self, q):
-        pass
 
 
 def test_torus_curve_and_strong_resonances_of_a_known_torus_curve():
