@@ -128,3 +128,20 @@ def test_axle_describe_lists_differences_in_interface_units():
     diff = {d["name"]: d for d in axle.describe()["differs_from_paper"]}
     assert diff["gamma"]["unit"] == "deg" and diff["wheel_mass"]["value"] == 45.0
     assert "gamma = 3 deg" in axle.label()
+
+
+@pytest.mark.parametrize("args", [
+    ["hopf", "--pressure", "2.5", "--model", "mbs", "--fidelity", "full"],
+    ["cycles", "--pressure", "2.5"],
+    ["curves", "--param", "t0", "--range", "0.06", "0.08", "--pressure", "2.5", "--vmax", "120"],
+    ["simulate", "--pressure", "1.5", "--speed", "60", "--duration", "2"],
+    ["simulate", "--model", "mbs", "--pressure", "1.5", "--speed", "60", "--duration", "1"],
+    ["assumptions", "--pressure", "2.5", "--no-cycles"],
+], ids=["hopf-mbs", "cycles", "curves", "simulate", "simulate-mbs", "assumptions"])
+def test_paper_file_gives_todays_numbers_in_every_command(paper_file, capsys, args):
+    assert main(args + ["--json"]) in (0, 3)
+    built_in = json.loads(capsys.readouterr().out)
+    assert main(args + ["--axle", str(paper_file), "--json"]) in (0, 3)
+    from_file = json.loads(capsys.readouterr().out)
+    assert from_file.pop("axle")["file"] == str(paper_file) and built_in.pop("axle")["file"] is None
+    assert from_file == built_in
