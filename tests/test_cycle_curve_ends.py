@@ -209,3 +209,28 @@ def test_torus_curve_and_strong_resonances_of_a_known_torus_curve():
     (r4,) = curve.points_of(PointKind.RESONANCE_1_4)
     assert r3.value == pytest.approx(family.W / 3, abs=1e-9) and r4.value == pytest.approx(family.W / 4, abs=1e-9)
     assert r3.status is PointStatus.LOCATED and r4.status is PointStatus.LOCATED
+
+
+@pytest.mark.slow
+def test_switching_from_the_hopf_hopf_point_gives_the_torus_curves_of_figure_8():
+    """From HH alone (no one-parameter branch at t0 = 0.25 m): the two torus curves born there, which are the
+    T1 and T2 curves through the torus points of the 0.25 m branches (same exit on the edge t0 = 0.26 m)."""
+    from reduced_model.torus_switching import torus_curves_from_hopf_hopf
+
+    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
+    (hh,) = hopf_diagram(family, lo, hi, vmin, vmax).points_of(PointKind.HOPF_HOPF)
+    switched = torus_curves_from_hopf_hopf(family, hh, lo, hi, vmin, vmax)
+    cycles = cycle_diagram(family, 0.25, vmin, vmax)
+    from_branches = [cycle_bifurcation_curve(family, t, lo, hi, vmin, vmax)
+                     for t in cycles.points_of(PointKind.TORUS)]
+    assert len(switched) == 2
+
+    def exit_speed(curve):
+        return curve.speeds[int(np.argmax(curve.values))]
+
+    assert sorted(exit_speed(c) for c in switched) == pytest.approx(sorted(exit_speed(c) for c in from_branches),
+                                                                   abs=1e-6 * KMH)
+    for c in switched:
+        (end,) = [p for p in c.end_points if p is not None]
+        assert end.speed == pytest.approx(hh.speed, abs=1e-9) and end.value == pytest.approx(hh.value, abs=1e-9)
