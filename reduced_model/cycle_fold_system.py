@@ -217,7 +217,7 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
     """The curve of cycle folds through the located fold ``point`` of a speed branch, both ways, within
     [vmin, vmax] x [lo, hi], by the minimally augmented system (module docstring).
 
-    Along the curve, fold-flip points (another multiplier through -1) and fold-Neimark-Sacker points (a complex
+    Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier through -1) and fold-Neimark-Sacker points (a complex
     pair through the unit circle) are detected by the change in the number of multipliers outside the unit
     circle, with the two multipliers at +1 left out, and located by Brent's method on the period-doubling or torus
     test function along the corrected curve (Kuznetsov 2004, section 10.3; Govaerts 2000, ch. 7).
@@ -285,6 +285,20 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
             p_new = system.point(U)
             k = len(branch.points) - 2
             step = branch.steps[-1]
+            # Cusp of cycles: the curve is smooth in (x, T, V, q) but its (V, q) projection turns back, its
+            # (V, q) tangent passing through zero: the product with the previous one changes sign.
+            previous = branch.tangents[k][-2:] * weights[-2:]
+            if np.dot(branch.tangents[-1][-2:] * weights[-2:], previous) < 0.0:
+                def projected(s):
+                    return float(np.dot(branch.point_at(k, s)[1][-2:] * weights[-2:], previous))
+                try:
+                    s_star = scipy.optimize.brentq(projected, 0.0, step, xtol=1e-12, rtol=1e-10)
+                    where, status = system.point(branch.point_at(k, s_star)[0]), PointStatus.LOCATED
+                except (RuntimeError, ValueError):
+                    where, status = p_new, PointStatus.NOT_CONVERGED
+                special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=status, data={"cycle": where, "period": where.period}))
             for kind, count, test in FOLD_CODIM2:
                 before, after = (critical_multipliers(p.multipliers) for p in (points[-1], p_new))
                 if count(before) == count(after):

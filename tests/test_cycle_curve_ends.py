@@ -234,3 +234,37 @@ def test_switching_from_the_hopf_hopf_point_gives_the_torus_curves_of_figure_8()
     for c in switched:
         (end,) = [p for p in c.end_points if p is not None]
         assert end.speed == pytest.approx(hh.speed, abs=1e-9) and end.value == pytest.approx(hh.value, abs=1e-9)
+
+
+class CuspOfCycles(ComplexStepFamily):
+    """r' = r g, g = mu + beta rho - rho^3, rho = r^2 - 1: cycles fold along (mu, beta) = (-2 rho^3, 3 rho^2), a
+    curve with a cusp of cycles at mu = beta = 0 (rho = 0, r = 1)."""
+
+    param = "beta"
+    SHIFT, W = 3.0, 2.0
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y = X[0], X[1]
+        rho = x * x + y * y - 1.0
+        g = V - self.SHIFT + q * rho - rho ** 3
+        return np.array([g * x - self.W * y, self.W * x + g * y])
+
+
+def test_cusp_of_cycles_on_the_fold_curve():
+    from reduced_model.cycle_fold_system import fold_curve
+    from reduced_model.cycles import branch_from_hopf
+    from reduced_model.hopf import hopf_points
+
+    family = CuspOfCycles()
+    (h,) = hopf_points(family, 0.75, family.SHIFT - 1.0, family.SHIFT + 1.0)
+    folds = branch_from_hopf(family, h, family.SHIFT - 1.0, family.SHIFT + 1.0).points_of(PointKind.CYCLE_FOLD)
+    curve = fold_curve(family, folds[0], -0.5, 1.5, family.SHIFT - 2.0, family.SHIFT + 2.0)
+    rho = np.max(curve.amplitudes, axis=1) ** 2 - 1.0
+    assert np.max(np.abs(curve.speeds - family.SHIFT + 2 * rho ** 3)) < 1e-8
+    assert np.max(np.abs(curve.values - 3 * rho ** 2)) < 1e-8
+    (cusp,) = curve.special_points
+    assert cusp.kind is PointKind.CUSP_OF_CYCLES and cusp.status is PointStatus.LOCATED
+    assert abs(cusp.speed - family.SHIFT) < 1e-9 and abs(cusp.value) < 1e-9
+    # Through the cusp the curve reaches the other fold's side: both ends on the edge beta = 1.5.
+    assert all("left the window" in m for m in curve.messages)
