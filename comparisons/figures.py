@@ -997,6 +997,12 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
         end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / BAR:.4f} bar"
                              + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
                                 if (v, q) in located else " (extrapolated)") for v, q in ends)
+        for sp in curve.special_points:    # codimension-two points of cycles found along the curve
+            ax.plot(sp.speed * 3.6, sp.value / BAR, "x", color=colour, ms=7, mew=1.6, zorder=6)
+            ax.annotate(sp.kind.value.replace("resonance_", "R").replace("_", ":"), (sp.speed * 3.6, sp.value / BAR),
+                        textcoords="offset points", xytext=(5, 2), fontsize=8, color=colour)
+            notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} at {sp.speed * 3.6:.2f} km/h, "
+                         f"{sp.value / BAR:.4f} bar ({sp.status.value})")
         notes.append(f"{text} ({curve.kind.value}, from {point.speed * 3.6:.2f} km/h at {FIG18_START_BAR:g} bar): "
                      f"{end_text or 'no zero-amplitude end'}; {' | '.join(curve.messages)}")
         complete &= curve.complete
@@ -1012,7 +1018,8 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     ax.set_ylabel("inflation pressure $p_i$ [bar]")
     ax.legend(fontsize=8, loc="upper right", framealpha=0.9)
     ax.set_title("Fig. 18: enlarged (V, $p_i$) diagram, effects HCL + PT; shaded: straight running stable\n"
-                 f"stars: cycle curves end at HH1 and DH (located); dotted: {FIG18_START_BAR:g} bar (where they start)",
+                 f"stars: cycle curves end at HH1 and DH (located); x: codimension-two points of cycles; dotted: "
+                 f"{FIG18_START_BAR:g} bar (where they start)",
                  fontsize=9)
     notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; continued down to 0.05 bar "
                  "they neither cross nor end at a Hopf-Hopf point (they pass the two Hopf-Hopf points of 0.1007 bar "

@@ -268,3 +268,31 @@ def test_cusp_of_cycles_on_the_fold_curve():
     assert abs(cusp.speed - family.SHIFT) < 1e-9 and abs(cusp.value) < 1e-9
     # Through the cusp the curve reaches the other fold's side: both ends on the edge beta = 1.5.
     assert all("left the window" in m for m in curve.messages)
+
+
+@pytest.mark.slow
+def test_codimension_two_points_of_cycles_in_figure_8():
+    """Located along figure 8's curves, and each confirmed on the one-parameter branch at its t0 (README)."""
+    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
+    cycles = cycle_diagram(family, 0.25, vmin, vmax)
+    found = {}
+    for start in cycles.special_points:
+        for p in cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax).special_points:
+            found[p.kind] = p
+    expected = {PointKind.FOLD_NEIMARK_SACKER: (155.4292, 0.160037), PointKind.RESONANCE_1_3: (160.4234, 0.174372),
+                PointKind.RESONANCE_1_4: (147.7994, 0.142204)}
+    assert set(found) == set(expected)
+    for kind, (V, t0) in expected.items():
+        assert found[kind].speed * 3.6 == pytest.approx(V, abs=1e-3) and found[kind].value == pytest.approx(t0, abs=1e-5)
+        on_branch = cycle_diagram(family, found[kind].value, vmin, vmax)
+        base = PointKind.CYCLE_FOLD if kind is PointKind.FOLD_NEIMARK_SACKER else PointKind.TORUS
+        p = min(on_branch.points_of(base), key=lambda p: abs(p.speed - found[kind].speed))
+        assert p.speed == pytest.approx(found[kind].speed, abs=1e-6)
+        mu = p.data["multipliers"]
+        pair = mu[np.abs(mu.imag) > 1e-3]
+        angle = {PointKind.RESONANCE_1_3: 2 * np.pi / 3, PointKind.RESONANCE_1_4: np.pi / 2}.get(kind)
+        if angle is None:    # fold-Neimark-Sacker: a complex pair on the unit circle at the fold
+            assert np.min(np.abs(np.abs(pair) - 1.0)) < 1e-6
+        else:
+            assert np.min(np.abs(np.abs(np.angle(pair)) - angle)) < 1e-6
