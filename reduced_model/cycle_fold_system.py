@@ -33,7 +33,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 from . import collocation as col
-from .continuation import ContinuationSettings, continue_curve, tangent
+from .continuation import ContinuationSettings, continue_curve, locate_on_step, tangent
 from .cycles import (
     SPEED,
     CyclePoint,
@@ -289,13 +289,9 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
             # (V, q) tangent passing through zero: the product with the previous one changes sign.
             previous = branch.tangents[k][-2:] * weights[-2:]
             if np.dot(branch.tangents[-1][-2:] * weights[-2:], previous) < 0.0:
-                def projected(s):
-                    return float(np.dot(branch.point_at(k, s)[1][-2:] * weights[-2:], previous))
-                try:
-                    s_star = scipy.optimize.brentq(projected, 0.0, step, xtol=1e-12, rtol=1e-10)
-                    where, status = system.point(branch.point_at(k, s_star)[0]), PointStatus.LOCATED
-                except (RuntimeError, ValueError):
-                    where, status = p_new, PointStatus.NOT_CONVERGED
+                u, _, ok = locate_on_step(branch, k, step,
+                                          lambda u, t: float(np.dot(t[-2:] * weights[-2:], previous)))
+                where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
                 special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period}))
@@ -304,13 +300,9 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
                 if count(before) == count(after):
                     continue
 
-                def fun(s):
-                    return test(critical_multipliers(system.point(branch.point_at(k, s)[0]).multipliers))
-                try:
-                    s_star = scipy.optimize.brentq(fun, 0.0, step, xtol=1e-12, rtol=1e-10)
-                    where, status = system.point(branch.point_at(k, s_star)[0]), PointStatus.LOCATED
-                except (RuntimeError, ValueError):
-                    where, status = p_new, PointStatus.NOT_CONVERGED
+                u, _, ok = locate_on_step(branch, k, step, lambda u, t, test=test: test(
+                    critical_multipliers(system.point(u).multipliers)))
+                where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
                 special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period,

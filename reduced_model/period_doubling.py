@@ -5,7 +5,7 @@ phi(t + T) = -phi(t).  Traversed twice, the cycle is a 2T-periodic solution with
 branch of doubled cycles leaves it along phi extended over [0, 2T] (a pitchfork in the 2T-periodic problem).
 Following AUTO (Doedel's notes, "branch switching at period doubling"; Kuznetsov 2004, section 10.3.1), the
 doubled orbit x(t) + eps phi(t) on twice the mesh is corrected by Newton with its projection on phi held fixed,
-and the new branch is followed by :func:`reduced_model.cycles.follow_branch`.  The eigenfunction comes from the
+and the new branch is followed by :func:`reduced_model.cycle_branches.follow_branch`.  The eigenfunction comes from the
 same condensed collocation blocks as the multipliers (:func:`reduced_model.collocation.floquet_eigenfunction`).
 """
 
@@ -15,16 +15,8 @@ import numpy as np
 
 from . import collocation as col
 from .continuation import correct
-from .cycles import (
-    SPEED,
-    CycleBranch,
-    CyclePoint,
-    CycleProblem,
-    CycleSettings,
-    follow_branch,
-    speed_scale,
-    state_scales,
-)
+from .cycle_branches import follow_branch
+from .cycles import SPEED, CycleBranch, CyclePoint, CycleProblem, CycleSettings, speed_scale, state_scales
 from .hopf import MIN_SPEED
 from .special_points import ConvergenceError, PointKind, SpecialPoint
 

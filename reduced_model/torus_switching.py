@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from .cycle_curves import CycleCurve, cycle_bifurcation_curve
-from .cycles import CycleSettings, branch_from_hopf
+from .cycle_branches import branch_from_hopf
+from .cycles import CycleSettings
 from .hopf import hopf_points
 from .parameters import ParameterError
 from .special_points import ConvergenceError, PointKind, PointStatus, SpecialPoint
