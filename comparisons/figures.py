@@ -952,10 +952,10 @@ def draw_phase_portrait(store: DiagramStore) -> Drawing:
 FIG18_EFFECTS = "hcl,pt"
 FIG18_WINDOW = (0.2, 0.6, 100.0, 300.0)     # bar, bar, km/h, km/h
 FIG18_VIEW_KMH = (130.0, 230.0)
-FIG18_START_BAR = 0.25                      # one-parameter cycle branches whose S and T points seed the curves
+FIG18_START_BAR = 0.25                      # pressure of the one-parameter branches named HB2, HB3 in the figure
 
 
-@register(18, "cycle_bifurcation_curves_hcl_pt", cost=14)
+@register(18, "cycle_bifurcation_curves_hcl_pt", cost=30)
 def draw_cycle_curves(store: DiagramStore) -> Drawing:
     lo_bar, hi_bar, vmin_kmh, vmax_kmh = FIG18_WINDOW
     effects = Effects.parse(FIG18_EFFECTS)
@@ -973,16 +973,25 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     for i, dh in enumerate(_located(hopf, PointKind.GENERALIZED_HOPF), 1):
         _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", offset=(8, 2))
         notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
-    for text, point in special_point_labels(cycles):
-        if point.kind not in (PointKind.CYCLE_FOLD, PointKind.TORUS):
-            continue
+    # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
+    # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
+    from reduced_model.torus_switching import curves_from_codimension_two
+
+    born: list[tuple[str, str, CycleCurve]] = []
+    for origin, point in [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
+            [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]:
         try:
-            curve: CycleCurve = cycle_bifurcation_curve(family, point, lo_bar * BAR, hi_bar * BAR,
-                                                        vmin_kmh * KMH, vmax_kmh * KMH)
+            found = curves_from_codimension_two(family, point, lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
+                                                vmax_kmh * KMH)
         except ConvergenceError as exc:
-            notes.append(f"{text}: INCOMPLETE: {exc}")
+            notes.append(f"curves from {origin}: INCOMPLETE: {exc}")
             complete = False
             continue
+        found = sorted(found, key=lambda c: -c.speeds[int(np.argmin(c.values))])
+        letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
+        for c in found:
+            born.append((f"{letter}{sum(t[0].startswith(letter) for t in born) + 1}", origin, c))
+    for text, origin, curve in born:
         style, colour = CURVE_STYLES[curve.kind]
         ax.plot(curve.speeds * 3.6, curve.values / BAR, style, color=colour, lw=1.6,
                 label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
@@ -1003,8 +1012,8 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
                         textcoords="offset points", xytext=(5, 2), fontsize=8, color=colour)
             notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} at {sp.speed * 3.6:.2f} km/h, "
                          f"{sp.value / BAR:.4f} bar ({sp.status.value})")
-        notes.append(f"{text} ({curve.kind.value}, from {point.speed * 3.6:.2f} km/h at {FIG18_START_BAR:g} bar): "
-                     f"{end_text or 'no zero-amplitude end'}; {' | '.join(curve.messages)}")
+        notes.append(f"{text} ({curve.kind.value}, born at {origin}): {end_text or 'no zero-amplitude end'}; "
+                     f"{' | '.join(curve.messages)}")
         complete &= curve.complete
     ax.axhline(FIG18_START_BAR, color="0.5", lw=0.7, ls=":")
     # The paper's names: HB3 turns subcritical at DH (its cycles are unstable below it), HB2 stays supercritical.
@@ -1018,8 +1027,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     ax.set_ylabel("inflation pressure $p_i$ [bar]")
     ax.legend(fontsize=8, loc="upper right", framealpha=0.9)
     ax.set_title("Fig. 18: enlarged (V, $p_i$) diagram, effects HCL + PT; shaded: straight running stable\n"
-                 f"stars: cycle curves end at HH1 and DH (located); x: codimension-two points of cycles; dotted: "
-                 f"{FIG18_START_BAR:g} bar (where they start)",
+                 f"cycle curves switched onto at HH1 and DH (stars, located); x: codimension-two points of cycles",
                  fontsize=9)
     notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; continued down to 0.05 bar "
                  "they neither cross nor end at a Hopf-Hopf point (they pass the two Hopf-Hopf points of 0.1007 bar "
