@@ -302,12 +302,15 @@ def _resonances(curve: _CurveProblem, branch: Branch, k: int, before: float, aft
 def cycle_bifurcation_curve(family: SpeedFamily, point: SpecialPoint, lo: float, hi: float, vmin: float,
                             vmax: float, settings: CycleSettings = CycleSettings(),
                             continuation: ContinuationSettings = CURVE_SETTINGS) -> CycleCurve:
-    """The curve of cycle folds or torus points through ``point`` (from a speed branch of ``family`` at fixed
-    q), followed both ways in the window [vmin, vmax] x [lo, hi]."""
+    """The curve of cycle folds, torus or period-doubling points through ``point`` (from a speed branch of
+    ``family`` at fixed q), followed both ways in the window [vmin, vmax] x [lo, hi]."""
     vmin = max(vmin, MIN_SPEED)
     if point.kind is PointKind.CYCLE_FOLD:
         from .cycle_fold_system import fold_curve
         return fold_curve(family, point, lo, hi, vmin, vmax, settings)
+    if point.kind is PointKind.PERIOD_DOUBLING:
+        from .cycle_fold_system import period_doubling_curve
+        return period_doubling_curve(family, point, lo, hi, vmin, vmax, settings)
     cycle: CyclePoint = point.data["cycle"]
     curve = _CurveProblem(family, point.kind, cycle, settings)
     y0 = np.array([1.0, cycle.value])

@@ -72,23 +72,50 @@ class SparseBordered:
 
 
 class FoldSystem:
-    """H(U) = (collocation, phase condition, g) for U = (x nodes, T, V, q), with its sparse Jacobian."""
+    """H(U) = (collocation, phase condition, g) for U = (x nodes, T, V, q), with its sparse Jacobian.
 
-    def __init__(self, family, cycle: CyclePoint, q_scale: float, settings: CycleSettings = CycleSettings()):
+    ``kind`` CYCLE_FOLD: g from the bordered (x, T) Jacobian of the periodic problem (module docstring);
+    PERIOD_DOUBLING: g from the bordered collocation of the variational equation v' = T f_x v with the
+    antiperiodic condition v(1) = -v(0) (Doedel, Govaerts & Kuznetsov 2003, the PD system), singular where a
+    multiplier is -1."""
+
+    def __init__(self, family, cycle: CyclePoint, q_scale: float, settings: CycleSettings = CycleSettings(),
+                 kind: PointKind = PointKind.CYCLE_FOLD):
         omega = 2.0 * np.pi / cycle.period
         self.family = family
+        self.kind = kind
         self.cp = CycleProblem(family, SPEED, cycle.speed, cycle.value, cycle.orbit, state_scales(family, omega),
                                speed_scale(family), settings)
         self.q_scale = q_scale
-        K = self.cp.size
         rng = np.random.default_rng(1)
-        self.b = rng.standard_normal(K + 1)
-        self.c = rng.standard_normal(K + 1)
+        self.b = rng.standard_normal(self.dim)
+        self.c = rng.standard_normal(self.dim)
         self._cache: tuple[np.ndarray, tuple] | None = None
 
     @property
     def K(self) -> int:
         return self.cp.size
+
+    @property
+    def dim(self) -> int:
+        """Size of the bordered block: (v, S) for a fold, v for period doubling."""
+        return self.K + 1 if self.kind is PointKind.CYCLE_FOLD else self.K
+
+    def _signs(self) -> np.ndarray:
+        """(N, m+1) signs of the interval node values of v: the antiperiodic wrap for period doubling."""
+        N, m = self.cp.intervals, self.cp.degree
+        sgn = np.ones((N, m + 1))
+        if self.kind is PointKind.PERIOD_DOUBLING:
+            sgn[-1, -1] = -1.0
+        return sgn
+
+    def _variational(self, CJ) -> scipy.sparse.spmatrix:
+        """The collocated variational equation with the antiperiodic wrap, K x K."""
+        cp, K = self.cp, self.K
+        N, m, n = cp.intervals, cp.degree, cp.n
+        rows, cols = col.block_pattern(N, m, n)
+        data = (CJ.B * self._signs()[:, None, None, :, None]).ravel()
+        return scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K, K))
 
     def pack(self, orbit: col.Orbit, V: float, q: float) -> np.ndarray:
         return np.concatenate([orbit.nodes.ravel(), [orbit.period, V, q]])
@@ -102,6 +129,7 @@ class FoldSystem:
         q = float(U[K + 2])
         cp.set_fixed(value=q)
         G, CJ = cp(U[:K + 2])
+        self._last_jacobian = CJ
         if not np.all(np.isfinite(G)):
             raise ParameterError("collocation residual not finite")
         e = cp.evaluate(U[:K + 2])
@@ -125,10 +153,11 @@ class FoldSystem:
             return self._cache[1]
         K = self.K
         G, A, col_V, col_q, e = self._pieces(U)
-        M = scipy.sparse.bmat([[A, scipy.sparse.csc_matrix(self.b[:, None])],
+        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
+        M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
                                [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
         lu = scipy.sparse.linalg.splu(M)
-        rhs = np.zeros(K + 2)
+        rhs = np.zeros(self.dim + 1)
         rhs[-1] = 1.0
         z = lu.solve(rhs)
         w = lu.solve(rhs, trans="T")
@@ -142,8 +171,11 @@ class FoldSystem:
         Collocation row k of M z is R_k = (D v)_k / h - T f_x(x_k) v_k - S f(x_k), v_k = (L v)_k."""
         cp, K = self.cp, self.K
         N, m, n = cp.intervals, cp.degree, cp.n
-        v_nodes, S = z[:K].reshape(-1, n), z[K]
-        vk = col.collocation_states(v_nodes[col.node_index(N, m)], cp.sch).reshape(-1, n)     # (Nm, n)
+        v_nodes = z[:K].reshape(-1, n)
+        S = z[K] if self.kind is PointKind.CYCLE_FOLD else 0.0
+        sgn = self._signs()
+        Yv = v_nodes[col.node_index(N, m)] * sgn[:, :, None]
+        vk = col.collocation_states(Yv, cp.sch).reshape(-1, n)                                # (Nm, n)
         xk = e["Xc"].reshape(-1, n)
         wk = w[:K].reshape(-1, n)
         T, V, q = e["T"], e["V"], e["q"]
@@ -156,7 +188,7 @@ class FoldSystem:
         _, Jm = col.values_and_jacobians(rhs, xk - eps * vk)
         H = (Jp - Jm) / (2.0 * eps)                                     # (Nm, a, b) = d/dx_b (f_x v)_a
         gx = np.einsum("ka,kab->kb", wk, T * H + S * Jf)               # -w^T dR/dx_k
-        per_interval = np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n))
+        per_interval = np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)) * sgn[:, :, None]
         g_nodes = np.zeros((N * m, n))
         np.add.at(g_nodes, col.node_index(N, m), per_interval)
         g_T = float(np.einsum("ka,kab,kb->", wk, Jf, vk))
@@ -187,10 +219,10 @@ class FoldSystem:
 
     def renormalize(self, U: np.ndarray) -> None:
         """At an accepted point: the orbit becomes the phase reference, the borders the current null vectors."""
-        K = self.K
+        K, d = self.K, self.dim
         _, _, _, _, _, z, w = self.evaluate(U)
-        self.c = z[:K + 1] / np.linalg.norm(z[:K + 1])
-        self.b = w[:K + 1] / np.linalg.norm(w[:K + 1])
+        self.c = z[:d] / np.linalg.norm(z[:d])
+        self.b = w[:d] / np.linalg.norm(w[:d])
         self.cp.set_reference(self.cp.orbit_of(U[:K + 2]))
         self._cache = None
         return None
@@ -217,20 +249,38 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
     """The curve of cycle folds through the located fold ``point`` of a speed branch, both ways, within
     [vmin, vmax] x [lo, hi], by the minimally augmented system (module docstring).
 
-    Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier through -1) and fold-Neimark-Sacker points (a complex
-    pair through the unit circle) are detected by the change in the number of multipliers outside the unit
-    circle, with the two multipliers at +1 left out, and located by Brent's method on the period-doubling or torus
-    test function along the corrected curve (Kuznetsov 2004, section 10.3; Govaerts 2000, ch. 7).
+    Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier
+    through -1) and fold-Neimark-Sacker points (a complex pair through the unit circle) are detected by the change
+    in the number of multipliers outside the unit circle, with the two multipliers at +1 left out, and located by
+    Brent's method on the period-doubling or torus test function along the corrected curve (Kuznetsov 2004,
+    section 10.3; Govaerts 2000, ch. 7).
 
     Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
-    from .cycle_curves import CycleCurve, locate_end
-
     if point.kind is not PointKind.CYCLE_FOLD:
         raise ValueError("fold_curve follows cycle folds")
+    return _bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation)
+
+
+def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+                          settings: CycleSettings = CycleSettings(),
+                          continuation: ContinuationSettings = FOLD_SETTINGS):
+    """The curve of period-doubling points through the located ``point`` of a speed branch, both ways, within
+    [vmin, vmax] x [lo, hi], by the minimally augmented PD system (antiperiodic variational equation, see
+    :class:`FoldSystem`).  Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
+    if point.kind is not PointKind.PERIOD_DOUBLING:
+        raise ValueError("period_doubling_curve follows period-doubling points")
+    return _bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation)
+
+
+def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+                    settings: CycleSettings, continuation: ContinuationSettings):
+    from .cycle_curves import CycleCurve, locate_end
+
+    folds = point.kind is PointKind.CYCLE_FOLD
     vmin = max(vmin, MIN_SPEED)
     cycle: CyclePoint = point.data["cycle"]
     q_scale = 0.1 * max(abs(cycle.value), 1e-12)
-    system = FoldSystem(family, cycle, q_scale, settings)
+    system = FoldSystem(family, cycle, q_scale, settings, kind=point.kind)
     U0 = system.pack(cycle.orbit, cycle.speed, cycle.value)
     # Two rounds of border updates make the borders the null vectors at the start point.
     system.renormalize(U0), system.renormalize(U0)
@@ -254,7 +304,7 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
             # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
             # curve would come back on itself.  Near the end amp^2 is affine along the curve.
             crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
-            if crossed or a_new < END_AMPLITUDE:
+            if folds and (crossed or a_new < END_AMPLITUDE):
                 s2 = -a_new ** 2 if crossed else a_new ** 2
                 lam = a_old ** 2 / (a_old ** 2 - s2) if a_old ** 2 != s2 else 1.0
                 guess = (U_old[-2] + lam * (V - U_old[-2]), U_old[-1] + lam * (q - U_old[-1]))
@@ -288,14 +338,14 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
             # Cusp of cycles: the curve is smooth in (x, T, V, q) but its (V, q) projection turns back, its
             # (V, q) tangent passing through zero: the product with the previous one changes sign.
             previous = branch.tangents[k][-2:] * weights[-2:]
-            if np.dot(branch.tangents[-1][-2:] * weights[-2:], previous) < 0.0:
+            if folds and np.dot(branch.tangents[-1][-2:] * weights[-2:], previous) < 0.0:
                 u, _, ok = locate_on_step(branch, k, step,
                                           lambda u, t: float(np.dot(t[-2:] * weights[-2:], previous)))
                 where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
                 special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period}))
-            for kind, count, test in FOLD_CODIM2:
+            for kind, count, test in FOLD_CODIM2 if folds else ():
                 before, after = (critical_multipliers(p.multipliers) for p in (points[-1], p_new))
                 if count(before) == count(after):
                     continue
@@ -316,7 +366,7 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
         halves.append((points, branch.status, branch.message, ends[0] if ends else None))
     (fwd, s_fwd, m_fwd, e_fwd), (bwd, s_bwd, m_bwd, e_bwd) = halves
     pts = list(reversed(bwd[1:])) + fwd
-    return CycleCurve(kind=PointKind.CYCLE_FOLD, param=getattr(family, "param", "q"),
+    return CycleCurve(kind=point.kind, param=getattr(family, "param", "q"),
                       speeds=np.array([p.speed for p in pts]), values=np.array([p.value for p in pts]),
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),

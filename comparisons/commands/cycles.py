@@ -67,7 +67,7 @@ def add_parser(sub) -> None:
     add_model_options(p)
     add_speed_window(p, vmin=True)
     p.add_argument("--two-param", metavar="NAME", choices=TWO_PARAMS,
-                   help="also continue every cycle fold and torus point in the (speed, NAME) plane "
+                   help="also continue every cycle fold, torus and period-doubling point in the (speed, NAME) plane "
                         f"(figures 8 and 18); NAME one of {', '.join(TWO_PARAMS)}; needs --range")
     p.add_argument("--range", nargs=2, type=float, metavar=("LO", "HI"),
                    help="window of NAME for --two-param (bar for pressure, SI otherwise)")
@@ -253,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
     if args.two_param:
         from ..cycle_plots import special_point_labels
         chosen = [(text, p) for text, p in special_point_labels(diagram)
-                  if p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)]
+                  if p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS, PointKind.PERIOD_DOUBLING)]
         with progress(len(chosen), "bifurcation curves", quiet) as bar:
             for text, p in chosen:
                 try:
