@@ -14,6 +14,7 @@ the Hopf point solved from the equilibrium's defining system.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Callable
 
 import numpy as np
@@ -253,7 +254,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
 
     branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
                             renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound)
-    # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from it.
+    # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from that
+    # cycle shrunk towards the Hopf point as the square root of the distance (amp^2 affine near a Hopf point).
     for hopf_end, near in ((start, records[0] if records else None), (end[0] if end else None,
                                                                       records[-1] if records else None)):
         if hopf_end is None or near is None or problem.free != SPEED:
@@ -261,7 +263,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         for target in targets:
             if (hopf_end.speed - target) * (near.speed - target) < 0.0 and target != near.speed:
                 try:
-                    cyc = cycle_at(problem.family, near, target, settings)
+                    cyc = cycle_at(problem.family, toward_hopf(near, hopf_end, target), target, settings)
                 except ConvergenceError:
                     continue
                 user.append((-1.0 if near is records[0] else arclength[-1] + 1.0, cyc))
@@ -271,6 +273,17 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
                        status=branch.status, message=message, start=start, end=end[0] if end else None,
                        user_points=tuple(c for _, c in sorted(user, key=lambda x: x[0])))
+
+
+def toward_hopf(near: CyclePoint, hopf: HopfPoint, speed: float) -> CyclePoint:
+    """A predictor for the cycle at ``speed`` between the computed cycle ``near`` and the Hopf point it runs
+    into: the orbit scaled by sqrt((V_H - V) / (V_H - V_near)), the period interpolated to 2 pi / omega_H."""
+    lam = (hopf.speed - speed) / (hopf.speed - near.speed)
+    orbit = near.orbit
+    period = 2.0 * np.pi / hopf.omega + lam * (near.period - 2.0 * np.pi / hopf.omega)
+    scaled = col.Orbit(mesh=orbit.mesh, nodes=np.sqrt(max(lam, 0.0)) * orbit.nodes, period=period,
+                       degree=orbit.degree)
+    return dataclasses.replace(near, orbit=scaled, period=period)
 
 
 def first_harmonic(orbit: col.Orbit) -> np.ndarray:
