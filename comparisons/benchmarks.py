@@ -140,6 +140,31 @@ def _mbs_simulation(fidelity: str):
     return setup
 
 
+def _sweep(samples: int, mbs: tuple[str, ...] = (), in_process: bool = False):
+    """``shimmy sweep`` over pressure and t0 (uniform, Sobol'), on a fresh local Dask cluster (start-up timed) or
+    as one batch in this process (the serial reference for the cluster's speed-up)."""
+    def setup():
+        import os
+        import tempfile
+
+        from .axle import Axle
+        from .sweep_design import make_design, parse_vary
+        from .sweep_run import run_sweep
+        from .sweep_sample import SweepTask, evaluate_batch
+        design = make_design([parse_vary("pressure=uniform:0.5:3.5"), parse_vary("t0=uniform:0.05:0.3")], samples, 1)
+        task = SweepTask(Axle(), (), 2.5, 2.5, design.names, mbs=mbs)
+        out = os.path.join(tempfile.mkdtemp(prefix="shimmy-bench-"), "sweep.parquet")
+
+        def run():
+            if in_process:
+                return evaluate_batch(task, 0, 0, design.values)
+            result = run_sweep(task, design, out, workers=os.cpu_count())
+            assert result.samples == samples and result.failed == 0
+            return result
+        return run
+    return setup
+
+
 BENCHMARKS: list[Benchmark] = [
     Benchmark("hopf_points_1.5bar", "all Hopf points at 1.5 bar, 0-400 km/h, with l1", 0.020, _hopf_one_pressure),
     Benchmark("figure5_diagram", "figure 5: Hopf curves 0.05-3 bar, 0-400 km/h, with special points", 1.0,
@@ -154,6 +179,14 @@ BENCHMARKS: list[Benchmark] = [
               "RK67 h = 1/210 s (1e-4 accurate); target 20x real time", 0.5, _mbs_simulation("full"), repeats=5),
     Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced)", 0.5,
               _mbs_simulation("reduced"), repeats=5),
+    Benchmark("sweep_hopf_10k", "shimmy sweep: 10,000 reduced-model Hopf samples (pressure, t0) on a local Dask "
+              "cluster, one worker per core, cluster start-up and Parquet included; target 30 s on 2 cores", 30.0,
+              _sweep(10_000), repeats=3),
+    Benchmark("sweep_hopf_serial_2k", "the same Hopf samples, 2,000 in one batch in this process (serial reference: "
+              "5 x median / sweep_hopf_10k = cluster speed-up)", None, _sweep(2_000, in_process=True), repeats=3),
+    Benchmark("sweep_mbs_full_200", "shimmy sweep: 200 samples with the reduced model's and the full-geometry MBS's "
+              "Hopf points (MBS linearisation) on a local Dask cluster; samples/s = 200 / median", None,
+              _sweep(200, mbs=("full",)), repeats=3),
 ]
 
 

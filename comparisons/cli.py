@@ -12,7 +12,7 @@ from reduced_model.special_points import ConvergenceError
 
 from .options import UsageError, resolve_pressures
 
-COMMANDS = ("verify", "hopf", "curves", "cycles", "simulate", "assumptions", "figures", "params", "bench")
+COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "simulate", "assumptions", "figures", "params", "bench", "sweep")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -33,6 +33,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)    # echoed in reports
     try:
         resolve_pressures(args)
         return int(args.run(args) or 0)

@@ -2,22 +2,20 @@
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from reduced_model.cycles import CycleBranch, CycleDiagram
+from reduced_model.family import SpeedFamily
+from reduced_model.model import STATE_NAMES
+from reduced_model.modes import ModeHistory
+from reduced_model.special_points import PointKind
+from reduced_model.trajectory import Trajectory
 
-from reduced_model.cycles import CycleBranch, CycleDiagram  # noqa: E402
-from reduced_model.family import SpeedFamily  # noqa: E402
-from reduced_model.model import STATE_NAMES  # noqa: E402
-from reduced_model.modes import ModeHistory  # noqa: E402
-from reduced_model.special_points import PointKind  # noqa: E402
-from reduced_model.trajectory import Trajectory  # noqa: E402
-
-from .plots import save_figure, stability_grid  # noqa: E402
+from .plots import place_labels, save_figure, stability_grid
 
 LABELS = {PointKind.CYCLE_FOLD: ("S", "o"), PointKind.TORUS: ("T", "s"), PointKind.PERIOD_DOUBLING: ("PD", "^")}
+MODEL_NAMES = {"reduced": "reduced model", "mbs": "multibody model (Exudyn)"}
 PANELS = (("theta1", r"max $|\theta_1|$ [deg]"), ("psi", r"max $|\psi|$ [deg]"))
 
 
@@ -42,10 +40,15 @@ def _stability_runs(branch: CycleBranch):
     return runs
 
 
-def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k") -> None:
+def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None) -> None:
+    """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
+    max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
+    point) pairs; default HB1, HB2, ... by speed).  Labels are placed so that they do not collide."""
     speeds = np.linspace(diagram.vmin, diagram.vmax, 801)
     unstable = stability_grid(family, speeds, np.array([diagram.value]))[0] > 0
     labels = special_point_labels(diagram)
+    if hopf_labels is None:
+        hopf_labels = [(f"HB{i}", h) for i, h in enumerate(sorted(diagram.hopf, key=lambda h: h.speed), 1)]
     for ax, (name, ylabel) in zip(axes, PANELS):
         # Straight running on the axis: solid where stable, dashed where not.
         for flag, style in ((False, "-"), (True, "--")):
@@ -60,24 +63,26 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
                 if branch.end is not None and pts[-1] is branch.points[-1]:
                     v, a = v + [branch.end.speed_kmh], a + [0.0]
                 ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
-        for i, h in enumerate(diagram.hopf, 1):
-            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5)
-            ax.annotate(f"HB{i}", (h.speed_kmh, 0.0), textcoords="offset points", xytext=(2, 5), fontsize=8,
-                        color="C0")
+        items = []
+        for text, h in hopf_labels:
+            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
+            items.append((h.speed_kmh, 0.0, text, "C0"))
         for text, p in labels:
             amp = np.degrees(p.data["amplitude"][STATE_NAMES.index(name)])
             marker = LABELS.get(p.kind, ("", "x"))[1]
             ax.plot(p.speed * 3.6, amp, marker, color="C3", ms=6, mfc="none")
-            ax.annotate(text, (p.speed * 3.6, amp), textcoords="offset points", xytext=(4, 4), fontsize=8,
-                        color="C3")
+            items.append((p.speed * 3.6, amp, text, "C3"))
         ax.set_xlim(diagram.vmin * 3.6, diagram.vmax * 3.6)
         ax.set_ylabel(ylabel)
-        ax.set_ylim(bottom=-0.02 * max(ax.get_ylim()[1], 1e-3))
+        top = max(ax.get_ylim()[1], 1e-3)
+        ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
+        place_labels(ax, items)
     axes[-1].set_xlabel("speed V [km/h]")
 
 
 def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, title: str | None = None) -> None:
-    fig, axes = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
+    fig = Figure(figsize=(6.4, 6.4))
+    axes = fig.subplots(2, 1, sharex=True)
     draw_cycle_diagram(axes, diagram, family)
     effects = ",".join(family.model.effects.names) or "section 3 model"
     axes[0].set_title(title or f"Limit cycles at {diagram.value / 1e5:g} bar ({effects}); "
@@ -87,7 +92,8 @@ def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, ti
 
 def plot_trajectory(trajectory: Trajectory, history: ModeHistory, path: str, title: str | None = None) -> None:
     """theta1 and psi (degrees) against time, the speed on a second axis, mode switches marked."""
-    fig, axes = plt.subplots(2, 1, figsize=(7.2, 5.6), sharex=True)
+    fig = Figure(figsize=(7.2, 5.6))
+    axes = fig.subplots(2, 1, sharex=True)
     for ax, (name, label) in zip(axes, ((r"theta1", r"$\theta_1$ [deg]"), ("psi", r"$\psi$ [deg]"))):
         ax.plot(trajectory.t, np.degrees(trajectory.state(name)), lw=0.5, color="k")
         ax.set_ylabel(label)
@@ -102,13 +108,15 @@ def plot_trajectory(trajectory: Trajectory, history: ModeHistory, path: str, tit
                          xycoords=("data", "axes fraction"), textcoords="offset points", xytext=(3, -22),
                          fontsize=8, color="C3")
     axes[-1].set_xlabel("time [s]")
-    axes[0].set_title(title or f"reduced model: {trajectory.integrator.split(',')[0]}", fontsize=9)
+    model = MODEL_NAMES.get(trajectory.model, trajectory.model)
+    axes[0].set_title(title or f"{model}: {trajectory.integrator.split(',')[0]}", fontsize=9)
     save_figure(fig, path)
 
 
 def plot_phase_portrait(trajectories, path: str, labels=None, title: str | None = None) -> None:
     """psi against psi_dot (figure 11), one curve per trajectory, initial points as squares."""
-    fig, ax = plt.subplots(figsize=(5.6, 4.6))
+    fig = Figure(figsize=(5.6, 4.6))
+    ax = fig.subplots()
     for i, tr in enumerate(trajectories):
         psi, psid = np.degrees(tr.state("psi")), np.degrees(tr.state("psi_dot"))
         ax.plot(psi, psid, lw=0.5, color=f"C{i}", label=None if labels is None else labels[i])
@@ -132,7 +140,8 @@ def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, titl
     from .plots import draw_hopf_diagram
 
     unit, factor = interface_unit(family.param)
-    fig, ax = plt.subplots(figsize=(6.8, 5.0))
+    fig = Figure(figsize=(6.8, 5.0))
+    ax = fig.subplots()
     draw_hopf_diagram(ax, hopf, family)
     for curve, label in zip(curves, labels):
         if curve is None or len(curve.speeds) == 0:
@@ -156,7 +165,8 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
 
     ``simulated`` maps a label to a list of (speed m/s, max|theta1| rad, max|psi| rad).
     """
-    fig, axes = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
+    fig = Figure(figsize=(6.4, 6.4))
+    axes = fig.subplots(2, 1, sharex=True)
     draw_cycle_diagram(axes, diagram, family)
     styles = {"reduced": ("o", "C0", "MBS, all assumptions on"), "full": ("x", "C3", "MBS, full geometry")}
     for label, points in simulated.items():

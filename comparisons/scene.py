@@ -41,6 +41,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from reduced_model.model import ShimmyModel
 from reduced_model.parameters import YANG2024, ShimmyParameters
@@ -52,34 +53,18 @@ SIDES = ("right", "left")
 _SIDE_SIGN = {"right": -1.0, "left": 1.0}   # sign of y
 
 
-# --- quaternions (x, y, z, w), vectorised over the leading axis ----------------------------------------------
+# --- rotations: scipy.spatial.transform.Rotation, quaternions (x, y, z, w) as Rerun wants them ------------------
 
-def quaternion_about(axis, angle) -> np.ndarray:
-    """Rotation by ``angle`` (rad, scalar or (N,)) about the unit ``axis`` (3,): (N, 4) or (4,)."""
+def rotation_about(axis, angle) -> Rotation:
+    """Rotation by ``angle`` (rad, scalar or (N,)) about the unit ``axis`` (3,)."""
     axis = np.asarray(axis, dtype=float)
     axis = axis / np.linalg.norm(axis)
-    half = 0.5 * np.asarray(angle, dtype=float)
-    s = np.sin(half)[..., None]
-    return np.concatenate([s * axis, np.cos(half)[..., None]], axis=-1)
-
-
-def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a * b (apply b first, then a), broadcasting over leading axes."""
-    ax, ay, az, aw = np.moveaxis(np.asarray(a, dtype=float), -1, 0)
-    bx, by, bz, bw = np.moveaxis(np.asarray(b, dtype=float), -1, 0)
-    return np.stack([aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx,
-                     aw * bz + ax * by - ay * bx + az * bw,
-                     aw * bw - ax * bx - ay * by - az * bz], axis=-1)
+    return Rotation.from_rotvec(np.multiply.outer(np.asarray(angle, dtype=float), axis))
 
 
 def rotate(q: np.ndarray, v) -> np.ndarray:
-    """Rotate vector(s) v by quaternion(s) q (broadcasting): v + 2 w (u x v) + 2 u x (u x v)."""
-    q = np.asarray(q, dtype=float)
-    v = np.asarray(v, dtype=float)
-    u, w = q[..., :3], q[..., 3:4]
-    uv = np.cross(u, v)
-    return v + 2.0 * w * uv + 2.0 * np.cross(u, uv)
+    """Rotate vector(s) v by quaternion(s) q, xyzw (one of either, or N of both)."""
+    return Rotation.from_quat(q).apply(v)
 
 
 # --- geometry --------------------------------------------------------------------------------------------------
@@ -234,18 +219,19 @@ def reduced_model_poses(trajectory: Trajectory, model: ShimmyModel, pressure,
     phi = spin_angle(trajectory.t, trajectory.speed, g.R)
 
     axle_pos = np.tile([0.0, 0.0, g.R], (n, 1))
-    axle_q = quaternion_about([1.0, 0.0, 0.0], psi)
-    bodies = {"axle": BodyPose(axle_pos, axle_q)}
+    axle_r = rotation_about([1.0, 0.0, 0.0], psi)
+    bodies = {"axle": BodyPose(axle_pos, axle_r.as_quat())}
     knuckles = {}
     wheel_tyres = dict(zip(SIDES, model.tyres(pressure)))
     points = np.zeros((n, 2, 3))
     vectors = np.zeros((n, 2, 3))
     for k, side in enumerate(SIDES):
         s = _SIDE_SIGN[side]
-        kq = quaternion_multiply(axle_q, quaternion_about(g.kingpin_axis, theta[side]))
-        kp = axle_pos + rotate(axle_q, [0.0, s * g.kingpin_y, 0.0])
-        wq = quaternion_multiply(kq, quaternion_about([0.0, 1.0, 0.0], phi))
-        wp = kp + rotate(kq, [0.0, s * g.l, 0.0])
+        kr = axle_r * rotation_about(g.kingpin_axis, theta[side])   # apply the steer first, then the tramp
+        kp = axle_pos + axle_r.apply([0.0, s * g.kingpin_y, 0.0])
+        wq = (kr * rotation_about([0.0, 1.0, 0.0], phi)).as_quat()
+        wp = kp + kr.apply([0.0, s * g.l, 0.0])
+        kq = kr.as_quat()
         knuckles[side] = BodyPose(kp, kq)
         bodies[f"knuckle_{side}"] = knuckles[side]
         bodies[f"wheel_{side}"] = BodyPose(wp, wq)

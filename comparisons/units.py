@@ -44,3 +44,13 @@ def to_interface(value: float, si_unit: str) -> float:
 
 def to_si(value: float, si_unit: str) -> float:
     return float(value) * interface_of(si_unit)[1]
+
+
+def interface_message(text: str, name: str, unit: str, factor: float) -> str:
+    """A continuation message with ``name = VALUE`` (SI, as the toolkit writes it) shown in interface units:
+    "pressure = 128521" becomes "pressure = 1.28521 bar"."""
+    import re
+    if factor == 1.0 and unit in ("", "-"):
+        return text
+    return re.sub(rf"\b{re.escape(name)} = ([-+0-9.eE]+)",
+                  lambda m: f"{name} = {float(m.group(1)) / factor:.6g} {unit}", text)

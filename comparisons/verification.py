@@ -10,6 +10,7 @@ paper (only for the paper's axle) pass to its printed digits, or are known diffe
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -144,6 +145,7 @@ def hopf_section(ctx: Context) -> Section:
     mbs = _mbs()
     rows = []
     dims = ctx.axle.dims
+    speeds = {}     # figure: model set -> source -> [(pressure bar, km/h)] at the symmetric cases
     for label, effects in MODEL_SETS:
         model = ShimmyModel(params=ctx.axle.params, effects=effects)
         for case in ctx.plan.cases:
@@ -174,6 +176,7 @@ def hopf_section(ctx: Context) -> Section:
                 red = next((s for s in by_fidelity["reduced"] if s.reduced_kmh == h.speed_kmh), None)
                 full = full_by_reduced.get(h.speed_kmh)
                 ok = red is not None and red.mbs_kmh is not None and abs(red.mbs_kmh - h.speed_kmh) <= HOPF_TOL_KMH
+                _collect_hopf_speeds(speeds, label, case, h.speed_kmh, red, full)
                 rows.append(Row({**base, "point": f"HB{i + 1}", "reduced_kmh": h.speed_kmh,
                                  "mbs_reduced_kmh": red.mbs_kmh if red else None,
                                  "mbs_full_kmh": full.mbs_kmh if full else None,
@@ -186,8 +189,9 @@ def hopf_section(ctx: Context) -> Section:
                 if s.reduced_kmh is None:
                     rows.append(Row({**base, "point": "MBS full only", "mbs_full_kmh": s.mbs_kmh}, CheckStatus.INFO,
                                     "a Hopf point of the full geometry with no reduced-model partner"))
+    figures = _hopf_figure(ctx, speeds)
     return Section(
-        key="hopf", title="Hopf speeds and eigenvalues: reduced model and MBS",
+        key="hopf", title="Hopf speeds and eigenvalues: reduced model and MBS", figures=figures,
         columns=("model", "case", "point", "reduced_kmh", "mbs_reduced_kmh", "mbs_full_kmh", "full_shift_kmh",
                  "frequency_hz", "criticality", "relative_diff"),
         rows=tuple(rows),
@@ -197,12 +201,36 @@ def hopf_section(ctx: Context) -> Section:
               f"information: what the full geometry changes."))
 
 
+def _collect_hopf_speeds(speeds: dict, label: str, case, reduced_kmh: float, red, full) -> None:
+    if case.pressure_right_bar != case.pressure_left_bar:
+        return
+    p = case.pressure_right_bar
+    by_source = speeds.setdefault(label, {})
+    by_source.setdefault("reduced", []).append((p, reduced_kmh))
+    by_source.setdefault("mbs_reduced", []).append((p, red.mbs_kmh if red else None))
+    by_source.setdefault("mbs_full", []).append((p, full.mbs_kmh if full else None))
+
+
+def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
+    """Hopf speeds of the paper, the reduced model and both MBS fidelities against pressure, per model set."""
+    from .report_figures import plot_hopf_speeds
+    if not speeds:
+        return ()
+    if ctx.axle.is_paper and MODEL_SETS[0][0] in speeds:
+        speeds[MODEL_SETS[0][0]]["paper"] = [(p, v) for p, printed in HOPF_SPEEDS_KMH.items() for v in printed]
+    ctx.progress("Hopf speeds: figure")
+    plot_hopf_speeds(speeds, os.path.join(ctx.out, "hopf_speeds.png"),
+                     title=f"Hopf speeds against tyre pressure, axle {ctx.axle.name} (both tyres alike)")
+    return ("hopf_speeds.png",)
+
+
 # --- assumptions ------------------------------------------------------------------------------------------
 
 def assumptions_section(ctx: Context) -> Section:
+    from .report_figures import AssumptionShift, plot_assumption_tornado
     mbs = _mbs()
     model = ShimmyModel(params=ctx.axle.params)
-    rows = []
+    rows, tornado = [], []
     cases = [c for c in shimmy_cases(ctx) if c.kind is not CaseKind.ASYMMETRIC][:2]
     for case in cases:
         ctx.progress(f"Assumptions at {case.label}")
@@ -212,8 +240,16 @@ def assumptions_section(ctx: Context) -> Section:
             shifts = ", ".join("-" if h.shift_kmh is None else f"{h.shift_kmh:+.2f}" for h in r.hopf)
             rows.append(Row({"case": case.label, "assumption_off": r.assumption, "hopf_shifts_kmh": shifts,
                              "peak_theta1_shift_deg": r.peak_theta1_shift_deg}, CheckStatus.INFO))
+            tornado.append(AssumptionShift(case.pressure_right_bar, r.assumption, [h.shift_kmh for h in r.hopf],
+                                           r.peak_theta1_shift_deg))
+    figures = ()
+    if tornado:
+        plot_assumption_tornado(tornado, os.path.join(ctx.out, "assumptions.png"),
+                                title=f"What each assumption of the reduced model costs, axle {ctx.axle.name}")
+        figures = ("assumptions.png",)
     return Section(
         key="assumptions", title="What each assumption of the reduced model costs (MBS, one switch off at a time)",
+        figures=figures,
         columns=("case", "assumption_off", "hopf_shifts_kmh", "peak_theta1_shift_deg"), rows=tuple(rows),
         text=("Shift of every Hopf speed (MBS minus reduced, in the order of the reduced model's Hopf points; '-' where "
               "a point has no partner) and of the peak limit-cycle amplitude, from `shimmy assumptions`, at the first "
@@ -229,6 +265,8 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     if ctx.plan.bistable:
         steps.append(("Bistable jumps", jumps_section))
     steps.append(("Assumptions", assumptions_section))
+    from .robustness import robustness_section
+    steps.append(("Robustness", robustness_section))
     return steps
 
 
@@ -252,7 +290,9 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
     plan = make_plan(axle, quick, asymmetric, from_file, progress)
     ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress)
     sections = []
-    for title, make in sections_for(ctx):
+    steps = sections_for(ctx)
+    getattr(progress, "set_steps", lambda names: None)([title for title, _ in steps])
+    for title, make in steps:
         progress(f"{title}")
         try:
             sections.append(make(ctx))

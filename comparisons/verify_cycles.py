@@ -182,12 +182,40 @@ def _record(ctx: Context, name: str, trajectory, history, title: str, case: Bist
     return name
 
 
+def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase) -> list[str]:
+    """The side-by-side recording of one experiment in both models (besides one file per model)."""
+    if not ctx.recordings:
+        return []
+    from .recording import ComparedRun, write_comparison
+    write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches) for t, h in both],
+                     title, model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * 1e5)
+    return [name]
+
+
+def _experiment(title: str, both, marks: dict):
+    from .report_figures import Experiment, RunHistory
+    runs = [RunHistory(t.model, t.t, t.speed * 3.6, np.degrees(t.state("theta1")), np.degrees(t.state("psi")),
+                       [(s.time, s.speed * 3.6, f"{s.before.value} -> {s.after.value}") for s in h.switches])
+            for t, h in both]
+    return Experiment(title, runs, marks)
+
+
+def _jump_figure(ctx: Context, experiments, case: BistableCase, paper: bool) -> str:
+    from .report_figures import plot_jump_histories
+    name = "jumps_" + f"{case.pressure_bar:g}".replace(".", "p") + "bar.png"
+    ends = "S1 (ramp up) and T2 (ramp down)" if paper else "the window's ends"
+    plot_jump_histories(experiments, os.path.join(ctx.out, name),
+                        title=f"Jumps between the modes in both models, {case.pressure_bar:g} bar; dashed: the speed "
+                              f"passes {ends}; dotted: detected switches")
+    return name
+
+
 def jumps_section(ctx: Context) -> Section:
     from reduced_model.modes import Mode
     from reduced_model.simulation import initial_state
     from reduced_model.trajectory import SpeedSchedule
 
-    rows, recordings = [], []
+    rows, recordings, figures = [], [], []
     for case in ctx.plan.bistable:
         ctx.progress(f"Bistable jumps: cycles at {case.pressure_bar:g} bar")
         diagram = _bistable_diagram(case)
@@ -231,9 +259,10 @@ def jumps_section(ctx: Context) -> Section:
                 below_mode, above_mode = Mode.TRAMP, Mode.YAW
         runs = (("ramp up", SpeedSchedule.ramp(v_lo / 3.6, v_hi / 3.6, ramp_time), below_mode, above_mode, high),
                 ("ramp down", SpeedSchedule.ramp(v_hi / 3.6, v_lo / 3.6, ramp_time), above_mode, below_mode, low))
+        experiments = []
         for name, schedule, before, after, edge in runs:
             ctx.progress(f"Bistable jumps: {name} {v_lo:.0f}-{v_hi:.0f} km/h in both models")
-            found = {}
+            found, both = {}, []
             for traj in _run_both(case, schedule, initial_state(), ramp_time + 10.0):
                 history = classify(traj)
                 jumps = [s for s in history.switches if s.before is before and s.after is after]
@@ -242,6 +271,11 @@ def jumps_section(ctx: Context) -> Section:
                               f"{name}, {traj.model} model, {case.pressure_bar:g} bar", case)
                 if rec:
                     recordings.append(rec)
+                both.append((traj, history))
+            mark = ("S1" if name == "ramp up" else "T2") if paper else "window end"
+            experiments.append(_experiment(f"{name}, {case.pressure_bar:g} bar", both, {mark: edge}))
+            recordings += _record_both(ctx, f"{name.replace(' ', '_')}_both.rrd", both,
+                                       f"{name}: reduced model and MBS side by side, {case.pressure_bar:g} bar", case)
             up = name == "ramp up"
             beyond = (lambda v: v is not None and v >= edge - WINDOW_SLACK_KMH) if up else \
                 (lambda v: v is not None and v <= edge + WINDOW_SLACK_KMH)
@@ -255,6 +289,7 @@ def jumps_section(ctx: Context) -> Section:
                             f"{before.value} -> {after.value}: both models jump {'at or above' if up else 'at or below'}"
                             f" the window's end {edge:.2f} km/h (delayed by the slow passage)" if ok else
                             f"a model did not jump {before.value}->{after.value} past {edge:.2f} km/h"))
+        figures.append(_jump_figure(ctx, experiments, case, paper))
         # Two starts inside the window settle on different cycles.
         duration = 20.0 if ctx.quick else 40.0
         if paper:
@@ -266,14 +301,18 @@ def jumps_section(ctx: Context) -> Section:
         finals = {}
         for label, x0 in starts:
             ctx.progress(f"Bistable jumps: start {label} at {speed:.1f} km/h in both models")
+            both = []
             for traj in _run_both(case, SpeedSchedule.constant(speed / 3.6), x0, duration):
                 history = classify(traj)
+                both.append((traj, history))
                 finals[(label, traj.model)] = history.final_mode
                 prefix = "fig11_" if paper else "two_starts_"
                 rec = _record(ctx, f"{prefix}{label.replace(' ', '_')}_{traj.model}.rrd", traj, history,
                               f"start {label} at {speed:.1f} km/h, {traj.model} model", case)
                 if rec:
                     recordings.append(rec)
+            recordings += _record_both(ctx, f"{prefix}{label.replace(' ', '_')}_both.rrd", both,
+                                       f"start {label} at {speed:.1f} km/h: reduced model and MBS side by side", case)
         if len(starts) == 2:
             for m in ("reduced", "mbs"):
                 a, b = finals[(starts[0][0], m)], finals[(starts[1][0], m)]
@@ -291,7 +330,7 @@ def jumps_section(ctx: Context) -> Section:
         key="jumps", title=title,
         columns=("run", "paper_kmh", "continuation_kmh", "reduced_kmh", "mbs_reduced_kmh", "model_diff_kmh",
                  "final_1", "final_2"),
-        rows=tuple(rows), recordings=tuple(recordings),
+        rows=tuple(rows), recordings=tuple(recordings), figures=tuple(figures),
         text=("Cycle folds (S) and torus points (T) from continuation; speed ramps up and down through the window "
               "where two stable cycles coexist, in both models, with the detected mode switches (the jump lags the "
               "window's end because the state passes a slowly changing instability: the lag depends on the ramp "

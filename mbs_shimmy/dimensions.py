@@ -37,7 +37,7 @@ class AxleDimensions:
                    range=(1.0, 500.0), plausible=(30.0, 60.0))
     wheel_diametral_inertia: float = _d(2.6, "kg m^2", "wheel about a diameter; about half of I2 plus the "
                                                       "tyre width, as for a ring-like rim and tyre",
-                   range=(0.1, 50.0), plausible=(2.0, 3.5))
+                   range=(0.1, 50.0), plausible=(2.45, 3.2))   # a rigid wheel needs at least I2 / 2
     knuckle_mass: float = _d(20.0, "kg", "knuckle, hub and brake; its centre of mass is put on the kingpin axis",
                    range=(1.0, 200.0), plausible=(12.0, 35.0))
     knuckle_transverse_inertia: float = _d(0.3, "kg m^2", "knuckle about axes across the kingpin",

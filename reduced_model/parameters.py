@@ -56,8 +56,8 @@ class ShimmyParameters:
     f: float = _p(0.015, "-", _T1_LI, "rolling-resistance coefficient", range=(0.0, 0.1))
     l: float = _p(0.07, "m", _T1_LI, "wheel offset (kingpin to wheel centre plane)", range=(0.0, 0.5))
     gamma: float = _p(0.04, "rad", _T1_LI, "caster angle", "γ", range=(-math.radians(20.0), math.radians(20.0)))
-    a0: float = _p(0.2, "m", _T1_LI, "half contact length at nominal pressure", range=(0.01, 0.5))
-    sigma0: float = _p(0.65, "m", _T1_LI, "relaxation length (section 3 model)", "σ_0", range=(0.01, 5.0))
+    a0: float = _p(0.2, "m", _T1_LI, "half contact length at nominal pressure", range=(0.005, 1.0))
+    sigma0: float = _p(0.65, "m", _T1_LI, "relaxation length (section 3 model)", "σ_0", range=(0.001, 5.0))
     t0: float = _p(0.07, "m", _T1_LI, "pneumatic trail (section 3 model)", range=(0.001, 0.5))
     # --- nominal operating point -------------------------------------------------------------------------
     Fz0: float = _p(6000.0, "N", _TEXT, "nominal vertical wheel load", "F_z0", range=(100.0, 1e5))

@@ -30,9 +30,10 @@ def test_every_paper_figure_is_either_drawn_or_explained():
         figures.unavailable_reason(19)
 
 
-# One of each kind of recipe: tyre curves, three panels, one labelled Hopf diagram, codimension-two labels,
-# four pressures with fold names, overlaid effect sets with zooms.  The whole set is the slow test below.
-CI_SUBSET = (2, 5, 8, 14, 16, 17)
+# One of each kind of recipe: tyre curves, three panels, one labelled Hopf diagram, four pressures with the
+# marker key and fold names (14), overlaid effect sets with zooms.  The whole set is the slow test below (figure 8
+# continues four cycle curves, about 40 s).
+CI_SUBSET = (2, 5, 14, 16, 17)
 
 
 def make_and_check(tmp_path, capsys, only):
@@ -61,6 +62,9 @@ def test_representative_figures(tmp_path, capsys):
     assert out["unavailable"] == []
     # Figure 5 names the fold where the last (yaw) mode ends, as the paper's F1.
     assert any(note.startswith("F1 (yaw mode vanishes): 57.") for note in made[5]["notes"])
+    # Figure 17's Z2 names the paper's cusp (+HCL) and HH1 (+PT).
+    assert "+HCL: cusp (HB2 meets HB3) at 220.6" in " ".join(made[17]["notes"])
+    assert "+PT: HH1 (HB2 crosses HB3) at 163.11 km/h, 0.5320 bar" in " ".join(made[17]["notes"])
     assert elapsed < 60.0
 
 
@@ -112,7 +116,15 @@ def test_all_available_figures(tmp_path, capsys):
     # Figure 18: both torus curves end at HH1 (paper 0.53 bar), the fold curve at DH.
     assert note(made, 18, "HH1").startswith("HH1: 163.11 km/h, 0.532 bar")
     assert sum("0.5320 bar" in x for x in made[18]["notes"] if x.startswith("T")) == 2
-    assert elapsed < 180.0   # about 95 s on two idle cores; figure 10 (two 80 s ramps) is the longest
+    # Figure 8: as in the paper, both torus curves end at the Hopf-Hopf point and the saddle-node curves at the
+    # degenerate Hopf points of the Hopf curves (computed independently by the Hopf-curve continuation).
+    hh = note(made, 8, "HH:").split(": ")[1].split(" km/h, ")
+    for name in ("T1", "T2"):
+        assert f"amplitude vanishes at {hh[0]} km/h, {float(hh[1].split(' ')[0]):.4f} m" in note(made, 8, name + " ")
+    for name, dh in (("S1", "DH1"), ("S2", "DH2")):
+        v, t = note(made, 8, dh).split(": ")[1].split(" km/h, ")
+        assert f"amplitude vanishes at {v} km/h, {float(t.split(' ')[0]):.4f} m" in note(made, 8, name + " ")
+    assert elapsed < 240.0   # about 95 s on two idle cores plus figure 8's cycle curves
 
 
 def test_unavailable_figure_is_refused_with_exit_4(tmp_path):

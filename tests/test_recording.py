@@ -10,6 +10,7 @@ from rerun.chunk import RrdReader
 from scipy.integrate import solve_ivp
 
 from comparisons import recording
+from rrd_helpers import blueprint_views, rows
 from comparisons.recording import (
     EVENTS_ENTITY,
     FORCE_ENTITIES,
@@ -61,15 +62,6 @@ def rrd(trajectory, tmp_path_factory):
     return str(path)
 
 
-def rows(path, entity):
-    """Time-varying rows of one entity, concatenated over chunks and sorted by sim_time."""
-    batches = [c.to_record_batch() for c in RrdReader(path).stream().filter(content=entity, is_static=False)]
-    assert batches, f"no data for {entity}"
-    table = pa.concat_tables([pa.Table.from_batches([b]) for b in batches], promote_options="default")
-    table = table.sort_by("sim_time")
-    return table
-
-
 def times(table):
     return table.column("sim_time").cast(pa.int64()).to_numpy()
 
@@ -81,11 +73,20 @@ def scalars(table):
 
 
 def test_entities_and_sample_counts(rrd, trajectory):
-    n = len(trajectory.t)
-    for entity in (*STATE_ENTITIES.values(), SPEED_ENTITY, *FORCE_ENTITIES.values(), *SCENE_ENTITIES):
+    """Series keep their min/max samples, the scene its 100-per-second poses; times are the trajectory's own."""
+    t = trajectory.t
+    series = dict(zip(STATE_ENTITIES.values(), np.degrees(trajectory.x.T)))
+    series[SPEED_ENTITY] = trajectory.speed * 3.6
+    for entity, values in series.items():
         table = rows(rrd, entity)
-        assert table.num_rows == n, entity
-        np.testing.assert_array_equal(times(table), time_ns(trajectory.t))
+        kept = recording.series_indices(t, values)
+        assert len(kept) < len(t)      # decimated ...
+        np.testing.assert_array_equal(times(table), time_ns(t[kept]))
+    for entity in (*FORCE_ENTITIES.values(), *SCENE_ENTITIES):
+        assert rows(rrd, entity).num_rows > 0, entity
+    for entity in SCENE_ENTITIES:
+        np.testing.assert_array_equal(times(rows(rrd, entity)), time_ns(t[recording.scene_indices(t)]))
+    assert len(recording.scene_indices(t)) == 201   # 2 s at 100 per second, and the last sample
     summary = RrdReader(rrd).store().summary()
     for body in BODY_NAMES:   # every body has static shapes as children
         assert f"/scene/{body}/" in summary
@@ -93,33 +94,55 @@ def test_entities_and_sample_counts(rrd, trajectory):
 
 
 def test_state_values_equal_the_trajectory(rrd, trajectory):
+    t = trajectory.t
     for k, name in enumerate(STATE_NAMES):
-        np.testing.assert_array_equal(scalars(rows(rrd, STATE_ENTITIES[name])), np.degrees(trajectory.x[:, k]))
-    np.testing.assert_array_equal(scalars(rows(rrd, SPEED_ENTITY)), trajectory.speed * 3.6)
+        values = np.degrees(trajectory.x[:, k])
+        kept = recording.series_indices(t, values)
+        np.testing.assert_array_equal(scalars(rows(rrd, STATE_ENTITIES[name])), values[kept])
+        # ... but every 10 ms bin's extremes are there: the recorded envelope is the trajectory's.
+        assert scalars(rows(rrd, STATE_ENTITIES[name])).max() == values.max()
+    speed = trajectory.speed * 3.6
+    np.testing.assert_array_equal(scalars(rows(rrd, SPEED_ENTITY)), speed[recording.series_indices(t, speed)])
     assert STATE_ENTITIES["theta1"] == "/states/theta1_deg"
     assert STATE_ENTITIES["psi_dot"] == "/states/psi_dot_deg_per_s"
 
 
+def test_series_styles_distinct_colours_and_minmax(rrd):
+    """Every series is drawn with min/max aggregation and a colour of its own (the viewer's defaults average
+    the samples of a pixel and draw theta1 and theta2 in near-identical greens)."""
+    colours = {}
+    for name, entity in STATE_ENTITIES.items():
+        static = [c.to_record_batch() for c in RrdReader(rrd).stream().filter(content=entity, is_static=True)]
+        cols = {n: b.column(n).to_pylist()[0] for b in static for n in b.schema.names}
+        assert cols["SeriesLines:aggregation_policy"] == [5]      # AggregationPolicy.MinMax
+        colours[name] = cols["SeriesLines:colors"][0]
+        assert cols["SeriesLines:names"][0].startswith(name + " [")
+    assert len(set(colours.values())) == len(colours)
+
+
 def test_scene_and_forces_equal_the_poses(rrd, trajectory):
     poses = reduced_model_poses(trajectory, ShimmyModel(), PRESSURE)
+    k = recording.scene_indices(trajectory.t)
     for body in BODY_NAMES:
         table = rows(rrd, f"/scene/{body}")
         np.testing.assert_array_equal(np.array(table.column("Transform3D:translation").to_pylist()).reshape(-1, 3),
-                                      poses.bodies[body].position.astype(np.float32))
+                                      poses.bodies[body].position[k].astype(np.float32))
         np.testing.assert_array_equal(np.array(table.column("Transform3D:quaternion").to_pylist()).reshape(-1, 4),
-                                      poses.bodies[body].quaternion.astype(np.float32))
+                                      poses.bodies[body].quaternion[k].astype(np.float32))
     strips = np.array(rows(rrd, "/scene/tie_rod").column("LineStrips3D:strips").to_pylist())
-    np.testing.assert_array_equal(strips[:, 0], poses.links["tie_rod"].astype(np.float32))
+    np.testing.assert_array_equal(strips[:, 0], poses.links["tie_rod"][k].astype(np.float32))
     arrows = rows(rrd, "/scene/tyre_forces")
     origins = np.array(arrows.column("Arrows3D:origins").to_pylist())
-    assert origins.shape == (len(trajectory.t), 2, 3)
-    np.testing.assert_array_equal(origins, poses.force_points.astype(np.float32))
+    assert origins.shape == (len(k), 2, 3)
+    np.testing.assert_array_equal(origins, poses.force_points[k].astype(np.float32))
     # The force scalars are the tyre model's F_y at the recorded slip angles.
     w_right, w_left = ShimmyModel().tyres(PRESSURE)
-    np.testing.assert_allclose(scalars(rows(rrd, FORCE_ENTITIES["right"])),
-                               w_right.force.force(trajectory.state("alpha1")), rtol=1e-12, atol=1e-9)
-    np.testing.assert_allclose(scalars(rows(rrd, FORCE_ENTITIES["left"])),
-                               w_left.force.force(trajectory.state("alpha2")), rtol=1e-12, atol=1e-9)
+    for entity, wheel, state in ((FORCE_ENTITIES["right"], w_right, "alpha1"),
+                                 (FORCE_ENTITIES["left"], w_left, "alpha2")):
+        table = rows(rrd, entity)
+        at = np.searchsorted(time_ns(trajectory.t), times(table))
+        np.testing.assert_allclose(scalars(table), wheel.force.force(trajectory.state(state)[at]), rtol=1e-12,
+                                   atol=1e-9)
 
 
 def test_mode_lane_and_switch_events(rrd, trajectory):
@@ -139,14 +162,9 @@ def test_stored_blueprint(rrd):
     (blueprint,) = reader.blueprints()
     (rec,) = reader.recordings()
     assert blueprint.application_id == rec.application_id == recording.APP_ID
-    views = {}
-    for chunk in reader.stream(store=blueprint):
-        batch = chunk.to_record_batch()
-        if "ViewBlueprint:class_identifier" in batch.schema.names:
-            for kind, origin in zip(batch.column("ViewBlueprint:class_identifier").to_pylist(),
-                                    batch.column("ViewBlueprint:space_origin").to_pylist()):
-                views.setdefault(kind[0], set()).add(origin[0])
+    views = blueprint_views(rrd)
     assert views["3D"] == {"/scene"}
+    assert views["TextDocument"] == {recording.INFO_ENTITY}
     assert "/states" in views["TimeSeries"] and SPEED_ENTITY in views["TimeSeries"]
     assert views["StateTimeline"] == {MODE_ENTITY}
     assert views["TextLog"] == {EVENTS_ENTITY}
@@ -192,7 +210,7 @@ def test_stored_poses_are_used(tmp_path):
     path = str(tmp_path / "mbs.rrd")
     write_recording(path, mbs, [(0.0, "straight")], ())  # no pressure needed
     got = np.array(rows(path, "/scene/axle").column("Transform3D:translation").to_pylist()).reshape(-1, 3)
-    np.testing.assert_array_equal(got, poses["axle"]["position"].astype(np.float32))
+    np.testing.assert_array_equal(got, poses["axle"]["position"][recording.scene_indices(short.t)].astype(np.float32))
     broken = dict(poses, tie_rod=poses["tie_rod"][:, :1])
     with pytest.raises(ValueError, match="tie_rod must have shape"):
         write_recording(str(tmp_path / "bad.rrd"), Trajectory(t=short.t, x=short.x, speed=short.speed, model="mbs",
@@ -363,7 +381,9 @@ def test_multibody_pose_record_layout(tmp_path):
     write_recording(path, mbs)
     vectors = np.array(rows(path, "/scene/tyre_forces").column("Arrows3D:vectors").to_pylist())
     np.testing.assert_allclose(vectors[:, :, 2], 6e3 * recording.FORCE_ARROW_M_PER_N, rtol=1e-6)
-    np.testing.assert_allclose(scalars(rows(path, FORCE_ENTITIES["left"])), p.lateral_forces()[:, 1], rtol=1e-12)
+    left = p.lateral_forces()[:, 1]
+    np.testing.assert_allclose(scalars(rows(path, FORCE_ENTITIES["left"])),
+                               left[recording.series_indices(short.t, left)], rtol=1e-12)
     with pytest.raises(ValueError, match="pose record is malformed"):
         ScenePoses.from_dict({"bodies": record["bodies"], "links": record["links"]}, 51)
 

@@ -69,6 +69,41 @@ def test_verify_cycles_jumps_assumptions(quick_report):
     assert {"full", "small_angles", "slip_heading_only"} <= names
 
 
+def test_verify_report_html_figures_recordings_progress(quick_report):
+    """What an engineer gets: headers in words, metadata, a figure per section, report.html, side-by-side
+    recordings, and one progress line per finished step on stderr (nothing but JSON on stdout)."""
+    from comparisons.report import COLUMN_LABELS
+    proc, out = quick_report
+    summary = json.loads(proc.stdout)
+    assert summary["html"].endswith("report.html") and os.path.getsize(summary["html"]) > 100_000
+    assert summary["metadata"]["exudyn"] == "1.13.6" and summary["metadata"]["mode"] == "quick"
+    for s in summary["sections"]:
+        for row in s["rows"]:
+            assert set(row) - {"status", "note"} <= set(COLUMN_LABELS), (s["key"], set(row) - set(COLUMN_LABELS))
+    text = (out / "report.md").read_text()
+    assert "| rerun-sdk | 0.41.0 |" in text and "MBS with the reduced model's assumptions [km/h]" in text
+    assert "mbs_reduced_kmh" not in text.split("## Summary")[1].split("\n| ")[0]
+    for name in ("hopf_speeds.png", "assumptions.png", "jumps_1p5bar.png", "cycles_2p5bar.png"):
+        assert f"![{name}]({name})" in text and (out / name).stat().st_size > 20_000, name
+    for name in ("ramp_up_both.rrd", "ramp_down_both.rrd", "fig11_L1_both.rrd"):
+        assert (out / name).stat().st_size > 100_000, name
+    lines = proc.stderr.splitlines()
+    done = [line for line in lines if line.startswith("verify: [")]
+    assert len(done) == len(summary["sections"]) and all(" done in " in line for line in done)
+    assert any(line.startswith("verify:   Bistable jumps: ramp up") for line in lines)
+
+
+def test_verify_robustness_over_plausible_dimensions(quick_report):
+    _, out = quick_report
+    rows = section(quick_report, "robustness")["rows"]
+    checks = [r for r in rows if r["quantity"].startswith("MBS with every assumption on")]
+    assert [r["case"] for r in checks] == ["1.5 bar", "2.5 bar"] and all(r["status"] == "pass" for r in checks)
+    hb1 = next(r for r in rows if r["case"] == "1.5 bar" and r["quantity"].startswith("HB1"))
+    assert hb1["plausible_axles"].startswith("+5.9 km/h")       # the chosen dimensions give +5.88 km/h
+    assert (out / "robustness_1p5bar.parquet").exists() and not list(out.glob("*.parts"))
+    assert (out / "robustness.png").stat().st_size > 10_000
+
+
 def test_failed_row_makes_report_fail():
     section = Section("x", "X", ("a",), (Row({"a": 1.0}, CheckStatus.PASS), Row({"a": 2.0}, CheckStatus.FAIL)))
     report = Report((section,), quick=True)

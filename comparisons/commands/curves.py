@@ -26,6 +26,7 @@ from ..options import (
     progress,
     ticker,
 )
+from ..units import interface_message
 
 PARAMS = SECOND_PARAMETERS
 
@@ -47,7 +48,9 @@ def diagram_json(diagram: HopfDiagram, factor: float) -> dict:
         "unit": interface_unit(diagram.param)[0],
         "complete": diagram.complete,
         "curves": [{"points": [[v * 3.6, q / factor] for v, q in zip(c.speeds, c.values)],
-                    "status": [s.value for s in c.status], "messages": list(c.messages)}
+                    "status": [s.value for s in c.status],
+                    "messages": [interface_message(m, diagram.param, interface_unit(diagram.param)[0], factor)
+                                 for m in c.messages]}
                    for c in diagram.curves],
         "special_points": [{"kind": s.kind.value, "speed_kmh": s.speed * 3.6, "value": s.value / factor,
                             "status": s.status.value,
@@ -86,7 +89,8 @@ def run(args: argparse.Namespace) -> int:
               + ("" if args.param == "pressure" else f", at {pressure_label(args)}"))
         print(f"  {build_axle(args).label()}")
         for i, c in enumerate(diagram.curves, 1):
-            print(f"  curve {i}: {len(c.speeds)} points; ends: {c.messages[0]} | {c.messages[1]}")
+            ends = " | ".join(interface_message(m, args.param, unit, factor) for m in c.messages)
+            print(f"  curve {i}: {len(c.speeds)} points; ends: {ends}")
         for s in diagram.special_points:
             print(f"  {s.kind.value:17s} {s.speed * 3.6:9.3f} km/h  {args.param} = {s.value / factor:.6g} {unit}"
                   f"  ({s.status.value})")

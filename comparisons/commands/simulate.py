@@ -53,6 +53,8 @@ def add_parser(sub) -> None:
     add_output_options(p, plot=True)
     p.add_argument("--rerun", metavar="FILE.rrd", help="write a Rerun recording of the run (3D scene, states, "
                                                         "speed, mode lane, switch events)")
+    p.add_argument("--series", metavar="FILE.csv|.parquet",
+                   help="write the time series: time, speed, every state in degrees (per second), detected mode")
     p.set_defaults(run=run)
 
 
@@ -125,6 +127,18 @@ def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
     }
 
 
+def schedule_json(args: argparse.Namespace) -> dict:
+    """The run's inputs beyond the axle and pressures: speed schedule, duration asked, start, MBS fidelity."""
+    if args.speed is not None:
+        schedule = {"speed_kmh": args.speed}
+    else:
+        start, end, seconds = (float(x) for x in args.ramp.split(":"))
+        schedule = {"ramp": {"from_kmh": start, "to_kmh": end, "seconds": seconds}}
+    fidelity = build_fidelity(args)
+    return {"schedule": schedule, "duration_requested_s": args.duration, "initial": list(args.initial or []),
+            "fidelity": None if fidelity is None else fidelity.label}
+
+
 def run(args: argparse.Namespace) -> int:
     if args.speed is not None:
         schedule = SpeedSchedule.constant(args.speed * KMH)
@@ -135,8 +149,15 @@ def run(args: argparse.Namespace) -> int:
     if args.duration is None:
         args.duration = default
     x0 = parse_initial(args.initial)
-    if args.rerun:
-        check_output_path(args.rerun)
+    for path in (args.rerun, args.plot, args.series):
+        if path:
+            check_output_path(path)
+    if args.series:
+        from ..series import series_format
+        try:
+            series_format(args.series)
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
     trajectory = simulate_model(args, schedule, x0)
     history = ModeClassifier().classify(trajectory)
     if args.rerun:
@@ -147,14 +168,20 @@ def run(args: argparse.Namespace) -> int:
                             pressure=operating_pressure(args))
         except RecordingError as exc:
             raise UsageError(str(exc)) from None
+    how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
     if args.plot:
-        from ..cycle_plots import plot_trajectory
-        plot_trajectory(trajectory, history, args.plot)
+        from ..cycle_plots import MODEL_NAMES, plot_trajectory
+        plot_trajectory(trajectory, history, args.plot,
+                        title=f"{MODEL_NAMES.get(trajectory.model, trajectory.model)}, {pressure_label(args)}, "
+                              f"{how}; {trajectory.integrator.split(',')[0]}")
+    if args.series:
+        from ..series import series_table, write_series
+        write_series(args.series, series_table(trajectory, history.segments(),
+                                               {**inputs_json(args), "schedule": how}))
     if args.json:
-        emit_json({**inputs_json(args), **result_json(trajectory, history)})
+        emit_json({**inputs_json(args), **schedule_json(args), **result_json(trajectory, history)})
     else:
         out = result_json(trajectory, history)
-        how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
         print(f"{trajectory.model} model at {pressure_label(args)}, {how}, {out['duration_s']:g} s simulated")
         print(f"  {build_axle(args).label()}")
         print(f"  integrator: {trajectory.integrator}")
@@ -171,6 +198,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"  plot written to {args.plot}")
         if args.rerun:
             print(f"  recording written to {args.rerun}")
+        if args.series:
+            print(f"  time series written to {args.series}")
     if not trajectory.complete:
         sys.stderr.write(f"shimmy: incomplete: {trajectory.message}\n")
         return 3

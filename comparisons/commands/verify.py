@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
+import shlex
 import sys
 import time
 
@@ -15,7 +17,8 @@ from ..options import (
     emit_json,
     positive_float,
 )
-from ..report import markdown_table, render_markdown, write_atomically
+from ..report import markdown_table, run_metadata, section_table, write_report
+from ..steps import StepProgress
 from ..verification import run_verification
 
 
@@ -45,36 +48,6 @@ def prepare_out(path: str) -> None:
         raise UsageError(f"--out {path}: folder is not writable")
 
 
-class StepReporter:
-    """Progress naming each step: a bar line on a terminal, one line per finished step otherwise (stderr)."""
-
-    def __init__(self, quiet: bool):
-        self.quiet = quiet
-        self.tty = sys.stderr.isatty()
-        self.start = time.monotonic()
-        self.current = None
-
-    def __call__(self, message: str) -> None:
-        if self.quiet:
-            return
-        elapsed = time.monotonic() - self.start
-        if self.tty:
-            sys.stderr.write(f"\r\033[K[{elapsed:6.1f} s] {message[:110]}")
-            sys.stderr.flush()
-        elif self.current is not None and not message.startswith("done: "):
-            sys.stderr.write(f"[{elapsed:6.1f} s] {self.current}\n")
-        if message.startswith("done: "):
-            if not self.tty:
-                sys.stderr.write(f"[{elapsed:6.1f} s] {message}\n")
-            self.current = None
-        else:
-            self.current = message
-
-    def close(self) -> None:
-        if not self.quiet and self.tty:
-            sys.stderr.write("\r\033[K")
-
-
 def run(args: argparse.Namespace) -> int:
     asymmetric = None
     if (args.pressure_left is None) != (args.pressure_right is None):
@@ -83,20 +56,21 @@ def run(args: argparse.Namespace) -> int:
         asymmetric = (args.pressure_right, args.pressure_left)
     prepare_out(args.out)
     axle = build_axle(args)
-    reporter = StepReporter(args.json)
-    try:
+    start = time.perf_counter()
+    with StepProgress(job="verify") as progress:
         report = run_verification(args.out, args.quick, axle=axle, asymmetric=asymmetric,
                                   from_file=args.axle is not None or bool(args.overrides),
-                                  recordings=not args.no_recordings, progress=reporter)
-    finally:
-        reporter.close()
-    path = os.path.join(args.out, "report.md")
+                                  recordings=not args.no_recordings, progress=progress)
+    command = "shimmy " + " ".join(shlex.quote(a) for a in args.argv)
+    report = dataclasses.replace(report, metadata=run_metadata(args.quick, axle, time.perf_counter() - start,
+                                                               command))
     try:
-        write_atomically(path, render_markdown(report))
+        path, page = write_report(report, args.out)
     except OSError as exc:
-        raise UsageError(f"cannot write {path}: {exc.strerror or exc}") from None
+        raise UsageError(f"cannot write the report into {args.out}: {exc.strerror or exc}") from None
     if args.json:
-        emit_json({"report": path, "failed": report.failed, "axle": axle.describe(),
+        emit_json({"report": path, "html": page, "failed": report.failed, "axle": axle.describe(),
+                   "metadata": dataclasses.asdict(report.metadata),
                    "plan": report.plan.to_json(), "plan_notes": list(report.plan.notes),
                    "summary": report.summary_rows(),
                    "sections": [{"key": s.key, "title": s.title,
@@ -106,12 +80,12 @@ def run(args: argparse.Namespace) -> int:
         print(axle.label())
         for s in report.sections:
             print(f"\n{s.title}")
-            print(markdown_table(list(s.columns) + ["status"],
-                                 [{**r.cells, "status": r.status.value} for r in s.rows]))
+            keys, headers, rows, factors = section_table(s, with_note=False)
+            print(markdown_table(keys, rows, headers, factors))
         print("\nSummary")
         print(markdown_table(["section", "checks", "pass", "known differences", "fail", "info"],
                              report.summary_rows()))
-        print(f"\nreport written to {path}")
+        print(f"\nreport written to {path} and {page}")
     if report.failed:
         sys.stderr.write("shimmy: verification failed: see the FAIL rows in the report\n")
         return 1

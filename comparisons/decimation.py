@@ -1,0 +1,85 @@
+"""Which samples of a densely sampled signal to keep so that a plot of the kept samples shows the same envelope.
+
+A time-series viewer draws one value per pixel column.  Keeping, in every time bin, the samples where the signal is
+lowest and highest (min/max decimation, the "M4" family of Jugel et al., "M4: A Visualization-Oriented Time Series
+Data Aggregation", PVLDB 7(10), 2014) keeps every extreme exactly while storing at most two samples per bin; plain
+striding would cut the peaks of an oscillation that is fast against the stride.  Generic: knows nothing of shimmy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def envelope_indices(t: np.ndarray, y: np.ndarray, bin_width: float) -> np.ndarray:
+    """Sorted indices of the samples to keep: in each bin ``[t0 + k w, t0 + (k+1) w)`` the first minimum and the
+    first maximum of ``y``, plus the first and last sample.  ``t`` increasing; at most 2 per bin + 2 in all."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = len(t)
+    if n <= 2:
+        return np.arange(n)
+    if not bin_width > 0.0:
+        raise ValueError(f"bin width must be positive, got {bin_width!r}")
+    bins = np.floor((t - t[0]) / bin_width).astype(np.int64)
+    starts = np.flatnonzero(np.r_[True, bins[1:] != bins[:-1]])
+    # argmin / argmax per bin: reduceat gives the extreme values, the first sample equal to it is taken.
+    lo = np.minimum.reduceat(y, starts)
+    hi = np.maximum.reduceat(y, starts)
+    owner = np.repeat(np.arange(len(starts)), np.diff(np.r_[starts, n]))
+    first_lo = _first_where(y == lo[owner], owner, len(starts))
+    first_hi = _first_where(y == hi[owner], owner, len(starts))
+    keep = np.concatenate([[0, n - 1], first_lo, first_hi])
+    keep = keep[keep >= 0]
+    return np.unique(keep)
+
+
+def _first_where(mask: np.ndarray, owner: np.ndarray, groups: int) -> np.ndarray:
+    """Index of the first True of ``mask`` in each group (-1 where none: a NaN-only bin)."""
+    out = np.full(groups, -1, dtype=np.int64)
+    idx = np.flatnonzero(mask)
+    # Reversed assignment: the earliest index of a group is written last and wins.
+    out[owner[idx[::-1]]] = idx[::-1]
+    return out
+
+
+def uniform_indices(t: np.ndarray, rate_hz: float) -> np.ndarray:
+    """Sorted indices of the samples nearest at or after a grid of ``rate_hz`` from ``t[0]`` (all samples when
+    they are sparser), plus the last sample."""
+    t = np.asarray(t, dtype=float)
+    if len(t) <= 2:
+        return np.arange(len(t))
+    grid = np.arange(t[0], t[-1], 1.0 / rate_hz)
+    idx = np.searchsorted(t, grid - 1e-12)
+    return np.unique(np.r_[idx[idx < len(t)], len(t) - 1])
+
+
+def peak_loss(y: np.ndarray, kept: np.ndarray) -> float:
+    """How much of the signal's peaks a plot of the ``kept`` samples loses, relative to the largest |y|.
+
+    Each local maximum of ``y`` is compared with the highest kept sample between the neighbouring local minima
+    (the flanks of the same swing), each local minimum likewise; the largest shortfall is returned (0 when every
+    swing's extreme is kept).  Plain striding of a 9 Hz oscillation at 100 Hz loses about 4 %, min/max
+    decimation nothing."""
+    y = np.asarray(y, dtype=float)
+    kept = np.asarray(kept)
+    scale = np.max(np.abs(y))
+    if scale == 0.0 or len(y) < 3:
+        return 0.0
+    slope = np.sign(np.diff(y))
+    turns = np.flatnonzero(slope[1:] != slope[:-1]) + 1        # samples where the slope changes sign
+    ext = np.unique(np.r_[0, turns, len(y) - 1])
+    worst = 0.0
+    yk = y[kept]
+    # For extremum j, the flanks run from extremum j-1 to extremum j+1 (inclusive).
+    lo_pos = np.searchsorted(kept, ext[:-2], side="left")
+    hi_pos = np.searchsorted(kept, ext[2:], side="right")
+    for j, (a, b) in enumerate(zip(lo_pos, hi_pos), 1):
+        peak = y[ext[j]]
+        if b <= a:
+            worst = max(worst, abs(peak))
+            continue
+        drawn = yk[a:b]
+        is_max = peak >= y[ext[j - 1]] and peak >= y[ext[j + 1]]
+        worst = max(worst, peak - drawn.max() if is_max else drawn.min() - peak)
+    return float(worst / scale)

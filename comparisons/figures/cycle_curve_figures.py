@@ -1,0 +1,184 @@
+"""Curves of cycle folds (S) and torus points (T) in (V, q) planes with the Hopf curves: figures 8 and 18."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve
+from reduced_model.cycles import cycle_diagram
+from reduced_model.model import Effects
+from reduced_model.parameters import YANG2024
+from reduced_model.special_points import ConvergenceError, PointKind, PointStatus
+
+from .. import paper_reference as paper
+from ..cycle_plots import CURVE_STYLES, special_point_labels
+from ..plots import place_labels
+from ..units import interface_message
+from .drawing import _label_hopf_points, _draw_curves, _incomplete_notes, _located, _mark, _point_note, _shade_stable, _speed_axis
+from .hopf_figures import T0_RANGE, _pressure_key
+from .registry import BAR, MIN_LABEL_SPEED_KMH, VMAX_KMH, DiagramKey, DiagramStore, Drawing, KMH, register
+
+# Figure 18: the window of the two-parameter cycle continuation (tests/test_cycles_curves.py).  Below 0.2 bar T1
+# and T2 run on to 0.05 bar without meeting (tests/test_cycle_curve_ends.py, slow): the paper's HH2 is not there.
+FIG18_EFFECTS = "hcl,pt"
+FIG18_WINDOW = (0.2, 0.6, 100.0, 300.0)     # bar, bar, km/h, km/h
+FIG18_VIEW_KMH = (130.0, 230.0)
+FIG18_START_BAR = 0.25                      # pressure of the one-parameter branches named HB2, HB3 in the figure
+
+
+def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float, vmax_kmh: float,
+                       factor: float, unit: str, start: float, notes: list, label_at: float = 0.5
+                       ) -> tuple[list, bool]:
+    """Continue every cycle fold (S) and torus point (T) of the one-parameter ``cycles`` (at q = ``start``) in
+    the (V, q) window and draw it; returns (labels to place: (x, y, text, colour), complete)."""
+    items, complete = [], True
+    for text, point in special_point_labels(cycles):
+        if point.kind not in (PointKind.CYCLE_FOLD, PointKind.TORUS):
+            continue
+        try:
+            curve: CycleCurve = cycle_bifurcation_curve(family, point, lo, hi, vmin_kmh * KMH, vmax_kmh * KMH)
+        except ConvergenceError as exc:
+            notes.append(f"{text}: INCOMPLETE: {exc}")
+            complete = False
+            continue
+        origin = f"from {point.speed * 3.6:.2f} km/h at {start / factor:g} {unit}"
+        complete &= _draw_cycle_curve(ax, family, text, origin, curve, factor, unit, start, notes, items, label_at)
+    return items, complete
+
+
+def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, factor: float, unit: str,
+                      start: float, notes: list, items: list, label_at: float) -> bool:
+    """Draw one S or T curve with its ends (stars) and the codimension-two points of cycles found along it (x);
+    add its label to ``items`` and its notes; returns whether the curve is complete."""
+    style, colour = CURVE_STYLES[curve.kind]
+    ax.plot(curve.speeds * 3.6, curve.values / factor, style, color=colour, lw=1.6,
+            label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
+            if text in ("S1", "T1") else None)
+    # The label sits the fraction ``label_at`` of the way from the starting line to the curve's far end.
+    k = int(np.argmin(np.abs(curve.values - (start + label_at * (curve.values.max() - start)))))
+    items.append((curve.speeds[k] * 3.6, curve.values[k] / factor, text, colour))
+    ends = [e for e in curve.ends if e is not None]
+    for v, q in ends:
+        ax.plot(v * 3.6, q / factor, "*", color=colour, ms=9, zorder=6)
+    located = {(p.speed, p.value): p for p in curve.end_points if p is not None}
+    end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / factor:.4f} {unit}"
+                         + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
+                            if (v, q) in located else " (extrapolated)") for v, q in ends)
+    for sp in curve.special_points:    # codimension-two points of cycles found along the curve
+        ax.plot(sp.speed * 3.6, sp.value / factor, "x", color=colour, ms=7, mew=1.6, zorder=6)
+        items.append((sp.speed * 3.6, sp.value / factor,
+                      sp.kind.value.replace("resonance_", "R").replace("_", ":"), colour))
+        notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} at {sp.speed * 3.6:.2f} km/h, "
+                     f"{sp.value / factor:.4g} {unit} ({sp.status.value})")
+    messages = " | ".join(interface_message(m, family.param, unit, factor) for m in curve.messages)
+    notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}")
+    return curve.complete
+
+
+@register(18, "cycle_bifurcation_curves_hcl_pt", cost=30)
+def draw_cycle_curves(store: DiagramStore) -> Drawing:
+    lo_bar, hi_bar, vmin_kmh, vmax_kmh = FIG18_WINDOW
+    effects = Effects.parse(FIG18_EFFECTS)
+    key = _pressure_key(effects, lo_bar, hi_bar, vmin_kmh, vmax_kmh, n_seeds=21)
+    hopf, family = store.diagram(key), store.family(key)
+    cycles = cycle_diagram(family, FIG18_START_BAR * BAR, vmin_kmh * KMH, vmax_kmh * KMH)
+    fig = Figure(figsize=(7.2, 5.4))
+    ax = fig.subplots()
+    _shade_stable(ax, family, hopf, BAR)
+    _draw_curves(ax, hopf, BAR, "k", label="Hopf curves")
+    notes, complete = [], hopf.complete and cycles.complete
+    paper_hh = paper.SECTION5[FIG18_EFFECTS]["hopf_hopf_bar"]
+    for i, hh in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1):
+        _mark(ax, hh, BAR, f"HH{i}", colour="tab:red", marker="s", offset=(6, 4))
+        notes.append(_point_note(f"HH{i}", hh, "bar", BAR) + (f" (paper {paper_hh:g} bar)" if i == 1 else ""))
+    for i, dh in enumerate(_located(hopf, PointKind.GENERALIZED_HOPF), 1):
+        _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", offset=(8, 2))
+        notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
+    # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
+    # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
+    from reduced_model.torus_switching import curves_from_codimension_two
+
+    items: list = []
+    named: dict[str, int] = {}
+    for origin, point in [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
+            [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]:
+        try:
+            found = curves_from_codimension_two(family, point, lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
+                                                vmax_kmh * KMH)
+        except ConvergenceError as exc:
+            notes.append(f"curves from {origin}: INCOMPLETE: {exc}")
+            complete = False
+            continue
+        letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
+        for curve in sorted(found, key=lambda c: -c.speeds[int(np.argmin(c.values))]):
+            named[letter] = named.get(letter, 0) + 1
+            complete &= _draw_cycle_curve(ax, family, f"{letter}{named[letter]}", f"born at {origin}", curve, BAR,
+                                          "bar", FIG18_START_BAR * BAR, notes, items, 0.5)
+    ax.axhline(FIG18_START_BAR, color="0.5", lw=0.7, ls=":")
+    # The paper's names: HB3 turns subcritical at DH (its cycles are unstable below it), HB2 stays supercritical.
+    for h in cycles.hopf:
+        name = "HB3" if h.first_lyapunov > 0 else "HB2"
+        items.append((h.speed_kmh, FIG18_START_BAR, name, "k"))
+        notes.append(f"{name} at {FIG18_START_BAR:g} bar: {h.speed_kmh:.2f} km/h, first Lyapunov coefficient "
+                     f"{'positive (subcritical)' if h.first_lyapunov > 0 else 'negative (supercritical)'}")
+    _speed_axis(ax, FIG18_VIEW_KMH[1], FIG18_VIEW_KMH[0])
+    ax.set_ylim(lo_bar, hi_bar)
+    place_labels(ax, items, fontsize=9)
+    ax.set_ylabel("inflation pressure $p_i$ [bar]")
+    ax.legend(fontsize=8, loc="upper right", framealpha=0.9)
+    ax.set_title("Fig. 18: enlarged (V, $p_i$) diagram, effects HCL + PT; shaded: straight running stable\n"
+                 "cycle curves switched onto at HH1 and DH (stars, located); x: codimension-two points of cycles",
+                 fontsize=9)
+    notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; continued down to 0.05 bar "
+                 "they neither cross nor end at a Hopf-Hopf point (they pass the two Hopf-Hopf points of 0.1007 bar "
+                 "with max|theta1| 2.6 and 2.1 deg): no HH2 where the paper draws one (README, differences)")
+    notes += _incomplete_notes("", hopf)
+    return Drawing(fig, tuple(notes), complete)
+
+
+# Figure 8's cycle curves start from the one-parameter cycles at t = 0.25 m (figure 9a's S1, T1, T2, S2).
+FIG8_START_T = 0.25
+
+
+@register(8, "trail_hopf_curves_1p5bar", cost=40)
+def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
+    key = DiagramKey(Effects(), "t0", 1.5, *T0_RANGE, 0.0, VMAX_KMH)
+    diagram, family = store.diagram(key), store.family(key)
+    fig = Figure(figsize=(6.8, 5.0))
+    ax = fig.subplots()
+    _shade_stable(ax, family, diagram, 1.0)
+    _draw_curves(ax, diagram, 1.0, "k")
+    _label_hopf_points(ax, family, YANG2024.t0, 1.0, VMAX_KMH)
+    notes = []
+    for i, hh in enumerate(_located(diagram, PointKind.HOPF_HOPF), 1):
+        name = "HH" if len(_located(diagram, PointKind.HOPF_HOPF)) == 1 else f"HH{i}"
+        _mark(ax, hh, 1.0, f"{name} (t = {hh.value:.3f} m)", colour="tab:red", marker="s", offset=(-95, -3))
+        notes.append(_point_note(name, hh, "m", 1.0))
+    for i, dh in enumerate(_located(diagram, PointKind.GENERALIZED_HOPF), 1):
+        _mark(ax, dh, 1.0, f"DH{i} (t = {dh.value:.3f} m)", colour="tab:blue", marker="D", offset=(6, -3))
+        notes.append(_point_note(f"DH{i} (criticality changes)", dh, "m", 1.0))
+    offsets = iter(((6, -12), (6, -12), (-40, 8), (6, -12)))
+    for i, f in enumerate(_located(diagram, PointKind.HOPF_FOLD), 1):
+        _mark(ax, f, 1.0, f"F{i} ({f.value:.3f} m)", offset=next(offsets, (6, 4)))
+        notes.append(_point_note(f"fold F{i}", f, "m", 1.0))
+    for p in diagram.points_of(PointKind.HOPF_FOLD):
+        if p.status is not PointStatus.LOCATED or p.speed * 3.6 < MIN_LABEL_SPEED_KMH:
+            notes.append(_point_note(f"fold at the window edge, not labelled ({p.status.value})", p, "m", 1.0))
+    # The torus (T) and saddle-node (S) curves of the paper's figure 8, continued from figure 9a's points.
+    cycles = cycle_diagram(family, FIG8_START_T, 0.0, VMAX_KMH * KMH)
+    items, ok = _draw_cycle_curves(ax, family, cycles, key.lo, key.hi, 0.0, VMAX_KMH, 1.0, "m", FIG8_START_T,
+                                   notes, label_at=0.75)
+    place_labels(ax, items, fontsize=9, avoid=[(p.speed * 3.6, p.value) for p in diagram.special_points])
+    ax.axhline(FIG8_START_T, color="0.5", lw=0.7, ls=":")
+    ax.legend(fontsize=8, loc="center right", framealpha=0.9)
+    ax.axhline(YANG2024.t0, color="0.4", lw=0.7, ls=":")
+    _speed_axis(ax)
+    ax.set_ylim(key.lo, key.hi)
+    ax.set_ylabel("pneumatic trail t [m]")
+    ax.set_title("Fig. 8: Hopf curves in (V, t) at 1.5 bar (0.6 $p_{i0}$); shaded: straight running stable\n"
+                 f"HB labels on the Table 1 trail (dotted); S, T curves from the cycles at t = {FIG8_START_T:g} m; "
+                 "stars: their zero-amplitude ends",
+                 fontsize=9)
+    notes += _incomplete_notes("", diagram)
+    return Drawing(fig, tuple(notes), diagram.complete and cycles.complete and ok)
