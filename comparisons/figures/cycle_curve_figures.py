@@ -47,6 +47,11 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
     return items, complete
 
 
+# MatCont's abbreviations for the codimension-two points of cycles (the notes spell them out).
+CODIM2_LABELS = {PointKind.CUSP_OF_CYCLES: "CPC", PointKind.FOLD_FLIP: "LPPD", PointKind.FOLD_NEIMARK_SACKER: "LPNS",
+                 PointKind.RESONANCE_1_3: "R3", PointKind.RESONANCE_1_4: "R4"}
+
+
 def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, factor: float, unit: str,
                       start: float, notes: list, items: list, label_at: float) -> bool:
     """Draw one S or T curve with its ends (stars) and the codimension-two points of cycles found along it (x);
@@ -67,10 +72,9 @@ def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, fac
                             if (v, q) in located else " (extrapolated)") for v, q in ends)
     for sp in curve.special_points:    # codimension-two points of cycles found along the curve
         ax.plot(sp.speed * 3.6, sp.value / factor, "x", color=colour, ms=7, mew=1.6, zorder=6)
-        items.append((sp.speed * 3.6, sp.value / factor,
-                      sp.kind.value.replace("resonance_", "R").replace("_", ":"), colour))
-        notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} at {sp.speed * 3.6:.2f} km/h, "
-                     f"{sp.value / factor:.4g} {unit} ({sp.status.value})")
+        items.append((sp.speed * 3.6, sp.value / factor, CODIM2_LABELS.get(sp.kind, sp.kind.value), colour))
+        notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} ({CODIM2_LABELS.get(sp.kind, '')}) at "
+                     f"{sp.speed * 3.6:.2f} km/h, {sp.value / factor:.4g} {unit} ({sp.status.value})")
     messages = " | ".join(interface_message(m, family.param, unit, factor) for m in curve.messages)
     notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}")
     return curve.complete
