@@ -232,6 +232,14 @@ class FoldSystem:
         self.cp.set_fixed(value=float(U[K + 2]))
         return self.cp.point(U[:K + 2])
 
+    def start(self, cycle: CyclePoint) -> np.ndarray:
+        """The unknowns at the located point of a one-parameter branch."""
+        return self.pack(cycle.orbit, cycle.speed, cycle.value)
+
+    def events(self, branch, k: int, step: float) -> list:
+        """Further codimension-two points in the last step: (kind, cycle, located) (none for these systems)."""
+        return []
+
 
 def critical_multipliers(mu: np.ndarray) -> np.ndarray:
     """The multipliers of a fold cycle other than the two nearest +1 (the trivial one and the fold's)."""
@@ -273,15 +281,21 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
 
 
 def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
-                    settings: CycleSettings, continuation: ContinuationSettings):
+                    settings: CycleSettings, continuation: ContinuationSettings, system=None):
+    """Follow the curve of ``point``'s kind through it with a bordered ``system`` (a :class:`FoldSystem` by
+    default; its unknowns end with (V, q) at K + 1, K + 2 and possibly more after them)."""
     from .cycle_curves import CycleCurve, locate_end
 
     folds = point.kind is PointKind.CYCLE_FOLD
+    ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
     vmin = max(vmin, MIN_SPEED)
     cycle: CyclePoint = point.data["cycle"]
     q_scale = 0.1 * max(abs(cycle.value), 1e-12)
-    system = FoldSystem(family, cycle, q_scale, settings, kind=point.kind)
-    U0 = system.pack(cycle.orbit, cycle.speed, cycle.value)
+    if system is None:
+        system = FoldSystem(family, cycle, q_scale, settings, kind=point.kind)
+    iV, iq = system.K + 1, system.K + 2
+    what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
+    U0 = system.start(cycle)
     # Two rounds of border updates make the borders the null vectors at the start point.
     system.renormalize(U0), system.renormalize(U0)
     weights = system.weights()
@@ -299,26 +313,26 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
 
         def accept(branch, points=points, ends=ends) -> str | None:
             U, U_old = branch.points[-1], branch.points[-2]
-            V, q = U[-2], U[-1]
-            a_old, a_new = system.cp.scaled_rms(U_old[:-1]), system.cp.scaled_rms(U[:-1])
+            V, q = U[iV], U[iq]
+            a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
             # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
             # curve would come back on itself.  Near the end amp^2 is affine along the curve.
             crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
-            if folds and (crossed or a_new < END_AMPLITUDE):
+            if ends_at_zero and (crossed or a_new < END_AMPLITUDE):
                 s2 = -a_new ** 2 if crossed else a_new ** 2
                 lam = a_old ** 2 / (a_old ** 2 - s2) if a_old ** 2 != s2 else 1.0
-                guess = (U_old[-2] + lam * (V - U_old[-2]), U_old[-1] + lam * (q - U_old[-1]))
+                guess = (U_old[iV] + lam * (V - U_old[iV]), U_old[iq] + lam * (q - U_old[iq]))
                 if not crossed:
                     points.append(system.point(U))
-                found = locate_end(family, PointKind.CYCLE_FOLD, guess, points[-1], abs(V - U_old[-2]),
-                                   abs(q - U_old[-1]), vmin, vmax)
+                found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
+                                   abs(q - U_old[iq]), vmin, vmax)
                 ends.append(found)
                 if found is None:
                     return (f"complete: the amplitude vanishes near {guess[0] * 3.6:.3f} km/h, {param} = "
-                            f"{guess[1]:.6g} (extrapolated; no generalized Hopf point located there)")
-                return (f"complete: ends at the generalized Hopf point located at {found.speed * 3.6:.6f} km/h, "
+                            f"{guess[1]:.6g} (extrapolated; no {what} point located there)")
+                return (f"complete: ends at the {what} point located at {found.speed * 3.6:.6f} km/h, "
                         f"{param} = {found.value:.8g}")
-            for index, bound, side in ((-1, lo, -1), (-1, hi, 1), (-2, vmin, -1), (-2, vmax, 1)):
+            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, vmin, -1), (iV, vmax, 1)):
                 if side * (U[index] - bound) <= 0.0:
                     continue
                 # Cut the step where it leaves the window (Brent on the corrected curve) and stop there.
@@ -331,16 +345,17 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                 except (RuntimeError, ValueError):
                     pass    # keep the point just outside
                 points.append(system.point(U))
-                return f"complete: left the window at {U[-2] * 3.6:.3f} km/h, {param} = {U[-1]:.6g}"
+                return f"complete: left the window at {U[iV] * 3.6:.3f} km/h, {param} = {U[iq]:.6g}"
             p_new = system.point(U)
             k = len(branch.points) - 2
             step = branch.steps[-1]
             # Cusp of cycles: the curve is smooth in (x, T, V, q) but its (V, q) projection turns back, its
             # (V, q) tangent passing through zero: the product with the previous one changes sign.
-            previous = branch.tangents[k][-2:] * weights[-2:]
-            if folds and np.dot(branch.tangents[-1][-2:] * weights[-2:], previous) < 0.0:
+            Vq = slice(iV, iq + 1)
+            previous = branch.tangents[k][Vq] * weights[Vq]
+            if folds and np.dot(branch.tangents[-1][Vq] * weights[Vq], previous) < 0.0:
                 u, _, ok = locate_on_step(branch, k, step,
-                                          lambda u, t: float(np.dot(t[-2:] * weights[-2:], previous)))
+                                          lambda u, t: float(np.dot(t[Vq] * weights[Vq], previous)))
                 where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
                 special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
@@ -357,6 +372,12 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period,
                                                                  "multipliers": where.multipliers}))
+            for kind, where, ok in system.events(branch, k, step):
+                special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
+                                            data={"cycle": where, "period": where.period,
+                                                  "multipliers": where.multipliers}))
             arclength.append(arclength[-1] + step)
             points.append(p_new)
             return None
