@@ -175,8 +175,10 @@ BENCHMARKS: list[Benchmark] = [
               _figure9a_cycles, repeats=3),
     Benchmark("cycles_error_controlled", "all cycle branches, HCL + PT at 0.25 bar, to 1e-6 (the tramp branch down "
               "to 0.5 km/h), with orbits at 60 and 183 km/h", 5.0, _error_controlled_cycles, repeats=3),
-    Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements, 1.5 bar, 100 km/h, "
-              "RK67 h = 1/210 s (1e-4 accurate); target 20x real time", 0.5, _mbs_simulation("full"), repeats=5),
+    Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements and every element of "
+              "issue 9 (kingpin inclination, raised roll axis, lateral axle mounts, Ackermann arms, steering gear "
+              "with inclined drag link), 1.5 bar, 100 km/h, RK67 h = 1/240 s (1e-4 accurate); target 50x real time",
+              0.2, _mbs_simulation("full"), repeats=5),
     Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced)", 0.5,
               _mbs_simulation("reduced"), repeats=5),
     Benchmark("sweep_hopf_10k", "shimmy sweep: 10,000 reduced-model Hopf samples (pressure, t0) on a local Dask "

@@ -5,7 +5,7 @@ solvers evaluate the tyre states consistently at every stage, so the implicit so
 ODE1 derivative (``shared/notes/exudyn.md``) does not arise.  The default is the classical RK44 with
 h = :data:`DEFAULT_STEP` = 1 ms, sampled every millisecond like the reduced model's trajectories: at 1.5 bar and
 100 km/h its error is about 3e-6 of each state's amplitude, and halving the step changes a run by less than 1e-4
-(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/210 s) is the cheapest
+(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/240 s) is the cheapest
 setting found that stays within 1e-4 (all states, 10 s at 100 km/h; the benchmark's).  ``step`` and ``method``
 can be chosen, and :func:`convergence` compares a run with the same run at a smaller step.
 
@@ -30,16 +30,15 @@ from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import Fidelity
-from .geometry import SIDES, AxleGeometry, axle_rotation, knuckle_pose, matmul, quaternion_xyzw
+from .geometry import SIDES, matmul, quaternion_xyzw
 from .linearisation import MbsModel
-from .system import from_reduced, to_reduced
 
 DEFAULT_METHOD = "RK44"
 DEFAULT_STEP = 1e-3          # s
 # The cheapest fixed-step setting found that keeps a 10 s run at 1.5 bar, 100 km/h (full geometry) within 1e-4 of
 # every state's amplitude (measured against step/4: ``tests/test_mbs_simulation.py``); used by the benchmark.
 FAST_METHOD = "RK67"
-FAST_STEP = 1.0 / 210.0      # s
+FAST_STEP = 1.0 / 240.0      # s
 OUTPUT_INTERVAL = 1e-3       # s between stored samples
 DIVERGENCE_ANGLE = 1.0       # rad: beyond this a steer, tramp or slip angle makes the geometry meaningless
 METHODS = {"RK44": exu.DynamicSolverType.RK44, "RK67": exu.DynamicSolverType.RK67,
@@ -75,10 +74,11 @@ class _Watch:
         sd = mbs.systemData
         q = sd.GetODE2Coordinates()
         v = sd.GetODE2Coordinates_t()      # its last two entries are the slip angles
-        big = max(abs(q[0]), abs(q[1]), abs(q[2]), abs(v[3]), abs(v[4]))
+        m = len(q) - 2
+        big = max(float(np.max(np.abs(q[0:m]))), abs(v[m]), abs(v[m + 1]))
         if not big <= self.limit:        # also catches NaN
             self.stopped_at = t
-            self.state = np.concatenate([q[0:3], v])
+            self.state = np.concatenate([q[0:m], v])
             self.reason = "not finite" if not math.isfinite(big) else f"an angle passed {self.limit:g} rad"
             return False
         return True
@@ -108,16 +108,20 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
         output_interval = max(OUTPUT_INTERVAL, step)
     if not (math.isfinite(output_interval) and output_interval >= step * (1 - 1e-9)):
         raise ParameterError(f"output interval must be at least the step ({step:g} s), got {output_interval!r}")
+    model = MbsModel(params, effects, fidelity, dims)
+    layout = model.layout
     if x0 is None:
         x0 = np.zeros(N_STATES)
         x0[STATE_NAMES.index("theta1")] = 0.01
     x0 = np.asarray(x0, dtype=float)
-    if x0.shape != (N_STATES,) or not np.all(np.isfinite(x0)):
-        raise ParameterError(f"initial state must be {N_STATES} finite numbers ({', '.join(STATE_NAMES)})")
+    if x0.shape == (N_STATES,):        # the new coordinates start at rest at zero
+        x0 = np.concatenate([x0, np.zeros(layout.n - N_STATES)])
+    if x0.shape != (layout.n,) or not np.all(np.isfinite(x0)):
+        raise ParameterError(f"initial state must be {N_STATES} finite numbers ({', '.join(STATE_NAMES)})"
+                             + (f" or {layout.n} ({', '.join(layout.state_names)})" if layout.n > N_STATES else ""))
 
     sched = _Schedule(schedule)
-    model = MbsModel(params, effects, fidelity, dims)
-    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, y0=from_reduced(x0),
+    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, y0=x0[layout.x_to_y],
                           output_interval=output_interval)
     mbs = system.mbs
     watch = _Watch(DIVERGENCE_ANGLE)
@@ -159,36 +163,47 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
     if watch.stopped_at is not None:
         status = SimulationStatus.DIVERGED
         message = (f"diverged at t = {watch.stopped_at:.6g} s ({watch.reason}); "
-                   f"state {_describe(to_reduced(watch.state))}")
+                   f"state {_describe(watch.state[layout.y_to_x], layout)}")
     elif not ok:
         status = SimulationStatus.SOLVER_FAILED
-        last = f"last stored t = {t[-1]:.6g} s, state {_describe(to_reduced(y[-1]))}" if len(t) else "no output"
+        last = (f"last stored t = {t[-1]:.6g} s, state {_describe(y[-1][layout.y_to_x], layout)}" if len(t)
+                else "no output")
         message = f"{message or 'Exudyn solver failed'}; {last}"
-    x = to_reduced(y) if len(t) else np.zeros((0, N_STATES))
+    x_ext = y[:, layout.y_to_x] if len(t) else np.zeros((0, layout.n))
+    x = x_ext[:, :N_STATES]
     speed = np.asarray(schedule.speed(t), dtype=float) if len(t) else np.zeros(0)
     extra = {"fidelity": fidelity.label, "effects": list(effects.names), "step": h, "method": method,
-             "force_evaluations": system.calls}
+             "force_evaluations": system.calls,
+             "extra_states": {name: x_ext[:, N_STATES + k] for k, name in enumerate(layout.state_names[N_STATES:])}}
     if poses and len(t):
         extra.update(pose_record(model, pressure, schedule, t, y))
     return Trajectory(t=t, x=x, speed=speed, model="mbs", integrator=integrator, status=status, message=message,
                       extra=extra)
 
 
+def extended_states(trajectory: Trajectory) -> np.ndarray:
+    """(N, n) states of an MBS trajectory in the extended order: the reduced model's eight, then the new
+    coordinates and rates (:attr:`mbs_shimmy.system.Layout.state_names`)."""
+    extra = trajectory.extra.get("extra_states", {})
+    return np.column_stack([trajectory.x] + [np.asarray(v) for v in extra.values()])
+
+
 def _stored(system) -> tuple[np.ndarray, np.ndarray]:
     data = {name: np.asarray(system.mbs.GetSensorStoredData(s)) for name, s in system.sensors.items()}
     q = data["q"]
+    m = system.layout.n_mech
     if q.ndim != 2 or len(q) == 0:
-        return np.zeros(0), np.zeros((0, N_STATES))
+        return np.zeros(0), np.zeros((0, system.layout.n))
     n = min(len(q), len(data["q_t"]))
     t = q[:n, 0]
-    y = np.column_stack([q[:n, 1:4], data["q_t"][:n, 1:6]])
+    y = np.column_stack([q[:n, 1:1 + m], data["q_t"][:n, 1:m + 3]])
     # Exudyn may store the final time twice (last step and end of simulation)
     keep = np.concatenate([[True], np.diff(t) > 1e-12])
     return t[keep], y[keep]
 
 
-def _describe(x: np.ndarray) -> str:
-    return ", ".join(f"{n} = {v:.4g}" for n, v in zip(STATE_NAMES, x))
+def _describe(x: np.ndarray, layout) -> str:
+    return ", ".join(f"{n} = {v:.4g}" for n, v in zip(layout.state_names, x))
 
 
 def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarray, y: np.ndarray) -> dict:
@@ -199,14 +214,19 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     Bodies: ``axle`` (at O on the roll axis), ``knuckle_right``/``knuckle_left`` (at the kingpin point, frame of
     the axle at zero steer), ``wheel_right``/``wheel_left`` (at the wheel centre, including the spin angle
     integral of V/R about the wheel axis).  The contact force is the tyre's total force on the wheel at the contact
-    point (vertical, rolling resistance, k4 spring, Magic Formula); poses are exact whatever the fidelity.
+    point (vertical, rolling resistance, k4 spring, Magic Formula).  Poses are Exudyn's (the markers of the
+    geometry tree, caster-tilted whatever the fidelity), read at each stored state ``y`` (MBS order).
     """
-    g = AxleGeometry.build(model.params, model.dims, exact=True)
     speed = np.asarray(schedule.speed(t), dtype=float)
     travel = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
     spin_angle = travel / model.params.R
     sched = _Schedule(schedule)
-    forces = model.forces(pressure, sched.speed, None if sched.constant else sched.acceleration)
+    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, drawing=True)
+    forces, mk, get = system.forces, system.markers, system.mbs.GetMarkerOutput
+    OV = exu.OutputVariableType
+    layout = system.layout
+    m = layout.n_mech
+    T = [np.array(system.forces.g_exact.joint_rotation(side)) for side in SIDES]
     n = len(t)
     names = ("axle", "knuckle_right", "knuckle_left", "wheel_right", "wheel_left")
     pos = {k: np.zeros((n, 3)) for k in names}
@@ -215,30 +235,28 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     drag = np.zeros((n, 2, 3))
     cpoint = {k: np.zeros((n, 3)) for k in ("right", "left")}
     cforce = {k: np.zeros((n, 3)) for k in ("right", "left")}
-    frame_point = g.drag_link_frame_point()
     for k in range(n):
-        psi = y[k, 0]
-        cpsi, spsi = math.cos(psi), math.sin(psi)
-        A = axle_rotation(psi)
-        pos["axle"][k] = g.origin
-        quat["axle"][k] = quaternion_xyzw(A)
+        system.set_state(y[k])
+        pos["axle"][k] = get(mk.axle, OV.Position)
+        quat["axle"][k] = quaternion_xyzw(tuple(map(tuple, np.reshape(get(mk.axle, OV.RotationMatrix), (3, 3)))))
         states: list = []
-        forces.evaluate(float(t[k]), y[k, 0:3], y[k, 3:6], y[k, 6:8], states=states)
+        forces.evaluate(float(t[k]), list(y[k, 0:m]) + [0.0, 0.0], list(y[k, m:2 * m + 2]), states=states)
         c, s = math.cos(spin_angle[k]), math.sin(spin_angle[k])
         spin = ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))    # rotation about the wheel axis (y)
         for i, side in enumerate(SIDES):
             label = "right" if side < 0 else "left"
-            pose = knuckle_pose(g, side, cpsi, spsi, y[k, 1 + i])
-            pos[f"knuckle_{label}"][k] = pose.kingpin_point
-            quat[f"knuckle_{label}"][k] = quaternion_xyzw(pose.rotation)
-            pos[f"wheel_{label}"][k] = pose.point(g.wheel_centre(side))
-            quat[f"wheel_{label}"][k] = quaternion_xyzw(matmul(pose.rotation, spin))
-            tie[k, i] = pose.point(g.tie_rod_arm_vector)
-            if side > 0:
-                drag[k, 0] = pose.point(g.drag_link_arm_vector)
-                drag[k, 1] = frame_point
+            K = np.asarray(get(mk.knuckles[i], OV.Position))
+            rot = np.reshape(get(mk.knuckles[i], OV.RotationMatrix), (3, 3)) @ T[i].T   # axle frame at zero steer
+            rows = tuple(map(tuple, rot))
+            pos[f"knuckle_{label}"][k] = K
+            quat[f"knuckle_{label}"][k] = quaternion_xyzw(rows)
+            pos[f"wheel_{label}"][k] = K + rot @ np.array([0.0, side * model.params.l, 0.0])
+            quat[f"wheel_{label}"][k] = quaternion_xyzw(matmul(rows, spin))
+            tie[k, i] = get(mk.tie_rod[i], OV.Position)
             cpoint[label][k] = states[i].point
             cforce[label][k] = states[i].force
+        drag[k, 0] = get(mk.drag_link[0], OV.Position)
+        drag[k, 1] = get(mk.drag_link[1], OV.Position)
     return {"bodies": {k: {"position": pos[k], "quaternion_xyzw": quat[k]} for k in names},
             "links": {"tie_rod": tie, "drag_link": drag},
             "contact": {k: {"point": cpoint[k], "force": cforce[k]} for k in ("right", "left")},
