@@ -126,16 +126,17 @@ def _mbs_simulation(fidelity: str):
         import numpy as np
 
         from mbs_shimmy import Fidelity, simulate
-        from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP
+        from mbs_shimmy.simulation import BENCH_SETTINGS
         from reduced_model.trajectory import SpeedSchedule
         x0 = np.zeros(8)
         x0[0] = 0.01
 
         def run():
-            # 10 s simulated at 1.5 bar, 100 km/h, the step that keeps 1e-4 accuracy; real-time factor = 10 / median
+            # 10 s simulated at 1.5 bar, 100 km/h, the cheapest setting that keeps 1e-4 accuracy; real-time
+            # factor = 10 / median
             return simulate(fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
-                            schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, step=FAST_STEP,
-                            method=FAST_METHOD, poses=False)
+                            schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, poses=False,
+                            **BENCH_SETTINGS[fidelity])
         return run
     return setup
 
@@ -175,9 +176,13 @@ BENCHMARKS: list[Benchmark] = [
               _figure9a_cycles, repeats=3),
     Benchmark("cycles_error_controlled", "all cycle branches, HCL + PT at 0.25 bar, to 1e-6 (the tramp branch down "
               "to 0.5 km/h), with orbits at 60 and 183 km/h", 5.0, _error_controlled_cycles, repeats=3),
-    Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements, 1.5 bar, 100 km/h, "
-              "RK67 h = 1/210 s (1e-4 accurate); target 20x real time", 0.5, _mbs_simulation("full"), repeats=5),
-    Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced)", 0.5,
+    Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements and every element of "
+              "issue 9 (kingpin inclination, raised roll axis, lateral axle mounts, Ackermann arms, steering gear "
+              "with inclined drag link), 1.5 bar, 100 km/h, DOPRI5 with automatic step (h <= 10 ms, rtol 2e-5, "
+              "atol 2e-7: within 4.0e-5 of every state's amplitude of RK67 at 1/960 s); target 50x real time",
+              0.2, _mbs_simulation("full"), repeats=5),
+    Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced), RK67 "
+              "h = 1/240 s (DOPRI5 needs more evaluations there for 1e-4)", 0.5,
               _mbs_simulation("reduced"), repeats=5),
     Benchmark("sweep_hopf_10k", "shimmy sweep: 10,000 reduced-model Hopf samples (pressure, t0) on a local Dask "
               "cluster, one worker per core, cluster start-up and Parquet included; target 30 s on 2 cores", 30.0,

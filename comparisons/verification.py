@@ -253,7 +253,9 @@ def assumptions_section(ctx: Context) -> Section:
         columns=("case", "assumption_off", "hopf_shifts_kmh", "peak_theta1_shift_deg"), rows=tuple(rows),
         text=("Shift of every Hopf speed (MBS minus reduced, in the order of the reduced model's Hopf points; '-' where "
               "a point has no partner) and of the peak limit-cycle amplitude, from `shimmy assumptions`, at the first "
-              "two planned cases with shimmy." + (" Quick mode skips the amplitudes." if ctx.quick else "")))
+              "two planned cases with shimmy. Rows named after a geometric element of the full axle "
+              "(no_kingpin_inclination, ..., rigid_steering_gear): full geometry minus full geometry without that "
+              "element." + (" Quick mode skips the amplitudes." if ctx.quick else "")))
 
 
 def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]:

@@ -1,4 +1,4 @@
-"""Geometrically full multibody model of the truck front axle in Exudyn (issue 4).
+"""Geometrically full multibody model of the truck front axle in Exudyn (issues 4 and 9).
 
 Public API (SI inside; pressures in Pa, speeds in m/s):
 
@@ -13,12 +13,13 @@ Public API (SI inside; pressures in Pa, speeds in m/s):
 
 from dataclasses import dataclass
 
+from . import engine  # noqa: F401  (first: chooses Exudyn's compiled module before anything imports exudyn)
 from .assumption_study import AssumptionRow, AssumptionStudy, HopfShift, assumption_study, match_hopf
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity
 from .limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak, reduced_steady_amplitude
 from .linearisation import MbsFamily, MbsModel
-from .simulation import DEFAULT_METHOD, DEFAULT_STEP, Convergence, convergence, simulate
+from .simulation import DEFAULT_METHOD, DEFAULT_STEP, Convergence, convergence, extended_states, simulate
 
 
 @dataclass(frozen=True)
@@ -42,4 +43,5 @@ def assumptions_table() -> AssumptionsTable:
 __all__ = ["Assumption", "AssumptionInfo", "AssumptionRow", "AssumptionStudy", "AssumptionsTable", "AxleDimensions",
            "Convergence", "DEFAULT_DIMENSIONS", "DEFAULT_METHOD", "DEFAULT_STEP", "Fidelity", "HopfShift",
            "MbsFamily", "MbsModel", "SteadyAmplitude", "assumption_study", "assumptions_table", "convergence",
-           "match_hopf", "mbs_steady_amplitude", "reduced_peak", "reduced_steady_amplitude", "simulate"]
+           "extended_states", "match_hopf", "mbs_steady_amplitude", "reduced_peak", "reduced_steady_amplitude",
+           "simulate"]

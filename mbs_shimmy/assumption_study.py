@@ -1,7 +1,10 @@
 """What each assumption of the reduced model is worth: Hopf-speed and limit-cycle shifts when it is dropped.
 
-For one pressure (and pressure effects, Table 1 overrides), rows are each assumption switched off alone (all
-others on) and ``full`` (all off).  Per row: every Hopf point of the MBS against the reduced model's, matched
+For one pressure (and pressure effects, Table 1 overrides), rows are each assumption of the paper switched off
+alone (all others on) and ``full`` (all off), each against the reduced model; then each new geometric element
+(kingpin inclination, raised roll axis, lateral mounts, Ackermann arms, steering gear), measured as ``full``
+against ``full`` without that element (its "reduced" side is then the MBS without the element).  Per row: every
+Hopf point of the MBS against the reduced model's, matched
 one-to-one by speed and frequency (a mode that vanishes or appears is unmatched: the other side is None), and
 the steady theta1 amplitude of the MBS at the speed where the reduced model's limit cycle is largest, against the
 reduced model's there (:mod:`mbs_shimmy.limit_cycle`).  The Hopf points of both models come from the same
@@ -24,6 +27,8 @@ from reduced_model.parameters import ShimmyParameters
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import ASSUMPTIONS, Fidelity
+
+ELEMENTS = frozenset(info.name for info in ASSUMPTIONS if info.element)
 from .limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak
 from .linearisation import MbsFamily, MbsModel
 
@@ -104,9 +109,13 @@ def match_hopf(reduced: Sequence[HopfPoint], mbs: Sequence[HopfPoint]) -> tuple[
 
 
 def study_fidelities() -> list[tuple[str, Fidelity]]:
-    """Each assumption off alone, then all off."""
-    rows = [(info.name, Fidelity.reduced().without(info.assumption)) for info in ASSUMPTIONS]
-    return rows + [("full", Fidelity.full())]
+    """Each assumption of the paper off alone, then all off (``full``), then ``full`` with one of the new
+    geometric elements taken out again (that element's assumption on): the element's row compares that with
+    ``full`` (:func:`study_rows`)."""
+    rows = [(info.name, Fidelity.reduced().without(info.assumption)) for info in ASSUMPTIONS if not info.element]
+    rows.append(("full", Fidelity.full()))
+    rows += [(info.name, Fidelity(frozenset({info.assumption}))) for info in ASSUMPTIONS if info.element]
+    return rows
 
 
 def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float, *,
@@ -118,18 +127,31 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float
     reduced = hopf_points(SpeedFamily(model, pressure=pressure), q, 0.0, vmax, lyapunov=False)
     peak: SteadyAmplitude | None = reduced_peak(model, pressure, vmax, settle) if cycles else None
     rows = []
+    full_points = full_deg = full_settled = None
+
+    def amplitude(fidelity):
+        # start from the reduced model's cycle: the MBS's own one, if it has one there, is close
+        r = mbs_steady_amplitude(params, effects, fidelity, pressure, peak.speed, peak.final_state, settle,
+                                 dims=dims)
+        return (math.degrees(r.theta1) if math.isfinite(r.theta1) else None), r.settled
+
     for k, (name, fidelity) in enumerate(study_fidelities()):
         family = MbsFamily(MbsModel(params, effects, fidelity, dims), pressure=pressure)
         mbs = hopf_points(family, q, 0.0, vmax, lyapunov=False)
         mbs_deg = red_deg = settled = None
-        if peak is not None:
-            # start from the reduced model's cycle: the MBS's own one, if it has one there, is close
-            r = mbs_steady_amplitude(params, effects, fidelity, pressure, peak.speed, peak.final_state, settle,
-                                     dims=dims)
-            mbs_deg = math.degrees(r.theta1) if math.isfinite(r.theta1) else None
-            red_deg = peak.theta1_deg
-            settled = r.settled
-        rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_deg, red_deg, settled))
+        if name in ELEMENTS:
+            # the element's worth: full geometry (mbs side) against full geometry without it (reference side)
+            if peak is not None:
+                red_deg, _ = amplitude(fidelity)
+                mbs_deg, settled = full_deg, full_settled
+            rows.append(AssumptionRow(name, match_hopf(mbs, full_points), mbs_deg, red_deg, settled))
+        else:
+            if peak is not None:
+                mbs_deg, settled = amplitude(fidelity)
+                red_deg = peak.theta1_deg
+            rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_deg, red_deg, settled))
+            if name == "full":
+                full_points, full_deg, full_settled = mbs, mbs_deg, settled
         if progress is not None:
             progress(k + 1)
     return AssumptionStudy(q / 1e5, effects.names, tuple(h.speed_kmh for h in reduced),

@@ -51,6 +51,54 @@ class AxleDimensions:
                    range=(0.05, 1.0), plausible=(0.15, 0.3))
     drag_link_length: float = _d(0.8, "m", "drag link from the arm forward to the steering gear on the frame",
                    range=(0.1, 3.0), plausible=(0.5, 1.2))
+    # --- the geometry of issue 9: each entry has a neutral value at which its element has no effect -----------
+    kingpin_inclination: float = _d(math.radians(7.0), "rad",
+                                    "kingpin inclination (7 deg), the kingpin's inward tilt at the top seen from the "
+                                    "front; truck beam axles use 5-9 deg (Reimpell, Stoll & Betzler, The Automotive "
+                                    "Chassis, 2001, sec. 3.6); with the hub offset l it gives the scrub radius "
+                                    "l - R tan(inclination) (21 mm with Table 1)",
+                   range=(0.0, math.radians(20.0)), plausible=(math.radians(5.0), math.radians(9.0)), neutral=0.0)
+    steering_arm_angle: float = _d(math.atan(0.734 / 4.5), "rad",
+                                   "inward angle of the tie-rod arms from the vehicle's x-axis (9.26 deg): their lines "
+                                   "meet at the rear axle of a 4.5 m wheelbase (Ackermann's condition, "
+                                   "atan((L/2 - l) / 4.5 m)); 0 = parallel arms",
+                   range=(math.radians(-30.0), math.radians(30.0)), plausible=(math.radians(7.0), math.radians(11.5)),
+                   neutral=0.0)
+    roll_axis_above_wheel_centre: float = _d(0.1, "m", "height of the axle's roll axis above the wheel centres: "
+                                                       "a leaf-sprung beam axle rolls about the spring seats, "
+                                                       "0.05-0.2 m above the axle (roll centre 0.5 m above the road "
+                                                       "with R = 0.4 m)",
+                   range=(-0.3, 1.0), plausible=(0.05, 0.25), neutral=0.0)
+    axle_mount_lateral_compliance: float = _d(1.0e-6, "m/N", "lateral compliance of both leaf springs at the axle "
+                                                            "seats together: 1 / (1.0 MN/m), an order-of-magnitude "
+                                                            "value (0.3-1.5 kN/mm per spring); 0 = rigid mounts",
+                   range=(0.0, 1e-4), plausible=(0.33e-6, 2.5e-6), neutral=0.0)
+    axle_mount_lateral_damping: float = _d(1.6e3, "N s/m", "lateral damping of the axle mounts: 5 % of critical "
+                                                           "on the axle's 240 kg (inter-leaf friction, bushes); no "
+                                                           "effect with rigid mounts",
+                   range=(0.0, 1e6), plausible=(0.5e3, 5e3))
+    steering_gear_compliance: float = _d(1.25e-5, "rad/(N m)", "torsional compliance of the steering gear's output "
+                                                               "(Pitman) shaft to the frame, 1 / (80 kN m/rad): column "
+                                                               "and hands-on steering wheel, about 200 N m/rad at the "
+                                                               "wheel, through a 20:1 gear (x 400); 0 = rigid gear",
+                   range=(0.0, 1e-3), plausible=(5.0e-6, 3.3e-5), neutral=0.0)
+    steering_gear_damping: float = _d(800.0, "N m s/rad", "damping of the Pitman shaft to the frame: about 2 N m s/rad "
+                                                          "of hands and column at the steering wheel x 400; no effect "
+                                                          "with a rigid gear",
+                   range=(0.0, 1e6), plausible=(200.0, 3000.0))
+    steering_gear_inertia: float = _d(30.0, "kg m^2", "inertia about the Pitman shaft: steering wheel and column "
+                                                      "(about 0.075 kg m^2) through the 20:1 gear (x 400); no effect "
+                                                      "with a rigid gear",
+                   range=(0.01, 1000.0), plausible=(10.0, 60.0))
+    pitman_arm: float = _d(0.2, "m", "Pitman arm from the steering-gear shaft down to the drag-link ball; no effect "
+                                     "with a rigid gear",
+                   range=(0.05, 1.0), plausible=(0.15, 0.3))
+    drag_link_inclination: float = _d(math.radians(5.0), "rad",
+                                      "rise of the drag link towards the steering gear seen from the side (5 deg): the "
+                                      "gear sits on the frame above the steering arm; with the axle's roll it steers "
+                                      "the left wheel (roll steer)",
+                   range=(math.radians(-30.0), math.radians(30.0)), plausible=(0.0, math.radians(12.0)),
+                   neutral=0.0)
 
     def __post_init__(self) -> None:
         for f_ in dataclasses.fields(self):
@@ -72,7 +120,8 @@ class AxleDimensions:
     def table(self) -> list[dict[str, Any]]:
         return [{"name": f_.name, "value": getattr(self, f_.name), "unit": f_.metadata["unit"],
                  "reason": f_.metadata["reason"], "range": f_.metadata["range"],
-                 "plausible": f_.metadata["plausible"]} for f_ in dataclasses.fields(self)]
+                 "plausible": f_.metadata["plausible"], "neutral": f_.metadata["neutral"]}
+                for f_ in dataclasses.fields(self)]
 
     # --- derived inertias that make Table 1 hold at straight running ------------------------------------
     def knuckle_kingpin_inertia(self, params: ShimmyParameters) -> float:

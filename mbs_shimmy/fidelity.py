@@ -26,6 +26,12 @@ class Assumption(enum.Enum):
     LATERAL_STIFFNESS_TRAMP_ONLY = "lateral_stiffness_tramp_only"
     CONSTANT_LOAD = "constant_load"
     QUASI_STEADY_SPEED = "quasi_steady_speed"
+    SEPARATE_LATERAL_SPRING = "separate_lateral_spring"
+    NO_KINGPIN_INCLINATION = "no_kingpin_inclination"
+    ROLL_AXIS_AT_WHEEL_CENTRE = "roll_axis_at_wheel_centre"
+    RIGID_AXLE_MOUNTS = "rigid_axle_mounts"
+    PARALLEL_STEERING_ARMS = "parallel_steering_arms"
+    RIGID_STEERING_GEAR = "rigid_steering_gear"
 
 
 @dataclass(frozen=True)
@@ -37,6 +43,7 @@ class AssumptionInfo:
     enters: str           # where it enters the reduced equations
     full_geometry: str    # what the multibody model does with the switch off
     linear: bool          # False: it changes only the nonlinear terms, so it cannot move a Hopf point
+    element: bool = False  # True: a geometric element the paper leaves out; studied on the full geometry
 
     @property
     def name(self) -> str:
@@ -106,7 +113,56 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "along a ramp also the d'Alembert force -m_wheel dV/dt at the wheel centres and the road force that spins "
         "the wheels up, I2 dOmega/dt / R; nothing at constant speed",
         False),
+    AssumptionInfo(
+        Assumption.SEPARATE_LATERAL_SPRING,
+        "the tyre's lateral stiffness k4 acts as a spring of its own beside the relaxation equation",
+        "k4 R^2 gamma psi in (2.1)-(2.2), 2 k4 R^2 psi in (2.3), next to the slip equations (2.10)-(2.11)",
+        "the lateral compliance is counted once, in the relaxation equation: sigma alpha' + V alpha = v_y is the "
+        "stretched string whose carcass stiffness K/sigma (about 120 kN/m) is the tyre's lateral spring (at V = 0 "
+        "it is exactly a spring of stiffness K/sigma); no k4 force",
+        True),
+    AssumptionInfo(
+        Assumption.NO_KINGPIN_INCLINATION,
+        "the kingpin is tilted by the caster angle only",
+        "the lever arms of (2.1)-(2.3) about the kingpin: R gamma + t, l (gamma - f)",
+        "the kingpin also leans inward at the top by the kingpin inclination; it passes l inboard of the wheel "
+        "centre (hub offset), so the scrub radius at the road is l - R tan(inclination): the steered wheel rises "
+        "(weight jacking) and its contact point moves along a different arc",
+        True, True),
+    AssumptionInfo(
+        Assumption.ROLL_AXIS_AT_WHEEL_CENTRE,
+        "the axle rolls about an axis at wheel-centre height",
+        "R as the lever of the lateral forces about the roll axis in (2.3) and of the k4 deflection R psi",
+        "roll axis at the given height above the wheel centres (the spring seats of a leaf-sprung axle): the "
+        "contact points move (R + h) psi sideways, the lateral forces act at that lever, the axle's inertia about "
+        "the raised axis is I3 + m h^2 and the roll couples with the lateral motion",
+        True, True),
+    AssumptionInfo(
+        Assumption.RIGID_AXLE_MOUNTS,
+        "the axle cannot move sideways against the frame",
+        "no lateral degree of freedom in (2.1)-(2.11)",
+        "a lateral degree of freedom of the axle on the leaf springs' lateral stiffness and damping: the contact "
+        "points move with it (slip velocity y', and the k4 spring when it is counted)",
+        True, True),
+    AssumptionInfo(
+        Assumption.PARALLEL_STEERING_ARMS,
+        "the tie-rod arms are parallel (no Ackermann)",
+        "k1 (theta1 - theta2) in (2.1)-(2.2)",
+        "tie-rod arms angled inward (Ackermann); the tie-rod between their ends: the same k1 at straight running, "
+        "unequal steer of the two wheels at large angles (nonlinear only)",
+        False, True),
+    AssumptionInfo(
+        Assumption.RIGID_STEERING_GEAR,
+        "the drag link runs level from the left steering arm to a fixed frame point",
+        "k2 theta2 + c2 theta2' in (2.2)",
+        "the drag link, inclined in side view, ends on a Pitman arm on a steering gear with its own inertia, "
+        "torsional stiffness and damping to the frame: the gear's compliance in series with k2, and roll steer "
+        "(the axle's roll moves the steering arm along the inclined drag link)",
+        True, True),
 )
+
+ELEMENT_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if info.element)
+PAPER_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if not info.element)
 
 _BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
 ALL = frozenset(Assumption)

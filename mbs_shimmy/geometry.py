@@ -1,11 +1,12 @@
-"""Geometry of the multibody axle: constant vectors, exact forward kinematics and its first-order form.
+"""Geometry of the multibody axle: the constant vectors at straight running that the Exudyn tree is built from.
 
 Frame: the vehicle frame, moving with the speed V along x; origin on the road below the axle centre, x forward, y
-left, z up (the paper's o-xyz, section 2).  Generalized coordinates of the kinematic tree: ``q = (psi, theta1,
-theta2)``: axle roll about the x-axis through O = (0, 0, R) (wheel-centre height), then each knuckle about its
-kingpin, which lies in the wheel's x-z plane at lateral distance l inboard of the wheel centre and is tilted
-rearward at the top by the caster angle gamma (Table 1; Figure 1 of the paper).  Wheel 1 is the right wheel
-(side s = -1), wheel 2 the left (s = +1), as in the reduced model.
+left, z up (the paper's o-xyz, section 2).  The axle rolls about an x-axis h above the wheel centres (h = 0 in the
+paper), each knuckle turns about its kingpin, which passes at wheel-centre height l inboard of the wheel centre and
+is tilted rearward at the top by the caster angle gamma (Table 1; Figure 1 of the paper) and inward by the kingpin
+inclination.  Wheel 1 is the right wheel (side s = -1), wheel 2 the left (s = +1), as in the reduced model.  The
+poses at any state are Exudyn's (:mod:`mbs_shimmy.system`); this module only gives the straight-running vectors
+the tree and its markers are built from, and the disc-road contact.
 
 Everything here is plain Python floats on 3-tuples: these functions run inside the Exudyn user functions, where
 numpy's per-call overhead on 3-vectors would cost more than the arithmetic.
@@ -20,6 +21,7 @@ from functools import cached_property
 from reduced_model.parameters import ShimmyParameters
 
 from .dimensions import AxleDimensions
+from .fidelity import Assumption, Fidelity
 
 Vec = tuple[float, float, float]
 SIDES = (-1.0, 1.0)   # wheel 1 (right), wheel 2 (left)
@@ -41,13 +43,24 @@ def cross(a: Vec, b: Vec) -> Vec:
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
+def unit(a: Vec) -> Vec:
+    return scale(1.0 / math.sqrt(dot(a, a)), a)
+
+
+def perpendicular(d: Vec, e: Vec) -> Vec:
+    """The unit vector of d's component perpendicular to the unit vector e."""
+    return unit(add(d, scale(-dot(d, e), e)))
+
+
 @dataclass(frozen=True)
 class AxleGeometry:
-    """Constant vectors of the axle (SI, vehicle frame at straight running).
+    """Constant vectors of the axle at straight running (SI, vehicle frame; what the Exudyn tree is built from).
 
     ``exact`` selects the caster terms: sin(gamma), cos(gamma) (exact) or gamma, 1 (the reduced model's
-    linearisation).  Body vectors of the knuckles are given in the axle frame at theta = 0 relative to the
-    kingpin point K.
+    linearisation).  The fidelity switches of the new geometry set their element to its neutral value here
+    (kingpin inclination 0, roll axis at wheel-centre height, parallel arms, level drag link to the frame).
+    Vectors of a knuckle are given in the axle frame at theta = 0 relative to its kingpin point K.
+    Nothing here moves: the poses at any state are Exudyn's (:mod:`mbs_shimmy.system`).
     """
 
     R: float
@@ -58,12 +71,25 @@ class AxleGeometry:
     tie_rod_arm: float
     drag_link_arm: float
     drag_link_length: float
+    kingpin_inclination: float = 0.0
+    steering_arm_angle: float = 0.0
+    roll_height: float = 0.0           # roll axis above the wheel centres
+    drag_link_inclination: float = 0.0
+    pitman_arm: float = 0.0            # 0: the drag link ends on a frame point (rigid gear)
 
     @classmethod
-    def build(cls, params: ShimmyParameters, dims: AxleDimensions, exact: bool) -> "AxleGeometry":
+    def build(cls, params: ShimmyParameters, dims: AxleDimensions, exact: bool,
+              fidelity: Fidelity | None = None) -> "AxleGeometry":
+        on = (lambda a: fidelity is None or a in fidelity)
+        gear = not on(Assumption.RIGID_STEERING_GEAR)
         return cls(R=params.R, L=params.L, l=params.l, gamma=params.gamma, exact=exact,
                    tie_rod_arm=dims.tie_rod_arm, drag_link_arm=dims.drag_link_arm,
-                   drag_link_length=dims.drag_link_length)
+                   drag_link_length=dims.drag_link_length,
+                   kingpin_inclination=0.0 if on(Assumption.NO_KINGPIN_INCLINATION) else dims.kingpin_inclination,
+                   steering_arm_angle=0.0 if on(Assumption.PARALLEL_STEERING_ARMS) else dims.steering_arm_angle,
+                   roll_height=0.0 if on(Assumption.ROLL_AXIS_AT_WHEEL_CENTRE) else dims.roll_axis_above_wheel_centre,
+                   drag_link_inclination=dims.drag_link_inclination if gear else 0.0,
+                   pitman_arm=dims.pitman_arm if gear else 0.0)
 
     @cached_property
     def sin_gamma(self) -> float:
@@ -76,87 +102,79 @@ class AxleGeometry:
     @property
     def origin(self) -> Vec:
         """O: the roll axis passes through it along x."""
-        return (0.0, 0.0, self.R)
+        return (0.0, 0.0, self.R + self.roll_height)
+
+    def kingpin_axis_of(self, side: float) -> Vec:
+        """Kingpin direction (axle frame): tilted rearward at the top by the caster angle and inward by the
+        kingpin inclination (both as seen in side and front view)."""
+        if not self.exact:
+            return (-self.sin_gamma, 0.0, self.cos_gamma)
+        return unit((-math.tan(self.gamma), -side * math.tan(self.kingpin_inclination), 1.0))
 
     @cached_property
     def kingpin_axis(self) -> Vec:
-        """Kingpin direction in the axle frame: tilted rearward at the top by the caster angle."""
-        return (-self.sin_gamma, 0.0, self.cos_gamma)
+        """Kingpin direction of the left wheel (both, without kingpin inclination)."""
+        return self.kingpin_axis_of(1.0)
+
+    def joint_rotation(self, side: float) -> tuple[Vec, Vec, Vec]:
+        """Rows of the rotation joint frame -> axle frame whose z-axis is the kingpin axis (for no inclination
+        exactly Ry(-gamma))."""
+        e = self.kingpin_axis_of(side)
+        t1 = perpendicular((1.0, 0.0, 0.0), e)
+        t2 = cross(e, t1)
+        return ((t1[0], t2[0], e[0]), (t1[1], t2[1], e[1]), (t1[2], t2[2], e[2]))
 
     def kingpin_point(self, side: float) -> Vec:
-        """K relative to O (axle frame): at wheel-centre height, l inboard of the wheel centre plane."""
+        """K relative to the wheel-centre line (0, 0, R): at wheel-centre height, l inboard of the wheel centre
+        (the hub offset; the scrub radius at the road is l - R tan(inclination))."""
         return (0.0, side * (0.5 * self.L - self.l), 0.0)
+
+    @property
+    def scrub_radius(self) -> float:
+        return self.l - self.R * math.tan(self.kingpin_inclination)
 
     def wheel_centre(self, side: float) -> Vec:
         """Wheel centre relative to K; it lies on the spin axis (y) through K."""
         return (0.0, side * self.l, 0.0)
 
+    def tie_rod_arm_vector_of(self, side: float) -> Vec:
+        """Steering arm to the tie-rod joint: rearward, turned inward by the steering-arm angle (Ackermann),
+        perpendicular to the kingpin."""
+        if not self.exact:
+            return scale(-self.tie_rod_arm, (self.cos_gamma, 0.0, self.sin_gamma))
+        b = self.steering_arm_angle
+        d = (-math.cos(b), -side * math.sin(b), 0.0)
+        return scale(self.tie_rod_arm, perpendicular(d, self.kingpin_axis_of(side)))
+
     @cached_property
     def tie_rod_arm_vector(self) -> Vec:
-        """Steering arm to the tie-rod joint (both knuckles): perpendicular to the kingpin, pointing rearward."""
-        return scale(-self.tie_rod_arm, (self.cos_gamma, 0.0, self.sin_gamma))
+        return self.tie_rod_arm_vector_of(1.0)
 
-    @property
+    @cached_property
     def drag_link_arm_vector(self) -> Vec:
-        """Left steering arm to the drag link, pointing inboard (-y)."""
-        return (0.0, -self.drag_link_arm, 0.0)
+        """Left steering arm to the drag link, pointing inboard, perpendicular to the kingpin."""
+        if not self.exact:
+            return (0.0, -self.drag_link_arm, 0.0)
+        return scale(self.drag_link_arm, perpendicular((0.0, -1.0, 0.0), self.kingpin_axis_of(1.0)))
+
+    def absolute(self, side: float, r: Vec) -> Vec:
+        """Absolute position at straight running of the knuckle point r (relative to K)."""
+        return add(add((0.0, 0.0, self.R), self.kingpin_point(side)), r)
 
     def drag_link_frame_point(self) -> Vec:
-        """The steering-gear end of the drag link, fixed to the frame (vehicle frame, absolute)."""
-        end = add(add(self.origin, self.kingpin_point(1.0)), self.drag_link_arm_vector)
-        return add(end, (self.drag_link_length, 0.0, 0.0))
+        """The gear end of the drag link at straight running (absolute): the Pitman-arm ball, or the fixed frame
+        point of the rigid gear; the drag link rises towards it by its inclination."""
+        end = self.absolute(1.0, self.drag_link_arm_vector)
+        c, s = math.cos(self.drag_link_inclination), math.sin(self.drag_link_inclination)
+        return add(end, (self.drag_link_length * c, 0.0, self.drag_link_length * s))
+
+    def gear_shaft_point(self) -> Vec:
+        """The steering gear's output shaft (axis y), the Pitman arm hanging down from it to the ball."""
+        return add(self.drag_link_frame_point(), (0.0, 0.0, self.pitman_arm))
 
     def contact_point(self, side: float) -> Vec:
         """Contact point at straight running (absolute)."""
         return (0.0, side * 0.5 * self.L, 0.0)
-
-
-@dataclass(frozen=True)
-class KnucklePose:
-    """Exact pose of one knuckle (with its non-spinning wheel) in the vehicle frame."""
-
-    rotation: tuple[Vec, Vec, Vec]   # rows of the rotation matrix, knuckle (axle frame at theta = 0) -> vehicle
-    kingpin_point: Vec               # K (absolute)
-    kingpin_axis: Vec                # e (absolute)
-
-    def vector(self, r: Vec) -> Vec:
-        m = self.rotation
-        return (dot(m[0], r), dot(m[1], r), dot(m[2], r))
-
-    def point(self, r: Vec) -> Vec:
-        """Absolute position of the body point r (relative to K, axle frame at theta = 0)."""
-        return add(self.kingpin_point, self.vector(r))
-
-    @property
-    def spin_axis(self) -> Vec:
-        m = self.rotation
-        return (m[0][1], m[1][1], m[2][1])
-
-
-def knuckle_frame(g: AxleGeometry, side: float, cpsi: float, spsi: float, theta: float) -> tuple:
-    """Exact pose of a knuckle as a flat tuple (Ky, Kz, ex, ey, ez, R00, R01, ..., R22).
-
-    K = (0, Ky, Kz) is the kingpin point, e the kingpin axis and R the knuckle's rotation (rows), all in the
-    vehicle frame: the axle rotation Rx(psi) times the rotation by theta about the kingpin axis (Rodrigues).
-    Flat floats because it runs at every solver stage; :func:`knuckle_pose` wraps it.
-    """
-    ex, _, ez = g.kingpin_axis
-    c, s = math.cos(theta), math.sin(theta)
-    v = 1.0 - c
-    a00, a01, a02 = c + v * ex * ex, -s * ez, v * ex * ez
-    a10, a11, a12 = s * ez, c, -s * ex
-    a20, a21, a22 = v * ex * ez, s * ex, c + v * ez * ez
-    ky = side * (0.5 * g.L - g.l)
-    return (cpsi * ky, g.R + spsi * ky, ex, -spsi * ez, cpsi * ez,
-            a00, a01, a02,
-            cpsi * a10 - spsi * a20, cpsi * a11 - spsi * a21, cpsi * a12 - spsi * a22,
-            spsi * a10 + cpsi * a20, spsi * a11 + cpsi * a21, spsi * a12 + cpsi * a22)
-
-
-def knuckle_pose(g: AxleGeometry, side: float, cpsi: float, spsi: float, theta: float) -> KnucklePose:
-    """Exact pose of a knuckle (see :func:`knuckle_frame`)."""
-    f = knuckle_frame(g, side, cpsi, spsi, theta)
-    return KnucklePose((f[5:8], f[8:11], f[11:14]), (0.0, f[0], f[1]), f[2:5])
 
 
 @dataclass(frozen=True)

@@ -4,13 +4,16 @@ The built-in ``ComputeODE2Eigenvalues`` / ``ComputeLinearizedSystem`` ignore fir
 angles) and are wrong for spinning wheels on redundant coordinates (``shared/notes/exudyn.md``).  Instead the
 Jacobian of the complete first-order system
 
-    y = (psi, theta1, theta2, psi', theta1', theta2', alpha1, alpha2),
+    y = (q, q', alpha1, alpha2),  q = ([y_axle], psi, theta1, theta2, [phi_gear])  (tree order),
     y' = (q', M(q)^-1 f(q, q', alpha, t), g(q, q', alpha, t))
 
 is formed from what Exudyn's solver itself evaluates at states written into the ``Current`` configuration: the
 mass matrix M (``ComputeMassMatrix``) and the right-hand side f (``ComputeODE2RHS``: joint spring-dampers, the
 tree's velocity terms, the force user function) of the tree, whose last two coordinates carry the slip angles as
-velocities with unit mass (:mod:`mbs_shimmy.system`), so that their rows of M^-1 f are g.  The derivatives are
+velocities with unit mass (:mod:`mbs_shimmy.system`), so that their rows of M^-1 f are g.  f includes the Exudyn
+connectors (tie-rod, drag link) and the joint spring-dampers of the mounts and the steering gear.  Matrices and
+states are returned in the extended order (:attr:`MbsFamily.state_names`: the reduced model's eight states, then
+the new coordinates and their rates).  The derivatives are
 fourth-order central differences (five-point stencil, step h = 1e-4 in every coordinate, rad or rad/s): the
 truncation error is of order h^4 times the fifth derivative,
 (B_y h)^4 ~ 1e-12 relative through the Magic Formula, and with all assumptions on the generalized forces are
@@ -36,13 +39,14 @@ import exudyn as exu
 import numpy as np
 
 from reduced_model.family import PRESSURE_PARAMS, pressure_at, pressure_value
-from reduced_model.model import N_STATES, Effects
+from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import Fidelity
 from .forces import AxleForces
-from .system import REDUCED_TO_Y, Y_TO_REDUCED, MbsSystem, build_system
+from .forces import layout_of
+from .system import Layout, MbsSystem, build_system
 
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
@@ -66,6 +70,8 @@ class MbsEvaluator:
 
     def __init__(self, system: MbsSystem):
         self.system = system
+        self.m = system.layout.n_mech
+        self.n = system.layout.n
         settings = exu.SimulationSettings()
         settings.solution.file.write = False
         settings.timeIntegration.verboseMode = 0
@@ -80,22 +86,22 @@ class MbsEvaluator:
         s.ComputeMassMatrix(mbs)
         M = np.array(s.GetSystemMassMatrix())
         s.ComputeODE2RHS(mbs)
-        f = np.array(s.GetSystemResidual())[0:5]
+        f = np.array(s.GetSystemResidual())[0:self.m + 2]
         acc = np.linalg.solve(M, f)
-        return np.concatenate([y[3:6], acc])
+        return np.concatenate([y[self.m:2 * self.m], acc])
 
     def mass_matrix(self, y: np.ndarray) -> np.ndarray:
-        """The mass matrix of (psi, theta1, theta2)."""
+        """The mass matrix of the mechanical coordinates (tree order, :class:`~mbs_shimmy.system.Layout`)."""
         self.system.set_state(y)
         self.solver.ComputeMassMatrix(self.system.mbs)
-        return np.array(self.solver.GetSystemMassMatrix())[0:3, 0:3]
+        return np.array(self.solver.GetSystemMassMatrix())[0:self.m, 0:self.m]
 
     def jacobian(self, y: np.ndarray, step: float = FD_STEP) -> np.ndarray:
         """d y'/d y (MBS order) by fourth-order central differences (five-point stencil)."""
         y = np.asarray(y, dtype=float)
-        J = np.empty((N_STATES, N_STATES))
-        for j in range(N_STATES):
-            d = np.zeros(N_STATES)
+        J = np.empty((self.n, self.n))
+        for j in range(self.n):
+            d = np.zeros(self.n)
             d[j] = step
             J[:, j] = (8.0 * (self.rhs(y + d) - self.rhs(y - d)) - (self.rhs(y + 2 * d) - self.rhs(y - 2 * d))) \
                 / (12.0 * step)
@@ -114,9 +120,14 @@ class MbsModel:
     def forces(self, pressure, speed, acceleration=None) -> AxleForces:
         return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressure, speed, acceleration)
 
-    def system(self, pressure, speed, acceleration=None, y0=None, output_interval=None) -> MbsSystem:
+    def system(self, pressure, speed, acceleration=None, y0=None, output_interval=None,
+               drawing: bool = False) -> MbsSystem:
         return build_system(self.params, self.effects, self.fidelity, self.dims,
-                            self.forces(pressure, speed, acceleration), y0, output_interval)
+                            self.forces(pressure, speed, acceleration), y0, output_interval, drawing)
+
+    @property
+    def layout(self) -> Layout:
+        return layout_of(self.fidelity, self.dims)
 
 
 @dataclass
@@ -125,8 +136,9 @@ class MbsFamily:
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as
-    in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in
-    the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`).
+    in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in the extended state order
+    :attr:`state_names` (the reduced model's :data:`reduced_model.model.STATE_NAMES`, then ``y_axle``,
+    ``y_axle_dot``, ``phi_gear``, ``phi_gear_dot`` where the full axle has them).
     """
 
     model: MbsModel = field(default_factory=MbsModel)
@@ -147,8 +159,16 @@ class MbsFamily:
         return cls(MbsModel(params, effects or Effects(), fidelity or Fidelity.reduced(), dims), param, pressure)
 
     @property
+    def layout(self) -> Layout:
+        return layout_of(self.model.fidelity, self.model.dims)
+
+    @property
     def n(self) -> int:
-        return N_STATES
+        return self.layout.n
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return self.layout.state_names
 
     @property
     def nominal(self) -> float:
@@ -176,24 +196,26 @@ class MbsFamily:
         return found
 
     def rhs_mbs(self, y: np.ndarray, speed: float, q: float) -> np.ndarray:
-        """y' in MBS order (psi, theta1, theta2, rates, alpha1, alpha2)."""
+        """y' in MBS order (q, q', alpha1, alpha2), :class:`~mbs_shimmy.system.Layout`."""
         ev, sp = self._at(q)
         sp.value = float(speed)
         return ev.rhs(np.asarray(y, dtype=float))
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        """x' in the reduced model's state order, for real x of shape (8,)."""
-        return self.rhs_mbs(np.asarray(x)[REDUCED_TO_Y], speed, q)[Y_TO_REDUCED]
+        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,)."""
+        L = self.layout
+        return self.rhs_mbs(np.asarray(x)[L.x_to_y], speed, q)[L.y_to_x]
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
         ev, sp = self._at(q)
         sp.value = float(speed)
-        J = ev.jacobian(np.asarray(x, dtype=float)[REDUCED_TO_Y])
-        return J[np.ix_(Y_TO_REDUCED, Y_TO_REDUCED)]
+        L = self.layout
+        J = ev.jacobian(np.asarray(x, dtype=float)[L.x_to_y])
+        return J[np.ix_(L.y_to_x, L.y_to_x)]
 
     def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
         """Jacobian at straight running by differences at this speed (reduced-model state order)."""
-        return self.jacobian(np.zeros(N_STATES), speed, q)
+        return self.jacobian(np.zeros(self.n), speed, q)
 
     def affine_matrices(self, q: float) -> tuple[np.ndarray, np.ndarray]:
         """(A0, A1) with A(V) = A0 + V A1 at straight running (module docstring)."""
@@ -216,7 +238,7 @@ class MbsFamily:
         return float(np.max(np.abs(direct - self.linear_matrix(speed, q))) / np.max(np.abs(direct)))
 
     def equilibrium(self, speed: float, q: float) -> np.ndarray:
-        x0 = np.zeros(N_STATES)
+        x0 = np.zeros(self.n)
         residual = float(np.max(np.abs(self.rhs(x0, speed, q))))
         if residual > EQUILIBRIUM_TOL:
             raise ParameterError(f"straight running is not an equilibrium of the MBS here (|f(0)| = {residual:.3g})")

@@ -5,9 +5,11 @@ solvers evaluate the tyre states consistently at every stage, so the implicit so
 ODE1 derivative (``shared/notes/exudyn.md``) does not arise.  The default is the classical RK44 with
 h = :data:`DEFAULT_STEP` = 1 ms, sampled every millisecond like the reduced model's trajectories: at 1.5 bar and
 100 km/h its error is about 3e-6 of each state's amplitude, and halving the step changes a run by less than 1e-4
-(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/210 s) is the cheapest
-setting found that stays within 1e-4 (all states, 10 s at 100 km/h; the benchmark's).  ``step`` and ``method``
-can be chosen, and :func:`convergence` compares a run with the same run at a smaller step.
+(``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/240 s) is the cheapest
+fixed-step setting found that stays within 1e-4 (all states, 10 s at 100 km/h, full geometry).  DOPRI5 with
+automatic step size at the tolerances of :data:`BENCH_SETTINGS` stays within 1e-4 of the same run with half the
+force evaluations (the benchmark's setting).  ``step`` and ``method`` (and for DOPRI5 the tolerances) can be chosen,
+and :func:`convergence` compares a run with the same run at a smaller step.
 
 The wheel spin follows the speed schedule, Omega(t) = V(t)/R, through the rotor moments of
 :mod:`mbs_shimmy.forces`.  A run stops early with status ``diverged`` when an angle leaves the range where the model
@@ -30,16 +32,24 @@ from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from .fidelity import Fidelity
-from .geometry import SIDES, AxleGeometry, axle_rotation, knuckle_pose, matmul, quaternion_xyzw
+from .geometry import SIDES, matmul, quaternion_xyzw
 from .linearisation import MbsModel
-from .system import from_reduced, to_reduced
 
 DEFAULT_METHOD = "RK44"
 DEFAULT_STEP = 1e-3          # s
 # The cheapest fixed-step setting found that keeps a 10 s run at 1.5 bar, 100 km/h (full geometry) within 1e-4 of
 # every state's amplitude (measured against step/4: ``tests/test_mbs_simulation.py``); used by the benchmark.
 FAST_METHOD = "RK67"
-FAST_STEP = 1.0 / 210.0      # s
+FAST_STEP = 1.0 / 240.0      # s
+# The benchmark's settings (``shimmy bench mbs_simulation_full mbs_simulation_reduced``), the cheapest found within
+# 1e-4 of every state's amplitude of RK67 at 1/960 s over its run (``tests/test_mbs_benchmark_accuracy.py``).  Full
+# geometry: Exudyn's DOPRI5 with automatic step size, largest step 10 ms (also the sampling interval), relative
+# tolerance 2e-5 and absolute 2e-7 (rad, m): 4.0e-5 with 8 400 force evaluations against RK67's 16 800 at 1/240 s
+# (3.8e-5): the fixed step is set by the fastest mode (114 rad/s) all the time, the adaptive one only while that mode
+# is large.  (rtol 1e-5: 3.1e-5, 9 400 evaluations; 5e-5: 9.0e-5, too close; 1e-4: 1.8e-4.)  Reduced fidelity: DOPRI5 would need rtol 3e-6 and 14 700 evaluations for 7.6e-5 (worst state alpha2),
+# so it keeps RK67 at 1/240 s (3.8e-5).
+BENCH_SETTINGS = {"full": {"method": "DOPRI5", "step": 0.01, "rtol": 2e-5, "atol": 2e-7},
+                  "reduced": {"method": FAST_METHOD, "step": FAST_STEP}}
 OUTPUT_INTERVAL = 1e-3       # s between stored samples
 DIVERGENCE_ANGLE = 1.0       # rad: beyond this a steer, tramp or slip angle makes the geometry meaningless
 METHODS = {"RK44": exu.DynamicSolverType.RK44, "RK67": exu.DynamicSolverType.RK67,
@@ -75,10 +85,11 @@ class _Watch:
         sd = mbs.systemData
         q = sd.GetODE2Coordinates()
         v = sd.GetODE2Coordinates_t()      # its last two entries are the slip angles
-        big = max(abs(q[0]), abs(q[1]), abs(q[2]), abs(v[3]), abs(v[4]))
+        m = len(q) - 2
+        big = max(float(np.max(np.abs(q[0:m]))), abs(v[m]), abs(v[m + 1]))
         if not big <= self.limit:        # also catches NaN
             self.stopped_at = t
-            self.state = np.concatenate([q[0:3], v])
+            self.state = np.concatenate([q[0:m], v])
             self.reason = "not finite" if not math.isfinite(big) else f"an angle passed {self.limit:g} rad"
             return False
         return True
@@ -88,12 +99,14 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
              pressure: float | Sequence[float] = 2.5e5, schedule: SpeedSchedule | None = None,
              x0: np.ndarray | None = None, duration: float = 2.0, *, dims: AxleDimensions = DEFAULT_DIMENSIONS,
              step: float = DEFAULT_STEP, method: str = DEFAULT_METHOD, output_interval: float | None = None,
-             poses: bool = True) -> Trajectory:
+             poses: bool = True, rtol: float | None = None, atol: float | None = None) -> Trajectory:
     """Simulate the MBS over [0, duration] s from ``x0`` (reduced-model state order and SI; default theta1 =
     0.01 rad) with the speed ``schedule`` (default 60 km/h).  Pressure in Pa (one value or (right, left)).
 
     ``poses`` adds body poses and contact forces to ``extra`` (see :func:`pose_record`).  Samples every
-    ``output_interval`` s (default the larger of 1 ms and the step).
+    ``output_interval`` s (default the larger of 1 ms and the step).  With an adaptive method (``DOPRI5``)
+    ``step`` is the largest step and ``rtol`` / ``atol`` the relative / absolute error tolerances of a step
+    (default Exudyn's); the samples are then the first steps past each ``output_interval``.
     """
     effects = effects or Effects()
     fidelity = fidelity or Fidelity.reduced()
@@ -104,20 +117,27 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
         raise ParameterError(f"unknown integrator '{method}' (known: {', '.join(METHODS)})")
     if not (math.isfinite(step) and 0.0 < step <= 0.05):
         raise ParameterError(f"step must be in (0, 0.05] s, got {step!r}")
+    for name, tol in (("rtol", rtol), ("atol", atol)):
+        if tol is not None and not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0.0):
+            raise ParameterError(f"{name} must be a positive number, got {tol!r}")
     if output_interval is None:
         output_interval = max(OUTPUT_INTERVAL, step)
     if not (math.isfinite(output_interval) and output_interval >= step * (1 - 1e-9)):
         raise ParameterError(f"output interval must be at least the step ({step:g} s), got {output_interval!r}")
+    model = MbsModel(params, effects, fidelity, dims)
+    layout = model.layout
     if x0 is None:
         x0 = np.zeros(N_STATES)
         x0[STATE_NAMES.index("theta1")] = 0.01
     x0 = np.asarray(x0, dtype=float)
-    if x0.shape != (N_STATES,) or not np.all(np.isfinite(x0)):
-        raise ParameterError(f"initial state must be {N_STATES} finite numbers ({', '.join(STATE_NAMES)})")
+    if x0.shape == (N_STATES,):        # the new coordinates start at rest at zero
+        x0 = np.concatenate([x0, np.zeros(layout.n - N_STATES)])
+    if x0.shape != (layout.n,) or not np.all(np.isfinite(x0)):
+        raise ParameterError(f"initial state must be {N_STATES} finite numbers ({', '.join(STATE_NAMES)})"
+                             + (f" or {layout.n} ({', '.join(layout.state_names)})" if layout.n > N_STATES else ""))
 
     sched = _Schedule(schedule)
-    model = MbsModel(params, effects, fidelity, dims)
-    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, y0=from_reduced(x0),
+    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, y0=x0[layout.x_to_y],
                           output_interval=output_interval)
     mbs = system.mbs
     watch = _Watch(DIVERGENCE_ANGLE)
@@ -130,13 +150,17 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
     ti.numberOfSteps = n_steps
     ti.verboseMode = 0
     ti.automaticStepSize = method not in FIXED_STEP_METHODS
+    if rtol is not None:
+        ti.relativeTolerance = float(rtol)
+    if atol is not None:
+        ti.absoluteTolerance = float(atol)
     ti.explicit.computeEndOfStepAccelerations = False
     settings.solution.file.write = False
     settings.solution.sensors.writePeriod = output_interval
     h = duration / n_steps
     integrator = (f"Exudyn {method} (explicit Runge-Kutta on the kinematic tree), fixed step {h:.6g} s"
                   if method in FIXED_STEP_METHODS else
-                  f"Exudyn {method}, adaptive step, tolerances {ti.absoluteTolerance:g} abs / "
+                  f"Exudyn {method}, adaptive step up to {h:.6g} s, tolerances {ti.absoluteTolerance:g} abs / "
                   f"{ti.relativeTolerance:g} rel")
 
     status, message = SimulationStatus.COMPLETE, ""
@@ -159,36 +183,47 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
     if watch.stopped_at is not None:
         status = SimulationStatus.DIVERGED
         message = (f"diverged at t = {watch.stopped_at:.6g} s ({watch.reason}); "
-                   f"state {_describe(to_reduced(watch.state))}")
+                   f"state {_describe(watch.state[layout.y_to_x], layout)}")
     elif not ok:
         status = SimulationStatus.SOLVER_FAILED
-        last = f"last stored t = {t[-1]:.6g} s, state {_describe(to_reduced(y[-1]))}" if len(t) else "no output"
+        last = (f"last stored t = {t[-1]:.6g} s, state {_describe(y[-1][layout.y_to_x], layout)}" if len(t)
+                else "no output")
         message = f"{message or 'Exudyn solver failed'}; {last}"
-    x = to_reduced(y) if len(t) else np.zeros((0, N_STATES))
+    x_ext = y[:, layout.y_to_x] if len(t) else np.zeros((0, layout.n))
+    x = x_ext[:, :N_STATES]
     speed = np.asarray(schedule.speed(t), dtype=float) if len(t) else np.zeros(0)
     extra = {"fidelity": fidelity.label, "effects": list(effects.names), "step": h, "method": method,
-             "force_evaluations": system.calls}
+             "force_evaluations": system.calls,
+             "extra_states": {name: x_ext[:, N_STATES + k] for k, name in enumerate(layout.state_names[N_STATES:])}}
     if poses and len(t):
         extra.update(pose_record(model, pressure, schedule, t, y))
     return Trajectory(t=t, x=x, speed=speed, model="mbs", integrator=integrator, status=status, message=message,
                       extra=extra)
 
 
+def extended_states(trajectory: Trajectory) -> np.ndarray:
+    """(N, n) states of an MBS trajectory in the extended order: the reduced model's eight, then the new
+    coordinates and rates (:attr:`mbs_shimmy.system.Layout.state_names`)."""
+    extra = trajectory.extra.get("extra_states", {})
+    return np.column_stack([trajectory.x] + [np.asarray(v) for v in extra.values()])
+
+
 def _stored(system) -> tuple[np.ndarray, np.ndarray]:
     data = {name: np.asarray(system.mbs.GetSensorStoredData(s)) for name, s in system.sensors.items()}
     q = data["q"]
+    m = system.layout.n_mech
     if q.ndim != 2 or len(q) == 0:
-        return np.zeros(0), np.zeros((0, N_STATES))
+        return np.zeros(0), np.zeros((0, system.layout.n))
     n = min(len(q), len(data["q_t"]))
     t = q[:n, 0]
-    y = np.column_stack([q[:n, 1:4], data["q_t"][:n, 1:6]])
+    y = np.column_stack([q[:n, 1:1 + m], data["q_t"][:n, 1:m + 3]])
     # Exudyn may store the final time twice (last step and end of simulation)
     keep = np.concatenate([[True], np.diff(t) > 1e-12])
     return t[keep], y[keep]
 
 
-def _describe(x: np.ndarray) -> str:
-    return ", ".join(f"{n} = {v:.4g}" for n, v in zip(STATE_NAMES, x))
+def _describe(x: np.ndarray, layout) -> str:
+    return ", ".join(f"{n} = {v:.4g}" for n, v in zip(layout.state_names, x))
 
 
 def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarray, y: np.ndarray) -> dict:
@@ -199,14 +234,19 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     Bodies: ``axle`` (at O on the roll axis), ``knuckle_right``/``knuckle_left`` (at the kingpin point, frame of
     the axle at zero steer), ``wheel_right``/``wheel_left`` (at the wheel centre, including the spin angle
     integral of V/R about the wheel axis).  The contact force is the tyre's total force on the wheel at the contact
-    point (vertical, rolling resistance, k4 spring, Magic Formula); poses are exact whatever the fidelity.
+    point (vertical, rolling resistance, k4 spring, Magic Formula).  Poses are Exudyn's (the markers of the
+    geometry tree, caster-tilted whatever the fidelity), read at each stored state ``y`` (MBS order).
     """
-    g = AxleGeometry.build(model.params, model.dims, exact=True)
     speed = np.asarray(schedule.speed(t), dtype=float)
     travel = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
     spin_angle = travel / model.params.R
     sched = _Schedule(schedule)
-    forces = model.forces(pressure, sched.speed, None if sched.constant else sched.acceleration)
+    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, drawing=True)
+    forces, mk, get = system.forces, system.markers, system.mbs.GetMarkerOutput
+    OV = exu.OutputVariableType
+    layout = system.layout
+    m = layout.n_mech
+    T = [np.array(system.forces.g_exact.joint_rotation(side)) for side in SIDES]
     n = len(t)
     names = ("axle", "knuckle_right", "knuckle_left", "wheel_right", "wheel_left")
     pos = {k: np.zeros((n, 3)) for k in names}
@@ -215,30 +255,28 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     drag = np.zeros((n, 2, 3))
     cpoint = {k: np.zeros((n, 3)) for k in ("right", "left")}
     cforce = {k: np.zeros((n, 3)) for k in ("right", "left")}
-    frame_point = g.drag_link_frame_point()
     for k in range(n):
-        psi = y[k, 0]
-        cpsi, spsi = math.cos(psi), math.sin(psi)
-        A = axle_rotation(psi)
-        pos["axle"][k] = g.origin
-        quat["axle"][k] = quaternion_xyzw(A)
+        system.set_state(y[k])
+        pos["axle"][k] = get(mk.axle, OV.Position)
+        quat["axle"][k] = quaternion_xyzw(tuple(map(tuple, np.reshape(get(mk.axle, OV.RotationMatrix), (3, 3)))))
         states: list = []
-        forces.evaluate(float(t[k]), y[k, 0:3], y[k, 3:6], y[k, 6:8], states=states)
+        forces.evaluate(float(t[k]), list(y[k, 0:m]) + [0.0, 0.0], list(y[k, m:2 * m + 2]), states=states)
         c, s = math.cos(spin_angle[k]), math.sin(spin_angle[k])
         spin = ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))    # rotation about the wheel axis (y)
         for i, side in enumerate(SIDES):
             label = "right" if side < 0 else "left"
-            pose = knuckle_pose(g, side, cpsi, spsi, y[k, 1 + i])
-            pos[f"knuckle_{label}"][k] = pose.kingpin_point
-            quat[f"knuckle_{label}"][k] = quaternion_xyzw(pose.rotation)
-            pos[f"wheel_{label}"][k] = pose.point(g.wheel_centre(side))
-            quat[f"wheel_{label}"][k] = quaternion_xyzw(matmul(pose.rotation, spin))
-            tie[k, i] = pose.point(g.tie_rod_arm_vector)
-            if side > 0:
-                drag[k, 0] = pose.point(g.drag_link_arm_vector)
-                drag[k, 1] = frame_point
+            K = np.asarray(get(mk.knuckles[i], OV.Position))
+            rot = np.reshape(get(mk.knuckles[i], OV.RotationMatrix), (3, 3)) @ T[i].T   # axle frame at zero steer
+            rows = tuple(map(tuple, rot))
+            pos[f"knuckle_{label}"][k] = K
+            quat[f"knuckle_{label}"][k] = quaternion_xyzw(rows)
+            pos[f"wheel_{label}"][k] = K + rot @ np.array([0.0, side * model.params.l, 0.0])
+            quat[f"wheel_{label}"][k] = quaternion_xyzw(matmul(rows, spin))
+            tie[k, i] = get(mk.tie_rod[i], OV.Position)
             cpoint[label][k] = states[i].point
             cforce[label][k] = states[i].force
+        drag[k, 0] = get(mk.drag_link[0], OV.Position)
+        drag[k, 1] = get(mk.drag_link[1], OV.Position)
     return {"bodies": {k: {"position": pos[k], "quaternion_xyzw": quat[k]} for k in names},
             "links": {"tie_rod": tie, "drag_link": drag},
             "contact": {k: {"point": cpoint[k], "force": cforce[k]} for k in ("right", "left")},

@@ -1,32 +1,44 @@
-"""The Exudyn model of the axle: a kinematic tree (roll, two kingpins) with two first-order tyre states.
+"""The Exudyn model of the axle: a kinematic tree with two first-order tyre states, and the Exudyn connectors of
+the steering linkage.
 
-Why a kinematic tree: minimal coordinates (psi, theta1, theta2) need no constraints, so Exudyn's explicit
-Runge-Kutta solvers apply and the mass matrix is exact (``shared/notes/exudyn.md``: with Euler-parameter bodies
-and joints the built-in linearisation is wrong for spinning wheels, and constrained models need implicit solvers).
+Why a kinematic tree: minimal coordinates need no constraints, so Exudyn's explicit Runge-Kutta solvers apply and
+the mass matrix is exact (``shared/notes/exudyn.md``: with Euler-parameter bodies and joints the built-in
+linearisation is wrong for spinning wheels, and constrained models need implicit solvers).
 
-* Link 0, the axle: revolute about x through O = (0, 0, R); its roll spring-damper k3, c3 to the frame is the
-  tree's joint P/D control.  Its own roll inertia is I3 less the knuckles' and wheels' share, so that the roll
-  inertia of the assembly at straight running is Table 1's I3.
-* Links 1, 2, the knuckles with their wheels (non-spinning: the spin is a rotor moment, :mod:`mbs_shimmy.forces`):
-  revolute about the kingpin, tilted rearward by gamma, through K = (0, -+(L/2 - l), 0) on the axle; damper c4 as
-  joint D control.  Bodies: a knuckle (centre of mass on the kingpin, inertia about the kingpin chosen so that the
-  assembly has I1 about it) and a wheel (mass and diametral inertia from :class:`AxleDimensions`, I2 about its
-  axis, centre l outboard of K).
-* With the ``uncoupled_inertia`` assumption the tree carrying the inertia has its kingpin joints perpendicular to
-  the roll axis and each knuckle-wheel assembly lumped on its kingpin axis, symmetric about it: its mass matrix is
-  diag(I1, I1, I3) in every configuration, as on the left of (2.1)-(2.3).  The forces still act through the
-  caster-tilted geometry (:mod:`mbs_shimmy.forces`), which enters only through the generalized forces.
-* The two slip angles are first-order states.  Each is carried as the velocity of an auxiliary coordinate p_i,
-  links 3 and 4 of the tree: prismatic joints on the ground with unit mass, coupled to nothing, so their
-  equation of motion p_i'' = g_i is the tyre's relaxation equation alpha_i' = g_i for alpha_i = p_i'
-  (p_i, the integral of the slip angle, is never used).  Exudyn's explicit Runge-Kutta stages integrate
-  (p, p') exactly as they would a ``NodeGenericODE1`` state; the difference is speed: one user function per
-  stage that receives every state, instead of an ``ObjectGenericODE1`` right-hand side plus three state reads
-  (about a fifth of the run time of the full model).
+Links, in the tree's coordinate order (bracketed ones only when their element is on):
 
-All forces and slip rates come from one force user function (:class:`~mbs_shimmy.forces.AxleForces`).
-(``CreateKinematicTree`` drops a force user function silently, so the object is built with ``ObjectKinematicTree``
-and the function set afterwards with ``SetObjectParameter``.)
+* [``y_axle``: the axle's lateral travel on its mounts, prismatic along y on the frame; the leaf springs' lateral
+  stiffness and damping are the joint's P/D control; the link itself is massless, its children move with it];
+* ``psi``: the axle's roll, revolute about x through O = (0, y, R + h) (h: roll axis above the wheel centres); roll
+  spring-damper k3, c3 as joint P/D control.  Its own roll inertia is I3 less the knuckles' and wheels' share
+  about the wheel-centre line, and its centre of mass is on that line, so the assembly has Table 1's I3 about the
+  wheel-centre line and I3 + m h^2 about a raised roll axis;
+* ``theta1``, ``theta2``: the knuckles with their wheels (non-spinning: the spin is a rotor moment,
+  :mod:`mbs_shimmy.forces`), revolute about the kingpin (caster and kingpin inclination in the joint transform),
+  through K = (0, -+(L/2 - l), 0) relative to the wheel-centre line; damper c4 as joint D control.  Bodies: a
+  knuckle (centre of mass on the kingpin, inertia about the kingpin chosen so that the assembly has I1 about it)
+  and a wheel (mass and diametral inertia from :class:`AxleDimensions`, I2 about its axis, centre l outboard of K);
+* [``phi_gear``: the steering gear's output shaft, revolute about y on the frame, with the Pitman arm; the gear's
+  torsional stiffness and damping to the frame are its joint P/D control, its inertia the link's];
+* ``p1``, ``p2``: the two slip angles, carried as the velocities of auxiliary coordinates: prismatic joints on the
+  ground with unit mass, coupled to nothing, so p_i'' = g_i is the tyre's relaxation equation alpha_i' = g_i for
+  alpha_i = p_i' (one user function per stage that receives every state, instead of an ``ObjectGenericODE1``
+  right-hand side plus state reads: about a fifth of the run time).
+
+With the ``uncoupled_inertia`` assumption the tree carrying the inertia has its kingpins perpendicular to the roll
+axis and each knuckle-wheel assembly lumped on its kingpin axis: its mass matrix is diag(I1, I1, I3, ...) in every
+configuration, as on the left of (2.1)-(2.3).  The caster-tilted geometry the forces need is then a second, massless
+tree on the same node (:attr:`MbsSystem.geometry_tree`), which carries the markers.
+
+Poses: :class:`~mbs_shimmy.forces.AxleForces` reads the kingpin point, velocity, rotation and angular velocity of
+each knuckle from ``MarkerKinematicTreeRigid`` markers at the stage's state (Exudyn's own forward kinematics: no
+second copy in Python).  Linkage: with the exact geometry the tie-rod and drag link are
+``ObjectConnectorSpringDamper`` between markers at the arm ends (the drag link to the Pitman-arm marker on the gear
+link, or to a ground marker with the rigid gear), their axial stiffness and damping scaled so that about the
+kingpins they are exactly k1, c1 and k2, c2; with the first-order kinematics (``small_angles``) they are
+``ObjectConnectorCoordinateSpringDamper`` on the steer angles, k1 (theta2 - theta1) and k2 theta2 exactly as in
+(2.1)-(2.2).  (``CreateKinematicTree`` drops a force user function silently, so the tree is built with
+``ObjectKinematicTree`` and the function set afterwards with ``SetObjectParameter``.)
 """
 
 from __future__ import annotations
@@ -36,36 +48,84 @@ from dataclasses import dataclass, field
 
 import exudyn as exu
 import numpy as np
-from exudyn.itemInterface import NodeGenericODE2, ObjectKinematicTree
+from exudyn.itemInterface import (
+    MarkerBodyPosition,
+    MarkerKinematicTreeRigid,
+    MarkerNodeCoordinate,
+    NodeGenericODE2,
+    NodePointGround,
+    ObjectConnectorCoordinateSpringDamper,
+    ObjectConnectorSpringDamper,
+    ObjectGround,
+    ObjectKinematicTree,
+    SensorNode,
+)
 
-from reduced_model.model import Effects
+from reduced_model.model import STATE_NAMES, Effects
 from reduced_model.parameters import ParameterError, ShimmyParameters
 
 from .dimensions import AxleDimensions
 from .fidelity import Assumption, Fidelity
 from .forces import AxleForces
+from .geometry import AxleGeometry, cross, dot
 
-# Tree coordinate order (p1, p2: the auxiliary coordinates whose velocities are the slip angles) and the map of
-# the MBS state to the reduced model's state order (theta1, theta1_dot, theta2, theta2_dot, psi, psi_dot, alpha1,
-# alpha2).
-TREE_COORDINATES = ("psi", "theta1", "theta2", "p1", "p2")
-# first-order MBS state y = (psi, theta1, theta2, psi', theta1', theta2', alpha1, alpha2)
-Y_TO_REDUCED = np.array([1, 4, 2, 5, 0, 3, 6, 7])   # reduced[k] = y[Y_TO_REDUCED[k]]
-REDUCED_TO_Y = np.argsort(Y_TO_REDUCED)              # y[j] = reduced[REDUCED_TO_Y[j]]
 CURRENT = exu.ConfigurationType.Current
+REFERENCE = exu.ConfigurationType.Reference
+EXTRA_COORDINATES = ("y_axle", "phi_gear")
+# mass of the geometry tree's links: Exudyn's tree gives NaN for a subtree of zero mass; 1e-20 kg changes the
+# mass matrix by 1e-20 relative, far below rounding
+MASSLESS = 1e-20
 
 
-def to_reduced(y: np.ndarray) -> np.ndarray:
-    return np.asarray(y)[..., Y_TO_REDUCED]
+@dataclass(frozen=True)
+class Layout:
+    """Which coordinates the tree has, and the maps between its states and the extended reduced-model order.
 
+    MBS state ``y = (q, q', alpha1, alpha2)`` with q the mechanical coordinates in tree order; extended state
+    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [phi_gear, phi_gear'])``:
+    the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`) followed by the new coordinates.
+    """
 
-def from_reduced(x: np.ndarray) -> np.ndarray:
-    return np.asarray(x)[..., REDUCED_TO_Y]
+    lateral: bool
+    gear: bool
 
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return (("y_axle",) if self.lateral else ()) + ("psi", "theta1", "theta2") + (
+            ("phi_gear",) if self.gear else ())
 
-def _ry(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    @property
+    def extras(self) -> tuple[str, ...]:
+        return tuple(n for n in EXTRA_COORDINATES if n in self.coordinates)
+
+    @property
+    def n_mech(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def n(self) -> int:
+        return 2 * self.n_mech + 2
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return STATE_NAMES + tuple(x for n in self.extras for x in (n, n + "_dot"))
+
+    def index(self, name: str) -> int:
+        return self.coordinates.index(name)
+
+    @property
+    def y_to_x(self) -> np.ndarray:
+        """x[k] = y[y_to_x[k]]."""
+        m = self.n_mech
+        i = self.index
+        order = [i("theta1"), m + i("theta1"), i("theta2"), m + i("theta2"), i("psi"), m + i("psi"), 2 * m, 2 * m + 1]
+        for n in self.extras:
+            order += [i(n), m + i(n)]
+        return np.array(order)
+
+    @property
+    def x_to_y(self) -> np.ndarray:
+        return np.argsort(self.y_to_x)
 
 
 def _shift(m: float, r: np.ndarray) -> np.ndarray:
@@ -73,19 +133,27 @@ def _shift(m: float, r: np.ndarray) -> np.ndarray:
     return m * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
 
 
+def _rows(m) -> np.ndarray:
+    return np.array(m, dtype=float)
+
+
 @dataclass(frozen=True)
 class TreeInertia:
-    """Link masses, centres of mass and inertias of the kinematic tree (axle frame, SI)."""
+    """Joint transforms, masses, centres of mass and inertias of the two knuckle links and the axle (SI)."""
 
     joint_rotations: tuple[np.ndarray, np.ndarray]   # kingpin joint frame -> axle frame
-    masses: tuple[float, float, float]
+    masses: tuple[float, float, float]               # axle, knuckle 1, knuckle 2
     coms: tuple[np.ndarray, np.ndarray, np.ndarray]  # in each link's joint frame
     inertias: tuple[np.ndarray, np.ndarray, np.ndarray]  # about the centre of mass, joint frame
 
     @classmethod
-    def build(cls, params: ShimmyParameters, dims: AxleDimensions, uncoupled: bool) -> "TreeInertia":
+    def build(cls, params: ShimmyParameters, dims: AxleDimensions, uncoupled: bool,
+              geometry: AxleGeometry | None = None, roll_height: float = 0.0) -> "TreeInertia":
+        """``geometry`` gives the kingpin axes (default: caster only); the axle's centre of mass lies
+        ``roll_height`` below the roll joint (the roll axis above the wheel centres)."""
         dims.check(params)
         P = params
+        g = geometry or AxleGeometry.build(P, dims, exact=True)
         m = dims.knuckle_mass + dims.wheel_mass
         links = []
         roll_share = 0.0
@@ -97,12 +165,15 @@ class TreeInertia:
                 J = np.diag([transverse, transverse, P.I1])   # symmetric about its (vertical) kingpin
                 com = np.zeros(3)
             else:
-                T = _ry(-P.gamma)                              # maps the joint z-axis onto the kingpin axis
+                T = _rows(g.joint_rotation(side))              # maps the joint z-axis onto the kingpin axis
                 e = T[:, 2]
-                Jk_e = dims.knuckle_kingpin_inertia(P)
-                Jk = dims.knuckle_transverse_inertia * (np.eye(3) - np.outer(e, e)) + Jk_e * np.outer(e, e)
                 c = np.array([0.0, side * P.l, 0.0])
                 Jw = np.diag([dims.wheel_diametral_inertia, P.I2, dims.wheel_diametral_inertia])
+                Jk_e = P.I1 - e @ (Jw + _shift(dims.wheel_mass, c)) @ e   # knuckle's share of I1 about the kingpin
+                if not Jk_e > 0.0:
+                    raise ParameterError(f"I1 = {P.I1:g} kg m^2 is smaller than the wheel's own inertia about the "
+                                         f"kingpin ({P.I1 - Jk_e:g} kg m^2): choose a lighter wheel")
+                Jk = dims.knuckle_transverse_inertia * (np.eye(3) - np.outer(e, e)) + Jk_e * np.outer(e, e)
                 com = dims.wheel_mass * c / m
                 J = Jk + _shift(dims.knuckle_mass, -com) + Jw + _shift(dims.wheel_mass, c - com)
             roll_share += (J + _shift(m, K + com))[0, 0]
@@ -113,7 +184,17 @@ class TreeInertia:
                                  f"inertia ({roll_share:.4g} kg m^2): choose lighter wheels or knuckles")
         axle = np.diag([axle_roll, axle_roll, axle_roll])  # only the roll component is ever used
         return cls((links[0][0], links[1][0]), (dims.axle_mass, m, m),
-                   (np.zeros(3), links[0][1], links[1][1]), (axle, links[0][2], links[1][2]))
+                   (np.array([0.0, 0.0, -roll_height]), links[0][1], links[1][1]), (axle, links[0][2], links[1][2]))
+
+
+@dataclass
+class Markers:
+    """Marker numbers on the geometry tree: the knuckles at their kingpin points, the linkage ends."""
+
+    knuckles: tuple[int, int]
+    tie_rod: tuple[int, int]
+    drag_link: tuple[int, int]        # (steering-arm end, gear end)
+    axle: int
 
 
 @dataclass
@@ -125,72 +206,173 @@ class MbsSystem:
     tree: int
     tree_node: int
     forces: AxleForces
+    layout: Layout
+    geometry_tree: int = -1
+    markers: Markers | None = None
+    connectors: dict = field(default_factory=dict)
     sensors: dict = field(default_factory=dict)
     calls: int = 0
     error: tuple[float, BaseException] | None = None   # (time, exception) of the first failed evaluation
 
     def _tree_force(self, mbs, t, itemNumber, q, q_t):
-        """The tree's force user function: (Q_psi, Q_theta1, Q_theta2, alpha1', alpha2')."""
+        """The tree's force user function: generalized forces on the tree's coordinates, then alpha1', alpha2'."""
         self.calls += 1
         try:
-            r = self.forces.evaluate(t, q, q_t, (q_t[3], q_t[4]))
+            return self.forces.evaluate(t, q, q_t)
         except Exception as exc:   # Exudyn reports only that a user function failed: keep the reason
             if self.error is None:
                 self.error = (t, exc)
             raise
-        return [r[0], r[1], r[2], r[3], r[4]]
 
     def set_state(self, y: np.ndarray, configuration=CURRENT) -> None:
-        """Write the MBS state y = (psi, theta1, theta2, rates, alpha1, alpha2) into a configuration."""
+        """Write the MBS state y = (q, q', alpha1, alpha2) (see :class:`Layout`) into a configuration."""
         y = np.asarray(y, dtype=float)
+        m = self.layout.n_mech
         sd = self.mbs.systemData
-        sd.SetODE2Coordinates([y[0], y[1], y[2], 0.0, 0.0], configuration=configuration)
-        sd.SetODE2Coordinates_t([y[3], y[4], y[5], y[6], y[7]], configuration=configuration)
+        sd.SetODE2Coordinates(list(y[0:m]) + [0.0, 0.0], configuration=configuration)
+        sd.SetODE2Coordinates_t(list(y[m:2 * m]) + [y[2 * m], y[2 * m + 1]], configuration=configuration)
+
+
+def _tree_object(node: int, layout: Layout, g: AxleGeometry, inertia: TreeInertia, dims: AxleDimensions,
+                 params: ShimmyParameters, massless: bool, control: bool) -> ObjectKinematicTree:
+    """One kinematic tree on the shared node (module docstring); ``massless``: the geometry-only tree."""
+    J = exu.JointType
+    none = np.zeros((3, 3))
+    types, parents, rotations, offsets, inertias, coms, masses, P_, D_ = [], [], [], [], [], [], [], [], []
+
+    def link(joint, parent, rotation, offset, mass, com, jcom, p, d):
+        types.append(joint)
+        parents.append(parent)
+        rotations.append(np.asarray(rotation, dtype=float))
+        offsets.append([float(v) for v in offset])
+        masses.append(MASSLESS if massless else mass)
+        coms.append([0.0, 0.0, 0.0] if massless else [float(v) for v in com])
+        inertias.append(none if massless else jcom)
+        P_.append(p if control else 0.0)
+        D_.append(d if control else 0.0)
+
+    roll_parent = -1
+    if layout.lateral:
+        link(J.PrismaticY, -1, np.eye(3), (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0), none,
+             1.0 / dims.axle_mount_lateral_compliance, dims.axle_mount_lateral_damping)
+        roll_parent = 0
+    iroll = len(types)
+    link(J.RevoluteX, roll_parent, np.eye(3), g.origin, inertia.masses[0], inertia.coms[0], inertia.inertias[0],
+         params.k3, params.c3)
+    for i, side in enumerate((-1.0, 1.0)):
+        K = g.kingpin_point(side)
+        link(J.RevoluteZ, iroll, inertia.joint_rotations[i], (K[0], K[1], K[2] - g.roll_height),
+             inertia.masses[1 + i], inertia.coms[1 + i], inertia.inertias[1 + i], 0.0, params.c4)
+    if layout.gear:
+        link(J.RevoluteY, -1, np.eye(3), g.gear_shaft_point(), 1.0, (0.0, 0.0, 0.0),
+             np.diag([1.0, dims.steering_gear_inertia, 1.0]), 1.0 / dims.steering_gear_compliance,
+             dims.steering_gear_damping)
+    for _ in range(2):
+        link(J.PrismaticX, -1, np.eye(3), (0.0, 0.0, 0.0), 1.0, (0.0, 0.0, 0.0), none, 0.0, 0.0)
+    n = len(types)
+    return ObjectKinematicTree(
+        nodeNumber=node, jointTypes=types, linkParents=parents,
+        jointTransformations=exu.Matrix3DList(rotations), jointOffsets=exu.Vector3DList(offsets),
+        linkInertiasCOM=exu.Matrix3DList(inertias), linkCOMs=exu.Vector3DList(coms), linkMasses=masses,
+        jointPControlVector=P_, jointDControlVector=D_, jointPositionOffsetVector=[0.0] * n,
+        jointVelocityOffsetVector=[0.0] * n,
+        visualization={"show": False, "showLinks": False, "showJoints": False, "color": [-1.0] * 4,
+                       "graphicsDataList": []})
+
+
+def _lever(e: tuple, arm: tuple, direction: tuple) -> float:
+    """d(length along ``direction``)/d(rotation about e) of an arm end: direction . (e x arm)."""
+    return dot(direction, cross(e, arm))
 
 
 def build_system(params: ShimmyParameters, effects: Effects, fidelity: Fidelity, dims: AxleDimensions,
-                 forces: AxleForces, y0: np.ndarray | None = None, output_interval: float | None = None
-                 ) -> MbsSystem:
-    """Assemble the Exudyn system; ``y0`` is the initial MBS state (psi, theta1, theta2, rates, alpha1, alpha2).
+                 forces: AxleForces, y0: np.ndarray | None = None, output_interval: float | None = None,
+                 drawing: bool = False) -> MbsSystem:
+    """Assemble the Exudyn system; ``y0`` is the initial MBS state (q, q', alpha1, alpha2) in :class:`Layout` order.
 
-    With ``output_interval`` the tree's coordinates and velocities are recorded by sensors (in memory).
+    With ``output_interval`` the tree's coordinates and velocities are recorded by sensors (in memory);
+    ``drawing`` adds the markers (and the geometry tree) also where the forces do not need them, for poses.
     """
     P = params
-    inertia = TreeInertia.build(P, dims, Assumption.UNCOUPLED_INERTIA in fidelity)
-    y0 = np.zeros(8) if y0 is None else np.asarray(y0, dtype=float)
+    layout = forces.layout
+    g = forces.g_exact
+    uncoupled = Assumption.UNCOUPLED_INERTIA in fidelity
+    m = layout.n_mech
+    y0 = np.zeros(layout.n) if y0 is None else np.asarray(y0, dtype=float)
     container = exu.SystemContainer()
     mbs = container.AddSystem()
-    node = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0] * 5,
-                                       initialCoordinates=[y0[0], y0[1], y0[2], 0.0, 0.0],
-                                       initialCoordinates_t=[y0[3], y0[4], y0[5], y0[6], y0[7]],
-                                       numberOfODE2Coordinates=5))
-    half = 0.5 * P.L - P.l
-    J = exu.JointType
-    none = np.zeros((3, 3))
-    tree = mbs.AddObject(ObjectKinematicTree(
-        nodeNumber=node,
-        jointTypes=[J.RevoluteX, J.RevoluteZ, J.RevoluteZ, J.PrismaticX, J.PrismaticX],
-        linkParents=[-1, 0, 0, -1, -1],
-        jointTransformations=exu.Matrix3DList([np.eye(3), inertia.joint_rotations[0], inertia.joint_rotations[1],
-                                               np.eye(3), np.eye(3)]),
-        jointOffsets=exu.Vector3DList([[0.0, 0.0, P.R], [0.0, -half, 0.0], [0.0, half, 0.0], [0.0] * 3, [0.0] * 3]),
-        linkInertiasCOM=exu.Matrix3DList(list(inertia.inertias) + [none, none]),
-        linkCOMs=exu.Vector3DList([list(c) for c in inertia.coms] + [[0.0] * 3, [0.0] * 3]),
-        linkMasses=list(inertia.masses) + [1.0, 1.0],
-        jointPControlVector=[P.k3, 0.0, 0.0, 0.0, 0.0],
-        jointDControlVector=[P.c3, P.c4, P.c4, 0.0, 0.0],
-        jointPositionOffsetVector=[0.0] * 5,
-        jointVelocityOffsetVector=[0.0] * 5,
-        visualization={"show": False, "showLinks": False, "showJoints": False, "color": [-1.0] * 4,
-                       "graphicsDataList": []}))
-    system = MbsSystem(container, mbs, tree, node, forces)
+    node = mbs.AddNode(NodeGenericODE2(referenceCoordinates=[0.0] * (m + 2),
+                                       initialCoordinates=list(y0[0:m]) + [0.0, 0.0],
+                                       initialCoordinates_t=list(y0[m:2 * m]) + [y0[2 * m], y0[2 * m + 1]],
+                                       numberOfODE2Coordinates=m + 2))
+    coupled = TreeInertia.build(P, dims, False, g, g.roll_height)
+    if uncoupled:
+        lumped = TreeInertia.build(P, dims, True, g, 0.0)
+        flat = AxleGeometry.build(P, dims, exact=True)     # roll axis at the wheel centres: no m h^2, no coupling
+        tree = mbs.AddObject(_tree_object(node, layout, flat, lumped, dims, P, massless=False, control=True))
+    else:
+        tree = mbs.AddObject(_tree_object(node, layout, g, coupled, dims, P, massless=False, control=True))
+    geometry_tree = tree
+    need_geometry = forces.need_exact or not forces.linear or drawing
+    if uncoupled and need_geometry:
+        geometry_tree = mbs.AddObject(_tree_object(node, layout, g, coupled, dims, P, massless=True, control=False))
+    system = MbsSystem(container, mbs, tree, node, forces, layout, geometry_tree)
     mbs.SetObjectParameter(tree, "forceUserFunction", system._tree_force)
+    i = layout.index
+    if need_geometry:
+        T = coupled.joint_rotations
+        ik = (i("theta1"), i("theta2"))
+
+        def marker(link: int, r) -> int:
+            return mbs.AddMarker(MarkerKinematicTreeRigid(objectNumber=geometry_tree, linkNumber=link,
+                                                          localPosition=[float(v) for v in r]))
+        knuckles = (marker(ik[0], (0.0, 0.0, 0.0)), marker(ik[1], (0.0, 0.0, 0.0)))
+        tie = tuple(marker(ik[k], T[k].T @ np.array(g.tie_rod_arm_vector_of(side)))
+                    for k, side in enumerate((-1.0, 1.0)))
+        drag_arm = marker(ik[1], T[1].T @ np.array(g.drag_link_arm_vector))
+        if layout.gear:
+            drag_end = marker(i("phi_gear"), (0.0, 0.0, -g.pitman_arm))
+        else:
+            ground = mbs.AddObject(ObjectGround())
+            drag_end = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground,
+                                                        localPosition=list(g.drag_link_frame_point())))
+        system.markers = Markers(knuckles, tie, (drag_arm, drag_end), marker(i("psi"), (0.0, 0.0, 0.0)))
+    if forces.linear:
+        # the paper's linkage: k1 (theta2 - theta1), c1 (...) and k2 theta2, c2 theta2' on the coordinates
+        ground_node = mbs.AddNode(NodePointGround())
+        g_coord = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground_node, coordinate=0))
+        c1 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=i("theta1")))
+        c2 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=i("theta2")))
+        system.connectors["tie_rod"] = mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[c1, c2], stiffness=P.k1, damping=P.c1))
+        system.connectors["drag_link"] = mbs.AddObject(ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[g_coord, c2], stiffness=P.k2, damping=P.c2))
+    else:
+        # geometric tie-rod and drag link; their straight-running levers about the kingpins scale the axial
+        # stiffness and damping to k1, c1 and k2, c2
+        e1, e2 = g.kingpin_axis_of(-1.0), g.kingpin_axis_of(1.0)
+        a1, a2 = g.tie_rod_arm_vector_of(-1.0), g.tie_rod_arm_vector_of(1.0)
+        p1, p2 = g.absolute(-1.0, a1), g.absolute(1.0, a2)
+        tie_len = math.dist(p1, p2)
+        n = tuple((b - a) / tie_len for a, b in zip(p1, p2))
+        j_tr = _lever(e2, a2, n)       # = -n.(e1 x a1) by symmetry: length change per (theta2 - theta1)
+        ad = g.drag_link_arm_vector
+        pa, pd = g.absolute(1.0, ad), g.drag_link_frame_point()
+        drag_len = math.dist(pa, pd)
+        nd = tuple((b - a) / drag_len for a, b in zip(pa, pd))
+        j_dl = _lever(e2, ad, nd)
+        mk = system.markers
+        system.connectors["tie_rod"] = mbs.AddObject(ObjectConnectorSpringDamper(
+            markerNumbers=list(mk.tie_rod), referenceLength=tie_len, stiffness=P.k1 / j_tr ** 2,
+            damping=P.c1 / j_tr ** 2))
+        system.connectors["drag_link"] = mbs.AddObject(ObjectConnectorSpringDamper(
+            markerNumbers=list(mk.drag_link), referenceLength=drag_len, stiffness=P.k2 / j_dl ** 2,
+            damping=P.c2 / j_dl ** 2))
     if output_interval is not None:
-        from exudyn.itemInterface import SensorNode
         for name, var in (("q", exu.OutputVariableType.Coordinates),
                           ("q_t", exu.OutputVariableType.Coordinates_t)):
             system.sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=node, outputVariableType=var,
                                                             storeInternal=True, writeToFile=False))
     mbs.Assemble()
+    forces.attach(system)
     return system
-

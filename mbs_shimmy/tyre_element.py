@@ -9,7 +9,8 @@ Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; it
   pressure effect ``vs``; Fz_static is Table 1's F_z, so at straight running the loaded radius is R), and the
   rolling resistance -f Fz along the wheel heading x_w;
 * lateral spring -k4 y along the wheel's lateral direction y_w, y = lateral displacement of P from its
-  straight-running position (Table 1's k4);
+  straight-running position (Table 1's k4), only with the assumption ``separate_lateral_spring``: otherwise the
+  lateral compliance is the relaxation equation's carcass spring K/sigma alone (counted once);
 * Magic-Formula lateral force F_y(alpha) of :mod:`reduced_model.tyre` (eqs. 2.4-2.9) along y_w, acting at the
   pneumatic trail t(alpha) behind P, i.e. with the moment -t F_y about the road normal; ``pt`` makes the trail
   slip-dependent (4.2-4.8);
@@ -168,6 +169,7 @@ class TyreElement:
         self.heading_only = flags.slip_heading_only
         self.load_tramp = flags.load_tramp_only
         self.k4_tramp = flags.k4_tramp_only
+        self.separate = flags.separate_lateral_spring
         self.params = params
         self.effects = effects
         self.wheel = wheel
@@ -189,14 +191,14 @@ class TyreElement:
         self.a, self.sigma = wheel.a, wheel.sigma
         self.pt, self.hcl, self.rl = effects.pt, int(effects.hcl), effects.rl
         self.t0 = params.t0
-        self._force = tyre.MagicFormula.force
-        self._trail = tyre.TrailFormula.trail
+        self._force = tyre.MagicFormula.force_scalar
+        self._trail = tyre.TrailFormula.trail_scalar
 
     def lateral(self, alpha: float, load: float) -> tuple[float, float, float, float]:
         """(F_y, t, a, sigma) at slip alpha and vertical load (the static-load values with ``constant_load``)."""
         if self.table is None:
-            Fy = float(self._force(self._mf, alpha))
-            t = float(self._trail(self._tr, alpha)) if self.pt else self.t0
+            Fy = self._force(self._mf, alpha)
+            t = self._trail(self._tr, alpha) if self.pt else self.t0
             return Fy, t, self.a, self.sigma
         if load <= 0.0:                        # lifted wheel: no grip; the other properties at 1 % of the load
             B, D, E, Bt, Dt, Et0, a, sigma = self.table.direct(0.01 * self.static_load)
@@ -204,12 +206,12 @@ class TyreElement:
         v = self.table.at(load)
         mf = self._mf
         mf.B, mf.D, mf.E = v[0], v[1], v[2]
-        Fy = float(self._force(mf, alpha))
+        Fy = self._force(mf, alpha)
         i = 3
         if self.pt:
             tr = self._tr
             tr.Bt, tr.Dt, tr.Et0 = v[3], v[4], v[5]
-            t = float(self._trail(tr, alpha))
+            t = self._trail(tr, alpha)
             i = 6
         else:
             t = self.t0
@@ -218,17 +220,20 @@ class TyreElement:
         return Fy, t, a, sigma
 
     # --- exact kinematics ----------------------------------------------------------------------------------
-    def exact(self, pose: tuple, psi_d: float, theta_d: float, alpha: float, speed: float,
+    def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
               cpsi: float, spsi: float, record: bool = False):
-        """(Q_psi, Q_theta, alpha_dot[, ContactState]) from the exact knuckle pose.
+        """(Q_psi, Q_theta, alpha_dot, Q_y[, ContactState]) from the knuckle's pose as Exudyn gives it.
 
-        ``pose`` = (Ky, Kz, ex, ey, ez, R00..R22) from :func:`mbs_shimmy.forces.knuckle_frame`: kingpin point
-        (its x is 0), kingpin axis and the knuckle rotation (rows)."""
+        ``pose`` = (K, v_K, e, s, omega): kingpin point and its velocity, kingpin axis, spin axis and angular
+        velocity of the knuckle (vehicle frame); the roll axis runs along x through O = (0, Oy, Oz), h above the
+        wheel centres at straight running; Q_y is the force on the axle's lateral travel."""
         side, R = self.side, self.R
-        Ky, Kz, ex, ey, ez, r00, r01, r02, r10, r11, r12, r20, r21, r22 = pose
-        sx, sy, sz = r01, r11, r21                    # spin axis: the rotated y-axis
+        K, vK, e, s, w = pose
+        Kx, Ky, Kz = K
+        ex, ey, ez = e
+        sx, sy, sz = s
         hl = side * self.l
-        Cx, Cy, Cz = hl * sx, Ky + hl * sy, Kz + hl * sz
+        Cx, Cy, Cz = Kx + hl * sx, Ky + hl * sy, Kz + hl * sz
         # contact point (disc_contact, inlined)
         cphi2 = 1.0 - sz * sz
         cphi = math.sqrt(cphi2)
@@ -240,43 +245,45 @@ class TyreElement:
 
         load_tramp, k4_tramp = self.load_tramp, self.k4_tramp
         if load_tramp or k4_tramp:
-            # the same wheel with theta = 0: centre (0, side L/2 cos psi, R + side L/2 sin psi), axis (0, cos, sin)
-            C0z = R + side * 0.5 * self.L * spsi
+            # the same wheel with theta = 0: centre O + Rx(psi) (0, side L/2, -h), axis (0, cos, sin)
+            hw = side * 0.5 * self.L
+            C0z = Oz + hw * spsi - h * cpsi
             depth0 = C0z / cpsi
-            P0y = side * 0.5 * self.L * cpsi + C0z * spsi / cpsi
+            P0y = Oy + hw * cpsi + h * spsi + C0z * spsi / cpsi
         dFz = self.k5 * (R - (depth0 if load_tramp else depth))
         Fz = self.static_load + dFz
         Fy, t, a, sigma = self.lateral(alpha, Fz)
-        if k4_tramp:
-            y4 = (P0y - side * 0.5 * self.L) * ywy
+        if not self.separate:
+            lat = Fy          # the lateral compliance is the relaxation equation's carcass spring (K/sigma)
+        elif k4_tramp:
+            lat = Fy - self.k4 * (P0y - side * 0.5 * self.L) * ywy
         else:
-            y4 = Px * ywx + (Py - side * 0.5 * self.L) * ywy
-        lat = Fy - self.k4 * y4
+            lat = Fy - self.k4 * (Px * ywx + (Py - side * 0.5 * self.L) * ywy)
         # The static load acts through the actual lever arms (its geometric stiffness included) or, as in
         # (2.1)-(2.3), through the straight-running ones, where it is a constant balanced by the alignment.
         vert = dFz if self.fixed_arms else Fz
         Fx = -self.f * vert * xwx + lat * ywx
         Fyv = -self.f * vert * xwy + lat * ywy
-        # generalized forces: psi about x through O = (0, 0, R); theta about e through K (P_z = 0)
-        q_psi = Py * vert + R * Fyv
-        rx, ry, rz = Px, Py - Ky, -Kz
+        # generalized forces: psi about x through O; theta about e through K (P_z = 0)
+        q_psi = (Py - Oy) * vert + Oz * Fyv
+        rx, ry, rz = Px - Kx, Py - Ky, -Kz
         q_theta = (ex * (ry * vert - rz * Fyv) + ey * (rz * Fx - rx * vert) + ez * (rx * Fyv - ry * Fx)
                    - t * Fy * ez)
         # slip: road-relative velocity of the leading contact point P + a x_w
-        wz = theta_d * ez  # only the yaw component of the wheel's angular velocity turns the contact line
+        wz = w[2]          # only the yaw component of the wheel's angular velocity turns the contact line
         lx = speed - a * wz * xwy
         ly = a * wz * xwx
         if not self.heading_only:
-            # carrier velocity at P: psi' x x (P - O) + theta' e x (P - K)
-            lx += theta_d * (ey * rz - ez * ry)
-            ly += psi_d * R + theta_d * (ez * rx - ex * rz)
+            # carrier velocity at P as a point of the knuckle: v_K + omega x (P - K)
+            lx += vK[0] + w[1] * rz - w[2] * ry
+            ly += vK[1] + w[2] * rx - w[0] * rz
         vx = lx * xwx + ly * xwy
         vy = lx * ywx + ly * ywy
         alpha_d = (vy - abs(vx) * alpha) / sigma
         if record:
             total = (-self.f * Fz * xwx + lat * ywx, -self.f * Fz * xwy + lat * ywy, Fz)
-            return q_psi, q_theta, alpha_d, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
-        return q_psi, q_theta, alpha_d
+            return q_psi, q_theta, alpha_d, Fyv, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
+        return q_psi, q_theta, alpha_d, Fyv
 
     # --- first-order kinematics (the reduced model's) --------------------------------------------------------
     def linear(self, psi: float, theta: float, psi_d: float, theta_d: float, alpha: float, speed: float,
@@ -297,7 +304,7 @@ class TyreElement:
         Fz = self.static_load + dFz
         Fy, t, a, sigma = self.lateral(alpha, Fz)
         y4 = R * psi if self.k4_tramp else R * sz
-        lat = Fy - self.k4 * y4
+        lat = Fy - self.k4 * y4 if self.separate else Fy
         # only load changes: the static load times constant lever arms is balanced by the alignment
         Fx = -self.f * dFz
         q_psi = R * lat + side * 0.5 * L * dFz
@@ -311,19 +318,20 @@ class TyreElement:
             return q_psi, q_theta, alpha_d, ContactState(P, (-self.f * Fz, lat, Fz), Fz, Fy, alpha_d)
         return q_psi, q_theta, alpha_d
 
-    def static_load_moments(self, pose: tuple) -> tuple[float, float]:
-        """(Q_psi, Q_theta) of the static load F_z and its rolling resistance at the exact contact point."""
-        Ky, Kz, ex, ey, ez, r00, r01, r02, r10, r11, r12, r20, r21, r22 = pose
-        sx, sy, sz = r01, r11, r21
+    def static_load_moments(self, pose: tuple, Oz: float) -> tuple[float, float]:
+        """(Q_psi, Q_theta) of the static load F_z and its rolling resistance at the exact contact point
+        (``pose`` as in :meth:`exact`; roll axis through (0, 0, Oz))."""
+        K, _, e, s, _ = pose
+        sx, sy, sz = s
         hl = self.side * self.l
-        Cx, Cy, Cz = hl * sx, Ky + hl * sy, Kz + hl * sz
+        Cx, Cy, Cz = K[0] + hl * sx, K[1] + hl * sy, K[2] + hl * sz
         cphi2 = 1.0 - sz * sz
         cphi = math.sqrt(cphi2)
         k = Cz / cphi2
         Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
         Fs = self.static_load
         Fx, Fyv = -self.f * Fs * sy / cphi, self.f * Fs * sx / cphi
-        rx, ry, rz = Px, Py - Ky, -Kz
-        return (Py * Fs + self.R * Fyv,
+        rx, ry, rz = Px - K[0], Py - K[1], -K[2]
+        ex, ey, ez = e
+        return (Py * Fs + Oz * Fyv,
                 ex * (ry * Fs - rz * Fyv) + ey * (rz * Fx - rx * Fs) + ez * (rx * Fyv - ry * Fx))
-

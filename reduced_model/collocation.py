@@ -282,6 +282,29 @@ def transfer_matrices(B: np.ndarray) -> np.ndarray:
     return _interval_solves(B, -left)[:, -n:, :]
 
 
+def floquet_eigenfunction(B: np.ndarray, multiplier: complex) -> np.ndarray:
+    """Node values (N m, n) of the solution of the discretised variational equation whose monodromy image is
+    ``multiplier`` times itself (the Floquet eigenfunction, real part), from the eigenvector of the monodromy
+    propagated through every interval's condensed solution; it does not close on itself: the next value after
+    the last stored node would be ``multiplier`` times node 0."""
+    N, m, n = B.shape[0], B.shape[1], B.shape[2]
+    left = B.reshape(N, m * n, (m + 1) * n)[:, :, :n]
+    W = _interval_solves(B, -left)                        # (N, m n, n): interior and right nodes from the left
+    M = np.eye(n)
+    for Pj in W[:, -n:, :]:
+        M = Pj @ M
+    lam, vecs = np.linalg.eig(M)
+    v = vecs[:, int(np.argmin(np.abs(lam - multiplier)))]
+    v = (v / v[np.argmax(np.abs(v))]).real                # real for a real multiplier
+    nodes = np.empty((N, m, n))
+    for j in range(N):
+        nodes[j, 0] = v
+        inner = W[j] @ v
+        nodes[j, 1:] = inner[:-n].reshape(m - 1, n)
+        v = inner[-n:]
+    return nodes.reshape(N * m, n)
+
+
 def monodromy(B: np.ndarray) -> np.ndarray:
     """Monodromy matrix (product of the transfer matrices over one period)."""
     P = transfer_matrices(B)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+import scipy.optimize
 
 from .special_points import BranchStatus
 
@@ -114,6 +115,19 @@ class Branch:
             raise RuntimeError(f"corrector failed at s = {s:.3g} after point {k}")
         u, J, _ = result
         return u, tangent(J, self.weights, self.tangents[k])
+
+
+def locate_on_step(branch: Branch, k: int, s_hi: float, fun: Callable[[np.ndarray, np.ndarray], float],
+                   xtol: float = 1e-12, rtol: float = 1e-10) -> tuple[np.ndarray, np.ndarray, bool]:
+    """A zero of fun(u, t) on the corrected branch between point k and arclength s_hi beyond it, by Brent's
+    method: (u, t, located).  When Brent fails (no sign change, or a corrector failure) the point k + 1 is
+    returned with located False, so that the caller can report the bracket."""
+    try:
+        s = scipy.optimize.brentq(lambda s: fun(*branch.point_at(k, s)), 0.0, s_hi, xtol=xtol, rtol=rtol)
+        u, t = branch.point_at(k, s)
+        return u, t, True
+    except (RuntimeError, ValueError):
+        return branch.points[k + 1], branch.tangents[k + 1], False
 
 
 def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | None, weights,

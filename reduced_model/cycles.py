@@ -7,38 +7,31 @@ int_0^1 <x(tau), x_ref'(tau)> dtau = 0 against a recent orbit (Doedel, Keller & 
 Continuation is Keller's pseudo-arclength (:mod:`reduced_model.continuation`) with the Newton matrix solved by
 condensation (:class:`~reduced_model.collocation.CondensedJacobian`).
 
-Branch switching at a Hopf point uses the normal form for the first amplitude (Kuznetsov, Elements of Applied
-Bifurcation Theory, 3rd ed., 2004, sections 3.5 and 10.3.1): with A q = i w q, |q| = 1, p^H q = 1 and
-mu'(V) = Re p^H A_V q, the orbit near the Hopf point is x = 2 Re(z q e^(i w t)) with |z|^2 = -mu' (V - V_H) /
-(l1 w), so a first amplitude |z| fixes the first speed; the guess is then corrected by Newton with the projection
-on the critical eigenfunction held fixed (AUTO's branch switching, Doedel's notes).
-
-Along a branch, with the trivial multiplier (the one nearest +1) left out, the test functions are (Kuznetsov
-2004, ch. 10; Govaerts 2000, ch. 7):
+Branches (switching at Hopf points, following, events, user points, diagrams) are in
+:mod:`reduced_model.cycle_branches`; their functions are re-exported here.  Along a branch, with the trivial
+multiplier (the one nearest +1) left out, the test functions defined here are (Kuznetsov 2004, ch. 10; Govaerts
+2000, ch. 7):
 
 * ``cycle_fold``: the parameter component of the branch tangent (a multiplier through +1 at a fold),
 * ``torus`` (Neimark-Sacker): |mu| - 1 of the complex pair nearest the unit circle, when the number of complex
   multipliers outside the circle changes,
 * ``period_doubling``: mu + 1 of the real negative multiplier nearest -1, when the number of real multipliers
-  below -1 changes,
-
-each located by Brent's method along the corrected branch, as in :mod:`reduced_model.hopf_curves`.
+  below -1 changes.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import scipy.optimize
 
 from . import collocation as col
-from .continuation import Branch, ContinuationSettings, continue_curve, correct
+from .continuation import ContinuationSettings, correct
 from .family import SpeedFamily
-from .hopf import MIN_SPEED, HopfPoint, hopf_points, speed_derivative
+from .hopf import HopfPoint
 from .parameters import ParameterError
-from .special_points import BranchStatus, ConvergenceError, PointKind, PointStatus, SpecialPoint
+from .special_points import BranchStatus, ConvergenceError, PointKind, SpecialPoint
 
 SPEED = "speed"
 COMPLEX_TOL = 1e-7          # |Im mu| below this: a real multiplier
@@ -428,317 +421,6 @@ class CycleProblem:
 
 
 # --------------------------------------------------------------------------------------------------------
-# Branch switching at a Hopf point
-# --------------------------------------------------------------------------------------------------------
-
-def hopf_predictor(family: SpeedFamily, hopf: HopfPoint, amplitude: float,
-                   scales: np.ndarray) -> tuple[float, float, np.ndarray]:
-    """(speed, |z|, q) of the normal-form cycle whose largest scaled state amplitude is ``amplitude``."""
-    A = family.linear_matrix(hopf.speed, hopf.value)
-    A_V = speed_derivative(family, hopf.speed, hopf.value, A)
-    q = hopf.eigenvector / np.linalg.norm(hopf.eigenvector)
-    _, _, vh = np.linalg.svd(A.T + 1j * hopf.omega * np.eye(A.shape[0]))
-    p = vh[-1].conj()
-    p = p / np.conj(np.vdot(p, q))                           # p^H q = 1
-    mu_prime = float(np.vdot(p, A_V @ q).real)               # d Re(lambda) / dV
-    z = amplitude / (2.0 * np.max(np.abs(q) / scales))
-    l1 = hopf.first_lyapunov
-    if not np.isfinite(l1) or mu_prime == 0.0:
-        delta = 0.0
-    else:
-        delta = -l1 * hopf.omega * z * z / mu_prime
-    # Far from the normal form's validity the speed guess is useless; Newton fixes the speed anyway.
-    delta = float(np.clip(delta, -0.05 * speed_scale(family), 0.05 * speed_scale(family)))
-    return hopf.speed + delta, z, q
-
-
-def start_at_hopf(family: SpeedFamily, hopf: HopfPoint, settings: CycleSettings = CycleSettings()
-                  ) -> tuple[CycleProblem, np.ndarray, np.ndarray]:
-    """Problem, first cycle u0 and the direction away from the Hopf point (``ConvergenceError`` on failure)."""
-    scales = state_scales(family, hopf.omega)
-    period = 2.0 * np.pi / hopf.omega
-    V1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
-    mesh = col.uniform_mesh(settings.intervals)
-
-    def harmonic(tau):
-        return 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
-
-    guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
-    problem = CycleProblem(family, SPEED, hopf.speed, hopf.value, guess, scales, speed_scale(family), settings)
-    u_pred = problem.pack(guess, V1)
-    w = problem.weights()
-    direction = np.concatenate([guess.nodes.ravel(), [0.0, 0.0]])
-    direction /= np.linalg.norm(direction * w)
-    result = correct(problem, u_pred, direction, w, settings.continuation, blocks=problem.blocks_of_unknowns())
-    if result is None:
-        raise ConvergenceError(f"branch switching at the Hopf point at {hopf.speed_kmh:.3f} km/h: Newton did "
-                               f"not converge on the first cycle")
-    u0 = result[0]
-    problem.set_reference(problem.orbit_of(u0))
-    u0 = problem.meet_tolerance(u0, np.concatenate([u0[:-2], [0.0, 0.0]]))
-    u_hopf = np.concatenate([np.zeros(problem.size), [period, hopf.speed]])
-    return problem, u0, u0 - u_hopf
-
-
-# --------------------------------------------------------------------------------------------------------
-# Following a branch
-# --------------------------------------------------------------------------------------------------------
-
-def _special(kind: PointKind, problem: CycleProblem, u: np.ndarray, bracket, status: PointStatus) -> SpecialPoint:
-    point = problem.point(u)
-    return SpecialPoint(kind=kind, speed=point.speed, value=point.value, bracket=bracket, status=status,
-                        data={"period": point.period, "amplitude": point.amplitude,
-                              "multipliers": point.multipliers, "free": problem.free, "cycle": point})
-
-
-def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, lo: float, hi: float,
-                  hopf: tuple[HopfPoint, ...] = (), start: HopfPoint | None = None,
-                  accept_hook: Callable[[CyclePoint], None] | None = None, at: tuple[float, ...] = (),
-                  max_step: float | None = None) -> CycleBranch:
-    """Pseudo-arclength continuation of cycles from u0 until the free parameter leaves [lo, hi], the branch
-    returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails.
-
-    ``at``: values of the free parameter where the orbits are located on the branch as events (AUTO's user
-    points, by Brent's method on the corrected branch: the continuation's own orbits), every time the branch
-    passes them; between a Hopf end and the nearest computed cycle they come from Newton at fixed parameter.
-    ``max_step`` bounds the change of the free parameter per continuation step (denser output)."""
-    # The number of unknowns changes with the mesh: the free parameter and the period are always the last two.
-    ip, iT = -1, -2
-    settings = problem.settings
-    records = [problem.point(u0)]
-    special: list[SpecialPoint] = []
-    arclength = [0.0]
-    amplitudes = [problem.scaled_rms(u0)]
-    start_amplitude = amplitudes[0]
-    start_period = float(u0[iT])
-    end: list[HopfPoint] = []
-    name = problem.free
-    user: list[tuple[float, CyclePoint]] = []     # (arclength, orbit)
-    targets = tuple(float(v) for v in at)
-    user += [(0.0, problem.point(u0)) for v in targets if v == u0[ip]]
-
-    def where(u) -> str:
-        V, q = problem.parameters(u[ip])
-        return f"{V * 3.6:.3f} km/h" + ("" if problem.free == SPEED else f", {name} = {q:.6g}")
-
-    def locate(branch: Branch, k: int, s_hi: float, fun, kind: PointKind) -> None:
-        s0 = arclength[k]
-        try:
-            s = scipy.optimize.brentq(lambda s: fun(*branch.point_at(k, s)), 0.0, s_hi, xtol=1e-12, rtol=1e-10)
-            u, _ = branch.point_at(k, s)
-            status = PointStatus.LOCATED
-        except (RuntimeError, ValueError):
-            u, status = branch.points[k + 1], PointStatus.NOT_CONVERGED
-        special.append(_special(kind, problem, u, (s0, s0 + s_hi), status))
-
-    def nontrivial(u):
-        return classify_multipliers(problem.multipliers(u))[0]
-
-    def accept(branch: Branch) -> str | None:
-        k = len(branch.points) - 2
-        u_new = branch.points[-1]
-        step = branch.steps[-1]
-        problem.last_tangent = branch.tangents[-1]
-        verdict = None
-        for bound, side in ((lo, -1), (hi, 1)):
-            if side * (u_new[ip] - bound) <= 0.0:
-                continue
-            if side * (branch.points[k][ip] - bound) >= 0.0:
-                branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-                return f"complete: ends on the window boundary at {where(branch.points[-1])}"
-            s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][ip] - bound, 0.0, step, xtol=1e-12)
-            u_new, t_new = branch.point_at(k, s)
-            branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
-            problem.last_tangent = t_new
-            step = s
-            verdict = f"complete: left the window at {where(u_new)}"
-            break
-        amp = problem.scaled_rms(u_new)
-        # Through zero amplitude, i.e. through a Hopf point: the branch goes on as the same orbits shifted by
-        # half a period (they satisfy the phase condition too), with a spurious fold at the Hopf point.
-        X_old, X_new = branch.points[k][:problem.size], u_new[:problem.size]
-        if np.dot(X_old, X_new) < 0.0:
-            branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-            return _hopf_end(branch.points, amplitudes, records[-1]) or (
-                f"complete: amplitude vanishes near {where(branch.points[-1])} (a Hopf point the defining "
-                f"system of the equilibrium did not converge to)")
-        p_old = branch.points[k][ip]
-        for target in targets:
-            if (p_old - target) * (u_new[ip] - target) < 0.0 or u_new[ip] == target:
-                try:
-                    s = step if u_new[ip] == target else scipy.optimize.brentq(
-                        lambda s: branch.point_at(k, s)[0][ip] - target, 0.0, step, xtol=1e-13, rtol=1e-12)
-                    u_at = u_new if s == step else branch.point_at(k, s)[0]
-                    user.append((arclength[-1] + s, problem.point(u_at)))
-                except (RuntimeError, ValueError):
-                    pass    # reported as missing by the caller (no orbit at that value on this branch)
-        arclength.append(arclength[-1] + step)
-        rec = problem.point(u_new)
-        prev = records[-1]
-        if np.sign(branch.tangents[k][ip]) != np.sign(branch.tangents[-1][ip]):
-            locate(branch, k, step, lambda u, t: t[ip], PointKind.CYCLE_FOLD)
-        mu_prev, mu_new = prev.nontrivial, rec.nontrivial
-        if _complex_outside(mu_prev) != _complex_outside(mu_new):
-            locate(branch, k, step, lambda u, t: torus_test(nontrivial(u)), PointKind.TORUS)
-        if _negative_outside(mu_prev) != _negative_outside(mu_new):
-            locate(branch, k, step, lambda u, t: period_doubling_test(nontrivial(u)), PointKind.PERIOD_DOUBLING)
-        records.append(rec)
-        amplitudes.append(amp)
-        if accept_hook is not None:
-            accept_hook(rec)
-        if verdict is not None:
-            return verdict
-        # Near a Hopf point amp^2 is affine in the parameter: when it extrapolates to zero within one more
-        # step of the same size, the Hopf point of the equilibrium is solved for and the branch ends there.
-        if len(records) > 2 and amp < amplitudes[-2] and amp ** 2 <= amplitudes[-2] ** 2 - amp ** 2:
-            ended = _hopf_end(branch.points, amplitudes, rec)
-            if ended is not None:
-                return ended
-        if u_new[iT] > PERIOD_LIMIT * start_period:
-            return (f"degenerate: the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
-                    f"(approach to a homoclinic orbit)")
-        return None
-
-    def _hopf_end(points, amps, last: CyclePoint) -> str | None:
-        """The branch shrinks onto the equilibrium: solve the Hopf defining system from the extrapolated zero of
-        amp^2 and the orbit's first harmonic; None when it does not converge near there."""
-        u1, u2 = points[-2], points[-1]
-        a1, a2 = amps[-2] ** 2, amps[-1] ** 2
-        p1, p2 = u1[ip], u2[ip]
-        p_end = p2 - a2 * (p2 - p1) / (a2 - a1) if a2 != a1 else p2
-        located = end_hopf_point(problem.family, last, p_end) if problem.free == SPEED else None
-        if located is None:
-            return None
-        # The located point must lie where the branch was heading: within the last step (and a bit) of p_end.
-        if abs(located.speed - p_end) > 2.0 * abs(p2 - p1) + 1e-9 * abs(p_end):
-            return None
-        match = [h for h in hopf if abs(h.speed - located.speed) <= 1e-6 * max(1.0, abs(h.speed))
-                 and abs(h.omega - located.omega) <= 1e-6 * h.omega]
-        h = match[0] if match else located
-        end.append(h)
-        return f"complete: returns to the Hopf point at {h.speed_kmh:.3f} km/h"
-
-    def renormalize(u):
-        # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
-        # So do the user points of the step just taken (re-solved at their values on the new mesh).
-        result = problem.renormalize(u)
-        if result is not None and records and len(result[0]) != len(u):
-            records[-1] = problem.point(result[0])
-            for i in range(len(user)):
-                s_i, cyc = user[i]
-                if s_i > arclength[-2]:
-                    try:
-                        user[i] = (s_i, cycle_at(problem.family, cyc, cyc.speed, settings, mesh=problem.mesh))
-                    except ConvergenceError:
-                        pass    # keeps its coarser orbit, which says so through its error estimate
-        return result
-
-    bound = None
-    if max_step is not None:
-        def bound(u_old, u_new):
-            return abs(u_new[ip] - u_old[ip]) / max_step
-
-    branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
-                            renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound)
-    # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from it.
-    for hopf_end, near in ((start, records[0] if records else None), (end[0] if end else None,
-                                                                      records[-1] if records else None)):
-        if hopf_end is None or near is None or problem.free != SPEED:
-            continue
-        for target in targets:
-            if (hopf_end.speed - target) * (near.speed - target) < 0.0 and target != near.speed:
-                try:
-                    cyc = cycle_at(problem.family, near, target, settings)
-                except ConvergenceError:
-                    continue
-                user.append((-1.0 if near is records[0] else arclength[-1] + 1.0, cyc))
-    message = branch.message
-    if not branch.status.is_complete:
-        message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
-    return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
-                       status=branch.status, message=message, start=start, end=end[0] if end else None,
-                       user_points=tuple(c for _, c in sorted(user, key=lambda x: x[0])))
-
-
-def first_harmonic(orbit: col.Orbit) -> np.ndarray:
-    """int_0^1 x(tau) exp(-2 pi i tau) dtau by Gauss quadrature on the mesh: the eigenvector direction times
-    the amplitude near a Hopf point (x = 2 Re(z q exp(2 pi i tau)))."""
-    sch = col.scheme(orbit.degree)
-    tau = orbit.mesh[:-1, None] + orbit.widths[:, None] * sch.points[None, :]
-    Xc = col.collocation_states(orbit.interval_values(), sch)
-    wgt = orbit.widths[:, None] * sch.weights[None, :] * np.exp(-2j * np.pi * tau)
-    return np.einsum("jk,jkn->n", wgt, Xc)
-
-
-def end_hopf_point(family, last: CyclePoint, speed_guess: float) -> HopfPoint | None:
-    """The Hopf point of the equilibrium a shrinking branch runs into, by Newton on the Hopf defining system
-    (:func:`reduced_model.hopf.locate_hopf`) from the extrapolated speed, the cycle's frequency and its first
-    harmonic; None if Newton does not converge."""
-    from .hopf import locate_hopf
-    v = first_harmonic(last.orbit)
-    try:
-        return locate_hopf(family, last.value, speed_guess, 2.0 * np.pi / last.period, v)
-    except (ConvergenceError, np.linalg.LinAlgError, ParameterError):
-        return None
-
-
-def branch_from_hopf(family: SpeedFamily, hopf: HopfPoint, vmin: float, vmax: float,
-                     others: tuple[HopfPoint, ...] = (), settings: CycleSettings = CycleSettings(),
-                     accept_hook=None, at: tuple[float, ...] = (), max_step: float | None = None) -> CycleBranch:
-    """The branch of cycles born at ``hopf``, continued in speed within [vmin, vmax] (never below MIN_SPEED,
-    where the slip equations lose their speed terms and the period of the cycles grows without bound)."""
-    vmin = max(vmin, MIN_SPEED)
-    try:
-        problem, u0, direction = start_at_hopf(family, hopf, settings)
-    except ConvergenceError as exc:
-        return CycleBranch(free=SPEED, points=(), special_points=(), status=BranchStatus.NEWTON_FAILED,
-                           message=f"newton_failed: {exc}", start=hopf)
-    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook,
-                         at=at, max_step=max_step)
-
-
-def branch_from_cycle(family: SpeedFamily, point: CyclePoint, free: str, lo: float, hi: float,
-                      sign: float = 1.0, settings: CycleSettings = CycleSettings()) -> CycleBranch:
-    """Continue a computed cycle in ``free`` (``"speed"`` or the family's parameter) within [lo, hi];
-    ``sign`` chooses the initial direction of the free parameter."""
-    omega = 2.0 * np.pi / point.period
-    scales = state_scales(family, omega)
-    p_scale = speed_scale(family) if free == SPEED else 0.1 * max(abs(point.value), 1e-12)
-    problem = CycleProblem(family, free, point.speed, point.value, point.orbit, scales, p_scale, settings)
-    if free == SPEED:
-        lo = max(lo, MIN_SPEED)
-    p0 = point.speed if free == SPEED else point.value
-    u0 = problem.pack(point.orbit, p0)
-    direction = np.zeros_like(u0)
-    direction[-1] = sign
-    return follow_branch(problem, u0, direction, lo, hi)
-
-
-def cycle_diagram(family: SpeedFamily, value: float, vmin: float, vmax: float,
-                  settings: CycleSettings = CycleSettings(), progress=None, at: tuple[float, ...] = (),
-                  max_step: float | None = None) -> CycleDiagram:
-    """Every branch of cycles born at a Hopf point of straight running in [vmin, vmax] (m/s) at q = value.
-
-    A Hopf point that an earlier branch returned to is not started again.  ``at`` (speeds, m/s) and
-    ``max_step`` (m/s) as in :func:`follow_branch`.
-    """
-    family.validate(value)
-    hopf = hopf_points(family, value, vmin, vmax)
-    branches: list[CycleBranch] = []
-    reached: list[HopfPoint] = []
-    for i, h in enumerate(hopf):
-        if not any(h is r for r in reached):
-            b = branch_from_hopf(family, h, vmin, vmax, others=tuple(x for x in hopf if x is not h),
-                                 settings=settings, at=at, max_step=max_step)
-            branches.append(b)
-            if b.end is not None:
-                reached.append(b.end)
-        if progress is not None:
-            progress(i + 1, len(hopf))
-    return CycleDiagram(value=value, vmin=vmin, vmax=vmax, hopf=hopf, branches=tuple(branches))
-
-
-# --------------------------------------------------------------------------------------------------------
 # Single cycles near a computed one
 # --------------------------------------------------------------------------------------------------------
 
@@ -792,3 +474,22 @@ def branch_peak(family: SpeedFamily, branch: CycleBranch, name: str,
                                          options={"xatol": 1e-7 * (1.0 + abs(hi))})
     best = cache.get(res.x) or cycle_at(family, branch.points[k], res.x, settings)
     return best if best.max_abs(name) >= values[k] else branch.points[k]
+
+
+# The branch functions live in their own module (which uses the classes above); they are served from here
+# lazily (PEP 562), so that either module can be imported first.
+_BRANCH_FUNCTIONS = ("branch_from_cycle", "branch_from_hopf", "cycle_diagram", "end_hopf_point", "first_harmonic",
+                     "follow_branch", "hopf_predictor", "start_at_hopf")
+
+
+def __getattr__(name: str):
+    if name in _BRANCH_FUNCTIONS:
+        from . import cycle_branches
+        return getattr(cycle_branches, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = ["CycleBranch", "CycleDiagram", "CyclePoint", "CycleProblem", "CycleSettings", "branch_from_cycle",
+           "branch_from_hopf", "branch_peak", "classify_multipliers", "cycle_at", "cycle_diagram", "end_hopf_point",
+           "first_harmonic", "follow_branch", "hopf_predictor", "period_doubling_test", "speed_scale",
+           "start_at_hopf", "state_scales", "torus_test"]

@@ -115,8 +115,9 @@ def test_user_points_are_the_continuations_own_orbits(trail025):
 
 def test_max_step_makes_the_output_denser_and_moves_no_special_point(trail025):
     family, d = trail025
-    dense = cycle_diagram(family, 1.5e5, 0.0, 400 * KMH, max_step=5 * KMH)
-    for b, bd in zip(d.branches, dense.branches):
+    b = d.branches[1]                       # the tramp branch, with S2 and T2
+    others = tuple(h for h in d.hopf if h is not b.start)
+    for bd in [branch_from_hopf(family, b.start, 0.0, 400 * KMH, others=others, max_step=5 * KMH)]:
         speeds = np.array([p.speed_kmh for p in bd.points])
         assert len(bd.points) > len(b.points) and np.max(np.abs(np.diff(speeds))) <= 5.0 + 1e-9
         for s in b.special_points:
@@ -177,3 +178,19 @@ def test_cli_bad_speeds_exit_2(args, fragment, capsys):
     assert code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and fragment in err[0]
+
+
+def test_orbits_near_a_hopf_end_follow_the_square_root_law():
+    """2.5 bar: the branch returns to HB2 (70.5006 km/h); the orbits asked for between its last computed cycle
+    and HB2 (from that cycle shrunk towards HB2, then Newton) obey amp^2 proportional to the distance to HB2."""
+    family = SpeedFamily(ShimmyModel())
+    speeds = (70.45 * KMH, 70.49 * KMH, 70.5 * KMH)
+    d = cycle_diagram(family, 2.5e5, 0.0, 400 * KMH, at=speeds)
+    (b,) = d.branches
+    assert b.end.speed_kmh == pytest.approx(70.5006, abs=1e-4)
+    assert b.points[-1].speed_kmh < 70.45
+    at = {round(p.speed_kmh, 6): p for p in b.user_points}
+    assert set(at) == {70.45, 70.49, 70.5}
+    amp2 = {v: p.max_abs("theta1") ** 2 for v, p in at.items()}
+    ratio = amp2[70.49] / amp2[70.5]
+    assert ratio == pytest.approx((b.end.speed_kmh - 70.49) / (b.end.speed_kmh - 70.5), rel=0.02)

@@ -41,7 +41,7 @@ def test_jacobian_eigenvalues_equal_reduced(effects, pressure):
         # the direct difference Jacobian at this speed, not the affine form
         a = _eigs(mbs.direct_linear_matrix(kmh * KMH, pressure * BAR))
         b = _eigs(red.linear_matrix(kmh * KMH, pressure * BAR))
-        assert np.max(np.abs(a - b) / np.abs(b)) < 1e-6, (kmh, a, b)
+        assert np.max(np.abs(a - b) / np.abs(b)) < 1e-9, (kmh, a, b)
 
 
 @pytest.mark.parametrize("overrides,pressure", [({}, 1.5), ({}, 2.5), ({"t0": 0.25}, 1.5), ({"t0": 0.25}, 2.5)])

@@ -10,13 +10,16 @@ from exudyn.itemInterface import MarkerKinematicTreeRigid, NodeGenericODE2, Obje
 
 from mbs_shimmy import DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, MbsFamily, MbsModel, assumptions_table
 from mbs_shimmy.assumption_study import study_fidelities
-from mbs_shimmy.geometry import SIDES, disc_contact, knuckle_frame, knuckle_pose
+from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS
+from mbs_shimmy.geometry import disc_contact
 from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator
 from mbs_shimmy.system import TreeInertia
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError
 
 BAR, KMH = 1e5, 1 / 3.6
+# the full geometry of the paper's axle: every assumption off except the new elements (issue 9) kept out
+PAPER_GEOMETRY = Fidelity(frozenset(ELEMENT_ASSUMPTIONS))
 CURRENT = exu.ConfigurationType.Current
 
 
@@ -31,7 +34,11 @@ def test_fidelity_parse():
     with pytest.raises(ParameterError, match="unknown assumption 'small_angle'"):
         Fidelity.parse("small_angle")
     assert [r.name for r in assumptions_table().rows] == [a.value for a in Assumption]
-    assert [name for name, _ in study_fidelities()][-1] == "full"
+    names = [name for name, _ in study_fidelities()]
+    assert names[names.index("full") + 1:] == [a.value for a in ELEMENT_ASSUMPTIONS]
+    # the first-order kinematics have no form of the new elements: a clear error, not a silent neutral value
+    with pytest.raises(ParameterError, match="small_angles .* has no first-order form of no_kingpin_inclination"):
+        MbsModel(fidelity=Fidelity.parse("small_angles")).forces(2.0 * BAR, ConstantSpeed(1.0))
 
 
 def _random_states(n, seed=3):
@@ -40,34 +47,48 @@ def _random_states(n, seed=3):
     return y
 
 
-def test_exact_kinematics_is_the_kinematic_tree():
-    """Poses and velocities the tyre element uses = Exudyn's own kinematic-tree output (full geometry)."""
+def _rot(axis, angle):
+    """Rodrigues: rotation by angle about the unit axis."""
+    a = np.asarray(axis, dtype=float)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+
+
+def test_knuckle_poses_are_exudyns_and_right():
+    """The poses the tyres use (Exudyn's markers on the tree, full geometry with lateral travel, raised roll axis,
+    kingpin inclination) against an independent hand computation: roll about x through O = (0, y, R + h), then
+    the knuckle about its kingpin axis e0 = (-tan(gamma), -side tan(KPI), 1) / |...|."""
+    P, d = YANG2024, DEFAULT_DIMENSIONS
     model = MbsModel(fidelity=Fidelity.full())
     system = model.system(1.5 * BAR, ConstantSpeed(20.0))
-    mbs = system.mbs
-    g = system.forces.g_exact
-    inertia = TreeInertia.build(model.params, model.dims, uncoupled=False)
-    markers = []
-    for i, side in enumerate(SIDES):
-        T = inertia.joint_rotations[i]
-        for r in (g.wheel_centre(side), g.tie_rod_arm_vector, (0.1, 0.2, -0.3)):
-            m = mbs.AddMarker(MarkerKinematicTreeRigid(objectNumber=system.tree, linkNumber=i + 1,
-                                                       localPosition=list(T.T @ np.array(r))))
-            markers.append((i, side, r, m))
-    mbs.Assemble()
-    for y in _random_states(5):
-        system.set_state(y)
-        for i, side, r, m in markers:
-            pose = knuckle_pose(g, side, math.cos(y[0]), math.sin(y[0]), y[1 + i])
-            p = np.array(pose.point(r))
-            omega = y[3] * np.array([1.0, 0, 0]) + y[4 + i] * np.array(pose.kingpin_axis)
-            v = np.cross([y[3], 0, 0], p - np.array(g.origin)) + y[4 + i] * np.cross(
-                pose.kingpin_axis, p - np.array(pose.kingpin_point))
-            assert np.allclose(p, mbs.GetMarkerOutput(m, exu.OutputVariableType.Position, CURRENT), atol=1e-14)
-            assert np.allclose(v, mbs.GetMarkerOutput(m, exu.OutputVariableType.Velocity, CURRENT), atol=1e-13)
-            rot = np.array(mbs.GetMarkerOutput(m, exu.OutputVariableType.RotationMatrix, CURRENT)).reshape(3, 3)
-            assert np.allclose(np.array(pose.rotation) @ inertia.joint_rotations[i], rot, atol=1e-14)
-            assert np.allclose(omega, mbs.GetMarkerOutput(m, exu.OutputVariableType.AngularVelocity, CURRENT),
+    L = system.layout
+    assert L.coordinates == ("y_axle", "psi", "theta1", "theta2", "phi_gear")
+    rng = np.random.default_rng(5)
+    h = d.roll_axis_above_wheel_centre
+    for _ in range(5):
+        q = rng.standard_normal(5) * np.array([0.01, 0.1, 0.4, 0.4, 0.1])
+        qd = rng.standard_normal(5) * np.array([0.1, 1.0, 3.0, 3.0, 1.0])
+        system.set_state(np.concatenate([q, qd, [0.01, -0.02]]))
+        poses = system.forces.knuckle_poses(q, qd)
+        y, psi = q[0], q[1]
+        A = _rot([1, 0, 0], psi)
+        O = np.array([0.0, y, P.R + h])
+        for i, side in enumerate((-1.0, 1.0)):
+            e0 = np.array([-math.tan(P.gamma), -side * math.tan(d.kingpin_inclination), 1.0])
+            e0 /= np.linalg.norm(e0)
+            K = O + A @ np.array([0.0, side * (0.5 * P.L - P.l), -h])
+            e = A @ e0
+            Rk = _rot(e, q[2 + i]) @ A
+            vK = np.array([0.0, qd[0], 0.0]) + np.cross([qd[1], 0, 0], K - O)
+            omega = qd[1] * np.array([1.0, 0, 0]) + qd[2 + i] * e
+            K_, vK_, e_, s_, w_ = poses[i]
+            assert np.allclose(K_, K, atol=1e-14) and np.allclose(vK_, vK, atol=1e-13)
+            assert np.allclose(e_, e, atol=1e-14) and np.allclose(s_, Rk @ [0, 1, 0], atol=1e-14)
+            assert np.allclose(w_, omega, atol=1e-13)
+            # and the velocities are Exudyn's own marker velocities
+            mk = system.markers.knuckles[i]
+            assert np.allclose(vK_, system.mbs.GetMarkerOutput(mk, exu.OutputVariableType.Velocity), atol=1e-13)
+            assert np.allclose(w_, system.mbs.GetMarkerOutput(mk, exu.OutputVariableType.AngularVelocity),
                                atol=1e-13)
 
 
@@ -87,7 +108,7 @@ def test_disc_contact_point_is_on_road_and_wheel_plane():
 
 def test_inertia_at_straight_running():
     P, d = YANG2024, DEFAULT_DIMENSIONS
-    for fidelity in (Fidelity.reduced(), Fidelity.full()):
+    for fidelity in (Fidelity.reduced(), PAPER_GEOMETRY):
         ev = MbsEvaluator(MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0)))
         M = ev.mass_matrix(np.zeros(8))
         assert np.allclose(np.diag(M), [P.I3, P.I1, P.I1], rtol=1e-13)
@@ -105,18 +126,42 @@ def test_inertia_at_straight_running():
             assert M[0, 2] == pytest.approx(expected, rel=1e-12)
 
 
+def test_inertia_of_the_new_coordinates():
+    """Full geometry: I1 about each inclined kingpin, I3 + m h^2 about the raised roll axis, the whole axle's mass
+    on the lateral travel and its roll coupling -m h, the gear's inertia; uncoupled: diagonal."""
+    P, d = YANG2024, DEFAULT_DIMENSIONS
+    m_total = d.axle_mass + 2 * (d.knuckle_mass + d.wheel_mass)
+    h = d.roll_axis_above_wheel_centre
+    full = MbsEvaluator(MbsModel(fidelity=Fidelity.full()).system(1.5 * BAR, ConstantSpeed(0.0)))
+    M = full.mass_matrix(np.zeros(12))        # (y, psi, theta1, theta2, phi)
+    assert M[0, 0] == pytest.approx(m_total, rel=1e-13)
+    assert M[1, 1] == pytest.approx(P.I3 + m_total * h ** 2, rel=1e-12)
+    assert M[0, 1] == pytest.approx(m_total * h, rel=1e-12)       # rolling moves the centres of mass by +h psi
+    assert M[2, 2] == pytest.approx(P.I1, rel=1e-12) and M[3, 3] == pytest.approx(P.I1, rel=1e-12)
+    assert M[4, 4] == pytest.approx(d.steering_gear_inertia, rel=1e-13) and np.allclose(M[4, :4], 0.0)
+    lumped_model = MbsModel(fidelity=Fidelity(frozenset({Assumption.UNCOUPLED_INERTIA})))
+    lumped = MbsEvaluator(lumped_model.system(1.5 * BAR, ConstantSpeed(0.0)))
+    assert np.allclose(lumped.mass_matrix(np.zeros(12)),
+                       np.diag([m_total, P.I3, P.I1, P.I1, d.steering_gear_inertia]), rtol=1e-12, atol=1e-12)
+
+
 def test_spinning_wheel_equals_rotor_moment():
     """A kinematic tree with the wheels as spinning links (spin V/R) gives the same forces on (psi, theta1,
     theta2) as the model's non-spinning wheels plus the rotor moment -I2 Omega (omega x s), at any state."""
     P, d = YANG2024, DEFAULT_DIMENSIONS
     V = 25.0
     Omega = V / P.R
-    model = MbsModel(fidelity=Fidelity.full())
-    inertia = TreeInertia.build(P, d, uncoupled=False)
+    # kingpin inclination on (it tilts e against the wheel axis); no new coordinates
+    fidelity = Fidelity(frozenset(ELEMENT_ASSUMPTIONS) - {Assumption.NO_KINGPIN_INCLINATION})
+    model = MbsModel(fidelity=fidelity)
     g = model.forces(1.5 * BAR, ConstantSpeed(V)).g_exact
+    inertia = TreeInertia.build(P, d, False, g)
     # spinning model: knuckle links carry the knuckle only; each wheel is a link spinning about its axis y
     e_knuckle = [inertia.joint_rotations[i] for i in range(2)]
-    Jk_e = d.knuckle_kingpin_inertia(P)
+    e = inertia.joint_rotations[1][:, 2]
+    c = np.array([0.0, P.l, 0.0])
+    Jk_e = P.I1 - e @ (np.diag([d.wheel_diametral_inertia, P.I2, d.wheel_diametral_inertia])
+                       + d.wheel_mass * (c @ c * np.eye(3) - np.outer(c, c))) @ e
     Jk_joint = np.diag([d.knuckle_transverse_inertia, d.knuckle_transverse_inertia, Jk_e])
     Jw = np.diag([d.wheel_diametral_inertia, P.I2, d.wheel_diametral_inertia])
     half = 0.5 * P.L - P.l
@@ -128,7 +173,8 @@ def test_spinning_wheel_equals_rotor_moment():
     mbs.AddObject(ObjectKinematicTree(
         nodeNumber=node, jointTypes=[J.RevoluteX, J.RevoluteZ, J.RevoluteZ, J.RevoluteY, J.RevoluteY],
         linkParents=[-1, 0, 0, 1, 2],
-        jointTransformations=exu.Matrix3DList([np.eye(3), e_knuckle[0], e_knuckle[1], np.eye(3), np.eye(3)]),
+        jointTransformations=exu.Matrix3DList([np.eye(3), e_knuckle[0], e_knuckle[1], e_knuckle[0].T,
+                                               e_knuckle[1].T]),
         jointOffsets=exu.Vector3DList([[0, 0, P.R], [0, -half, 0], [0, half, 0],
                                        list(e_knuckle[0].T @ np.array(g.wheel_centre(-1.0))),
                                        list(e_knuckle[1].T @ np.array(g.wheel_centre(1.0)))]),
@@ -144,15 +190,16 @@ def test_spinning_wheel_equals_rotor_moment():
     # the model's tree (non-spinning wheels) with only the rotor moments as forces
     forces = model.forces(1.5 * BAR, ConstantSpeed(V))
 
-    class RotorOnly:
-        def evaluate(self, t, q, qd, alpha, states=None):
-            c, s = math.cos(q[0]), math.sin(q[0])
-            f1 = knuckle_frame(g, -1.0, c, s, q[1])
-            f2 = knuckle_frame(g, 1.0, c, s, q[2])
-            return (*forces.rotor_moments(f1, f2, qd[0], qd[1], qd[2], V), 0.0, 0.0)
-
     system = model.system(1.5 * BAR, ConstantSpeed(V))
+    forces = system.forces
+
+    class RotorOnly:
+        def evaluate(self, t, q, qd, states=None):
+            return [*forces.rotor_moments(*forces.knuckle_poses(q, qd), V), 0.0, 0.0]
+
     system.forces = RotorOnly()
+    for connector in system.connectors.values():      # the linkage is not part of this comparison
+        system.mbs.SetObjectParameter(connector, "activeConnector", False)
     ours = exu.MainSolverExplicit()
     ours.InitializeSolver(system.mbs, settings)
     for y in _random_states(6, seed=7):
@@ -173,26 +220,72 @@ def test_spinning_wheel_equals_rotor_moment():
         assert np.allclose(np.array(ours.GetSystemMassMatrix())[0:3, 0:3], M5[0:3, 0:3], rtol=1e-13, atol=1e-13)
 
 
-def test_linkage_stiffness_about_kingpins_is_k1_k2():
-    """Full geometry: the tie-rod and drag-link spring-dampers give exactly k1, c1 and k2, c2 about the kingpins."""
+class _NoForces:
+    def __init__(self, n):
+        self.n = n
+
+    def evaluate(self, t, q, qd, states=None):
+        return [0.0] * self.n
+
+
+def _linkage_matrices(fidelity, dims=DEFAULT_DIMENSIONS):
+    """-dQ/dq and -dQ/dq' of the Exudyn system without the user forces and joint controls (connectors only)."""
     P = YANG2024
-    forces = MbsModel(fidelity=Fidelity.full()).forces(1.5 * BAR, ConstantSpeed(0.0))
-    g = forces.g_exact
+    system = MbsModel(fidelity=fidelity, dims=dims).system(1.5 * BAR, ConstantSpeed(0.0))
+    m = system.layout.n_mech
+    system.forces = _NoForces(m + 2)
+    ev = MbsEvaluator(system)
+
+    def Q(q, qd):
+        system.set_state(np.concatenate([q, qd, [0.0, 0.0]]))
+        ev.solver.ComputeODE2RHS(system.mbs)
+        return np.array(ev.solver.GetSystemResidual())[:m]
     h = 1e-6
+    K = np.column_stack([-(Q(h * np.eye(m)[j], np.zeros(m)) - Q(-h * np.eye(m)[j], np.zeros(m))) / (2 * h)
+                         for j in range(m)])
+    C = np.column_stack([-(Q(np.zeros(m), np.eye(m)[j]) - Q(np.zeros(m), -np.eye(m)[j])) / 2 for j in range(m)])
+    return system.layout, K, C
 
-    def Q(th1, th2, thd1, thd2):
-        f1 = knuckle_frame(g, -1.0, 1.0, 0.0, th1)
-        f2 = knuckle_frame(g, 1.0, 1.0, 0.0, th2)
-        return np.array(forces._linkage_exact(0.0, 0.0, 0.0, 0.0, thd1, thd2, f1, f2))
 
-    K1 = -(Q(h, 0, 0, 0) - Q(-h, 0, 0, 0)) / (2 * h)
-    K2 = -(Q(0, h, 0, 0) - Q(0, -h, 0, 0)) / (2 * h)
-    C1 = -(Q(0, 0, 1.0, 0) - Q(0, 0, -1.0, 0)) / 2
-    C2 = -(Q(0, 0, 0, 1.0) - Q(0, 0, 0, -1.0)) / 2
-    assert K1[1:] == pytest.approx([P.k1, -P.k1], rel=1e-8)
-    assert K2[1:] == pytest.approx([-P.k1, P.k1 + P.k2], rel=1e-8)
-    assert C1[1:] == pytest.approx([P.c1, -P.c1], rel=1e-12)
-    assert C2[1:] == pytest.approx([-P.c1, P.c1 + P.c2], rel=1e-12)
+def test_linkage_stiffness_about_kingpins_is_k1_k2():
+    """The tie-rod and drag-link connectors (Exudyn spring-dampers between the arm ends) give exactly k1, c1 and
+    k2, c2 about the kingpins, with kingpin inclination and Ackermann arms; with the rigid gear no roll steer."""
+    P = YANG2024
+    fidelity = Fidelity(frozenset({Assumption.RIGID_STEERING_GEAR, Assumption.RIGID_AXLE_MOUNTS,
+                                   Assumption.ROLL_AXIS_AT_WHEEL_CENTRE}))
+    for fid in (fidelity, Fidelity.reduced()):
+        layout, K, C = _linkage_matrices(fid)
+        i = [layout.index(n) for n in ("theta1", "theta2")]
+        K2, C2 = K[np.ix_(i, i)] - np.diag([0, 0]), C[np.ix_(i, i)] - np.diag([P.c4, P.c4])
+        assert K2 == pytest.approx(np.array([[P.k1, -P.k1], [-P.k1, P.k1 + P.k2]]), rel=1e-7)
+        assert C2 == pytest.approx(np.array([[P.c1, -P.c1], [-P.c1, P.c1 + P.c2]]), rel=1e-10)
+        ip = layout.index("psi")
+        assert abs(K[i[1], ip]) < 1e-6 * P.k2          # no roll steer
+
+
+def test_steering_gear_in_series_and_roll_steer():
+    """Full geometry: the drag link between the steering arm and the Pitman arm: about the left kingpin k2, about
+    the gear shaft k2 (r_p / j)^2 plus the gear's own stiffness, and the axle's roll steers the left wheel through
+    the inclined drag link: K[theta2, psi] = -k2 (y_arm sin(eps)) / j, y_arm the arm end's distance from the roll
+    axis, j its lever about the kingpin (hand derivation, level kingpin terms to first order)."""
+    P, d = YANG2024, DEFAULT_DIMENSIONS
+    fidelity = Fidelity(frozenset({Assumption.NO_KINGPIN_INCLINATION, Assumption.RIGID_AXLE_MOUNTS,
+                                   Assumption.ROLL_AXIS_AT_WHEEL_CENTRE, Assumption.PARALLEL_STEERING_ARMS}))
+    layout, K, C = _linkage_matrices(fidelity)
+    it, ig, ip = layout.index("theta2"), layout.index("phi_gear"), layout.index("psi")
+    eps, rp = d.drag_link_inclination, d.pitman_arm
+    # drag-link length change per coordinate (n = (cos eps, 0, sin eps) from the arm end A to the Pitman ball):
+    # the arm -r_d y turns about e = (-sin g, 0, cos g) with velocity r_d (cos g, 0, sin g): -r_d cos(g - eps);
+    # the roll moves A by psi' y_arm z: -y_arm sin(eps); the gear moves the ball by -r_p phi' x: -r_p cos(eps)
+    d_theta = -d.drag_link_arm * math.cos(P.gamma - eps)
+    d_psi = -(0.5 * P.L - P.l - d.drag_link_arm) * math.sin(eps)
+    d_phi = -rp * math.cos(eps)
+    k = P.k2 / d_theta ** 2
+    assert K[it, it] - P.k1 == pytest.approx(P.k2, rel=1e-7)
+    assert K[ig, ig] == pytest.approx(1.0 / d.steering_gear_compliance + k * d_phi ** 2, rel=1e-7)
+    assert K[it, ig] == pytest.approx(k * d_theta * d_phi, rel=1e-7)
+    assert K[it, ip] == pytest.approx(k * d_theta * d_psi, rel=1e-6)
+    assert C[ig, ig] == pytest.approx(d.steering_gear_damping + P.c2 / d_theta ** 2 * d_phi ** 2, rel=1e-9)
 
 
 @pytest.mark.parametrize("name,fidelity", study_fidelities())
@@ -201,7 +294,7 @@ def test_straight_running_is_equilibrium_and_jacobian_affine_in_speed(name, fide
     family.validate(1.5 * BAR)            # equilibrium at 1 m/s and the affine check at a third speed
     for kmh in (5.0, 120.0, 330.0):
         assert family.affine_residual(kmh * KMH, 1.5 * BAR) < 1e-9
-        assert np.max(np.abs(family.rhs(np.zeros(8), kmh * KMH, 1.5 * BAR))) < 1e-9
+        assert np.max(np.abs(family.rhs(np.zeros(family.n), kmh * KMH, 1.5 * BAR))) < 1e-9
 
 
 def table_error(element, loads) -> float:

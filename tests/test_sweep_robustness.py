@@ -38,5 +38,6 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     want = [h.shift_kmh for h in full.hopf if h.reduced_kmh is not None]
     assert r["mbs_full_shift_kmh"] == want
     shift_row = next(x for x in rows if x.cells["quantity"].startswith("HB1"))
-    median = float(np.median([x["mbs_full_shift_kmh"][0] for x in ok]))
+    # over the axles in which HB1 keeps a partner (with the full geometry of issue 9 it vanishes in many)
+    median = float(np.median([x["mbs_full_shift_kmh"][0] for x in ok if x["mbs_full_shift_kmh"][0] is not None]))
     assert f"{median:+.1f} km/h" in shift_row.cells["plausible_axles"]

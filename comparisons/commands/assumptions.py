@@ -24,7 +24,8 @@ from ..options import (
 
 def add_parser(sub) -> None:
     p = sub.add_parser("assumptions", help="shifts of the Hopf speeds and of the peak shimmy amplitude when each "
-                                           "assumption of the reduced model is dropped (multibody model)")
+                                           "assumption of the reduced model is dropped, and what each geometric "
+                                           "element of the full axle adds (multibody model)")
     add_model_options(p)
     add_speed_window(p)
     p.add_argument("--no-cycles", action="store_true",
@@ -62,9 +63,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"largest limit cycle of the reduced model: theta1 = {study.peak_theta1_deg:.3f} deg at "
               f"{study.peak_speed_kmh:.2f} km/h")
     summary = {r.name: r.summary for r in assumptions_table().rows}
+    elements = {r.name for r in assumptions_table().rows if r.element}
     for row in study.rows:
-        label = row.assumption if row.assumption == "full" else f"{row.assumption} off"
-        print(f"\n{label}: {summary.get(row.assumption, 'all assumptions off')}")
+        if row.assumption in elements:
+            # a new element: full geometry without it (left) -> full geometry (right)
+            print(f"\n{row.assumption} (full geometry without -> with the element): {summary[row.assumption]}")
+        else:
+            label = row.assumption if row.assumption == "full" else f"{row.assumption} off"
+            print(f"\n{label}: {summary.get(row.assumption, 'all assumptions off')}")
         for h in row.hopf:
             print(f"  Hopf {_fmt(h.reduced_kmh, '9.3f')} -> {_fmt(h.mbs_kmh, '9.3f')} km/h"
                   f"   shift {_fmt(h.shift_kmh, '+9.3f')}")

@@ -68,7 +68,7 @@ def add_parser(sub) -> None:
     add_model_options(p)
     add_speed_window(p, vmin=True)
     p.add_argument("--two-param", metavar="NAME", choices=TWO_PARAMS,
-                   help="also continue every cycle fold and torus point in the (speed, NAME) plane "
+                   help="also continue every cycle fold, torus and period-doubling point in the (speed, NAME) plane "
                         f"(figures 8 and 18); NAME one of {', '.join(TWO_PARAMS)}; needs --range")
     p.add_argument("--range", nargs=2, type=float, metavar=("LO", "HI"),
                    help="window of NAME for --two-param (bar for pressure, SI otherwise)")
@@ -183,6 +183,11 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
     return name, value, lo * factor, hi * factor
 
 
+def codim2_row(p, factor: float) -> dict:
+    """A codimension-two point of a two-parameter curve: kind, place (km/h, interface unit), status."""
+    return {"kind": p.kind.value, "speed_kmh": p.speed * 3.6, "value": p.value / factor, "status": p.status.value}
+
+
 def curves_json(curves, labels, factor: float) -> list[dict]:
     out = []
     for (curve, error), label in zip(curves, labels):
@@ -195,9 +200,8 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
                     "points": [[v * 3.6, q / factor] for v, q in zip(curve.speeds, curve.values)],
                     "ends_at_zero_amplitude": [None if e is None else [e[0] * 3.6, e[1] / factor]
                                                for e in curve.ends],
-                    "end_points": [None if e is None else {"kind": e.kind.value, "speed_kmh": e.speed * 3.6,
-                                                           "value": e.value / factor, "status": e.status.value}
-                                   for e in curve.end_points]})
+                    "end_points": [None if e is None else codim2_row(e, factor) for e in curve.end_points],
+                    "special_points": [codim2_row(e, factor) for e in curve.special_points]})
     return out
 
 
@@ -249,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
     if args.two_param:
         from ..cycle_plots import special_point_labels
         chosen = [(text, p) for text, p in special_point_labels(diagram)
-                  if p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)]
+                  if p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS, PointKind.PERIOD_DOUBLING)]
         with progress(len(chosen), "bifurcation curves", quiet) as bar:
             for text, p in chosen:
                 try:
@@ -355,6 +359,9 @@ def print_curves(curves, labels, name: str) -> None:
               f"{curve.values.min() / factor:.6g}-{curve.values.max() / factor:.6g} {unit}{flag}")
         for message in curve.messages:
             print(f"         end: {message}")
+        for p in curve.special_points:
+            print(f"         {p.kind.value} at {p.speed * 3.6:.4f} km/h, {name} {p.value / factor:.6g} {unit} "
+                  f"({p.status.value})")
 
 
 def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Namespace) -> None:

@@ -24,7 +24,7 @@ from .registry import BAR, MIN_LABEL_SPEED_KMH, VMAX_KMH, DiagramKey, DiagramSto
 FIG18_EFFECTS = "hcl,pt"
 FIG18_WINDOW = (0.2, 0.6, 100.0, 300.0)     # bar, bar, km/h, km/h
 FIG18_VIEW_KMH = (130.0, 230.0)
-FIG18_START_BAR = 0.25                      # one-parameter cycle branches whose S and T points seed the curves
+FIG18_START_BAR = 0.25                      # pressure of the one-parameter branches named HB2, HB3 in the figure
 
 
 def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float, vmax_kmh: float,
@@ -42,28 +42,45 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
             notes.append(f"{text}: INCOMPLETE: {exc}")
             complete = False
             continue
-        style, colour = CURVE_STYLES[curve.kind]
-        ax.plot(curve.speeds * 3.6, curve.values / factor, style, color=colour, lw=1.6,
-                label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
-                if text in ("S1", "T1") else None)
-        # The label sits the fraction ``label_at`` of the way from the starting line to the curve's far end.
-        k = int(np.argmin(np.abs(curve.values - (start + label_at * (curve.values.max() - start)))))
-        items.append((curve.speeds[k] * 3.6, curve.values[k] / factor, text, colour))
-        ends = [e for e in curve.ends if e is not None]
-        for v, q in ends:
-            ax.plot(v * 3.6, q / factor, "*", color=colour, ms=9, zorder=6)
-        located = {(p.speed, p.value): p for p in curve.end_points if p is not None}
-        end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / factor:.4f} {unit}"
-                             + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
-                                if (v, q) in located else " (extrapolated)") for v, q in ends)
-        messages = " | ".join(interface_message(m, family.param, unit, factor) for m in curve.messages)
-        notes.append(f"{text} ({curve.kind.value}, from {point.speed * 3.6:.2f} km/h at {start / factor:g} {unit}): "
-                     f"{end_text or 'no zero-amplitude end'}; {messages}")
-        complete &= curve.complete
+        origin = f"from {point.speed * 3.6:.2f} km/h at {start / factor:g} {unit}"
+        complete &= _draw_cycle_curve(ax, family, text, origin, curve, factor, unit, start, notes, items, label_at)
     return items, complete
 
 
-@register(18, "cycle_bifurcation_curves_hcl_pt", cost=14)
+# MatCont's abbreviations for the codimension-two points of cycles (the notes spell them out).
+CODIM2_LABELS = {PointKind.CUSP_OF_CYCLES: "CPC", PointKind.FOLD_FLIP: "LPPD", PointKind.FOLD_NEIMARK_SACKER: "LPNS",
+                 PointKind.RESONANCE_1_3: "R3", PointKind.RESONANCE_1_4: "R4"}
+
+
+def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, factor: float, unit: str,
+                      start: float, notes: list, items: list, label_at: float) -> bool:
+    """Draw one S or T curve with its ends (stars) and the codimension-two points of cycles found along it (x);
+    add its label to ``items`` and its notes; returns whether the curve is complete."""
+    style, colour = CURVE_STYLES[curve.kind]
+    ax.plot(curve.speeds * 3.6, curve.values / factor, style, color=colour, lw=1.6,
+            label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
+            if text in ("S1", "T1") else None)
+    # The label sits the fraction ``label_at`` of the way from the starting line to the curve's far end.
+    k = int(np.argmin(np.abs(curve.values - (start + label_at * (curve.values.max() - start)))))
+    items.append((curve.speeds[k] * 3.6, curve.values[k] / factor, text, colour))
+    ends = [e for e in curve.ends if e is not None]
+    for v, q in ends:
+        ax.plot(v * 3.6, q / factor, "*", color=colour, ms=9, zorder=6)
+    located = {(p.speed, p.value): p for p in curve.end_points if p is not None}
+    end_text = "; ".join(f"amplitude vanishes at {v * 3.6:.2f} km/h, {q / factor:.4f} {unit}"
+                         + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
+                            if (v, q) in located else " (extrapolated)") for v, q in ends)
+    for sp in curve.special_points:    # codimension-two points of cycles found along the curve
+        ax.plot(sp.speed * 3.6, sp.value / factor, "x", color=colour, ms=7, mew=1.6, zorder=6)
+        items.append((sp.speed * 3.6, sp.value / factor, CODIM2_LABELS.get(sp.kind, sp.kind.value), colour))
+        notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} ({CODIM2_LABELS.get(sp.kind, '')}) at "
+                     f"{sp.speed * 3.6:.2f} km/h, {sp.value / factor:.4g} {unit} ({sp.status.value})")
+    messages = " | ".join(interface_message(m, family.param, unit, factor) for m in curve.messages)
+    notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}")
+    return curve.complete
+
+
+@register(18, "cycle_bifurcation_curves_hcl_pt", cost=30)
 def draw_cycle_curves(store: DiagramStore) -> Drawing:
     lo_bar, hi_bar, vmin_kmh, vmax_kmh = FIG18_WINDOW
     effects = Effects.parse(FIG18_EFFECTS)
@@ -82,9 +99,26 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     for i, dh in enumerate(_located(hopf, PointKind.GENERALIZED_HOPF), 1):
         _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", offset=(8, 2))
         notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
-    items, ok = _draw_cycle_curves(ax, family, cycles, lo_bar * BAR, hi_bar * BAR, vmin_kmh, vmax_kmh, BAR, "bar",
-                                   FIG18_START_BAR * BAR, notes)
-    complete &= ok
+    # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
+    # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
+    from reduced_model.torus_switching import curves_from_codimension_two
+
+    items: list = []
+    named: dict[str, int] = {}
+    for origin, point in [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
+            [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]:
+        try:
+            found = curves_from_codimension_two(family, point, lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
+                                                vmax_kmh * KMH)
+        except ConvergenceError as exc:
+            notes.append(f"curves from {origin}: INCOMPLETE: {exc}")
+            complete = False
+            continue
+        letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
+        for curve in sorted(found, key=lambda c: -c.speeds[int(np.argmin(c.values))]):
+            named[letter] = named.get(letter, 0) + 1
+            complete &= _draw_cycle_curve(ax, family, f"{letter}{named[letter]}", f"born at {origin}", curve, BAR,
+                                          "bar", FIG18_START_BAR * BAR, notes, items, 0.5)
     ax.axhline(FIG18_START_BAR, color="0.5", lw=0.7, ls=":")
     # The paper's names: HB3 turns subcritical at DH (its cycles are unstable below it), HB2 stays supercritical.
     for h in cycles.hopf:
@@ -98,7 +132,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     ax.set_ylabel("inflation pressure $p_i$ [bar]")
     ax.legend(fontsize=8, loc="upper right", framealpha=0.9)
     ax.set_title("Fig. 18: enlarged (V, $p_i$) diagram, effects HCL + PT; shaded: straight running stable\n"
-                 f"stars: cycle curves end at HH1 and DH (located); dotted: {FIG18_START_BAR:g} bar (where they start)",
+                 "cycle curves switched onto at HH1 and DH (stars, located); x: codimension-two points of cycles",
                  fontsize=9)
     notes.append(f"window {lo_bar:g}-{hi_bar:g} bar: T1 and T2 leave it at its lower edge; continued down to 0.05 bar "
                  "they neither cross nor end at a Hopf-Hopf point (they pass the two Hopf-Hopf points of 0.1007 bar "

@@ -1,0 +1,395 @@
+"""Curves of cycle folds in two parameters by a minimally augmented system on the collocation discretisation.
+
+Doedel, Govaerts & Kuznetsov, "Computation of periodic solution bifurcations in ODEs using bordered systems",
+SIAM J. Numer. Anal. 41 (2003) 401-435; Kuznetsov, Elements of Applied Bifurcation Theory (3rd ed., 2004),
+section 10.3.2; MatCont's LPC continuation (Dhooge, Govaerts, Kuznetsov, Meijer & Sautois, Math. Comput. Model.
+Dyn. Syst. 14, 2008, 147).
+
+Unknowns U = (x nodes, T, V, q).  Equations: the collocation of x' = T f(x; V, q), the integral phase condition
+(:class:`reduced_model.cycles.CycleProblem`), and g(U) = 0, where g is the last component of the solution of the
+bordered system
+
+    [ F_x   F_T   b_1 ] [v]   [0]
+    [ P_x   0     b_2 ] [S] = [0]
+    [ c_1   c_2   0   ] [g]   [1]
+
+with F_x, F_T the collocation Jacobian in the nodes and the period and P_x the phase condition's gradient.  Its
+leading (K + 1) x (K + 1) block is singular exactly at a fold of cycles (the discretised (x, T) problem at fixed
+parameters loses its isolation), so g = 0 there for any borders that keep the whole matrix regular; the borders
+are reset to the current right and left null vectors at every accepted point, as MatCont does.  The gradient
+of g is g_U = -w^T M_U z with z = (v, S, g) and w the solution of the transposed system (the same LU factors):
+the second derivatives it needs, f_xx[v, .], come from a central difference of the exact (complex-step)
+Jacobians in the direction v, and the parameter derivatives from central differences.  The system is solved as
+one sparse matrix (SuperLU); the curve is followed by :func:`reduced_model.continuation.continue_curve` and ends
+where it leaves the (V, q) window or where its amplitude vanishes, at a generalized Hopf point that is then
+located by its own test function (:func:`reduced_model.cycle_curves.locate_end`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.optimize
+import scipy.sparse
+import scipy.sparse.linalg
+
+from . import collocation as col
+from .continuation import ContinuationSettings, continue_curve, locate_on_step, tangent
+from .cycles import (
+    SPEED,
+    CyclePoint,
+    CycleProblem,
+    CycleSettings,
+    _complex_outside,
+    _negative_outside,
+    period_doubling_test,
+    speed_scale,
+    state_scales,
+    torus_test,
+)
+from .hopf import MIN_SPEED
+from .parameters import ParameterError
+from .special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
+
+FD_RELATIVE = 1e-6          # central differences: step relative to the scale of the direction
+FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps=300, newton_tol=1e-8,
+                                     newton_max_iter=8, max_turn=0.3)
+END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
+
+
+class SparseBordered:
+    """A sparse (K + 2) x (K + 3) Jacobian that :func:`reduced_model.continuation.correct` can border."""
+
+    def __init__(self, J: scipy.sparse.spmatrix):
+        self.J = J.tocsr()
+        self.shape = J.shape
+
+    def solve_bordered(self, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        A = scipy.sparse.vstack([self.J, scipy.sparse.csr_matrix(row[None, :])]).tocsc()
+        try:
+            return scipy.sparse.linalg.splu(A).solve(rhs)
+        except RuntimeError:       # exactly singular
+            return np.full(len(rhs), np.nan)
+
+
+class FoldSystem:
+    """H(U) = (collocation, phase condition, g) for U = (x nodes, T, V, q), with its sparse Jacobian.
+
+    ``kind`` CYCLE_FOLD: g from the bordered (x, T) Jacobian of the periodic problem (module docstring);
+    PERIOD_DOUBLING: g from the bordered collocation of the variational equation v' = T f_x v with the
+    antiperiodic condition v(1) = -v(0) (Doedel, Govaerts & Kuznetsov 2003, the PD system), singular where a
+    multiplier is -1."""
+
+    def __init__(self, family, cycle: CyclePoint, q_scale: float, settings: CycleSettings = CycleSettings(),
+                 kind: PointKind = PointKind.CYCLE_FOLD):
+        omega = 2.0 * np.pi / cycle.period
+        self.family = family
+        self.kind = kind
+        self.cp = CycleProblem(family, SPEED, cycle.speed, cycle.value, cycle.orbit, state_scales(family, omega),
+                               speed_scale(family), settings)
+        self.q_scale = q_scale
+        rng = np.random.default_rng(1)
+        self.b = rng.standard_normal(self.dim)
+        self.c = rng.standard_normal(self.dim)
+        self._cache: tuple[np.ndarray, tuple] | None = None
+
+    @property
+    def K(self) -> int:
+        return self.cp.size
+
+    @property
+    def dim(self) -> int:
+        """Size of the bordered block: (v, S) for a fold, v for period doubling."""
+        return self.K + 1 if self.kind is PointKind.CYCLE_FOLD else self.K
+
+    def _signs(self) -> np.ndarray:
+        """(N, m+1) signs of the interval node values of v: the antiperiodic wrap for period doubling."""
+        N, m = self.cp.intervals, self.cp.degree
+        sgn = np.ones((N, m + 1))
+        if self.kind is PointKind.PERIOD_DOUBLING:
+            sgn[-1, -1] = -1.0
+        return sgn
+
+    def _variational(self, CJ) -> scipy.sparse.spmatrix:
+        """The collocated variational equation with the antiperiodic wrap, K x K."""
+        cp, K = self.cp, self.K
+        N, m, n = cp.intervals, cp.degree, cp.n
+        rows, cols = col.block_pattern(N, m, n)
+        data = (CJ.B * self._signs()[:, None, None, :, None]).ravel()
+        return scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K, K))
+
+    def pack(self, orbit: col.Orbit, V: float, q: float) -> np.ndarray:
+        return np.concatenate([orbit.nodes.ravel(), [orbit.period, V, q]])
+
+    def weights(self) -> np.ndarray:
+        return np.concatenate([self.cp.weights(), [1.0 / self.q_scale]])
+
+    def _pieces(self, U: np.ndarray):
+        """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the columns in V and q."""
+        K, cp = self.K, self.cp
+        q = float(U[K + 2])
+        cp.set_fixed(value=q)
+        G, CJ = cp(U[:K + 2])
+        self._last_jacobian = CJ
+        if not np.all(np.isfinite(G)):
+            raise ParameterError("collocation residual not finite")
+        e = cp.evaluate(U[:K + 2])
+        N, m, n = cp.intervals, cp.degree, cp.n
+        rows, cols = col.block_pattern(N, m, n)
+        data = CJ.B.ravel()
+        rows = np.concatenate([rows, np.arange(K), np.full(K, K)])
+        cols = np.concatenate([cols, np.full(K, K), np.arange(K)])
+        data = np.concatenate([data, CJ.col_T.ravel(), CJ.phase.ravel()])
+        A = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K + 1, K + 1))
+        col_V = np.append(CJ.col_p.ravel(), 0.0)
+        col_q = np.append(-e["T"] * self._df_dq(e["Xc"].reshape(-1, n), e["V"], q).ravel(), 0.0)
+        return G, A, col_V, col_q, e
+
+    def _df_dq(self, P: np.ndarray, V: float, q: float) -> np.ndarray:
+        h = FD_RELATIVE * self.q_scale
+        return ((self.family.rhs(P.T, V, q + h) - self.family.rhs(P.T, V, q - h)) / (2 * h)).T
+
+    def evaluate(self, U: np.ndarray):
+        if self._cache is not None and np.array_equal(self._cache[0], U):
+            return self._cache[1]
+        K = self.K
+        G, A, col_V, col_q, e = self._pieces(U)
+        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
+        M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
+                               [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
+        lu = scipy.sparse.linalg.splu(M)
+        rhs = np.zeros(self.dim + 1)
+        rhs[-1] = 1.0
+        z = lu.solve(rhs)
+        w = lu.solve(rhs, trans="T")
+        out = (G, A, col_V, col_q, e, z, w)
+        self._cache = (U.copy(), out)
+        return out
+
+    def _g_gradient(self, U: np.ndarray, e: dict, z: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """g_U = -w^T M_U z over U = (nodes, T, V, q); only the collocation rows of M depend on U.
+
+        Collocation row k of M z is R_k = (D v)_k / h - T f_x(x_k) v_k - S f(x_k), v_k = (L v)_k."""
+        cp, K = self.cp, self.K
+        N, m, n = cp.intervals, cp.degree, cp.n
+        v_nodes = z[:K].reshape(-1, n)
+        S = z[K] if self.kind is PointKind.CYCLE_FOLD else 0.0
+        sgn = self._signs()
+        Yv = v_nodes[col.node_index(N, m)] * sgn[:, :, None]
+        vk = col.collocation_states(Yv, cp.sch).reshape(-1, n)                                # (Nm, n)
+        xk = e["Xc"].reshape(-1, n)
+        wk = w[:K].reshape(-1, n)
+        T, V, q = e["T"], e["V"], e["q"]
+        Jf = e["Jf"].reshape(-1, n, n)
+        rhs = lambda X, V_=V, q_=q: self.family.rhs(X, V_, q_)          # noqa: E731
+        # f_xx[v_k, .] by a central difference of the exact Jacobians along v_k.
+        size = np.max(np.abs(vk) / cp.scales)
+        eps = FD_RELATIVE / max(size, 1e-300)
+        _, Jp = col.values_and_jacobians(rhs, xk + eps * vk)
+        _, Jm = col.values_and_jacobians(rhs, xk - eps * vk)
+        H = (Jp - Jm) / (2.0 * eps)                                     # (Nm, a, b) = d/dx_b (f_x v)_a
+        gx = np.einsum("ka,kab->kb", wk, T * H + S * Jf)               # -w^T dR/dx_k
+        per_interval = np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)) * sgn[:, :, None]
+        g_nodes = np.zeros((N * m, n))
+        np.add.at(g_nodes, col.node_index(N, m), per_interval)
+        g_T = float(np.einsum("ka,kab,kb->", wk, Jf, vk))
+        # Parameters: psi(p) = T f_x(x_k; p) v_k + S f(x_k; p), g_p = w^T dpsi/dp (central differences).
+
+        def psi(V_, q_):
+            fv = col.values_and_jacobians(lambda X: self.family.rhs(X, V_, q_), xk)[1]
+            return T * np.einsum("kab,kb->ka", fv, vk) + S * self.family.rhs(xk.T, V_, q_).T
+
+        hV = FD_RELATIVE * cp.p_scale
+        hq = FD_RELATIVE * self.q_scale
+        g_V = float(np.sum(wk * (psi(V + hV, q) - psi(V - hV, q))) / (2 * hV))
+        g_q = float(np.sum(wk * (psi(V, q + hq) - psi(V, q - hq))) / (2 * hq))
+        return np.concatenate([g_nodes.ravel(), [g_T, g_V, g_q]])
+
+    def __call__(self, U: np.ndarray):
+        K = self.K
+        try:
+            G, A, col_V, col_q, e, z, w = self.evaluate(U)
+        except (ParameterError, RuntimeError):
+            return np.full(K + 2, np.nan), SparseBordered(scipy.sparse.csr_matrix((K + 2, K + 3)))
+        g = z[-1]
+        grad = self._g_gradient(U, e, z, w)
+        top = scipy.sparse.hstack([A, scipy.sparse.csc_matrix(col_V[:, None]),
+                                   scipy.sparse.csc_matrix(col_q[:, None])])
+        J = scipy.sparse.vstack([top, scipy.sparse.csr_matrix(grad[None, :])], format="csr")
+        return np.append(G, g), SparseBordered(J)
+
+    def renormalize(self, U: np.ndarray) -> None:
+        """At an accepted point: the orbit becomes the phase reference, the borders the current null vectors."""
+        K, d = self.K, self.dim
+        _, _, _, _, _, z, w = self.evaluate(U)
+        self.c = z[:d] / np.linalg.norm(z[:d])
+        self.b = w[:d] / np.linalg.norm(w[:d])
+        self.cp.set_reference(self.cp.orbit_of(U[:K + 2]))
+        self._cache = None
+        return None
+
+    def point(self, U: np.ndarray) -> CyclePoint:
+        K = self.K
+        self.cp.set_fixed(value=float(U[K + 2]))
+        return self.cp.point(U[:K + 2])
+
+    def start(self, cycle: CyclePoint) -> np.ndarray:
+        """The unknowns at the located point of a one-parameter branch."""
+        return self.pack(cycle.orbit, cycle.speed, cycle.value)
+
+    def events(self, branch, k: int, step: float) -> list:
+        """Further codimension-two points in the last step: (kind, cycle, located) (none for these systems)."""
+        return []
+
+
+def critical_multipliers(mu: np.ndarray) -> np.ndarray:
+    """The multipliers of a fold cycle other than the two nearest +1 (the trivial one and the fold's)."""
+    order = np.argsort(np.abs(mu - 1.0))
+    return np.delete(mu, order[:2])
+
+
+# Codimension-two points of cycles along a fold curve: (kind, count that changes, test function).
+FOLD_CODIM2 = ((PointKind.FOLD_FLIP, _negative_outside, period_doubling_test),
+               (PointKind.FOLD_NEIMARK_SACKER, _complex_outside, torus_test))
+
+
+def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+               settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
+    """The curve of cycle folds through the located fold ``point`` of a speed branch, both ways, within
+    [vmin, vmax] x [lo, hi], by the minimally augmented system (module docstring).
+
+    Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier
+    through -1) and fold-Neimark-Sacker points (a complex pair through the unit circle) are detected by the change
+    in the number of multipliers outside the unit circle, with the two multipliers at +1 left out, and located by
+    Brent's method on the period-doubling or torus test function along the corrected curve (Kuznetsov 2004,
+    section 10.3; Govaerts 2000, ch. 7).
+
+    Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
+    if point.kind is not PointKind.CYCLE_FOLD:
+        raise ValueError("fold_curve follows cycle folds")
+    return _bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation)
+
+
+def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+                          settings: CycleSettings = CycleSettings(),
+                          continuation: ContinuationSettings = FOLD_SETTINGS):
+    """The curve of period-doubling points through the located ``point`` of a speed branch, both ways, within
+    [vmin, vmax] x [lo, hi], by the minimally augmented PD system (antiperiodic variational equation, see
+    :class:`FoldSystem`).  Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
+    if point.kind is not PointKind.PERIOD_DOUBLING:
+        raise ValueError("period_doubling_curve follows period-doubling points")
+    return _bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation)
+
+
+def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+                    settings: CycleSettings, continuation: ContinuationSettings, system=None):
+    """Follow the curve of ``point``'s kind through it with a bordered ``system`` (a :class:`FoldSystem` by
+    default; its unknowns end with (V, q) at K + 1, K + 2 and possibly more after them)."""
+    from .cycle_curves import CycleCurve, locate_end
+
+    folds = point.kind is PointKind.CYCLE_FOLD
+    ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
+    vmin = max(vmin, MIN_SPEED)
+    cycle: CyclePoint = point.data["cycle"]
+    q_scale = 0.1 * max(abs(cycle.value), 1e-12)
+    if system is None:
+        system = FoldSystem(family, cycle, q_scale, settings, kind=point.kind)
+    iV, iq = system.K + 1, system.K + 2
+    what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
+    U0 = system.start(cycle)
+    # Two rounds of border updates make the borders the null vectors at the start point.
+    system.renormalize(U0), system.renormalize(U0)
+    weights = system.weights()
+    t0 = tangent(system(U0)[1], weights, None)
+    start_state = (system.b.copy(), system.c.copy(), system.cp.reference)
+    halves = []
+    special: list[SpecialPoint] = []
+    for sign in (1.0, -1.0):
+        system.b, system.c = start_state[0].copy(), start_state[1].copy()
+        system.cp.set_reference(start_state[2])
+        points: list[CyclePoint] = [system.point(U0)]
+        ends: list = []
+        arclength = [0.0]
+        param = getattr(family, "param", "q")
+
+        def accept(branch, points=points, ends=ends) -> str | None:
+            U, U_old = branch.points[-1], branch.points[-2]
+            V, q = U[iV], U[iq]
+            a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
+            # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
+            # curve would come back on itself.  Near the end amp^2 is affine along the curve.
+            crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
+            if ends_at_zero and (crossed or a_new < END_AMPLITUDE):
+                s2 = -a_new ** 2 if crossed else a_new ** 2
+                lam = a_old ** 2 / (a_old ** 2 - s2) if a_old ** 2 != s2 else 1.0
+                guess = (U_old[iV] + lam * (V - U_old[iV]), U_old[iq] + lam * (q - U_old[iq]))
+                if not crossed:
+                    points.append(system.point(U))
+                found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
+                                   abs(q - U_old[iq]), vmin, vmax)
+                ends.append(found)
+                if found is None:
+                    return (f"complete: the amplitude vanishes near {guess[0] * 3.6:.3f} km/h, {param} = "
+                            f"{guess[1]:.6g} (extrapolated; no {what} point located there)")
+                return (f"complete: ends at the {what} point located at {found.speed * 3.6:.6f} km/h, "
+                        f"{param} = {found.value:.8g}")
+            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, vmin, -1), (iV, vmax, 1)):
+                if side * (U[index] - bound) <= 0.0:
+                    continue
+                # Cut the step where it leaves the window (Brent on the corrected curve) and stop there.
+                k = len(branch.points) - 2
+                try:
+                    cut = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][index] - bound, 0.0,
+                                                branch.steps[-1], xtol=1e-12)
+                    U, t = branch.point_at(k, cut)
+                    branch.points[-1], branch.tangents[-1], branch.steps[-1] = U, t, cut
+                except (RuntimeError, ValueError):
+                    pass    # keep the point just outside
+                points.append(system.point(U))
+                return f"complete: left the window at {U[iV] * 3.6:.3f} km/h, {param} = {U[iq]:.6g}"
+            p_new = system.point(U)
+            k = len(branch.points) - 2
+            step = branch.steps[-1]
+            # Cusp of cycles: the curve is smooth in (x, T, V, q) but its (V, q) projection turns back, its
+            # (V, q) tangent passing through zero: the product with the previous one changes sign.
+            Vq = slice(iV, iq + 1)
+            previous = branch.tangents[k][Vq] * weights[Vq]
+            if folds and np.dot(branch.tangents[-1][Vq] * weights[Vq], previous) < 0.0:
+                u, _, ok = locate_on_step(branch, k, step,
+                                          lambda u, t: float(np.dot(t[Vq] * weights[Vq], previous)))
+                where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
+                special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=status, data={"cycle": where, "period": where.period}))
+            for kind, count, test in FOLD_CODIM2 if folds else ():
+                before, after = (critical_multipliers(p.multipliers) for p in (points[-1], p_new))
+                if count(before) == count(after):
+                    continue
+
+                u, _, ok = locate_on_step(branch, k, step, lambda u, t, test=test: test(
+                    critical_multipliers(system.point(u).multipliers)))
+                where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
+                special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=status, data={"cycle": where, "period": where.period,
+                                                                 "multipliers": where.multipliers}))
+            for kind, where, ok in system.events(branch, k, step):
+                special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
+                                            data={"cycle": where, "period": where.period,
+                                                  "multipliers": where.multipliers}))
+            arclength.append(arclength[-1] + step)
+            points.append(p_new)
+            return None
+
+        branch = continue_curve(system, U0, sign * t0, weights, continuation, accept=accept,
+                                renormalize=system.renormalize)
+        halves.append((points, branch.status, branch.message, ends[0] if ends else None))
+    (fwd, s_fwd, m_fwd, e_fwd), (bwd, s_bwd, m_bwd, e_bwd) = halves
+    pts = list(reversed(bwd[1:])) + fwd
+    return CycleCurve(kind=point.kind, param=getattr(family, "param", "q"),
+                      speeds=np.array([p.speed for p in pts]), values=np.array([p.value for p in pts]),
+                      amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
+                      status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
+                      ends=tuple(None if e is None else (e.speed, e.value) for e in (e_bwd, e_fwd)),
+                      end_points=(e_bwd, e_fwd), special_points=tuple(special))

@@ -1,0 +1,64 @@
+"""Accuracy of the benchmark's integrator settings (``shimmy bench mbs_simulation_full mbs_simulation_reduced``,
+:data:`mbs_shimmy.simulation.BENCH_SETTINGS`).
+
+DOPRI5 samples fall on its adaptive steps, so the reference (RK67 at 1/960 s, itself within 1e-8 of 1/1920 s) is
+interpolated to them by a cubic spline (interpolation error below 1e-6 of an amplitude at 114 rad/s, the model's
+fastest mode).
+"""
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline
+
+from mbs_shimmy import Fidelity, simulate
+from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states
+from reduced_model.model import Effects
+from reduced_model.trajectory import SimulationStatus, SpeedSchedule
+
+
+@pytest.mark.parametrize("fidelity", ["full", "reduced"])
+def test_benchmark_settings_keep_1e4_accuracy(fidelity):
+    """The benchmark's 10 s run at 1.5 bar, 100 km/h: every state (the new coordinates included) within 1e-4 of
+    its amplitude in the reference run, and the error shrinks when the tolerances (the step) do, so it is the
+    setting, not luck, that holds it.  The adaptive setting of the full geometry needs fewer force evaluations
+    than RK67 at 1/240 s (16 800)."""
+    x0 = np.zeros(8)
+    x0[0] = 0.01
+    kwargs = dict(effects=Effects(), fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
+                  schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, poses=False)
+    ref = simulate(method="RK67", step=1 / 960, output_interval=1 / 960, **kwargs)
+    states = extended_states(ref)
+    spline, amplitude = CubicSpline(ref.t, states), np.max(np.abs(states), axis=0)
+
+    def error(setting):
+        run = simulate(**setting, **kwargs)
+        assert run.status is SimulationStatus.COMPLETE and abs(run.t[-1] - 10.0) < 1e-9
+        return float(np.max(np.max(np.abs(extended_states(run) - spline(run.t)), axis=0) / amplitude)), run
+
+    setting = BENCH_SETTINGS[fidelity]
+    finer_setting = (dict(setting, rtol=setting["rtol"] / 10, atol=setting["atol"] / 10) if "rtol" in setting
+                     else dict(setting, step=setting["step"] / 2))
+    coarse, run = error(setting)
+    finer, _ = error(finer_setting)
+    assert coarse < 1e-4
+    assert finer < coarse / 2
+    if "rtol" in setting:
+        assert run.extra["force_evaluations"] < 0.7 * 16800
+
+
+@pytest.mark.parametrize("tol", [{"rtol": 0.0}, {"atol": -1e-7}, {"rtol": float("nan")}])
+def test_bad_tolerances(tol):
+    from reduced_model.parameters import ParameterError
+    with pytest.raises(ParameterError, match="must be a positive number"):
+        simulate(method="DOPRI5", **tol)
+
+
+def test_scalar_tyre_formulas_equal_the_numpy_ones():
+    """The MBS evaluates the Magic Formula and the trail with :mod:`math` on floats (``force_scalar``,
+    ``trail_scalar``): the same formula as the numpy form, equal to rounding over the slip range."""
+    from reduced_model import tyre
+    from reduced_model.parameters import YANG2024
+    mf, tr = tyre.magic_formula(YANG2024, 1.5e5), tyre.trail_formula(YANG2024, 1.5e5)
+    alphas = np.linspace(-0.5, 0.5, 201)
+    assert np.allclose([mf.force_scalar(float(a)) for a in alphas], mf.force(alphas), rtol=1e-14, atol=1e-9)
+    assert np.allclose([tr.trail_scalar(float(a)) for a in alphas], tr.trail(alphas), rtol=1e-14, atol=1e-15)
