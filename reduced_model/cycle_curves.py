@@ -44,9 +44,18 @@ class CycleCurve:
     ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (V, q) where the amplitude vanishes
     end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
     special_points: tuple[SpecialPoint, ...] = ()    # codimension-two points of cycles detected along the curve
+    kappas: np.ndarray | None = None    # torus curves: cos theta of the critical pair per point (else NaN)
 
     def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
         return tuple(p for p in self.special_points if p.kind is kind)
+
+    @property
+    def neutral_saddle(self) -> np.ndarray:
+        """Per point: True where a torus curve has gone on past a 1:1 or 1:2 resonance (|kappa| > 1): the
+        critical multipliers are then a real pair mu, 1/mu, a neutral saddle cycle, not a torus bifurcation."""
+        if self.kappas is None:
+            return np.zeros(len(self.speeds), dtype=bool)
+        return np.abs(self.kappas) > 1.0
 
     @property
     def complete(self) -> bool:

@@ -240,6 +240,10 @@ class FoldSystem:
         """Further codimension-two points in the last step: (kind, cycle, located) (none for these systems)."""
         return []
 
+    def kappa(self, U: np.ndarray) -> float:
+        """kappa = cos theta of the critical pair (torus systems only; NaN here)."""
+        return float("nan")
+
 
 def critical_multipliers(mu: np.ndarray) -> np.ndarray:
     """The multipliers of a fold cycle other than the two nearest +1 (the trivial one and the fold's)."""
@@ -307,11 +311,12 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
         system.b, system.c = start_state[0].copy(), start_state[1].copy()
         system.cp.set_reference(start_state[2])
         points: list[CyclePoint] = [system.point(U0)]
+        kappas: list[float] = [system.kappa(U0)]
         ends: list = []
         arclength = [0.0]
         param = getattr(family, "param", "q")
 
-        def accept(branch, points=points, ends=ends) -> str | None:
+        def accept(branch, points=points, ends=ends, kappas=kappas) -> str | None:
             U, U_old = branch.points[-1], branch.points[-2]
             V, q = U[iV], U[iq]
             a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
@@ -324,6 +329,7 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                 guess = (U_old[iV] + lam * (V - U_old[iV]), U_old[iq] + lam * (q - U_old[iq]))
                 if not crossed:
                     points.append(system.point(U))
+                    kappas.append(system.kappa(U))
                 found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
                                    abs(q - U_old[iq]), vmin, vmax)
                 ends.append(found)
@@ -345,6 +351,7 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                 except (RuntimeError, ValueError):
                     pass    # keep the point just outside
                 points.append(system.point(U))
+                kappas.append(system.kappa(U))
                 return f"complete: left the window at {U[iV] * 3.6:.3f} km/h, {param} = {U[iq]:.6g}"
             p_new = system.point(U)
             k = len(branch.points) - 2
@@ -380,16 +387,18 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                                                   "multipliers": where.multipliers}))
             arclength.append(arclength[-1] + step)
             points.append(p_new)
+            kappas.append(system.kappa(U))
             return None
 
         branch = continue_curve(system, U0, sign * t0, weights, continuation, accept=accept,
                                 renormalize=system.renormalize)
-        halves.append((points, branch.status, branch.message, ends[0] if ends else None))
-    (fwd, s_fwd, m_fwd, e_fwd), (bwd, s_bwd, m_bwd, e_bwd) = halves
+        halves.append((points, branch.status, branch.message, ends[0] if ends else None, kappas))
+    (fwd, s_fwd, m_fwd, e_fwd, k_fwd), (bwd, s_bwd, m_bwd, e_bwd, k_bwd) = halves
     pts = list(reversed(bwd[1:])) + fwd
     return CycleCurve(kind=point.kind, param=getattr(family, "param", "q"),
                       speeds=np.array([p.speed for p in pts]), values=np.array([p.value for p in pts]),
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
                       ends=tuple(None if e is None else (e.speed, e.value) for e in (e_bwd, e_fwd)),
-                      end_points=(e_bwd, e_fwd), special_points=tuple(special))
+                      end_points=(e_bwd, e_fwd), special_points=tuple(special),
+                      kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd))

@@ -10,8 +10,9 @@ gradients are the most independent, join the collocation and phase equations in 
 U = (x nodes, T, V, q, kappa).  Gradients are -W_i^T A_U Z_j with W from the transposed system (same LU), second
 derivatives of f from central differences of the exact Jacobians along the columns of Z, as for the cycle folds
 (:mod:`reduced_model.cycle_fold_system`, whose curve follower is reused).  Borders are reset to the current null
-vectors at every accepted point.  Along the curve kappa itself locates the strong resonances 1:3 (kappa = -1/2)
-and 1:4 (kappa = 0).
+vectors at every accepted point.  Along the curve kappa itself locates the strong resonances 1:1 (kappa = 1),
+1:2 (kappa = -1), 1:3 (kappa = -1/2) and 1:4 (kappa = 0); past 1:1 and 1:2 (|kappa| > 1) the points are neutral
+saddle cycles, not torus points, and are marked so.
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ from .cycles import CyclePoint, CycleSettings, classify_multipliers
 from .parameters import ParameterError
 from .special_points import PointKind, SpecialPoint
 
-RESONANCE_KAPPA = ((PointKind.RESONANCE_1_3, -0.5), (PointKind.RESONANCE_1_4, 0.0))
+RESONANCE_KAPPA = ((PointKind.RESONANCE_1_1, 1.0), (PointKind.RESONANCE_1_2, -1.0),
+                   (PointKind.RESONANCE_1_3, -0.5), (PointKind.RESONANCE_1_4, 0.0))
 
 
 class TorusSystem(FoldSystem):
@@ -184,8 +186,13 @@ class TorusSystem(FoldSystem):
         self._cache = None
         return None
 
+    def kappa(self, U: np.ndarray) -> float:
+        return float(U[self.K + 3])
+
     def events(self, branch, k: int, step: float) -> list:
-        """The strong resonances 1:3 and 1:4: kappa through -1/2 and 0."""
+        """The strong resonances 1:1, 1:2, 1:3 and 1:4: kappa through 1, -1, -1/2 and 0.  Past 1:1 or 1:2 the
+        curve goes on as a curve of neutral saddle cycles (real multipliers mu, 1/mu; Kuznetsov 2004, sections
+        9.5 and 10.3), marked per point by :attr:`reduced_model.cycle_curves.CycleCurve.neutral_saddle`."""
         K = self.K
         found = []
         before, after = branch.points[k][K + 3], branch.points[-1][K + 3]

@@ -1,0 +1,77 @@
+"""Codimension-two points of cycles along torus and period-doubling curves, on constructed systems whose points
+are known in closed form: the 1:1 and 1:2 strong resonances where a torus curve turns into a curve of neutral
+saddle cycles (Kuznetsov 2004, sections 9.5 and 10.3), and fold-flip points on period-doubling curves."""
+
+import numpy as np
+import pytest
+from test_cycle_curve_ends import FLIP_BETA, BautinWithBlock, ComplexStepFamily
+
+from reduced_model.cycle_curves import cycle_bifurcation_curve
+from reduced_model.cycles import branch_from_hopf
+from reduced_model.hopf import hopf_points
+from reduced_model.special_points import PointKind, PointStatus
+
+
+class CycleWithBlock(ComplexStepFamily):
+    """The supercritical cycle x' = mu x - W y - x r^2 (radius sqrt(mu), frequency W, mu = V - SHIFT, period
+    T = 2 pi / W) with an attached linear block of damping a = mu - C, so that the torus (Neimark-Sacker) curve
+    is the line V = SHIFT + C, r^2 = C, for every q.
+
+    ``resonance`` 1: the block [[a, 1], [-q, a]], multipliers exp(T (a +- sqrt(-q))): on the curve kappa =
+    cos(T sqrt(q)) for q > 0, cosh(T sqrt(-q)) for q < 0, through 1 (a Jordan pair at +1) at q = 0.
+    ``resonance`` 2: the block rotating at W / 2 + q with a reflection coupling BETA r S(W t) to the cycle; in the
+    frame turning with half the cycle's angle it is [[a + BETA r, -q], [q, a - BETA r]], so the multipliers are
+    -exp(T (a +- sqrt(BETA^2 r^2 - q^2))): kappa = -cos(T sqrt(q^2 - BETA^2 C)), through -1 at q = BETA sqrt(C)."""
+
+    param = "q"
+    n = 4
+    SHIFT, W, C, BETA = 3.0, 2.0, 0.3, 0.8
+
+    def __init__(self, resonance: int):
+        self.resonance = resonance
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y, u, v = X
+        mu = V - self.SHIFT
+        r2 = x * x + y * y
+        a = mu - self.C
+        if self.resonance == 1:
+            block = [a * u + v, -q * u + a * v]
+        else:
+            turn = 0.5 * self.W + q
+            block = [a * u - turn * v + self.BETA * (x * u + y * v), turn * u + a * v + self.BETA * (y * u - x * v)]
+        return np.array([mu * x - self.W * y - x * r2, self.W * x + mu * y - y * r2, *block])
+
+    def kappa(self, q):
+        T = 2 * np.pi / self.W
+        if self.resonance == 1:
+            return np.where(q > 0, np.cos(T * np.sqrt(np.abs(q))), np.cosh(T * np.sqrt(np.abs(q))))
+        d = q * q - self.BETA ** 2 * self.C
+        return -np.where(d > 0, np.cos(T * np.sqrt(np.abs(d))), np.cosh(T * np.sqrt(np.abs(d))))
+
+
+@pytest.mark.parametrize("resonance, q_start, window, kind, q_star", [
+    (1, 0.1, (-0.2, 0.2), PointKind.RESONANCE_1_1, 0.0),
+    (2, 0.5, (0.3, 0.52), PointKind.RESONANCE_1_2, CycleWithBlock.BETA * np.sqrt(CycleWithBlock.C)),
+])
+def test_torus_curve_through_a_strong_resonance_is_flagged_there(resonance, q_start, window, kind, q_star):
+    family = CycleWithBlock(resonance)
+    (h,) = [h for h in hopf_points(family, q_start, family.SHIFT - 0.2, family.SHIFT + 0.2)
+            if abs(h.omega - family.W) < 1e-9]
+    branch = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0)
+    (torus,) = [p for p in branch.points_of(PointKind.TORUS) if abs(p.speed - family.SHIFT - family.C) < 1e-6]
+    curve = cycle_bifurcation_curve(family, torus, *window, 0.0, family.SHIFT + 2.0)
+    assert curve.complete and curve.values.min() == pytest.approx(window[0])
+    assert curve.values.max() == pytest.approx(window[1])
+    assert np.max(np.abs(curve.speeds - family.SHIFT - family.C)) < 1e-9
+    assert np.max(np.abs(curve.kappas - family.kappa(curve.values))) < 1e-8
+    (r,) = curve.special_points
+    assert r.kind is kind and r.status is PointStatus.LOCATED
+    assert r.value == pytest.approx(q_star, abs=1e-8) and r.speed == pytest.approx(family.SHIFT + family.C, abs=1e-9)
+    lo, hi = sorted(r.bracket)
+    assert lo < hi
+    # Past the resonance the points are neutral saddle cycles, and marked so.
+    beyond = curve.values < q_star
+    assert np.array_equal(curve.neutral_saddle[np.abs(curve.values - q_star) > 1e-6],
+                          beyond[np.abs(curve.values - q_star) > 1e-6])
