@@ -35,6 +35,7 @@ import scipy.sparse.linalg
 from . import collocation as col
 from .continuation import ContinuationSettings, continue_curve, locate_on_step, tangent
 from .cycles import (
+    COMPLEX_TOL,
     SPEED,
     CyclePoint,
     CycleProblem,
@@ -251,9 +252,32 @@ def critical_multipliers(mu: np.ndarray) -> np.ndarray:
     return np.delete(mu, order[:2])
 
 
-# Codimension-two points of cycles along a fold curve: (kind, count that changes, test function).
-FOLD_CODIM2 = ((PointKind.FOLD_FLIP, _negative_outside, period_doubling_test),
-               (PointKind.FOLD_NEIMARK_SACKER, _complex_outside, torus_test))
+def flip_critical_multipliers(mu: np.ndarray) -> np.ndarray:
+    """The multipliers of a period-doubling cycle other than the one nearest +1 (trivial) and the one nearest -1."""
+    rest = np.delete(mu, int(np.argmin(np.abs(mu - 1.0))))
+    return np.delete(rest, int(np.argmin(np.abs(rest + 1.0))))
+
+
+def _positive_outside(mu: np.ndarray) -> int:
+    return int(np.sum((np.abs(mu.imag) <= COMPLEX_TOL) & (mu.real > 1.0)))
+
+
+def fold_test(mu: np.ndarray) -> float:
+    """Re(mu_1 + mu_2) - 2 of the two multipliers nearest +1 (all multipliers, the trivial one included): the
+    non-trivial one's mu - 1 up to the discretisation error of the trivial one, whichever of them is nearer +1."""
+    pair = mu[np.argsort(np.abs(mu - 1.0))[:2]]
+    return float(np.sum(pair.real) - 2.0)
+
+
+# Codimension-two points of cycles along fold and period-doubling curves: (kind, the multipliers left when the
+# critical ones are taken out, count among them that changes, test function on all multipliers).
+CODIM2 = {PointKind.CYCLE_FOLD: (
+    (PointKind.FOLD_FLIP, critical_multipliers, _negative_outside,
+     lambda mu: period_doubling_test(critical_multipliers(mu))),
+    (PointKind.FOLD_NEIMARK_SACKER, critical_multipliers, _complex_outside,
+     lambda mu: torus_test(critical_multipliers(mu)))),
+    PointKind.PERIOD_DOUBLING: (
+    (PointKind.FOLD_FLIP, flip_critical_multipliers, _positive_outside, fold_test),)}
 
 
 def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
@@ -278,7 +302,10 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                           continuation: ContinuationSettings = FOLD_SETTINGS):
     """The curve of period-doubling points through the located ``point`` of a speed branch, both ways, within
     [vmin, vmax] x [lo, hi], by the minimally augmented PD system (antiperiodic variational equation, see
-    :class:`FoldSystem`).  Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
+    :class:`FoldSystem`).  Along the curve, fold-flip points (a further multiplier through +1, the curve touching
+    a cycle-fold curve; Kuznetsov 2004, section 10.3) are detected by the change in the number of real multipliers
+    above 1, with the trivial one and the one at -1 left out, and located by Brent's method on the sum of the two
+    multipliers nearest +1.  Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
     if point.kind is not PointKind.PERIOD_DOUBLING:
         raise ValueError("period_doubling_curve follows period-doubling points")
     return _bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation)
@@ -367,13 +394,13 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                 special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period}))
-            for kind, count, test in FOLD_CODIM2 if folds else ():
-                before, after = (critical_multipliers(p.multipliers) for p in (points[-1], p_new))
+            for kind, critical, count, test in CODIM2.get(point.kind, ()):
+                before, after = (critical(p.multipliers) for p in (points[-1], p_new))
                 if count(before) == count(after):
                     continue
 
-                u, _, ok = locate_on_step(branch, k, step, lambda u, t, test=test: test(
-                    critical_multipliers(system.point(u).multipliers)))
+                u, _, ok = locate_on_step(branch, k, step,
+                                          lambda u, t, test=test: test(system.point(u).multipliers))
                 where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
                 special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),

@@ -4,7 +4,7 @@ saddle cycles (Kuznetsov 2004, sections 9.5 and 10.3), and fold-flip points on p
 
 import numpy as np
 import pytest
-from test_cycle_curve_ends import FLIP_BETA, BautinWithBlock, ComplexStepFamily
+from test_cycle_curve_ends import FLIP_BETA, BautinWithBlock, CycleWithOscillator
 
 from reduced_model.cycle_curves import cycle_bifurcation_curve
 from reduced_model.cycles import branch_from_hopf
@@ -12,7 +12,7 @@ from reduced_model.hopf import hopf_points
 from reduced_model.special_points import PointKind, PointStatus
 
 
-class CycleWithBlock(ComplexStepFamily):
+class CycleWithBlock(CycleWithOscillator):
     """The supercritical cycle x' = mu x - W y - x r^2 (radius sqrt(mu), frequency W, mu = V - SHIFT, period
     T = 2 pi / W) with an attached linear block of damping a = mu - C, so that the torus (Neimark-Sacker) curve
     is the line V = SHIFT + C, r^2 = C, for every q.
@@ -24,8 +24,7 @@ class CycleWithBlock(ComplexStepFamily):
     -exp(T (a +- sqrt(BETA^2 r^2 - q^2))): kappa = -cos(T sqrt(q^2 - BETA^2 C)), through -1 at q = BETA sqrt(C)."""
 
     param = "q"
-    n = 4
-    SHIFT, W, C, BETA = 3.0, 2.0, 0.3, 0.8
+    BETA = 0.8
 
     def __init__(self, resonance: int):
         self.resonance = resonance
@@ -33,15 +32,13 @@ class CycleWithBlock(ComplexStepFamily):
     def rhs(self, X, V, q):
         X = np.asarray(X)
         x, y, u, v = X
-        mu = V - self.SHIFT
-        r2 = x * x + y * y
-        a = mu - self.C
+        a = V - self.SHIFT - self.C
         if self.resonance == 1:
             block = [a * u + v, -q * u + a * v]
         else:
             turn = 0.5 * self.W + q
             block = [a * u - turn * v + self.BETA * (x * u + y * v), turn * u + a * v + self.BETA * (y * u - x * v)]
-        return np.array([mu * x - self.W * y - x * r2, self.W * x + mu * y - y * r2, *block])
+        return np.array([*CycleWithOscillator.rhs(self, X, V, q)[:2], *block])
 
     def kappa(self, q):
         T = 2 * np.pi / self.W
@@ -75,3 +72,25 @@ def test_torus_curve_through_a_strong_resonance_is_flagged_there(resonance, q_st
     beyond = curve.values < q_star
     assert np.array_equal(curve.neutral_saddle[np.abs(curve.values - q_star) > 1e-6],
                           beyond[np.abs(curve.values - q_star) > 1e-6])
+
+
+def test_fold_flip_on_a_period_doubling_curve():
+    """BautinWithBlock (flip): the cycle of radius r (V = SHIFT - q r^2 + r^4) has the multiplier
+    -exp(T (q - 1.5 + FLIP_BETA r)), so its period-doubling curve is r = (1.5 - q) / FLIP_BETA; it touches the fold
+    curve r^2 = q / 2, V = SHIFT - q^2 / 4, where the cycle's own radial multiplier passes +1: the fold-flip point
+    q - 1.5 + FLIP_BETA sqrt(q / 2) = 0."""
+    from scipy.optimize import brentq
+
+    family = BautinWithBlock(flip=True)
+    (h,) = [h for h in hopf_points(family, 1.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
+            if abs(h.omega - family.W) < 1e-9]
+    (pd,) = branch_from_hopf(family, h, family.SHIFT - 3.0, family.SHIFT + 0.5).points_of(PointKind.PERIOD_DOUBLING)
+    curve = cycle_bifurcation_curve(family, pd, 0.5, 1.3, family.SHIFT - 5.0, family.SHIFT + 1.0)
+    assert curve.complete
+    r = (1.5 - curve.values) / FLIP_BETA
+    assert np.max(np.abs(curve.speeds - (family.SHIFT - curve.values * r ** 2 + r ** 4))) < 1e-9
+    q_ff = brentq(lambda b: b - 1.5 + FLIP_BETA * np.sqrt(b / 2), 0.01, 3.0)
+    (ff,) = curve.special_points
+    assert ff.kind is PointKind.FOLD_FLIP and ff.status is PointStatus.LOCATED
+    assert ff.value == pytest.approx(q_ff, abs=1e-8) and ff.speed == pytest.approx(family.SHIFT - q_ff ** 2 / 4,
+                                                                                  abs=1e-9)
