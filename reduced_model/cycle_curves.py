@@ -45,6 +45,16 @@ class CycleCurve:
     end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
     special_points: tuple[SpecialPoint, ...] = ()    # codimension-two points of cycles detected along the curve
     kappas: np.ndarray | None = None    # torus curves: cos theta of the critical pair per point (else NaN)
+    errors: np.ndarray | None = None    # estimated collocation error per point, relative to the amplitudes
+    tolerances: np.ndarray | None = None    # the tolerance each point was computed for
+
+    @property
+    def meets_tolerance(self) -> np.ndarray:
+        """Per point: False where the error estimate exceeds the tolerance.  The curves keep the mesh of their
+        start point (no remeshing along a bordered system), so this marks, it does not enforce."""
+        if self.errors is None:
+            return np.ones(len(self.speeds), dtype=bool)
+        return ~(self.errors > self.tolerances)
 
     def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
         return tuple(p for p in self.special_points if p.kind is kind)

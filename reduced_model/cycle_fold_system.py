@@ -428,4 +428,5 @@ def _bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: flo
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
                       ends=tuple(None if e is None else (e.speed, e.value) for e in (e_bwd, e_fwd)),
                       end_points=(e_bwd, e_fwd), special_points=tuple(special),
-                      kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd))
+                      kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd),
+                      errors=np.array([p.error for p in pts]), tolerances=np.array([p.tolerance for p in pts]))

@@ -94,3 +94,24 @@ def test_fold_flip_on_a_period_doubling_curve():
     assert ff.kind is PointKind.FOLD_FLIP and ff.status is PointStatus.LOCATED
     assert ff.value == pytest.approx(q_ff, abs=1e-8) and ff.speed == pytest.approx(family.SHIFT - q_ff ** 2 / 4,
                                                                                   abs=1e-9)
+
+
+def test_cycle_curve_marks_the_points_that_miss_the_collocation_tolerance():
+    """The curves keep their start's mesh: with the default tolerance every point meets it, with one far below
+    the start's error estimate every point is marked as missing it."""
+    from dataclasses import replace
+
+    from reduced_model.cycles import CycleSettings
+
+    family = CycleWithBlock(2)
+    (h,) = [h for h in hopf_points(family, 0.5, family.SHIFT - 0.2, family.SHIFT + 0.2)
+            if abs(h.omega - family.W) < 1e-9]
+    branch = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0)
+    (torus,) = [p for p in branch.points_of(PointKind.TORUS) if abs(p.speed - family.SHIFT - family.C) < 1e-6]
+    error = torus.data["cycle"].error
+    assert 0.0 < error < CycleSettings().tolerance
+    for tolerance, meets in ((CycleSettings().tolerance, True), (0.01 * error, False)):
+        curve = cycle_bifurcation_curve(family, torus, 0.45, 0.5, 0.0, family.SHIFT + 2.0,
+                                        settings=replace(CycleSettings(), tolerance=tolerance))
+        assert np.all(curve.tolerances == tolerance) and np.all(curve.errors > 0.0)
+        assert np.all(curve.meets_tolerance == meets)
