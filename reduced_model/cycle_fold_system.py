@@ -238,8 +238,20 @@ class FoldSystem:
         return self.pack(cycle.orbit, cycle.speed, cycle.value)
 
     def events(self, branch, k: int, step: float) -> list:
-        """Further codimension-two points in the last step: (kind, cycle, located) (none for these systems)."""
-        return []
+        """Further codimension-two points in the last step: (kind, cycle, located).  Period doubling: generalized
+        period-doubling points, where the normal-form coefficient
+        (:func:`reduced_model.cycle_normal_forms.period_doubling_coefficient`) changes sign, located by Brent's
+        method on it along the corrected curve."""
+        if self.kind is not PointKind.PERIOD_DOUBLING:
+            return []
+        from .cycle_normal_forms import period_doubling_coefficient
+
+        def coefficient(u, t=None):
+            return period_doubling_coefficient(self, u)
+        if not coefficient(branch.points[k]) * coefficient(branch.points[-1]) < 0.0:
+            return []
+        u, _, ok = locate_on_step(branch, k, step, coefficient)
+        return [(PointKind.GENERALIZED_PERIOD_DOUBLING, self.point(u), ok)]
 
     def kappa(self, U: np.ndarray) -> float:
         """kappa = cos theta of the critical pair (torus systems only; NaN here)."""
@@ -305,7 +317,8 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
     :class:`FoldSystem`).  Along the curve, fold-flip points (a further multiplier through +1, the curve touching
     a cycle-fold curve; Kuznetsov 2004, section 10.3) are detected by the change in the number of real multipliers
     above 1, with the trivial one and the one at -1 left out, and located by Brent's method on the sum of the two
-    multipliers nearest +1.  Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
+    multipliers nearest +1; generalized period-doubling points (the normal-form coefficient through zero) by
+    :meth:`FoldSystem.events`.  Returns a :class:`reduced_model.cycle_curves.CycleCurve`."""
     if point.kind is not PointKind.PERIOD_DOUBLING:
         raise ValueError("period_doubling_curve follows period-doubling points")
     return _bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation)

@@ -115,3 +115,64 @@ def test_cycle_curve_marks_the_points_that_miss_the_collocation_tolerance():
                                         settings=replace(CycleSettings(), tolerance=tolerance))
         assert np.all(curve.tolerances == tolerance) and np.all(curve.errors > 0.0)
         assert np.all(curve.meets_tolerance == meets)
+
+
+class FlipWithCubic(CycleWithOscillator):
+    """The supercritical cycle (radius r, r^2 = mu = V - SHIFT without the block) with a block rotating at half its
+    angle and coupled by BETA r S(theta) (as in :class:`CycleWithBlock`), damping a = mu - C - (q - Q0) / 10: the
+    multiplier -exp(T (a + BETA r)) is -1 on the period-doubling curve sqrt(mu) = (sqrt(BETA^2 + 4 C_q) - BETA) / 2,
+    C_q = C + (q - Q0) / 10.  The block feeds back into the cycle, RHO |w|^2 into its radial rate and NU |w|^2 into
+    its angular speed, and has its own cubic term SIGMA (q) |w|^2 w.  On the centre manifold (the half-angle frame,
+    w = (xi, 0), r^2 = mu + RHO xi^2) xi' = (SIGMA + BETA RHO / (2 r)) xi^3: the normal-form coefficient with v1 of
+    unit mean square is c = SIGMA + BETA RHO / (2 r) exactly (the angular feedback gives alpha != 0 but leaves c:
+    it only turns w at order xi^2)."""
+
+    param = "q"
+    BETA, Q0, RHO, NU = 0.8, 0.4, 0.3, 0.2
+
+    def sigma(self, q):
+        return q - self.Q0
+
+    def radius(self, q):
+        return 0.5 * (np.sqrt(self.BETA ** 2 + 4 * (self.C + 0.1 * (q - self.Q0))) - self.BETA)
+
+    def coefficient(self, q):
+        return self.sigma(q) + self.BETA * self.RHO / (2 * self.radius(q))
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y, u, v = X
+        mu = V - self.SHIFT
+        w2 = u * u + v * v
+        grow, turn = mu - x * x - y * y + self.RHO * w2, self.W * (1 + self.NU * w2)
+        a = mu - self.C - 0.1 * (q - self.Q0)
+        half = 0.5 * turn
+        s = self.sigma(q) * w2
+        return np.array([grow * x - turn * y, turn * x + grow * y,
+                         a * u - half * v + self.BETA * (x * u + y * v) + s * u,
+                         half * u + a * v + self.BETA * (y * u - x * v) + s * v])
+
+
+def test_period_doubling_coefficient_and_generalized_period_doubling_point():
+    from scipy.optimize import brentq
+
+    from reduced_model.cycle_fold_system import FoldSystem
+    from reduced_model.cycle_normal_forms import period_doubling_coefficient
+
+    family = FlipWithCubic()
+    q0 = 0.3
+    (h,) = [h for h in hopf_points(family, q0, family.SHIFT - 0.2, family.SHIFT + 0.2)
+            if abs(h.omega - family.W) < 1e-9]
+    (pd,) = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0).points_of(PointKind.PERIOD_DOUBLING)
+    assert pd.speed == pytest.approx(family.SHIFT + family.radius(q0) ** 2, abs=1e-9)
+    system = FoldSystem(family, pd.data["cycle"], 0.1, kind=PointKind.PERIOD_DOUBLING)
+    U = system.start(pd.data["cycle"])
+    assert period_doubling_coefficient(system, U) == pytest.approx(family.coefficient(q0), abs=1e-8)
+    curve = cycle_bifurcation_curve(family, pd, -0.2, 0.4, 0.0, family.SHIFT + 2.0)
+    assert curve.complete
+    assert np.max(np.abs(curve.speeds - family.SHIFT - family.radius(curve.values) ** 2)) < 1e-9
+    (gpd,) = curve.special_points
+    q_star = brentq(family.coefficient, -0.2, 0.4)
+    assert gpd.kind is PointKind.GENERALIZED_PERIOD_DOUBLING and gpd.status is PointStatus.LOCATED
+    assert gpd.value == pytest.approx(q_star, abs=1e-8)
+    assert gpd.speed == pytest.approx(family.SHIFT + family.radius(q_star) ** 2, abs=1e-9)
