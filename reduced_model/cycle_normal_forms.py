@@ -13,7 +13,19 @@ adjoint eigenfunction psi gives
 
     c = int <psi, T (C(v1, v1, v1) + 3 B(v1, h2)) - 6 alpha v1'> / (6 T int <psi, v1>).
 
-c = 0 on a period-doubling curve is a generalized period-doubling point.  psi comes from the transposed
+c = 0 on a period-doubling curve is a generalized period-doubling point.
+
+Neimark-Sacker (section 5 of the same paper; MatCont's ``nf_NS``): with multipliers exp(+-i theta),
+x = x0 + xi v + conj + xi^2 / 2 h20 + |xi|^2 h11 + ..., dtau/dt = (1 + alpha |xi|^2) / T,
+dxi/dt = i theta / T xi + d xi |xi|^2, v periodic with v' = T f_x v - i theta v, int <v, conj(v)> = 1:
+
+    h11' - T f_x h11 = T B(v, conj v) - alpha T f(x0)         (periodic, bordered as h2 above)
+    h20' + 2 i theta h20 - T f_x h20 = T B(v, v)               (periodic, regular away from 1:1, 1:2, 1:3)
+    d = int <psi, T (C(v, v, conj v) + 2 B(v, h11) + B(conj v, h20)) - 2 alpha v'> / (2 T int <psi, v>),
+
+psi the left null vector of the collocated operator d/dtau + i theta - T f_x (transposed, not conjugated, so
+that the sums are the bilinear integrals).  Re d is the first Lyapunov coefficient of the torus bifurcation (up to
+a positive factor); its zero on a torus curve is a Chenciner (degenerate Neimark-Sacker) point.  psi comes from the transposed
 bordered variational system (the left null vector of the collocation rows, which already carries the Gauss
 quadrature weights, so that sums over collocation points are the integrals); B and C from central differences of
 the exact (complex-step) Jacobians along the directions.
@@ -42,33 +54,94 @@ def _directional(jac, xk: np.ndarray, d: np.ndarray, scales: np.ndarray, step: f
     return size * (Jp - Jm) / (2.0 * step), size ** 2 * (Jp - 2.0 * J0 + Jm) / step ** 2, J0
 
 
+class _Forms:
+    """The cycle's collocation data at U and the multilinear forms at its collocation points."""
+
+    def __init__(self, system, U: np.ndarray):
+        cp = system.cp
+        self.cp, self.K, self.system = cp, system.K, system
+        self.N, self.m, self.n = cp.intervals, cp.degree, cp.n
+        self.pieces = system.evaluate(U)
+        e = self.pieces[4]
+        self.T, V, q = e["T"], e["V"], e["q"]
+        self.Jf = e["Jf"]
+        self.xk = e["Xc"].reshape(-1, self.n)
+        self.quad = (cp.widths[:, None] * cp.sch.weights[None, :]).reshape(-1)    # Gauss weights on [0, 1]
+        self.jac = lambda X: col.values_and_jacobians(lambda Z: system.family.rhs(Z, V, q), X)[1]   # noqa: E731
+
+    def at_points(self, nodes: np.ndarray, signs: np.ndarray | None = None) -> np.ndarray:
+        N, m, n = self.N, self.m, self.n
+        Y = nodes.reshape(-1, n)[col.node_index(N, m)]
+        if signs is not None:
+            Y = Y * signs[:, :, None]
+        return col.collocation_states(Y, self.cp.sch).reshape(-1, n)
+
+    def normalized(self, v: np.ndarray) -> np.ndarray:
+        return v / np.sqrt(np.einsum("k,ka,ka->", self.quad, v, np.conj(v)).real)
+
+    def B(self, d: np.ndarray, other: np.ndarray) -> np.ndarray:
+        """B(d, other) at every point, d real or complex."""
+        out = np.einsum("kab,kb->ka", _directional(self.jac, self.xk, d.real, self.cp.scales, B_STEP)[0], other)
+        if np.iscomplexobj(d):
+            out = out + 1j * np.einsum("kab,kb->ka",
+                                       _directional(self.jac, self.xk, d.imag, self.cp.scales, B_STEP)[0], other)
+        return out
+
+    def C(self, d: np.ndarray) -> np.ndarray:
+        """C(d, d, .) as a matrix field, d real."""
+        return _directional(self.jac, self.xk, d, self.cp.scales, C_STEP)[1]
+
+    def periodic_solve(self, rhs: np.ndarray) -> tuple[np.ndarray, float]:
+        """h with h' - T f_x h = rhs + s f (periodic, phase-fixed) from the bordered periodic Jacobian: (h, s)."""
+        A = self.pieces[1]
+        sol = scipy.sparse.linalg.splu(A.tocsc()).solve(np.append(rhs.ravel(), 0.0))
+        return self.at_points(sol[:self.K]), float(sol[self.K])
+
+    def shifted(self, omega: float) -> scipy.sparse.spmatrix:
+        """The collocated periodic operator d/dtau + i omega - T f_x (K x K, complex)."""
+        N, m, n = self.N, self.m, self.n
+        rows, cols = col.block_pattern(N, m, n)
+        data = col.block_jacobians(self.Jf - (1j * omega / self.T) * np.eye(n), self.cp.widths, self.T, self.cp.sch)
+        return scipy.sparse.csc_matrix((data.ravel(), (rows, cols)), shape=(self.K, self.K))
+
+
 def period_doubling_coefficient(system, U: np.ndarray) -> float:
     """The period-doubling normal-form coefficient c (module docstring) of the cycle of a period-doubling
     :class:`reduced_model.cycle_fold_system.FoldSystem` at its unknowns ``U`` (a point of its curve)."""
-    cp, K = system.cp, system.K
-    N, m, n = cp.intervals, cp.degree, cp.n
-    _, A, _, _, e, z, w = system.evaluate(U)
-    T, V, q = e["T"], e["V"], e["q"]
-    xk = e["Xc"].reshape(-1, n)
-    quad = (cp.widths[:, None] * cp.sch.weights[None, :]).reshape(-1)          # Gauss weights on [0, 1]
-
-    def jac(X):
-        return col.values_and_jacobians(lambda Z: system.family.rhs(Z, V, q), X)[1]
-
-    def at_points(nodes: np.ndarray, signs: np.ndarray) -> np.ndarray:
-        Y = nodes.reshape(-1, n)[col.node_index(N, m)] * signs[:, :, None]
-        return col.collocation_states(Y, cp.sch).reshape(-1, n)
-
-    v = at_points(z[:K], system._signs())
-    v = v / np.sqrt(np.einsum("k,ka,ka->", quad, v, v))
-    psi = w[:K].reshape(-1, n)
-    dB, dC, J0 = _directional(jac, xk, v, cp.scales, C_STEP)
-    Bvv = np.einsum("kab,kb->ka", _directional(jac, xk, v, cp.scales, B_STEP)[0], v)
-    Cvvv = np.einsum("kab,kb->ka", dC, v)
-    sol = scipy.sparse.linalg.splu(A.tocsc()).solve(np.append(T * Bvv.ravel(), 0.0))
-    alpha = -sol[K] / (2.0 * T)
-    h = at_points(sol[:K], np.ones((N, m + 1)))
-    Bvh = np.einsum("kab,kb->ka", _directional(jac, xk, h, cp.scales, B_STEP)[0], v)
-    dv = T * np.einsum("kab,kb->ka", J0, v)
-    num = np.sum(psi * (T * (Cvvv + 3.0 * Bvh) - 6.0 * alpha * dv))
+    f = _Forms(system, U)
+    z, w = f.pieces[5], f.pieces[6]
+    T = f.T
+    v = f.normalized(f.at_points(z[:f.K], system._signs()))
+    psi = w[:f.K].reshape(-1, f.n)
+    Cvvv = np.einsum("kab,kb->ka", f.C(v), v)
+    h, s = f.periodic_solve(T * f.B(v, v))
+    alpha = -s / (2.0 * T)
+    dv = T * np.einsum("kab,kb->ka", f.Jf.reshape(-1, f.n, f.n), v)
+    num = np.sum(psi * (T * (Cvvv + 3.0 * f.B(h, v)) - 6.0 * alpha * dv))
     return float(num / (6.0 * T * np.sum(psi * v)))
+
+
+def neimark_sacker_coefficient(system, U: np.ndarray) -> complex:
+    """The Neimark-Sacker normal-form coefficient d (module docstring) of the cycle of a
+    :class:`reduced_model.torus_system.TorusSystem` at its unknowns ``U``; Re d < 0: supercritical (a stable
+    torus is born)."""
+    f = _Forms(system, U)
+    T, n, K = f.T, f.n, f.K
+    theta = float(np.arccos(np.clip(U[K + 3], -1.0, 1.0)))
+    lu = scipy.sparse.linalg.splu(f.shifted(theta))
+    rng = np.random.default_rng(3)
+    v_nodes, psi = (rng.standard_normal(K) + 1j * rng.standard_normal(K) for _ in range(2))
+    for _ in range(2):          # inverse iteration on the (nearly) singular operator: its null vectors
+        v_nodes = lu.solve(v_nodes / np.linalg.norm(v_nodes))
+        psi = lu.solve(psi / np.linalg.norm(psi), trans="T")
+    v = f.normalized(f.at_points(v_nodes))
+    psi = psi.reshape(-1, n)
+    a, b = v.real, v.imag
+    Ca, Cb = f.C(a), f.C(b)
+    Cvvv = (np.einsum("kab,kb->ka", Ca + Cb, a) + 1j * np.einsum("kab,kb->ka", Ca + Cb, b))
+    h11, s = f.periodic_solve(T * f.B(a, a) + T * f.B(b, b))
+    alpha = -s / T
+    h20 = f.at_points(scipy.sparse.linalg.splu(f.shifted(2.0 * theta)).solve((T * f.B(v, v)).ravel()))
+    dv = T * np.einsum("kab,kb->ka", f.Jf.reshape(-1, n, n), v) - 1j * theta * v
+    num = np.sum(psi * (T * (Cvvv + 2.0 * f.B(h11, v) + f.B(h20, np.conj(v))) - 2.0 * alpha * dv))
+    return complex(num / (2.0 * T * np.sum(psi * v)))

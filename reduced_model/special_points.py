@@ -19,6 +19,7 @@ class PointKind(enum.Enum):
     FOLD_FLIP = "fold_flip"                        # on a cycle-fold curve: a multiplier through -1
     FOLD_NEIMARK_SACKER = "fold_neimark_sacker"    # on a cycle-fold curve: a complex pair through the unit circle
     GENERALIZED_PERIOD_DOUBLING = "generalized_period_doubling"  # on a PD curve: the flip coefficient through zero
+    CHENCINER = "chenciner"                        # on a torus curve: Re of the NS coefficient through zero
     RESONANCE_1_1 = "resonance_1_1"                # on a torus curve: the critical pair meets at +1 (kappa = 1)
     RESONANCE_1_2 = "resonance_1_2"                # on a torus curve: the critical pair meets at -1 (kappa = -1)
     RESONANCE_1_3 = "resonance_1_3"                # on a torus curve: the critical pair at exp(+-2 pi i / 3)

@@ -12,7 +12,9 @@ derivatives of f from central differences of the exact Jacobians along the colum
 (:mod:`reduced_model.cycle_fold_system`, whose curve follower is reused).  Borders are reset to the current null
 vectors at every accepted point.  Along the curve kappa itself locates the strong resonances 1:1 (kappa = 1),
 1:2 (kappa = -1), 1:3 (kappa = -1/2) and 1:4 (kappa = 0); past 1:1 and 1:2 (|kappa| > 1) the points are neutral
-saddle cycles, not torus points, and are marked so.
+saddle cycles, not torus points, and are marked so.  Chenciner points, where the real part of the
+Neimark-Sacker normal-form coefficient (:func:`reduced_model.cycle_normal_forms.neimark_sacker_coefficient`)
+changes sign, are located by Brent's method on it.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ class TorusSystem(FoldSystem):
         self.b = rng.standard_normal((2 * self.K, 2))
         self.c = rng.standard_normal((2 * self.K, 2))
         self.entries: tuple[tuple[int, int], tuple[int, int]] = ((0, 0), (1, 0))
+        self._lyapunov: tuple = (None, float("nan"))     # (accepted point, Re d there)
 
     @property
     def dim(self) -> int:
@@ -200,6 +203,16 @@ class TorusSystem(FoldSystem):
             if (before - kappa) * (after - kappa) < 0.0:
                 u, _, ok = locate_on_step(branch, k, step, lambda u, t, kappa=kappa: u[K + 3] - kappa)
                 found.append((kind, self.point(u), ok))
+        from .cycle_normal_forms import neimark_sacker_coefficient
+
+        def lyapunov(u, t=None):
+            return neimark_sacker_coefficient(self, u).real if abs(u[K + 3]) < 1.0 else float("nan")
+        # The value at the step's start was computed as the previous step's end.
+        previous = self._lyapunov if self._lyapunov[0] is branch.points[k] else (None, lyapunov(branch.points[k]))
+        self._lyapunov = (branch.points[-1], lyapunov(branch.points[-1]))
+        if previous[1] * self._lyapunov[1] < 0.0:
+            u, _, ok = locate_on_step(branch, k, step, lyapunov)
+            found.append((PointKind.CHENCINER, self.point(u), ok))
         return found
 
 

@@ -176,3 +176,47 @@ def test_period_doubling_coefficient_and_generalized_period_doubling_point():
     assert gpd.kind is PointKind.GENERALIZED_PERIOD_DOUBLING and gpd.status is PointStatus.LOCATED
     assert gpd.value == pytest.approx(q_star, abs=1e-8)
     assert gpd.speed == pytest.approx(family.SHIFT + family.radius(q_star) ** 2, abs=1e-9)
+
+
+class TorusWithCubic(CycleWithOscillator):
+    """The cycle (r^2 = mu = V - SHIFT without the block) with an oscillator w = u + i v of frequency
+    OMEGA + SIGMA2 |w|^2 and damping a = mu - C + GAMMA (r^2 - mu) + (q - Q0) |w|^2; the block feeds RHO |w|^2 into
+    the cycle's radial rate.  The torus curve is V = SHIFT + C with theta = OMEGA T; on the centre manifold
+    (r^2 = mu + RHO |w|^2) w' = i OMEGA w + (q - Q0 + GAMMA RHO + i SIGMA2) |w|^2 w, so with v of unit mean square
+    (w = sqrt(2) xi) the normal-form coefficient is d = 2 (q - Q0 + GAMMA RHO + i SIGMA2): a Chenciner point at
+    q = Q0 - GAMMA RHO."""
+
+    param = "q"
+    OMEGA, Q0, RHO, GAMMA, SIGMA2 = 0.7, 0.4, 0.3, 0.5, 0.2
+
+    def coefficient(self, q):
+        return 2 * (q - self.Q0 + self.GAMMA * self.RHO + 1j * self.SIGMA2)
+
+    def rhs(self, X, V, q):
+        X = np.asarray(X)
+        x, y, u, v = X
+        mu = V - self.SHIFT
+        w2, r2 = u * u + v * v, x * x + y * y
+        grow = mu - r2 + self.RHO * w2
+        a = mu - self.C + self.GAMMA * (r2 - mu) + (q - self.Q0) * w2
+        om = self.OMEGA + self.SIGMA2 * w2
+        return np.array([grow * x - self.W * y, self.W * x + grow * y, a * u - om * v, om * u + a * v])
+
+
+def test_neimark_sacker_coefficient_and_chenciner_point():
+    from reduced_model.cycle_normal_forms import neimark_sacker_coefficient
+    from reduced_model.torus_system import TorusSystem
+
+    family = TorusWithCubic()
+    q0 = 0.35
+    (h,) = [h for h in hopf_points(family, q0, family.SHIFT - 0.2, family.SHIFT + 0.2)
+            if abs(h.omega - family.W) < 1e-9]
+    (torus,) = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0).points_of(PointKind.TORUS)
+    system = TorusSystem(family, torus.data["cycle"], 0.1)
+    U = system.start(torus.data["cycle"])
+    assert neimark_sacker_coefficient(system, U) == pytest.approx(family.coefficient(q0), abs=1e-8)
+    curve = cycle_bifurcation_curve(family, torus, 0.15, 0.45, 0.0, family.SHIFT + 2.0)
+    assert curve.complete and np.max(np.abs(curve.speeds - family.SHIFT - family.C)) < 1e-9
+    (ch,) = curve.special_points
+    assert ch.kind is PointKind.CHENCINER and ch.status is PointStatus.LOCATED
+    assert ch.value == pytest.approx(family.Q0 - family.GAMMA * family.RHO, abs=1e-8)
