@@ -12,6 +12,17 @@ from reduced_model.hopf import hopf_points
 from reduced_model.special_points import PointKind, PointStatus
 
 
+def located(family, q, kind, lo, hi, near=None):
+    """The point of ``kind`` on the branch of ``family``'s cycle (frequency W) at q, near speed ``near``."""
+    (h,) = [h for h in hopf_points(family, q, family.SHIFT - 0.5, family.SHIFT + 0.5)
+            if abs(h.omega - family.W) < 1e-9]
+    points = branch_from_hopf(family, h, lo, hi).points_of(kind)
+    if near is not None:
+        points = [p for p in points if abs(p.speed - near) < 1e-6]
+    (point,) = points
+    return point
+
+
 class CycleWithBlock(CycleWithOscillator):
     """The supercritical cycle x' = mu x - W y - x r^2 (radius sqrt(mu), frequency W, mu = V - SHIFT, period
     T = 2 pi / W) with an attached linear block of damping a = mu - C, so that the torus (Neimark-Sacker) curve
@@ -54,10 +65,7 @@ class CycleWithBlock(CycleWithOscillator):
 ])
 def test_torus_curve_through_a_strong_resonance_is_flagged_there(resonance, q_start, window, kind, q_star):
     family = CycleWithBlock(resonance)
-    (h,) = [h for h in hopf_points(family, q_start, family.SHIFT - 0.2, family.SHIFT + 0.2)
-            if abs(h.omega - family.W) < 1e-9]
-    branch = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0)
-    (torus,) = [p for p in branch.points_of(PointKind.TORUS) if abs(p.speed - family.SHIFT - family.C) < 1e-6]
+    torus = located(family, q_start, PointKind.TORUS, 0.0, family.SHIFT + 1.0, near=family.SHIFT + family.C)
     curve = cycle_bifurcation_curve(family, torus, *window, 0.0, family.SHIFT + 2.0)
     assert curve.complete and curve.values.min() == pytest.approx(window[0])
     assert curve.values.max() == pytest.approx(window[1])
@@ -82,9 +90,7 @@ def test_fold_flip_on_a_period_doubling_curve():
     from scipy.optimize import brentq
 
     family = BautinWithBlock(flip=True)
-    (h,) = [h for h in hopf_points(family, 1.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
-            if abs(h.omega - family.W) < 1e-9]
-    (pd,) = branch_from_hopf(family, h, family.SHIFT - 3.0, family.SHIFT + 0.5).points_of(PointKind.PERIOD_DOUBLING)
+    pd = located(family, 1.0, PointKind.PERIOD_DOUBLING, family.SHIFT - 3.0, family.SHIFT + 0.5)
     curve = cycle_bifurcation_curve(family, pd, 0.5, 1.3, family.SHIFT - 5.0, family.SHIFT + 1.0)
     assert curve.complete
     r = (1.5 - curve.values) / FLIP_BETA
@@ -104,10 +110,7 @@ def test_cycle_curve_marks_the_points_that_miss_the_collocation_tolerance():
     from reduced_model.cycles import CycleSettings
 
     family = CycleWithBlock(2)
-    (h,) = [h for h in hopf_points(family, 0.5, family.SHIFT - 0.2, family.SHIFT + 0.2)
-            if abs(h.omega - family.W) < 1e-9]
-    branch = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0)
-    (torus,) = [p for p in branch.points_of(PointKind.TORUS) if abs(p.speed - family.SHIFT - family.C) < 1e-6]
+    torus = located(family, 0.5, PointKind.TORUS, 0.0, family.SHIFT + 1.0, near=family.SHIFT + family.C)
     error = torus.data["cycle"].error
     assert 0.0 < error < CycleSettings().tolerance
     for tolerance, meets in ((CycleSettings().tolerance, True), (0.01 * error, False)):
@@ -161,9 +164,7 @@ def test_period_doubling_coefficient_and_generalized_period_doubling_point():
 
     family = FlipWithCubic()
     q0 = 0.3
-    (h,) = [h for h in hopf_points(family, q0, family.SHIFT - 0.2, family.SHIFT + 0.2)
-            if abs(h.omega - family.W) < 1e-9]
-    (pd,) = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0).points_of(PointKind.PERIOD_DOUBLING)
+    pd = located(family, q0, PointKind.PERIOD_DOUBLING, 0.0, family.SHIFT + 1.0)
     assert pd.speed == pytest.approx(family.SHIFT + family.radius(q0) ** 2, abs=1e-9)
     system = FoldSystem(family, pd.data["cycle"], 0.1, kind=PointKind.PERIOD_DOUBLING)
     U = system.start(pd.data["cycle"])
@@ -209,9 +210,7 @@ def test_neimark_sacker_coefficient_and_chenciner_point():
 
     family = TorusWithCubic()
     q0 = 0.35
-    (h,) = [h for h in hopf_points(family, q0, family.SHIFT - 0.2, family.SHIFT + 0.2)
-            if abs(h.omega - family.W) < 1e-9]
-    (torus,) = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0).points_of(PointKind.TORUS)
+    torus = located(family, q0, PointKind.TORUS, 0.0, family.SHIFT + 1.0)
     system = TorusSystem(family, torus.data["cycle"], 0.1)
     U = system.start(torus.data["cycle"])
     assert neimark_sacker_coefficient(system, U) == pytest.approx(family.coefficient(q0), abs=1e-8)
