@@ -241,17 +241,18 @@ class FoldSystem:
         """Further codimension-two points in the last step: (kind, cycle, located).  Period doubling: generalized
         period-doubling points, where the normal-form coefficient
         (:func:`reduced_model.cycle_normal_forms.period_doubling_coefficient`) changes sign, located by Brent's
-        method on it along the corrected curve."""
+        method on it along the corrected curve (a sign change through a pole, at a fold of cycles, is none)."""
         if self.kind is not PointKind.PERIOD_DOUBLING:
             return []
-        from .cycle_normal_forms import period_doubling_coefficient
+        from .cycle_normal_forms import locate_zero, period_doubling_coefficient
 
         def coefficient(u, t=None):
             return period_doubling_coefficient(self, u)
-        if not coefficient(branch.points[k]) * coefficient(branch.points[-1]) < 0.0:
+        ends = (coefficient(branch.points[k]), coefficient(branch.points[-1]))
+        if not ends[0] * ends[1] < 0.0:
             return []
-        u, _, ok = locate_on_step(branch, k, step, coefficient)
-        return [(PointKind.GENERALIZED_PERIOD_DOUBLING, self.point(u), ok)]
+        zero = locate_zero(branch, k, step, coefficient, ends)
+        return [] if zero is None else [(PointKind.GENERALIZED_PERIOD_DOUBLING, self.point(zero[0]), zero[1])]
 
     def kappa(self, U: np.ndarray) -> float:
         """kappa = cos theta of the critical pair (torus systems only; NaN here)."""

@@ -37,7 +37,9 @@ import numpy as np
 import scipy.sparse.linalg
 
 from . import collocation as col
+from .continuation import locate_on_step
 
+POLE_RATIO = 1e-6   # |coefficient| at a located sign change above this fraction of its size at the step ends: a pole
 C_STEP = 1e-3       # second differences of Jacobians for C: step relative to the direction's scaled size
 B_STEP = 1e-5       # first (central) differences for B
 
@@ -52,6 +54,16 @@ def _directional(jac, xk: np.ndarray, d: np.ndarray, scales: np.ndarray, step: f
     unit = d / size
     Jp, Jm = jac(xk + step * unit), jac(xk - step * unit)
     return size * (Jp - Jm) / (2.0 * step), size ** 2 * (Jp - 2.0 * J0 + Jm) / step ** 2, J0
+
+
+def locate_zero(branch, k: int, step: float, fun, ends: tuple[float, float]):
+    """(u, located) of the zero of ``fun`` in the last step, whose values at its ends are ``ends``, or None when
+    the sign change is a pole: the coefficients blow up where the bordered periodic problem is singular (a fold of
+    cycles: fold-flip, fold-Neimark-Sacker), and Brent's method converges onto the pole."""
+    u, _, ok = locate_on_step(branch, k, step, fun)
+    if ok and not abs(fun(u)) <= POLE_RATIO * max(abs(e) for e in ends):
+        return None
+    return u, ok
 
 
 class _Forms:

@@ -203,7 +203,7 @@ class TorusSystem(FoldSystem):
             if (before - kappa) * (after - kappa) < 0.0:
                 u, _, ok = locate_on_step(branch, k, step, lambda u, t, kappa=kappa: u[K + 3] - kappa)
                 found.append((kind, self.point(u), ok))
-        from .cycle_normal_forms import neimark_sacker_coefficient
+        from .cycle_normal_forms import locate_zero, neimark_sacker_coefficient
 
         def lyapunov(u, t=None):
             return neimark_sacker_coefficient(self, u).real if abs(u[K + 3]) < 1.0 else float("nan")
@@ -211,8 +211,9 @@ class TorusSystem(FoldSystem):
         previous = self._lyapunov if self._lyapunov[0] is branch.points[k] else (None, lyapunov(branch.points[k]))
         self._lyapunov = (branch.points[-1], lyapunov(branch.points[-1]))
         if previous[1] * self._lyapunov[1] < 0.0:
-            u, _, ok = locate_on_step(branch, k, step, lyapunov)
-            found.append((PointKind.CHENCINER, self.point(u), ok))
+            zero = locate_zero(branch, k, step, lyapunov, (previous[1], self._lyapunov[1]))
+            if zero is not None:
+                found.append((PointKind.CHENCINER, self.point(zero[0]), zero[1]))
         return found
 
 

@@ -282,7 +282,7 @@ def test_codimension_two_points_of_cycles_in_figure_8():
         for p in cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax).special_points:
             found[p.kind] = p
     expected = {PointKind.FOLD_NEIMARK_SACKER: (155.4292, 0.160037), PointKind.RESONANCE_1_3: (160.4234, 0.174372),
-                PointKind.RESONANCE_1_4: (147.7994, 0.142204)}
+                PointKind.RESONANCE_1_4: (147.7994, 0.142204), PointKind.CHENCINER: (160.0095, 0.173143)}
     assert set(found) == set(expected)
     for kind, (V, t0) in expected.items():
         assert found[kind].speed * 3.6 == pytest.approx(V, abs=1e-3) and found[kind].value == pytest.approx(t0, abs=1e-5)
@@ -293,7 +293,7 @@ def test_codimension_two_points_of_cycles_in_figure_8():
         mu = p.data["multipliers"]
         pair = mu[np.abs(mu.imag) > 1e-3]
         angle = {PointKind.RESONANCE_1_3: 2 * np.pi / 3, PointKind.RESONANCE_1_4: np.pi / 2}.get(kind)
-        if angle is None:    # fold-Neimark-Sacker: a complex pair on the unit circle at the fold
+        if angle is None:    # fold-Neimark-Sacker, Chenciner: a complex pair on the unit circle
             assert np.min(np.abs(np.abs(pair) - 1.0)) < 1e-6
         else:
             assert np.min(np.abs(np.abs(np.angle(pair)) - angle)) < 1e-6

@@ -49,7 +49,8 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
 
 # MatCont's abbreviations for the codimension-two points of cycles (the notes spell them out).
 CODIM2_LABELS = {PointKind.CUSP_OF_CYCLES: "CPC", PointKind.FOLD_FLIP: "LPPD", PointKind.FOLD_NEIMARK_SACKER: "LPNS",
-                 PointKind.RESONANCE_1_3: "R3", PointKind.RESONANCE_1_4: "R4"}
+                 PointKind.RESONANCE_1_3: "R3", PointKind.RESONANCE_1_4: "R4", PointKind.RESONANCE_1_1: "R1",
+                 PointKind.RESONANCE_1_2: "R2", PointKind.CHENCINER: "CH", PointKind.GENERALIZED_PERIOD_DOUBLING: "GPD"}
 
 
 def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, factor: float, unit: str,
