@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from reduced_model.parameters import ParameterError, ShimmyParameters
+from reduced_model.parameters import ParameterError, ShimmyParameters, check_ranges
 
 
 def _d(value: float, unit: str, reason: str, *, range: tuple[float, float], plausible: tuple[float, float],
@@ -101,14 +101,7 @@ class AxleDimensions:
                    neutral=0.0)
 
     def __post_init__(self) -> None:
-        for f_ in dataclasses.fields(self):
-            value = getattr(self, f_.name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ParameterError(f"dimension {f_.name} must be a finite number, got {value!r}")
-            lo, hi = f_.metadata["range"]
-            if not lo <= value <= hi:
-                raise ParameterError(f"dimension {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
-                                     f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
+        check_ranges(self, "dimension")
 
     def replace(self, **overrides: float) -> "AxleDimensions":
         names = {f_.name for f_ in dataclasses.fields(self)}

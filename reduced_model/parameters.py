@@ -33,6 +33,18 @@ class ParameterError(ValueError):
     """A parameter name or value that makes the model meaningless."""
 
 
+def check_ranges(entries: Any, what: str) -> None:
+    """Every field of a frozen parameter dataclass finite and inside its ``range`` metadata (SI, inclusive)."""
+    for f_ in dataclasses.fields(entries):
+        value = getattr(entries, f_.name)
+        if not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ParameterError(f"{what} {f_.name} must be a finite number, got {value!r}")
+        lo, hi = f_.metadata["range"]
+        if not lo <= value <= hi:
+            raise ParameterError(f"{what} {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
+                                 f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
+
+
 @dataclass(frozen=True)
 class ShimmyParameters:
     """Parameters of the truck front-axle shimmy model, SI units (see each field's metadata)."""
@@ -102,14 +114,7 @@ class ShimmyParameters:
                       range=(-5.0, 5.0))
 
     def __post_init__(self) -> None:
-        for f_ in dataclasses.fields(self):
-            value = getattr(self, f_.name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ParameterError(f"parameter {f_.name} must be a finite number, got {value!r}")
-            lo, hi = f_.metadata["range"]
-            if not lo <= value <= hi:
-                raise ParameterError(f"parameter {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
-                                     f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
+        check_ranges(self, "parameter")
 
     # --- access by name ------------------------------------------------------------------------------
     @classmethod
