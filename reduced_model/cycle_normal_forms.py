@@ -44,16 +44,16 @@ C_STEP = 1e-3       # second differences of Jacobians for C: step relative to th
 B_STEP = 1e-5       # first (central) differences for B
 
 
-def _directional(jac, xk: np.ndarray, d: np.ndarray, scales: np.ndarray, step: float):
-    """(B(d, .), C(d, d, .), J) at every point: central first and second differences of the Jacobians along d
-    scaled to unit size (step ``step``), multiplied back by the size (the forms are linear and quadratic in d)."""
+def _directional(jac, xk: np.ndarray, d: np.ndarray, scales: np.ndarray, step: float, J0: np.ndarray):
+    """(B(d, .), C(d, d, .)) at every point: central first and second differences of the Jacobians along d
+    scaled to unit size (step ``step``), multiplied back by the size (the forms are linear and quadratic in d);
+    J0 the Jacobians at xk."""
     size = float(np.max(np.abs(d) / scales))
-    J0 = jac(xk)
     if not size > 0.0:          # a zero direction (e.g. h2 = 0 when B(v1, v1) = 0)
-        return np.zeros_like(J0), np.zeros_like(J0), J0
+        return np.zeros_like(J0), np.zeros_like(J0)
     unit = d / size
     Jp, Jm = jac(xk + step * unit), jac(xk - step * unit)
-    return size * (Jp - Jm) / (2.0 * step), size ** 2 * (Jp - 2.0 * J0 + Jm) / step ** 2, J0
+    return size * (Jp - Jm) / (2.0 * step), size ** 2 * (Jp - 2.0 * J0 + Jm) / step ** 2
 
 
 def locate_zero(branch, k: int, step: float, fun, ends: tuple[float, float]):
@@ -69,14 +69,21 @@ def locate_zero(branch, k: int, step: float, fun, ends: tuple[float, float]):
 class _Forms:
     """The cycle's collocation data at U and the multilinear forms at its collocation points."""
 
-    def __init__(self, system, U: np.ndarray):
+    def __init__(self, system, U: np.ndarray, bordered: bool = True):
         cp = system.cp
         self.cp, self.K, self.system = cp, system.K, system
         self.N, self.m, self.n = cp.intervals, cp.degree, cp.n
-        self.pieces = system.evaluate(U)
+        # The bordered solution (z, w) only when needed: it costs a factorisation of the system's own matrix.
+        if bordered:
+            self.pieces = system.evaluate(U)
+        else:
+            kept = getattr(system, "_last_jacobian", None)     # the system's gradients read it after a cache hit
+            self.pieces = system._pieces(U)
+            system._last_jacobian = kept
         e = self.pieces[4]
         self.T, V, q = e["T"], e["V"], e["q"]
         self.Jf = e["Jf"]
+        self.J0 = self.Jf.reshape(-1, self.n, self.n)
         self.xk = e["Xc"].reshape(-1, self.n)
         self.quad = (cp.widths[:, None] * cp.sch.weights[None, :]).reshape(-1)    # Gauss weights on [0, 1]
         self.jac = lambda X: col.values_and_jacobians(lambda Z: system.family.rhs(Z, V, q), X)[1]   # noqa: E731
@@ -91,17 +98,20 @@ class _Forms:
     def normalized(self, v: np.ndarray) -> np.ndarray:
         return v / np.sqrt(np.einsum("k,ka,ka->", self.quad, v, np.conj(v)).real)
 
+    def dB(self, d: np.ndarray) -> np.ndarray:
+        """B(d, .) as a matrix field, d real or complex."""
+        out = _directional(self.jac, self.xk, d.real, self.cp.scales, B_STEP, self.J0)[0]
+        if np.iscomplexobj(d):
+            out = out + 1j * _directional(self.jac, self.xk, d.imag, self.cp.scales, B_STEP, self.J0)[0]
+        return out
+
     def B(self, d: np.ndarray, other: np.ndarray) -> np.ndarray:
         """B(d, other) at every point, d real or complex."""
-        out = np.einsum("kab,kb->ka", _directional(self.jac, self.xk, d.real, self.cp.scales, B_STEP)[0], other)
-        if np.iscomplexobj(d):
-            out = out + 1j * np.einsum("kab,kb->ka",
-                                       _directional(self.jac, self.xk, d.imag, self.cp.scales, B_STEP)[0], other)
-        return out
+        return np.einsum("kab,kb->ka", self.dB(d), other)
 
     def C(self, d: np.ndarray) -> np.ndarray:
         """C(d, d, .) as a matrix field, d real."""
-        return _directional(self.jac, self.xk, d, self.cp.scales, C_STEP)[1]
+        return _directional(self.jac, self.xk, d, self.cp.scales, C_STEP, self.J0)[1]
 
     def periodic_solve(self, rhs: np.ndarray) -> tuple[np.ndarray, float]:
         """h with h' - T f_x h = rhs + s f (periodic, phase-fixed) from the bordered periodic Jacobian: (h, s)."""
@@ -137,7 +147,7 @@ def neimark_sacker_coefficient(system, U: np.ndarray) -> complex:
     """The Neimark-Sacker normal-form coefficient d (module docstring) of the cycle of a
     :class:`reduced_model.torus_system.TorusSystem` at its unknowns ``U``; Re d < 0: supercritical (a stable
     torus is born)."""
-    f = _Forms(system, U)
+    f = _Forms(system, U, bordered=False)
     T, n, K = f.T, f.n, f.K
     theta = float(np.arccos(np.clip(U[K + 3], -1.0, 1.0)))
     lu = scipy.sparse.linalg.splu(f.shifted(theta))
@@ -151,9 +161,11 @@ def neimark_sacker_coefficient(system, U: np.ndarray) -> complex:
     a, b = v.real, v.imag
     Ca, Cb = f.C(a), f.C(b)
     Cvvv = (np.einsum("kab,kb->ka", Ca + Cb, a) + 1j * np.einsum("kab,kb->ka", Ca + Cb, b))
-    h11, s = f.periodic_solve(T * f.B(a, a) + T * f.B(b, b))
+    Ba, Bb = f.dB(a), f.dB(b)
+    h11, s = f.periodic_solve(T * (np.einsum("kab,kb->ka", Ba, a) + np.einsum("kab,kb->ka", Bb, b)))
     alpha = -s / T
-    h20 = f.at_points(scipy.sparse.linalg.splu(f.shifted(2.0 * theta)).solve((T * f.B(v, v)).ravel()))
+    Bvv = np.einsum("kab,kb->ka", Ba + 1j * Bb, v)
+    h20 = f.at_points(scipy.sparse.linalg.splu(f.shifted(2.0 * theta)).solve((T * Bvv).ravel()))
     dv = T * np.einsum("kab,kb->ka", f.Jf.reshape(-1, n, n), v) - 1j * theta * v
     num = np.sum(psi * (T * (Cvvv + 2.0 * f.B(h11, v) + f.B(h20, np.conj(v))) - 2.0 * alpha * dv))
     return complex(num / (2.0 * T * np.sum(psi * v)))
