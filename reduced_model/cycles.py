@@ -27,6 +27,7 @@ import numpy as np
 import scipy.optimize
 
 from . import collocation as col
+from . import mesh_adaptation
 from .continuation import ContinuationSettings, correct
 from .family import SpeedFamily
 from .hopf import HopfPoint
@@ -41,7 +42,7 @@ PERIOD_LIMIT = 50.0         # period growth (relative to the start) taken as app
 @dataclass(frozen=True)
 class CycleSettings:
     """``tolerance`` bounds the estimated collocation error of every orbit relative to each state's amplitude
-    (:func:`reduced_model.collocation.relative_error`); the mesh gains intervals (up to ``max_intervals``) until
+    (:func:`reduced_model.mesh_adaptation.relative_error`); the mesh gains intervals (up to ``max_intervals``) until
     it is met, and loses them (down to ``min_intervals``) where the estimate is far below it."""
 
     intervals: int = 40                # at the start of a branch
@@ -335,7 +336,7 @@ class CycleProblem:
         amplitude = orbit.maxima()
         return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
                           trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
-                          error=col.relative_error(orbit, self.scales, amplitude),
+                          error=mesh_adaptation.relative_error(orbit, self.scales, amplitude),
                           tolerance=self.settings.tolerance,
                           names=tuple(getattr(self.family, "state_names", ())))
 
@@ -344,9 +345,9 @@ class CycleProblem:
         halved) when it is below 1/20 of it, within [min_intervals, max_intervals]."""
         st = self.settings
         N = orbit.intervals
-        err = col.relative_error(orbit, self.scales)
+        err = mesh_adaptation.relative_error(orbit, self.scales)
         if err > st.tolerance or not np.isfinite(err):
-            N = col.refined_intervals(N, err, st.tolerance, orbit.degree)
+            N = mesh_adaptation.refined_intervals(N, err, st.tolerance, orbit.degree)
         elif err < 0.05 * st.tolerance:
             factor = (max(err, 1e-300) / (0.5 * st.tolerance)) ** (1.0 / (orbit.degree + 1))
             N = int(np.ceil(N * max(factor, 0.5)))
@@ -376,8 +377,8 @@ class CycleProblem:
         if N <= orbit.intervals and self.steps_since_adapt < self.settings.adapt_every:
             return None
         self.steps_since_adapt = 0
-        new_mesh = col.adapted_mesh(orbit, self.scales, intervals=N)
-        if N != orbit.intervals or col.mesh_quality(self.mesh, new_mesh) > 0.05:
+        new_mesh = mesh_adaptation.adapted_mesh(orbit, self.scales, intervals=N)
+        if N != orbit.intervals or mesh_adaptation.mesh_quality(self.mesh, new_mesh) > 0.05:
             return self.move_to_mesh(u, self.last_tangent, new_mesh)
         self.set_reference(orbit)
         return u, self.last_tangent
@@ -388,11 +389,11 @@ class CycleProblem:
         orbit = self.orbit_of(u)
         t_orbit = col.Orbit(mesh=self.mesh, nodes=t[:self.size].reshape(-1, self.n), period=1.0,
                             degree=self.degree)
-        moved = col.remesh(orbit, mesh)
+        moved = mesh_adaptation.remesh(orbit, mesh)
         old_reference = self.reference
         self.set_reference(moved)
         u_new = self.pack(moved, u[-1])
-        t_new = np.concatenate([col.remesh(t_orbit, mesh).nodes.ravel(), t[-2:]])
+        t_new = np.concatenate([mesh_adaptation.remesh(t_orbit, mesh).nodes.ravel(), t[-2:]])
         result = correct(self, u_new, t_new, self.weights(), self.settings.continuation,
                          blocks=self.blocks_of_unknowns())
         if result is None:
@@ -409,7 +410,7 @@ class CycleProblem:
             N = self.needed_intervals(orbit)
             if N <= orbit.intervals:
                 break
-            u_new, t = self.move_to_mesh(u, t, col.adapted_mesh(orbit, self.scales, intervals=N))
+            u_new, t = self.move_to_mesh(u, t, mesh_adaptation.adapted_mesh(orbit, self.scales, intervals=N))
             if len(u_new) == len(u):
                 break
             u = u_new
@@ -435,7 +436,7 @@ def cycle_at(family: SpeedFamily, near: CyclePoint, speed: float, settings: Cycl
     omega = 2.0 * np.pi / near.period
     if mesh is None and intervals is not None:
         mesh = col.uniform_mesh(intervals)
-    orbit = near.orbit if mesh is None else col.remesh(near.orbit, mesh)
+    orbit = near.orbit if mesh is None else mesh_adaptation.remesh(near.orbit, mesh)
     problem = CycleProblem(family, SPEED, near.speed, near.value, orbit, state_scales(family, omega),
                            speed_scale(family), settings)
     u_pred = problem.pack(orbit, speed)
