@@ -37,6 +37,7 @@ class Entry:
     source: str
     range_si: tuple[float, float]
     plausible_si: tuple[float, float] | None
+    printed: str = ""       # the symbol as Table 1 prints it, where the OCR garbled it
 
     @property
     def unit(self) -> str:
@@ -69,7 +70,8 @@ def entries() -> dict[str, Entry]:
     out: dict[str, Entry] = {}
     for f_ in dataclasses.fields(ShimmyParameters):
         m = f_.metadata
-        out[f_.name] = Entry(f_.name, "table1", m["unit"], m["description"], m["source"], tuple(m["range"]), None)
+        out[f_.name] = Entry(f_.name, "table1", m["unit"], m["description"], m["source"], tuple(m["range"]), None,
+                             m["printed"])
     for f_ in dataclasses.fields(AxleDimensions):
         m = f_.metadata
         if f_.name in out:

@@ -80,9 +80,8 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         raise AxleFileError(f"{source}: TOML syntax error: {exc}") from None
     for key in doc:
         if key not in TOP_KEYS:
-            where = next((s for s in ("table1", "multibody") if key in entries() and entries()[key].section == s),
-                         None)
-            hint = f" (it belongs in [{where}])" if where else _closest(key, TOP_KEYS)
+            e = entries().get(key)
+            hint = f" (it belongs in [{e.section}])" if e is not None else _closest(key, TOP_KEYS)
             raise AxleFileError(f"{source}: unknown key '{key}'{hint}")
     for key in SECTIONS:
         if key in doc and not isinstance(doc[key], dict):

@@ -64,9 +64,14 @@ def worst(*statuses: CheckStatus) -> CheckStatus:
 
 
 def shimmy_cases(ctx: Context):
-    """The planned cases where the reduced model shimmies (every case but the shimmy-free one)."""
-    return [c for c in ctx.plan.cases if c.kind is not CaseKind.SHIMMY_FREE
-            and not (c.kind is CaseKind.PAPER and c.pressure_right_bar == 2.7)]
+    """The planned cases where straight running of the reduced model loses stability somewhere in 0-400 km/h."""
+    model = ShimmyModel(params=ctx.axle.params)
+    out = []
+    for c in ctx.plan.cases:
+        family = SpeedFamily(model, pressure=c.pressure)
+        if hopf_points(family, family.nominal, 0.0, VMAX, lyapunov=False):
+            out.append(c)
+    return out
 
 
 # --- the plan -------------------------------------------------------------------------------------------------

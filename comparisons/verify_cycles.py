@@ -111,7 +111,7 @@ def _bistable_diagram(case: BistableCase):
     return cycle_diagram(family, case.pressure_bar * 1e5, 0.0, VMAX)
 
 
-def window_points(diagram, low_kmh: float, high_kmh: float) -> dict:
+def window_points(diagram) -> dict:
     """The cycle folds and torus points that bound and cross the window, by name: S1.. (folds, by decreasing
     speed) and T1.. (torus points), as the paper names them in figure 9a."""
     folds = sorted(diagram.points_of(PointKind.CYCLE_FOLD), key=lambda s: -s.speed)
@@ -119,6 +119,12 @@ def window_points(diagram, low_kmh: float, high_kmh: float) -> dict:
     named = {f"S{i}": s.speed * 3.6 for i, s in enumerate(folds, 1)}
     named.update({f"T{i}": s.speed * 3.6 for i, s in enumerate(tori, 1)})
     return named
+
+
+def _snap(speed_kmh: float, points, within_kmh: float = 3.0) -> float:
+    """The special point nearest a window end found from computed cycles (the end itself lies between them)."""
+    nearest = min(points, key=lambda s: abs(s - speed_kmh), default=None)
+    return nearest if nearest is not None and abs(nearest - speed_kmh) < within_kmh else speed_kmh
 
 
 def _stable_cycles_at(diagram, speed: float) -> list:
@@ -220,7 +226,7 @@ def jumps_section(ctx: Context) -> Section:
         ctx.progress(f"Bistable jumps: cycles at {case.pressure_bar:g} bar")
         diagram = _bistable_diagram(case)
         paper = ctx.axle.is_paper and not math.isfinite(case.low_kmh)
-        named = window_points(diagram, case.low_kmh, case.high_kmh)
+        named = window_points(diagram)
         if paper:
             low, high = named["T2"], named["S1"]
             for key in ("S1", "T1", "T2", "S2"):
@@ -237,9 +243,7 @@ def jumps_section(ctx: Context) -> Section:
             for key, v in sorted(named.items(), key=lambda kv: -kv[1]):
                 rows.append(Row({"run": f"continuation {key}", "reduced_kmh": v}, CheckStatus.INFO,
                                 "cycle fold" if key.startswith("S") else "torus point"))
-            snap = lambda v: min(named.values(), key=lambda s: abs(s - v)) if named else v  # noqa: E731
-            low, high = (snap(low) if abs(snap(low) - low) < 3.0 else low,
-                         snap(high) if abs(snap(high) - high) < 3.0 else high)
+            low, high = (_snap(low, named.values()), _snap(high, named.values()))
         mid = 0.5 * (low + high)
         cycles = _stable_cycles_at(diagram, mid / 3.6)
         classify = _classifier_for(cycles).classify

@@ -25,8 +25,7 @@ def rows_of(axle) -> list[dict]:
         row = {"name": name, "section": e.section, "value": e.to_interface(axle.value(name)), "unit": e.unit,
                "range": [lo, hi], "description": e.description, "source": e.source}
         if e.section == "table1":
-            from reduced_model.parameters import ShimmyParameters
-            row["printed_as"] = ShimmyParameters._field(name).metadata["printed"]
+            row["printed_as"] = e.printed
         else:
             row["plausible"] = [e.to_interface(v) for v in axle.plausible_range(name)]
         rows.append(row)
