@@ -16,9 +16,18 @@ import html
 import os
 import platform
 import subprocess
+import shlex
+import sys
 from dataclasses import dataclass, field
 
 from .files import atomic_path
+
+
+def rerun_command(recording: str) -> str:
+    """The command that opens a recording, with the viewer of the environment shimmy runs in: it works in a shell
+    where that environment is not activated."""
+    viewer = os.path.join(os.path.dirname(sys.executable), "rerun")
+    return f"{shlex.quote(viewer)} {shlex.quote(recording)}"
 
 
 class CheckStatus(enum.Enum):
@@ -312,7 +321,7 @@ def render_markdown(report: Report) -> str:
         out += [f"![{f}]({f})" for f in s.figures]
         if s.figures:
             out.append("")
-        out += [f"Recording: [`{r}`]({r}) (open with `rerun {r}`)" for r in s.recordings]
+        out += [f"Recording: [`{r}`]({r}) (open from this folder with `{rerun_command(r)}`)" for r in s.recordings]
         out.append("")
     return "\n".join(out)
 
@@ -389,8 +398,8 @@ def render_html(report: Report, folder: str) -> str:
             out.append(f'<figure><img alt="{html.escape(f)}" src="{_embedded_png(folder, f)}">'
                        f"<figcaption>{html.escape(f)}</figcaption></figure>")
         for r in s.recordings:
-            out.append(f"<p>Recording: <code>{html.escape(r)}</code> (beside this report; open with "
-                       f"<code>rerun {html.escape(r)}</code>)</p>")
+            out.append(f"<p>Recording: <code>{html.escape(r)}</code> (beside this report; open from its folder with "
+                       f"<code>{html.escape(rerun_command(r))}</code>)</p>")
     out.append("</body></html>")
     return "\n".join(out)
 

@@ -10,12 +10,16 @@ import pytest
 from comparisons.report import CheckStatus, Report, Row, Section, render_markdown, write_atomically
 
 
+def run_quick_verify(out, *extra):
+    """``shimmy verify --quick --json`` in a fresh process, as a user runs it: (completed process, report folder)."""
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", *extra, "--out", str(out),
+                           "--json"], capture_output=True, text=True, timeout=400)
+    return proc, out
+
+
 @pytest.fixture(scope="module")
 def quick_report(tmp_path_factory):
-    out = tmp_path_factory.mktemp("verify") / "rep"
-    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--out", str(out), "--json"],
-                          capture_output=True, text=True, timeout=400)
-    return proc, out
+    return run_quick_verify(tmp_path_factory.mktemp("verify") / "rep")
 
 
 def test_verify_quick_passes_and_writes_report(quick_report):
@@ -157,11 +161,7 @@ def axle_report(tmp_path_factory):
     folder = tmp_path_factory.mktemp("verify_axle")
     axle = folder / "t025.toml"
     axle.write_text('name = "paper, t0 = 0.25 m"\nbase = "YANG2024"\n[table1]\nt0 = 0.25\n')
-    out = folder / "rep"
-    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--no-recordings",
-                           "--axle", str(axle), "--out", str(out), "--json"],
-                          capture_output=True, text=True, timeout=400)
-    return proc, out
+    return run_quick_verify(folder / "rep", "--no-recordings", "--axle", str(axle))
 
 
 def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
