@@ -17,6 +17,7 @@ Exit codes (also in the README):
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import importlib.util
 import os
@@ -125,6 +126,8 @@ class _Signals:
         self.grace = GRACE_S
         self.done = threading.Event()
         self.previous: dict[int, object] = {}
+        self.loading = False        # inside :meth:`while_loading`
+        self.pending = False        # a signal came while loading
 
     def install(self) -> None:
         if threading.current_thread() is not threading.main_thread():
@@ -153,7 +156,26 @@ class _Signals:
             if not self.done.wait(self.grace):
                 hard_exit(code, line)
         threading.Thread(target=watchdog, name="shimmy-signal-watchdog", daemon=True).start()
-        raise KeyboardInterrupt if code == EXIT_INTERRUPTED else Interrupted()
+        if self.loading:
+            self.pending = True
+            return
+        self._raise()
+
+    def _raise(self) -> None:
+        raise KeyboardInterrupt if self.code == EXIT_INTERRUPTED else Interrupted()
+
+    @contextlib.contextmanager
+    def while_loading(self):
+        """The model packages load: an exception raised inside a C extension's initialisation (Exudyn's, scipy's
+        HiGHS wrapper) makes that import fail with an ImportError traceback instead of stopping cleanly.  A signal
+        here is acted on when loading is over, or by the watchdog after the grace time, whichever comes first."""
+        self.loading = True
+        try:
+            yield
+        finally:
+            self.loading = False
+        if self.pending:
+            self._raise()
 
 
 def _where(exc: BaseException) -> str:
@@ -222,7 +244,9 @@ def main(argv: list[str] | None = None) -> int:
 
         from .options import UsageError
         try:
-            args = build_parser().parse_args(argv)
+            with signals.while_loading():
+                parser = build_parser()
+            args = parser.parse_args(argv)
             signals.grace = GRACE_BY_COMMAND.get(args.command, GRACE_S)
             args.argv = list(sys.argv[1:] if argv is None else argv)    # echoed in reports
             return _run(args)
