@@ -5,7 +5,7 @@ Public API (SI inside; pressures in Pa, speeds in m/s):
 * :class:`Fidelity` (``Fidelity.parse("reduced" | "full" | "name,name")``), :class:`Assumption`,
   :func:`assumptions_table` - the reduced model's assumptions as switches;
 * :class:`MbsModel` (parameters, pressure effects, fidelity, :class:`AxleDimensions`);
-* :class:`MbsFamily` - the model as a speed family for :func:`reduced_model.hopf.hopf_points`
+* :class:`MbsFamily` - the model as a speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points`
   (``lyapunov=False``);
 * :func:`simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
 * :func:`assumption_study` - Hopf-speed and limit-cycle shifts of each assumption.
@@ -13,13 +13,13 @@ Public API (SI inside; pressures in Pa, speeds in m/s):
 
 from dataclasses import dataclass
 
-from . import engine  # noqa: F401  (first: chooses Exudyn's compiled module before anything imports exudyn)
-from .assumption_study import AssumptionRow, AssumptionStudy, HopfShift, assumption_study, match_hopf
-from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
-from .fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity
-from .limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak, reduced_steady_amplitude
-from .linearisation import MbsFamily, MbsModel
-from .simulation import DEFAULT_METHOD, DEFAULT_STEP, Convergence, convergence, extended_states, simulate
+from mbs_shimmy import engine  # noqa: F401  (first: chooses Exudyn's compiled module before anything imports exudyn)
+from mbs_shimmy.assumption_study import AssumptionRow, AssumptionStudy, HopfShift, assumption_study, match_hopf
+from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from mbs_shimmy.fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity
+from mbs_shimmy.limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak, reduced_steady_amplitude
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from mbs_shimmy.simulation import DEFAULT_METHOD, DEFAULT_STEP, Convergence, convergence, extended_states, simulate
 
 
 @dataclass(frozen=True)

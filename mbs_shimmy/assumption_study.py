@@ -8,7 +8,7 @@ Hopf point of the MBS against the reduced model's, matched
 one-to-one by speed and frequency (a mode that vanishes or appears is unmatched: the other side is None), and
 the steady theta1 amplitude of the MBS at the speed where the reduced model's limit cycle is largest, against the
 reduced model's there (:mod:`mbs_shimmy.limit_cycle`).  The Hopf points of both models come from the same
-defining system (:func:`reduced_model.hopf.hopf_points`).
+defining system (:func:`reduced_model.bifurcation.equilibria.hopf.hopf_points`).
 """
 
 from __future__ import annotations
@@ -20,17 +20,16 @@ from typing import Sequence
 import numpy as np
 import scipy.optimize
 
+from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from mbs_shimmy.fidelity import ASSUMPTIONS, Fidelity
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points
 from reduced_model.family import SpeedFamily
-from reduced_model.hopf import HopfPoint, hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import ShimmyParameters
 
-from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
-from .fidelity import ASSUMPTIONS, Fidelity
-
 ELEMENTS = frozenset(info.name for info in ASSUMPTIONS if info.element)
-from .limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak
-from .linearisation import MbsFamily, MbsModel
+from mbs_shimmy.limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 
 KMH = 3.6
 MATCH_FREQUENCY = 0.3     # relative frequency difference above which two Hopf points are different modes

@@ -31,13 +31,12 @@ from typing import Callable
 
 import exudyn as exu
 
+from mbs_shimmy.dimensions import AxleDimensions
+from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
+from mbs_shimmy.geometry import SIDES, AxleGeometry
+from mbs_shimmy.tyre_element import TyreElement
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import ParameterError, ShimmyParameters
-
-from .dimensions import AxleDimensions
-from .fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
-from .geometry import SIDES, AxleGeometry
-from .tyre_element import TyreElement
 
 _POS, _VEL = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
 _ROT, _OMEGA = exu.OutputVariableType.RotationMatrix, exu.OutputVariableType.AngularVelocity
@@ -56,7 +55,7 @@ class ElementFlags:
 
 def layout_of(fidelity: Fidelity, dims: AxleDimensions):
     """The tree's coordinates (:class:`mbs_shimmy.system.Layout`) for these switches and dimensions."""
-    from .system import Layout
+    from mbs_shimmy.layout import Layout
     lateral = Assumption.RIGID_AXLE_MOUNTS not in fidelity and dims.axle_mount_lateral_compliance > 0.0
     gear = Assumption.RIGID_STEERING_GEAR not in fidelity and dims.steering_gear_compliance > 0.0
     return Layout(lateral, gear)

@@ -18,10 +18,9 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 
+from mbs_shimmy.dimensions import AxleDimensions
+from mbs_shimmy.fidelity import Assumption, Fidelity
 from reduced_model.parameters import ShimmyParameters
-
-from .dimensions import AxleDimensions
-from .fidelity import Assumption, Fidelity
 
 Vec = tuple[float, float, float]
 SIDES = (-1.0, 1.0)   # wheel 1 (right), wheel 2 (left)

@@ -21,15 +21,14 @@ from typing import Sequence
 import numpy as np
 import scipy.integrate
 
+from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from mbs_shimmy.fidelity import Fidelity
+from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP, extended_states, simulate
+from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
-from reduced_model.hopf import hopf_points
 from reduced_model.model import N_STATES, STATE_NAMES, Effects, ShimmyModel
 from reduced_model.parameters import ShimmyParameters
 from reduced_model.trajectory import SpeedSchedule
-
-from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
-from .fidelity import Fidelity
-from .simulation import FAST_METHOD, FAST_STEP, extended_states, simulate
 
 SETTLE = 12.0            # s
 WINDOW = 2.0             # s: several periods of either mode (5-14 Hz)

@@ -38,15 +38,14 @@ from dataclasses import dataclass, field
 import exudyn as exu
 import numpy as np
 
-from reduced_model.family import PRESSURE_PARAMS, pressure_at, pressure_value
+from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from mbs_shimmy.fidelity import Fidelity
+from mbs_shimmy.forces import AxleForces, layout_of
+from mbs_shimmy.layout import Layout
+from mbs_shimmy.system import MbsSystem, build_system
+from reduced_model.family import PRESSURE_PARAMS, ShimmyFamily, pressure_at
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
-
-from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
-from .fidelity import Fidelity
-from .forces import AxleForces
-from .forces import layout_of
-from .system import Layout, MbsSystem, build_system
 
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
@@ -131,8 +130,8 @@ class MbsModel:
 
 
 @dataclass
-class MbsFamily:
-    """The MBS as a speed family for :func:`reduced_model.hopf.hopf_points` (with ``lyapunov=False``).
+class MbsFamily(ShimmyFamily):
+    """The MBS as a speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` (with ``lyapunov=False``).
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as
@@ -148,8 +147,7 @@ class MbsFamily:
     _affine: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
-        if self.param not in PRESSURE_PARAMS:
-            ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
+        self.check_param()
 
     @classmethod
     def of(cls, params: ShimmyParameters = YANG2024, effects: Effects | None = None, fidelity: Fidelity | None = None,
@@ -163,19 +161,8 @@ class MbsFamily:
         return layout_of(self.model.fidelity, self.model.dims)
 
     @property
-    def n(self) -> int:
-        return self.layout.n
-
-    @property
     def state_names(self) -> tuple[str, ...]:
         return self.layout.state_names
-
-    @property
-    def nominal(self) -> float:
-        """Current value of q (the operating point)."""
-        if self.param in PRESSURE_PARAMS:
-            return pressure_value(self.param, self.pressure)
-        return float(getattr(self.model.params, self.param))
 
     def _at(self, q: float) -> tuple[MbsEvaluator, ConstantSpeed]:
         q = float(q)

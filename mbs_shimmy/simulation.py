@@ -26,14 +26,13 @@ from typing import Sequence
 import exudyn as exu
 import numpy as np
 
+from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from mbs_shimmy.fidelity import Fidelity
+from mbs_shimmy.geometry import SIDES, matmul, quaternion_xyzw
+from mbs_shimmy.linearisation import MbsModel
 from reduced_model.model import N_STATES, STATE_NAMES, Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
-
-from .dimensions import DEFAULT_DIMENSIONS, AxleDimensions
-from .fidelity import Fidelity
-from .geometry import SIDES, matmul, quaternion_xyzw
-from .linearisation import MbsModel
 
 DEFAULT_METHOD = "RK44"
 DEFAULT_STEP = 1e-3          # s

@@ -61,71 +61,21 @@ from exudyn.itemInterface import (
     SensorNode,
 )
 
-from reduced_model.model import STATE_NAMES, Effects
+from mbs_shimmy.dimensions import AxleDimensions
+from mbs_shimmy.fidelity import Assumption, Fidelity
+from mbs_shimmy.forces import AxleForces
+from mbs_shimmy.geometry import AxleGeometry, cross, dot
+from mbs_shimmy.layout import Layout
+from reduced_model.model import Effects
 from reduced_model.parameters import ParameterError, ShimmyParameters
-
-from .dimensions import AxleDimensions
-from .fidelity import Assumption, Fidelity
-from .forces import AxleForces
-from .geometry import AxleGeometry, cross, dot
 
 CURRENT = exu.ConfigurationType.Current
 REFERENCE = exu.ConfigurationType.Reference
-EXTRA_COORDINATES = ("y_axle", "phi_gear")
 # mass of the geometry tree's links: Exudyn's tree gives NaN for a subtree of zero mass; 1e-20 kg changes the
 # mass matrix by 1e-20 relative, far below rounding
 MASSLESS = 1e-20
 
 
-@dataclass(frozen=True)
-class Layout:
-    """Which coordinates the tree has, and the maps between its states and the extended reduced-model order.
-
-    MBS state ``y = (q, q', alpha1, alpha2)`` with q the mechanical coordinates in tree order; extended state
-    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [phi_gear, phi_gear'])``:
-    the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`) followed by the new coordinates.
-    """
-
-    lateral: bool
-    gear: bool
-
-    @property
-    def coordinates(self) -> tuple[str, ...]:
-        return (("y_axle",) if self.lateral else ()) + ("psi", "theta1", "theta2") + (
-            ("phi_gear",) if self.gear else ())
-
-    @property
-    def extras(self) -> tuple[str, ...]:
-        return tuple(n for n in EXTRA_COORDINATES if n in self.coordinates)
-
-    @property
-    def n_mech(self) -> int:
-        return len(self.coordinates)
-
-    @property
-    def n(self) -> int:
-        return 2 * self.n_mech + 2
-
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        return STATE_NAMES + tuple(x for n in self.extras for x in (n, n + "_dot"))
-
-    def index(self, name: str) -> int:
-        return self.coordinates.index(name)
-
-    @property
-    def y_to_x(self) -> np.ndarray:
-        """x[k] = y[y_to_x[k]]."""
-        m = self.n_mech
-        i = self.index
-        order = [i("theta1"), m + i("theta1"), i("theta2"), m + i("theta2"), i("psi"), m + i("psi"), 2 * m, 2 * m + 1]
-        for n in self.extras:
-            order += [i(n), m + i(n)]
-        return np.array(order)
-
-    @property
-    def x_to_y(self) -> np.ndarray:
-        return np.argsort(self.y_to_x)
 
 
 def _shift(m: float, r: np.ndarray) -> np.ndarray:

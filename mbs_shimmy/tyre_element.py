@@ -38,11 +38,10 @@ import math
 import types
 from dataclasses import dataclass
 
+from mbs_shimmy.geometry import Vec
 from reduced_model import tyre
 from reduced_model.model import Effects, WheelTyre
 from reduced_model.parameters import ShimmyParameters
-
-from .geometry import Vec
 
 
 @dataclass(frozen=True)

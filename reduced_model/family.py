@@ -1,7 +1,7 @@
 """The shimmy model as a two-parameter family: speed V and one more named parameter q.
 
 This is the "problem" in BifurcationKit's sense: it only evaluates the vector field and its Jacobian; the
-continuation algorithms in :mod:`reduced_model.hopf` and :mod:`reduced_model.hopf_curves` never see the physics.
+continuation algorithms in :mod:`reduced_model.bifurcation.equilibria.hopf` and :mod:`reduced_model.bifurcation.equilibria.hopf_curves` never see the physics.
 q is ``"pressure"`` (both tyres, Pa), ``"pressure_right"`` / ``"pressure_left"`` (one tyre, the other held at its
 operating pressure) or any entry of :class:`~reduced_model.parameters.ShimmyParameters`.  With different left and
 right operating pressures, ``"pressure"`` moves both by the same amount and q is their mean.
@@ -14,19 +14,31 @@ from typing import Sequence
 
 import numpy as np
 
-from .model import N_STATES, STATE_NAMES, ShimmyModel
-from .parameters import ParameterError, ShimmyParameters
+from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
+from reduced_model.parameters import ParameterError, ShimmyParameters
 
 # Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
-# unit of arclength, and the angle of an oscillation per unit of arclength (rates scale with the frequency).
+# unit of arclength, and the size of an oscillation per unit of arclength for each coordinate (rates scale with
+# the frequency).  The lateral travel of the multibody axle moves millimetres where the angles move degrees.
 SPEED_SCALE = 10.0     # m/s
-ANGLE_SCALE = 0.1      # rad
-ANGLE_STATES = np.array([name in ("theta1", "theta2", "psi", "alpha1", "alpha2") for name in STATE_NAMES])
-
-# How parameters are shown at the interface (label, factor from SI); everything else is shown in SI.
-DISPLAY = {"pressure": ("bar", 1e-5), "pressure_left": ("bar", 1e-5), "pressure_right": ("bar", 1e-5),
-           "speed": ("km/h", 3.6)}
+COORDINATE_SCALES = {"theta1": 0.1, "theta2": 0.1, "psi": 0.1, "alpha1": 0.1, "alpha2": 0.1,   # rad
+                     "phi_gear": 0.1, "y_axle": 0.005}                                          # rad, m
+# Lower end of every speed window (m/s).  At V = 0 the relaxation equations lose their speed terms, two
+# eigenvalues are zero and the Hopf defining system is singular: a Hopf curve that runs down to V -> 0 turns back
+# on itself there instead of ending, and Newton near V = 0 is ill-conditioned.  Shimmy below walking pace is moot.
+MIN_SPEED = 0.5 / 3.6
 PRESSURE_PARAMS = ("pressure", "pressure_right", "pressure_left")
+
+
+def oscillation_scales(state_names: tuple[str, ...], omega: float) -> np.ndarray:
+    """Typical size of each state in an oscillation at omega rad/s: a coordinate its :data:`COORDINATE_SCALES`
+    entry, a rate (``name_dot``) omega times its coordinate's."""
+    scales = []
+    for name in state_names:
+        coordinate = name[:-len("_dot")] if name.endswith("_dot") else name
+        scale = COORDINATE_SCALES[coordinate]
+        scales.append(scale * omega if coordinate != name else scale)
+    return np.array(scales)
 
 
 def pressure_pair(pressure: float | Sequence[float]) -> tuple[float, float]:
@@ -61,14 +73,37 @@ def pressure_value(param: str, operating: float | Sequence[float]) -> float:
             "pressure_left": left}[param]
 
 
-def display_unit(name: str) -> tuple[str, float]:
-    if name in DISPLAY:
-        return DISPLAY[name]
-    return ShimmyParameters.unit(name), 1.0
+
+class ShimmyFamily:
+    """What both shimmy models' families share (:class:`reduced_model.bifurcation.problem.Family`): the first
+    parameter is the speed V (m/s, from :data:`MIN_SPEED`), the second ``param`` a pressure or a Table 1 entry.
+    A subclass provides ``model`` (with ``params``), ``param``, ``pressure`` and ``state_names``."""
+
+    primary = "speed"
+    primary_scale = SPEED_SCALE
+    primary_min = MIN_SPEED
+
+    def check_param(self) -> None:
+        if self.param not in PRESSURE_PARAMS:
+            ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
+
+    @property
+    def n(self) -> int:
+        return len(self.state_names)
+
+    def state_scales(self, omega: float) -> np.ndarray:
+        return oscillation_scales(self.state_names, omega)
+
+    @property
+    def nominal(self) -> float:
+        """Current value of q, used as its scale in continuation."""
+        if self.param in PRESSURE_PARAMS:
+            return pressure_value(self.param, self.pressure)
+        return float(getattr(self.model.params, self.param))
 
 
 @dataclass(frozen=True)
-class SpeedFamily:
+class SpeedFamily(ShimmyFamily):
     """f(x; V, q): the model with speed V (m/s) and parameter ``param`` = q (SI) free."""
 
     model: ShimmyModel
@@ -77,27 +112,9 @@ class SpeedFamily:
     _cache: dict = field(default_factory=dict, init=False, compare=False, repr=False)
 
     def __post_init__(self) -> None:
-        if self.param not in PRESSURE_PARAMS:
-            ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
+        self.check_param()
 
-    @property
-    def n(self) -> int:
-        return N_STATES
-
-    speed_scale: float = field(default=SPEED_SCALE, init=False, repr=False)
     state_names: tuple[str, ...] = field(default=STATE_NAMES, init=False, repr=False)
-
-    def state_scales(self, omega: float) -> np.ndarray:
-        """Typical size of each state in an oscillation at omega rad/s: angles ANGLE_SCALE, rates omega times
-        that (used by the generic cycle code for its norms)."""
-        return np.where(ANGLE_STATES, ANGLE_SCALE, ANGLE_SCALE * omega)
-
-    @property
-    def nominal(self) -> float:
-        """Current value of q, used as its scale in continuation."""
-        if self.param in PRESSURE_PARAMS:
-            return pressure_value(self.param, self.pressure)
-        return float(getattr(self.model.params, self.param))
 
     def at(self, q: float) -> tuple[ShimmyModel, float | Sequence[float]]:
         q = float(q)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .trajectory import Trajectory
+from reduced_model.trajectory import Trajectory
 
 
 class Mode(enum.Enum):

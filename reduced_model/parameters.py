@@ -15,6 +15,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from reduced_model.bifurcation.problem import ProblemError
+
 _T1 = "Yang et al., Table 1"
 _T1_LI = "Yang et al., Table 1 (from Li et al. [16])"
 _T1_PAC = "Yang et al., Table 1 (from Pacejka [19])"
@@ -29,8 +31,9 @@ def _p(value: float, unit: str, source: str, description: str, printed: str = ""
                                           "printed": printed, "range": range})
 
 
-class ParameterError(ValueError):
-    """A parameter name or value that makes the model meaningless."""
+class ParameterError(ProblemError):
+    """A parameter name or value that makes the model meaningless (a :class:`ProblemError` of the toolkit, so
+    that its algorithms treat it as any problem's refusal)."""
 
 
 def check_ranges(entries: Any, what: str) -> None:

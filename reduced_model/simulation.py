@@ -18,9 +18,9 @@ from typing import Callable, Sequence
 import numpy as np
 import scipy.integrate
 
-from .model import N_STATES, STATE_NAMES, ShimmyModel
-from .parameters import ParameterError
-from .trajectory import SimulationStatus, SpeedSchedule, Trajectory
+from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
+from reduced_model.parameters import ParameterError
+from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 METHOD = "LSODA"
 RTOL = 1e-9

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .model import STATE_NAMES
+from reduced_model.model import STATE_NAMES
 
 
 @dataclass(frozen=True)

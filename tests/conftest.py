@@ -4,9 +4,6 @@ import pytest
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 
-BAR = 1e5
-KMH = 1 / 3.6
-
 
 @pytest.fixture(scope="session")
 def section3():
@@ -26,7 +23,7 @@ def pytest_addoption(parser):
 @pytest.fixture(scope="session")
 def axle(request):
     """The axle of the equivalence tests: ``pytest --axle FILE.toml``, or the paper's truck."""
-    from comparisons.axle_file import AxleFileError, axle_from_path_or_paper
+    from comparisons.axles.axle_file import AxleFileError, axle_from_path_or_paper
     path = request.config.getoption("--axle")
     try:
         return axle_from_path_or_paper(path)

@@ -24,8 +24,8 @@ import concurrent.futures
 import contextlib
 import json
 import math
-import re
 import os
+import re
 import shutil
 import signal
 import stat
@@ -161,7 +161,7 @@ def _finish(case, verdict, code, start, err, detail) -> Outcome:
 # --- the catalogue ---------------------------------------------------------------------------------------------
 
 def set_cases(quick: bool) -> list[Case]:
-    from comparisons.axle import entries
+    from comparisons.axles.axle import entries
     cases = []
     values = ["1e308", "1e-300", "-1e308", "nan", "inf", "abc", ""] if not quick else ["1e308", "1e-300", "nan"]
     for name, e in entries().items():

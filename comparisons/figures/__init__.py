@@ -15,12 +15,19 @@ asking for one raises :class:`FigureUnavailable`.  Making such a figure availabl
 function with :func:`register` (and removing its entry from :data:`UNAVAILABLE`).
 """
 
-from .. import paper_reference as paper  # noqa: F401  (figures.paper: the printed values the notes cite)
-from . import cumulative, cycle_curve_figures, cycle_figures, hopf_figures, simulation_figures, tyre_figures  # noqa: F401
-from .cumulative import P17_BAR, Z1, Z2, ZOOM_SEEDS, _uncovered  # noqa: F401
-from .cycle_figures import hopf_names  # noqa: F401
-from .hopf_figures import _pressure_key  # noqa: F401
-from .registry import (  # noqa: F401
+from comparisons.axles import paper_reference as paper  # noqa: F401  (figures.paper: the printed values the notes cite)
+from comparisons.figures import (  # noqa: F401
+    cumulative,
+    cycle_curve_figures,
+    cycle_figures,
+    hopf_figures,
+    simulation_figures,
+    tyre_figures,
+)
+from comparisons.figures.cumulative import P17_BAR, Z1, Z2, ZOOM_SEEDS, _uncovered  # noqa: F401
+from comparisons.figures.cycle_figures import hopf_names  # noqa: F401
+from comparisons.figures.hopf_figures import _pressure_key  # noqa: F401
+from comparisons.figures.registry import (  # noqa: F401
     PAPER_TITLES,
     REGISTRY,
     UNAVAILABLE,

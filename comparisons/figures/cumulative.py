@@ -6,16 +6,21 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
-from reduced_model.hopf_curves import HopfDiagram
+from comparisons.axles import paper_reference as paper
+from comparisons.figures.drawing import (
+    _draw_curves,
+    _incomplete_notes,
+    _located,
+    _special_notes,
+    _speed_axis,
+    marker_key,
+)
+from comparisons.figures.hopf_figures import _pressure_key
+from comparisons.figures.plots import place_labels
+from comparisons.figures.registry import BAR, EFFECT_STYLES, DiagramStore, Drawing, register
+from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram
+from reduced_model.bifurcation.special_points import PointKind
 from reduced_model.model import Effects
-from reduced_model.special_points import PointKind
-
-from .. import paper_reference as paper
-from ..plots import place_labels
-from .drawing import marker_key, _draw_curves, _incomplete_notes, _located, _special_notes, _speed_axis
-from .hopf_figures import _pressure_key
-from .registry import BAR, DiagramStore, Drawing, EFFECT_STYLES, register
-
 
 ZOOM_SEEDS = 41   # a curve lying between two seed lines of a zoom window would be missed: see _uncovered
 

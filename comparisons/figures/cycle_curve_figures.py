@@ -5,19 +5,37 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from reduced_model.cycle_curves import CycleCurve, cycle_bifurcation_curve
-from reduced_model.cycles import cycle_diagram
+from comparisons.axles import paper_reference as paper
+from comparisons.axles.axle import interface_text
+from comparisons.figures.cycle_plots import CURVE_STYLES, special_point_labels
+from comparisons.figures.drawing import (
+    _draw_curves,
+    _incomplete_notes,
+    _label_hopf_points,
+    _located,
+    _mark,
+    _point_note,
+    _shade_stable,
+    _speed_axis,
+)
+from comparisons.figures.hopf_figures import T0_RANGE, _pressure_key
+from comparisons.figures.plots import place_labels
+from comparisons.figures.registry import (
+    BAR,
+    KMH,
+    MIN_LABEL_SPEED_KMH,
+    VMAX_KMH,
+    DiagramKey,
+    DiagramStore,
+    Drawing,
+    register,
+)
+from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from reduced_model.bifurcation.cycle_curves.result import CycleCurve
+from reduced_model.bifurcation.cycles.branches import cycle_diagram
+from reduced_model.bifurcation.special_points import ConvergenceError, PointKind, PointStatus
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024
-from reduced_model.special_points import ConvergenceError, PointKind, PointStatus
-
-from .. import paper_reference as paper
-from ..cycle_plots import CURVE_STYLES, special_point_labels
-from ..plots import place_labels
-from ..units import interface_message
-from .drawing import _label_hopf_points, _draw_curves, _incomplete_notes, _located, _mark, _point_note, _shade_stable, _speed_axis
-from .hopf_figures import T0_RANGE, _pressure_key
-from .registry import BAR, MIN_LABEL_SPEED_KMH, VMAX_KMH, DiagramKey, DiagramStore, Drawing, KMH, register
 
 # Figure 18: the window of the two-parameter cycle continuation (tests/test_cycles_curves.py).  Below 0.2 bar T1
 # and T2 run on to 0.05 bar without meeting (tests/test_cycle_curve_ends.py, slow): the paper's HH2 is not there.
@@ -39,7 +57,7 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
         try:
             curve: CycleCurve = cycle_bifurcation_curve(family, point, lo, hi, vmin_kmh * KMH, vmax_kmh * KMH)
         except ConvergenceError as exc:
-            notes.append(f"{text}: INCOMPLETE: {exc}")
+            notes.append(f"{text}: INCOMPLETE: {interface_text(str(exc))}")
             complete = False
             continue
         origin = f"from {point.speed * 3.6:.2f} km/h at {start / factor:g} {unit}"
@@ -76,7 +94,7 @@ def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, fac
         items.append((sp.speed * 3.6, sp.value / factor, CODIM2_LABELS.get(sp.kind, sp.kind.value), colour))
         notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} ({CODIM2_LABELS.get(sp.kind, '')}) at "
                      f"{sp.speed * 3.6:.2f} km/h, {sp.value / factor:.4g} {unit} ({sp.status.value})")
-    messages = " | ".join(interface_message(m, family.param, unit, factor) for m in curve.messages)
+    messages = " | ".join(interface_text(m) for m in curve.messages)
     notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}")
     return curve.complete
 
@@ -102,7 +120,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
         notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
     # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
     # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
-    from reduced_model.torus_switching import curves_from_codimension_two
+    from reduced_model.bifurcation.cycle_curves.switching import curves_from_codimension_two
 
     items: list = []
     named: dict[str, int] = {}
@@ -112,7 +130,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
             found = curves_from_codimension_two(family, point, lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
                                                 vmax_kmh * KMH)
         except ConvergenceError as exc:
-            notes.append(f"curves from {origin}: INCOMPLETE: {exc}")
+            notes.append(f"curves from {origin}: INCOMPLETE: {interface_text(str(exc))}")
             complete = False
             continue
         letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"

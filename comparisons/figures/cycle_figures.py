@@ -2,17 +2,27 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 from matplotlib.figure import Figure
 
-from reduced_model.cycles import CycleBranch, CycleDiagram, branch_peak
+from comparisons.axles import paper_reference as paper
+from comparisons.axles.axle import interface_text
+from comparisons.figures.cycle_plots import draw_cycle_diagram, special_point_labels
+from comparisons.figures.registry import (
+    FIG9_VMAX_KMH,
+    P_I0_BAR,
+    TRAIL_FIG9,
+    VMAX_KMH,
+    CycleKey,
+    DiagramStore,
+    Drawing,
+    _store_cycles,
+    register,
+)
+from reduced_model.bifurcation.cycles.branches import branch_peak
+from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram
+from reduced_model.bifurcation.special_points import ConvergenceError, PointStatus
 from reduced_model.family import SpeedFamily
-from reduced_model.special_points import ConvergenceError, PointStatus
-
-from .. import paper_reference as paper
-from ..cycle_plots import draw_cycle_diagram, special_point_labels
-from .registry import CycleKey, DiagramStore, Drawing, FIG9_VMAX_KMH, P_I0_BAR, register, _store_cycles, TRAIL_FIG9, VMAX_KMH
 
 
 def _peak(family: SpeedFamily, branch: CycleBranch, name: str):
@@ -39,10 +49,10 @@ def _cycle_notes(prefix: str, family: SpeedFamily, diagram: CycleDiagram, paper_
     modes = list(paper_modes.items()) if paper_modes else []
     for i, b in enumerate(diagram.branches):
         ends = (f"{b.start.speed_kmh:.2f}" if b.start else "?") + " - " + \
-            (f"{b.end.speed_kmh:.2f} km/h" if b.end else b.message.split(": ", 1)[-1])
+            (f"{b.end.speed_kmh:.2f} km/h" if b.end else interface_text(b.message).split(": ", 1)[-1])
         name, ref = modes[i] if i < len(modes) else (f"branch {i + 1}", {})
         if not b.points:
-            notes.append(f"{prefix}{name} ({ends}): INCOMPLETE, no cycle computed: {b.message}")
+            notes.append(f"{prefix}{name} ({ends}): INCOMPLETE, no cycle computed: {interface_text(b.message)}")
             continue
         th, ps = _peak(family, b, "theta1"), _peak(family, b, "psi")
         f_lo, f_hi = b.frequency_range
@@ -53,7 +63,7 @@ def _cycle_notes(prefix: str, family: SpeedFamily, diagram: CycleDiagram, paper_
             f"{np.degrees(ps.max_abs('psi')):.3f} deg{_paper(ref.get('psi_deg'))} at {ps.speed_kmh:.2f} km/h, "
             f"frequency {f_lo:.2f}-{f_hi:.2f} Hz" + (f" (paper {f_ref[0]:g}-{f_ref[1]:g})" if f_ref else ""))
         if not b.complete:
-            notes.append(f"{prefix}{name}: INCOMPLETE: {b.message}")
+            notes.append(f"{prefix}{name}: INCOMPLETE: {interface_text(b.message)}")
     for text, p in special_point_labels(diagram):
         status = "" if p.status is PointStatus.LOCATED else f" ({p.status.value})"
         ref = (paper_special or {}).get(text)

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from comparisons.axles.axle import interface_text
+from comparisons.figures.plots import stability_grid
+from comparisons.figures.registry import KMH, MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
+from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from reduced_model.bifurcation.equilibria.hopf_curves import HopfCurve, HopfDiagram
+from reduced_model.bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
-from reduced_model.hopf import hopf_points
-from reduced_model.hopf_curves import HopfCurve, HopfDiagram
-from reduced_model.special_points import PointKind, PointStatus
-
-from ..plots import stability_grid
-from .registry import KMH, MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
 
 
 def _pressure_label(p_bar: float) -> str:
@@ -88,7 +88,7 @@ def _special_notes(prefix: str, diagram: HopfDiagram, unit: str, factor: float) 
 
 
 def _incomplete_notes(prefix: str, diagram: HopfDiagram) -> list[str]:
-    return [f"{prefix}INCOMPLETE curve: {' | '.join(c.messages)}" for c in diagram.curves if not c.complete]
+    return [f"{prefix}INCOMPLETE curve: {' | '.join(interface_text(m) for m in c.messages)}" for c in diagram.curves if not c.complete]
 
 
 def _speed_axis(ax, vmax_kmh: float = VMAX_KMH, vmin_kmh: float = 0.0) -> None:

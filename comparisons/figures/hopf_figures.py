@@ -6,13 +6,38 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from comparisons.figures.drawing import (
+    SPECIAL_MARKERS,
+    _curve_of,
+    _draw_curves,
+    _fold_is_maximum,
+    _incomplete_notes,
+    _label_hopf_points,
+    _located,
+    _mark,
+    _point_note,
+    _pressure_label,
+    _shade_stable,
+    _special_notes,
+    _speed_axis,
+    marker_key,
+)
+from comparisons.figures.plots import stability_grid
+from comparisons.figures.registry import (
+    BAR,
+    FOUR_PRESSURES_BAR,
+    K5_PRESSURES_BAR,
+    P_I0_BAR,
+    PRESSURE_COLOURS,
+    VMAX_KMH,
+    DiagramKey,
+    DiagramStore,
+    Drawing,
+    register,
+)
+from reduced_model.bifurcation.special_points import PointKind
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024
-from reduced_model.special_points import PointKind
-
-from ..plots import stability_grid
-from .drawing import SPECIAL_MARKERS, marker_key, _curve_of, _draw_curves, _fold_is_maximum, _incomplete_notes, _label_hopf_points, _located, _mark, _point_note, _pressure_label, _shade_stable, _special_notes, _speed_axis
-from .registry import BAR, DiagramKey, DiagramStore, Drawing, FOUR_PRESSURES_BAR, K5_PRESSURES_BAR, P_I0_BAR, PRESSURE_COLOURS, register, VMAX_KMH
 
 
 def _pressure_key(effects: Effects = Effects(), lo_bar=0.05, hi_bar=3.0, vmin_kmh=0.0, vmax_kmh=VMAX_KMH,

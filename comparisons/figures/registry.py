@@ -8,14 +8,14 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable
 
-from reduced_model.cycles import CycleDiagram, cycle_diagram
+from comparisons.figures.plots import save_figure
+from comparisons.files import interrupts_blocked, worker_signals
+from reduced_model.bifurcation.cycles.branches import cycle_diagram
+from reduced_model.bifurcation.cycles.problem import CycleDiagram
+from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.family import SpeedFamily
-from reduced_model.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import YANG2024
-
-from ..files import interrupts_blocked, worker_signals
-from ..plots import save_figure
 
 BAR = 1e5
 KMH = 1.0 / 3.6

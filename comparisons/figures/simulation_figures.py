@@ -5,16 +5,16 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from reduced_model.cycles import cycle_at
+from comparisons.axles import paper_reference as paper
+from comparisons.axles.axle import interface_text
+from comparisons.figures.cycle_figures import _trail_key
+from comparisons.figures.cycle_plots import special_point_labels
+from comparisons.figures.registry import BAR, KMH, DiagramStore, Drawing, _store_cycles, register
+from reduced_model.bifurcation.cycles.branches import cycle_at
+from reduced_model.bifurcation.special_points import ConvergenceError
 from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.simulation import initial_state, simulate
-from reduced_model.special_points import ConvergenceError
 from reduced_model.trajectory import SpeedSchedule, Trajectory
-
-from .. import paper_reference as paper
-from ..cycle_plots import special_point_labels
-from .cycle_figures import _trail_key
-from .registry import BAR, DiagramStore, Drawing, KMH, register, _store_cycles
 
 # Figure 10: the speed ramps of tests/test_simulation.py (1 km/h per s through the bistable window), each
 # started from the default small disturbance theta1 = 0.01 rad where only one mode is stable.
@@ -100,7 +100,7 @@ def draw_phase_portrait(store: DiagramStore) -> Drawing:
         try:
             cycles[mode] = cycle_at(family, min(stable, key=lambda p: abs(p.speed - V)), V)
         except (ValueError, ConvergenceError) as exc:
-            notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {exc}")
+            notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {interface_text(str(exc))}")
     for name, start, colour, offset in PHASE_STARTS:
         tr = simulate(family.model, 1.5 * BAR, SpeedSchedule.constant(V), PHASE_DURATION, initial_state(start))
         history = ModeClassifier().classify(tr)

@@ -5,11 +5,18 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from comparisons.figures.drawing import _pressure_label
+from comparisons.figures.registry import (
+    BAR,
+    P_I0_BAR,
+    PRESSURE_COLOURS,
+    SLIP_PRESSURES_BAR,
+    DiagramStore,
+    Drawing,
+    register,
+)
 from reduced_model import tyre
 from reduced_model.parameters import YANG2024
-
-from .drawing import _pressure_label
-from .registry import BAR, DiagramStore, Drawing, P_I0_BAR, PRESSURE_COLOURS, register, SLIP_PRESSURES_BAR
 
 
 @register(2, "lateral_force")

@@ -1,0 +1,18 @@
+"""Inputs that are not axle entries: their physical ranges (interface units; read by the options, the sweeps and
+the docs) and the error for a value outside them.
+"""
+
+from __future__ import annotations
+
+
+class UsageError(Exception):
+    """Bad input from the command line: reported as one line, exit code 2."""
+
+
+# Physical ranges of the inputs that are not axle entries (interface units; the README's table lists them).
+SPEED_RANGE_KMH = (0.5, 1000.0)       # below 0.5 km/h the slip equations degenerate (reduced_model.family.MIN_SPEED)
+PRESSURE_RANGE_BAR = (0.05, 20.0)
+DURATION_RANGE_S = (0.01, 1000.0)     # simulated time; 1000 s at 1 kHz samples is 8 MB of states
+RAMP_TIME_RANGE_S = (0.01, 1000.0)
+ANGLE_RANGE_DEG = (-45.0, 45.0)       # initial angles: a small-angle model, 45 deg is already far beyond it
+RATE_RANGE_DEG_S = (-1.0e4, 1.0e4)    # initial angular rates

@@ -1,0 +1,57 @@
+"""Units at the user interface: km/h, bar and degrees; everything inside the code is SI.
+
+One table says how an SI unit is shown (:data:`INTERFACE`); every option, axle file, report and JSON field goes
+through :func:`to_interface` / :func:`to_si` so that no command converts by hand.
+"""
+
+from __future__ import annotations
+
+import math
+
+KMH = 1.0 / 3.6   # m/s per km/h
+BAR = 1e5         # Pa per bar
+DEG = math.pi / 180.0
+
+# SI unit -> (interface unit, SI per interface unit)
+INTERFACE = {"rad": ("deg", DEG), "Pa": ("bar", BAR), "m/s": ("km/h", KMH), "rad/s": ("deg/s", DEG)}
+
+
+def interface_of(si_unit: str) -> tuple[str, float]:
+    """(interface unit, SI per interface unit) of an SI unit; units without a rule are shown as they are."""
+    return INTERFACE.get(si_unit, (si_unit, 1.0))
+
+
+def to_interface(value: float, si_unit: str) -> float:
+    """The interface value of an SI value, chosen so that :func:`to_si` gives the SI value back bit for bit.
+
+    A plain ``value / factor`` can come back one ulp off after ``* factor``; files written by ``shimmy params
+    --write`` must reproduce the same numbers exactly, so the nearest float that round-trips is searched.
+    """
+    factor = interface_of(si_unit)[1]
+    if factor == 1.0:
+        return float(value)
+    guess = value / factor
+    candidates = [guess]
+    up = down = guess
+    for _ in range(8):
+        up, down = math.nextafter(up, math.inf), math.nextafter(down, -math.inf)
+        candidates += [up, down]
+    for c in candidates:
+        if c * factor == value:
+            return c
+    return guess
+
+
+def to_si(value: float, si_unit: str) -> float:
+    return float(value) * interface_of(si_unit)[1]
+
+
+def interface_message(text: str, name: str, unit: str, factor: float) -> str:
+    """A continuation message with ``name = VALUE`` (SI, as the toolkit writes it) shown in interface units:
+    "pressure = 128521" becomes "pressure = 1.28521 bar"."""
+    import re
+    if factor == 1.0 and unit in ("", "-"):
+        return text
+    # A value already followed by its unit has been converted before.
+    return re.sub(rf"\b{re.escape(name)} = ([-+0-9.eE]+)(?![-+0-9.eE])(?! ?[A-Za-z/])",
+                  lambda m: f"{name} = {float(m.group(1)) / factor:.6g} {unit}", text)

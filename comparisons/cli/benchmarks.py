@@ -1,0 +1,207 @@
+"""Performance benchmarks run by ``shimmy bench`` (never as timed unit tests).
+
+Each benchmark is timed several times; the median is reported together with its ratio to a fixed baseline
+workload timed in the same process (1000 eigenvalue decompositions of a random 8 x 8 matrix), so that numbers
+from different machines can be compared.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class BenchResult:
+    name: str
+    description: str
+    median_s: float
+    runs: tuple[float, ...]
+    baseline_s: float
+    target_s: float | None
+
+    @property
+    def ratio(self) -> float:
+        return self.median_s / self.baseline_s
+
+    @property
+    def meets_target(self) -> bool | None:
+        return None if self.target_s is None else self.median_s <= self.target_s
+
+
+@dataclass(frozen=True)
+class Benchmark:
+    name: str
+    description: str
+    target_s: float | None
+    setup: Callable[[], Callable[[], object]]  # returns the timed callable (setup work is not timed)
+    repeats: int = 7
+
+
+def baseline_workload() -> None:
+    rng = np.random.default_rng(0)
+    A = rng.standard_normal((8, 8))
+    for _ in range(1000):
+        np.linalg.eigvals(A)
+
+
+def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, tuple[float, ...]]:
+    fn()  # warm caches and imports
+    runs = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        runs.append(time.perf_counter() - t0)
+    return statistics.median(runs), tuple(runs)
+
+
+def _hopf_one_pressure():
+    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+
+    def run():
+        # A fresh model each run: no tyre cache carried over between runs.
+        return hopf_points(SpeedFamily(ShimmyModel()), 1.5e5, 0.0, 400 / 3.6)
+    return run
+
+
+def _figure5():
+    from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+
+    def run():
+        return hopf_diagram(SpeedFamily(ShimmyModel(), "pressure"), 0.05e5, 3e5, 0.0, 400 / 3.6)
+    return run
+
+
+def _cycle_branch_nominal():
+    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
+    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+
+    hb1, hb2 = hopf_points(SpeedFamily(ShimmyModel()), 2.5e5, 0.0, 400 / 3.6)
+
+    def run():
+        branch = branch_from_hopf(SpeedFamily(ShimmyModel()), hb1, 0.0, 400 / 3.6, others=(hb2,))
+        assert branch.end is hb2 and all(p.multipliers.shape == (8,) for p in branch.points)
+        return branch
+    return run
+
+
+def _figure9a_cycles():
+    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+
+    def run():
+        d = cycle_diagram(SpeedFamily(ShimmyModel().with_params(t0=0.25)), 1.5e5, 0.0, 400 / 3.6)
+        assert len(d.special_points) == 4
+        return d
+    return run
+
+
+def _error_controlled_cycles():
+    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import Effects, ShimmyModel
+
+    def run():
+        # The hard case of the error control: down to 0.5 km/h the orbit needs 4x the intervals of the paper's.
+        d = cycle_diagram(SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt"))), 0.25e5, 0.0, 400 / 3.6,
+                          at=(60 / 3.6, 183 / 3.6))
+        assert d.complete and all(p.meets_tolerance for b in d.branches for p in b.points)
+        return d
+    return run
+
+
+def _mbs_simulation(fidelity: str):
+    def setup():
+        import numpy as np
+
+        from mbs_shimmy import Fidelity, simulate
+        from mbs_shimmy.simulation import BENCH_SETTINGS
+        from reduced_model.trajectory import SpeedSchedule
+        x0 = np.zeros(8)
+        x0[0] = 0.01
+
+        def run():
+            # 10 s simulated at 1.5 bar, 100 km/h, the cheapest setting that keeps 1e-4 accuracy; real-time
+            # factor = 10 / median
+            return simulate(fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
+                            schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, poses=False,
+                            **BENCH_SETTINGS[fidelity])
+        return run
+    return setup
+
+
+def _sweep(samples: int, mbs: tuple[str, ...] = (), in_process: bool = False):
+    """``shimmy sweep`` over pressure and t0 (uniform, Sobol'), on a fresh local Dask cluster (start-up timed) or
+    as one batch in this process (the serial reference for the cluster's speed-up)."""
+    def setup():
+        import os
+        import tempfile
+
+        from comparisons.axles.axle import Axle
+        from comparisons.sweeps.design import make_design, parse_vary
+        from comparisons.sweeps.run import run_sweep
+        from comparisons.sweeps.sample import SweepTask, evaluate_batch
+        design = make_design([parse_vary("pressure=uniform:0.5:3.5"), parse_vary("t0=uniform:0.05:0.3")], samples, 1)
+        task = SweepTask(Axle(), (), 2.5, 2.5, design.names, mbs=mbs)
+        out = os.path.join(tempfile.mkdtemp(prefix="shimmy-bench-"), "sweep.parquet")
+
+        def run():
+            if in_process:
+                return evaluate_batch(task, 0, 0, design.values)
+            result = run_sweep(task, design, out, workers=os.cpu_count())
+            assert result.samples == samples and result.failed == 0
+            return result
+        return run
+    return setup
+
+
+BENCHMARKS: list[Benchmark] = [
+    Benchmark("hopf_points_1.5bar", "all Hopf points at 1.5 bar, 0-400 km/h, with l1", 0.020, _hopf_one_pressure),
+    Benchmark("figure5_diagram", "figure 5: Hopf curves 0.05-3 bar, 0-400 km/h, with special points", 1.0,
+              _figure5, repeats=5),
+    Benchmark("cycle_branch_2.5bar", "limit cycles HB1 -> HB2 at 2.5 bar with Floquet multipliers", 1.0,
+              _cycle_branch_nominal, repeats=5),
+    Benchmark("figure9a_cycles", "figure 9a: all cycle branches, t0 = 0.25 m, 1.5 bar, with S1, T1, T2, S2", 5.0,
+              _figure9a_cycles, repeats=3),
+    Benchmark("cycles_error_controlled", "all cycle branches, HCL + PT at 0.25 bar, to 1e-6 (the tramp branch down "
+              "to 0.5 km/h), with orbits at 60 and 183 km/h", 5.0, _error_controlled_cycles, repeats=3),
+    Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements and every element of "
+              "issue 9 (kingpin inclination, raised roll axis, lateral axle mounts, Ackermann arms, steering gear "
+              "with inclined drag link), 1.5 bar, 100 km/h, DOPRI5 with automatic step (h <= 10 ms, rtol 2e-5, "
+              "atol 2e-7: within 4.0e-5 of every state's amplitude of RK67 at 1/960 s); target 50x real time",
+              0.2, _mbs_simulation("full"), repeats=5),
+    Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced), RK67 "
+              "h = 1/240 s (DOPRI5 needs more evaluations there for 1e-4)", 0.5,
+              _mbs_simulation("reduced"), repeats=5),
+    Benchmark("sweep_hopf_10k", "shimmy sweep: 10,000 reduced-model Hopf samples (pressure, t0) on a local Dask "
+              "cluster, one worker per core, cluster start-up and Parquet included; target 30 s on 2 cores", 30.0,
+              _sweep(10_000), repeats=3),
+    Benchmark("sweep_hopf_serial_2k", "the same Hopf samples, 2,000 in one batch in this process (serial reference: "
+              "5 x median / sweep_hopf_10k = cluster speed-up)", None, _sweep(2_000, in_process=True), repeats=3),
+    Benchmark("sweep_mbs_full_200", "shimmy sweep: 200 samples with the reduced model's and the full-geometry MBS's "
+              "Hopf points (MBS linearisation) on a local Dask cluster; samples/s = 200 / median", None,
+              _sweep(200, mbs=("full",)), repeats=3),
+]
+
+
+def run_benchmarks(names: list[str] | None = None, progress=None) -> list[BenchResult]:
+    chosen = [b for b in BENCHMARKS if not names or b.name in names]
+    baseline, _ = median_time(baseline_workload, 7)
+    results = []
+    for i, b in enumerate(chosen):
+        median, runs = median_time(b.setup(), b.repeats)
+        results.append(BenchResult(b.name, b.description, median, runs, baseline, b.target_s))
+        if progress is not None:
+            progress(i + 1, len(chosen))
+    return results

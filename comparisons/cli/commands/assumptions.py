@@ -1,0 +1,80 @@
+"""``shimmy assumptions``: Hopf-speed and limit-cycle shifts when the reduced model's assumptions are dropped."""
+
+from __future__ import annotations
+
+import argparse
+
+from comparisons.axles.units import KMH
+from comparisons.cli.options import (
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_axle,
+    build_model,
+    emit_json,
+    inputs_json,
+    operating_pressure,
+    pressure_label,
+)
+from comparisons.cli.progress import progress
+from mbs_shimmy import assumption_study, assumptions_table
+from mbs_shimmy.assumption_study import study_fidelities
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("assumptions", help="shifts of the Hopf speeds and of the peak shimmy amplitude when each "
+                                           "assumption of the reduced model is dropped, and what each geometric "
+                                           "element of the full axle adds (multibody model)")
+    add_model_options(p)
+    add_speed_window(p)
+    p.add_argument("--no-cycles", action="store_true",
+                   help="skip the limit-cycle amplitudes (long simulations); peak shifts are then null")
+    add_output_options(p)
+    p.set_defaults(run=run)
+
+
+def _fmt(value: float | None, spec: str) -> str:
+    """The number, or "-" right-aligned to the field width of ``spec`` (a mode that vanished or appeared)."""
+    if value is None:
+        width = spec.lstrip("+").split(".")[0]
+        return "-".rjust(int(width) if width.isdigit() else 1)
+    return format(value, spec)
+
+
+def run(args: argparse.Namespace) -> int:
+    model = build_model(args)
+    rows = len(study_fidelities())
+    with progress(rows, "assumptions", args.json) as bar:
+        study = assumption_study(model.params, model.effects, operating_pressure(args), dims=build_axle(args).dims,
+                                 vmax=args.vmax * KMH,
+                                 cycles=not args.no_cycles, progress=lambda k: bar.update(1))
+    if args.json:
+        out = study.to_json()
+        del out["pressure_bar"], out["effects"]
+        emit_json({**inputs_json(args), **out})
+        return 0
+    effects = ",".join(model.effects.names) or "none (section 3 model)"
+    print(f"Assumptions of the reduced model at {pressure_label(args)}, pressure effects: {effects}")
+    print(f"  {build_axle(args).label()}")
+    print("reduced-model Hopf speeds: " + (", ".join(f"{v:.2f}" for v in study.reduced_hopf_kmh) or "none")
+          + " km/h")
+    if study.peak_speed_kmh is not None:
+        print(f"largest limit cycle of the reduced model: theta1 = {study.peak_theta1_deg:.3f} deg at "
+              f"{study.peak_speed_kmh:.2f} km/h")
+    summary = {r.name: r.summary for r in assumptions_table().rows}
+    elements = {r.name for r in assumptions_table().rows if r.element}
+    for row in study.rows:
+        if row.assumption in elements:
+            # a new element: full geometry without it (left) -> full geometry (right)
+            print(f"\n{row.assumption} (full geometry without -> with the element): {summary[row.assumption]}")
+        else:
+            label = row.assumption if row.assumption == "full" else f"{row.assumption} off"
+            print(f"\n{label}: {summary.get(row.assumption, 'all assumptions off')}")
+        for h in row.hopf:
+            print(f"  Hopf {_fmt(h.reduced_kmh, '9.3f')} -> {_fmt(h.mbs_kmh, '9.3f')} km/h"
+                  f"   shift {_fmt(h.shift_kmh, '+9.3f')}")
+        if row.peak_theta1_shift_deg is not None or study.peak_speed_kmh is not None:
+            print(f"  peak theta1 {_fmt(row.peak_theta1_reduced_deg, '.3f')} -> {_fmt(row.peak_theta1_mbs_deg, '.3f')}"
+                  f" deg   shift {_fmt(row.peak_theta1_shift_deg, '+.3f')}"
+                  + ("" if row.peak_settled in (None, True) else "   (not settled)"))
+    return 0

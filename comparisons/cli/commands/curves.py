@@ -1,0 +1,97 @@
+"""``shimmy curves``: two-parameter Hopf curves in the (V, q) plane."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from comparisons.axles.axle import interface_text, interface_unit
+from comparisons.axles.limits import UsageError
+from comparisons.axles.units import KMH
+from comparisons.cli.options import (
+    SECOND_PARAMETERS,
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_axle,
+    build_model,
+    check_window,
+    emit_json,
+    inputs_json,
+    operating_pressure,
+    pressure_label,
+)
+from comparisons.cli.progress import progress, ticker
+from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
+from reduced_model.family import SpeedFamily
+from reduced_model.parameters import ParameterError
+
+PARAMS = SECOND_PARAMETERS
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("curves", help="Hopf curves in the (speed, parameter) plane")
+    p.add_argument("--param", required=True, choices=PARAMS, help="second parameter")
+    p.add_argument("--range", required=True, nargs=2, type=float, metavar=("LO", "HI"),
+                   help="parameter window (bar for pressures, otherwise the units of 'shimmy params')")
+    add_model_options(p, pressure_required=False)
+    add_speed_window(p)
+    add_output_options(p, plot=True)
+    p.set_defaults(run=run)
+
+
+def diagram_json(diagram: HopfDiagram, factor: float) -> dict:
+    return {
+        "param": diagram.param,
+        "unit": interface_unit(diagram.param)[0],
+        "complete": diagram.complete,
+        "curves": [{"points": [[v * 3.6, q / factor] for v, q in zip(c.speeds, c.values)],
+                    "status": [s.value for s in c.status],
+                    "messages": [interface_text(m) for m in c.messages]}
+                   for c in diagram.curves],
+        "special_points": [{"kind": s.kind.value, "speed_kmh": s.speed * 3.6, "value": s.value / factor,
+                            "status": s.status.value,
+                            **{f"{k}_hz" if k.startswith("omega") else k:
+                               (v / (2 * 3.141592653589793) if k.startswith("omega") else v)
+                               for k, v in s.data.items()}}
+                           for s in diagram.special_points],
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    lo, hi = args.range
+    unit, factor = interface_unit(args.param)
+    check_window(lo, hi, args.param, unit)
+    model = build_model(args)
+    family = SpeedFamily(model, args.param, pressure=operating_pressure(args))
+    try:
+        for q in (lo * factor, hi * factor):
+            family.validate(q)
+    except ParameterError as exc:
+        raise UsageError(f"--range: {exc}") from None
+    quiet = args.json or not sys.stderr.isatty()
+    with progress(10, "Hopf curves", quiet) as bar:
+        diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, args.vmax * KMH, progress=ticker(bar))
+    if args.plot:
+        from comparisons.figures.plots import plot_hopf_diagram
+        plot_hopf_diagram(diagram, family, args.plot)
+    if args.json:
+        emit_json({**inputs_json(args), **diagram_json(diagram, factor)})
+    else:
+        print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
+              f"[{diagram.vmin * 3.6:g}, {args.vmax:g}] km/h"
+              + ("" if args.param == "pressure" else f", at {pressure_label(args)}"))
+        print(f"  {build_axle(args).label()}")
+        for i, c in enumerate(diagram.curves, 1):
+            ends = " | ".join(interface_text(m) for m in c.messages)
+            print(f"  curve {i}: {len(c.speeds)} points; ends: {ends}")
+        for s in diagram.special_points:
+            print(f"  {s.kind.value:17s} {s.speed * 3.6:9.3f} km/h  {args.param} = {s.value / factor:.6g} {unit}"
+                  f"  ({s.status.value})")
+        if args.plot:
+            print(f"  plot written to {args.plot}")
+    if not diagram.complete:
+        sys.stderr.write("shimmy: incomplete: a Hopf curve stopped before leaving the window "
+                         "(see the curve end messages)\n")
+        return 3
+    return 0

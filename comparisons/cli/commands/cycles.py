@@ -1,0 +1,390 @@
+"""``shimmy cycles``: limit-cycle branches born at the Hopf points in a speed window, with their bifurcations."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+import numpy as np
+
+from comparisons.axles.axle import interface_text, interface_unit
+from comparisons.axles.limits import UsageError
+from comparisons.axles.units import KMH
+from comparisons.cli.options import (
+    SECOND_PARAMETERS,
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_axle,
+    build_model,
+    check_window,
+    emit_json,
+    inputs_json,
+    operating_pressure,
+    positive_float,
+    pressure_label,
+)
+from comparisons.cli.progress import progress, ticker
+from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from reduced_model.bifurcation.cycle_curves.result import CycleCurve
+from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_diagram
+from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
+from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint, CycleSettings
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint
+from reduced_model.bifurcation.special_points import ConvergenceError, PointKind
+from reduced_model.family import MIN_SPEED, SpeedFamily
+
+TWO_PARAMS = SECOND_PARAMETERS
+DEFAULT_SETTINGS = CycleSettings()
+DEFAULT_WINDOW_KMH = (0.0, 400.0)   # continuation window when --vmin = --vmax asks for one speed
+
+
+def speed_list(text: str) -> tuple[float, ...]:
+    """'60,80.5' -> (60.0, 80.5) km/h, each finite and at least 0.5 km/h."""
+    out = []
+    for item in text.split(","):
+        try:
+            v = float(item)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"--at expects speeds in km/h separated by commas, got '{text}'") \
+                from None
+        if not math.isfinite(v) or v < MIN_SPEED * 3.6 - 1e-12:
+            raise argparse.ArgumentTypeError(f"--at {item}: speeds must be at least {MIN_SPEED * 3.6:g} km/h")
+        out.append(v)
+    return tuple(out)
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("cycles", help="limit cycles (shimmy amplitudes) born at the Hopf points, with their "
+                                      "folds, torus and period-doubling points")
+    add_model_options(p)
+    add_speed_window(p, vmin=True)
+    p.add_argument("--two-param", metavar="NAME", choices=TWO_PARAMS,
+                   help="also continue every cycle fold, torus and period-doubling point in the (speed, NAME) plane "
+                        f"(figures 8 and 18); NAME one of {', '.join(TWO_PARAMS)}; needs --range")
+    p.add_argument("--range", nargs=2, type=float, metavar=("LO", "HI"),
+                   help="window of NAME for --two-param (bar for pressure, SI otherwise)")
+    p.add_argument("--at", type=speed_list, metavar="KMH[,KMH...]",
+                   help="also the orbits exactly at these speeds, km/h, on every branch that passes them (located "
+                        "on the branch like AUTO's user points); --vmin = --vmax = KMH asks for that speed alone")
+    p.add_argument("--max-step", type=positive_float("--max-step"), metavar="KMH",
+                   help="largest speed change between computed cycles, km/h (denser output)")
+    p.add_argument("--tolerance", type=positive_float("--tolerance"), default=DEFAULT_SETTINGS.tolerance,
+                   metavar="REL", help="collocation error allowed in every orbit, relative to each state's "
+                                       f"amplitude (default {DEFAULT_SETTINGS.tolerance:g}); the mesh gains "
+                                       "intervals until it is met, points that cannot meet it are marked")
+    add_output_options(p, plot=True)
+    p.set_defaults(run=run)
+
+
+def degrees(x: float) -> float:
+    return math.degrees(float(x))
+
+
+def largest(mu: np.ndarray) -> complex:
+    """The non-trivial multiplier of largest modulus."""
+    rest, _ = classify_multipliers(mu)
+    return complex(rest[np.argmax(np.abs(rest))])
+
+
+def point_row(p: CyclePoint) -> dict:
+    mu = largest(p.multipliers)
+    return {"kind": "cycle", "speed_kmh": p.speed_kmh, "period_s": p.period, "frequency_hz": p.frequency_hz,
+            "max_theta1_deg": degrees(p.max_abs("theta1")), "max_theta2_deg": degrees(p.max_abs("theta2")),
+            "max_psi_deg": degrees(p.max_abs("psi")), "largest_multiplier": [mu.real, mu.imag],
+            "largest_multiplier_abs": abs(mu), "stable": p.stable, "error_estimate": p.error,
+            "meets_tolerance": p.meets_tolerance, "intervals": p.orbit.intervals}
+
+
+def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
+    """A Hopf end of a branch as a point of zero amplitude: multipliers exp(lambda T) of straight running, one
+    of the critical pair's two unit multipliers being the trivial one."""
+    period = 2.0 * np.pi / h.omega
+    mu = np.exp(np.linalg.eigvals(family.linear_matrix(h.speed, h.value)) * period)
+    big = largest(mu)
+    return {"kind": "hopf", "speed_kmh": h.speed_kmh, "period_s": period, "frequency_hz": h.frequency_hz,
+            "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0,
+            "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,
+            "error_estimate": 0.0, "meets_tolerance": True, "intervals": 0}
+
+
+def orbit_row(p: CyclePoint, branch: int) -> dict:
+    """An orbit at a requested speed: everything of :func:`point_row` and all Floquet multipliers."""
+    row = point_row(p)
+    row.pop("kind")
+    return {"branch": branch, **row, "multipliers": [[m.real, m.imag] for m in p.multipliers]}
+
+
+def at_json(diagram: CycleDiagram, speeds_kmh) -> list[dict]:
+    out = []
+    for v in speeds_kmh:
+        orbits = [orbit_row(p, i) for i, b in enumerate(diagram.branches) for p in b.user_points
+                  if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
+        out.append({"speed_kmh": v, "orbits": orbits})
+    return out
+
+
+def peaks(family: SpeedFamily, b: CycleBranch) -> dict:
+    """Refined peaks of max|theta1| and max|psi| along a branch (the computed point if refinement fails)."""
+    out = {}
+    for name in ("theta1", "psi"):
+        try:
+            p = branch_peak(family, b, name)
+        except ConvergenceError:
+            p = b.peak(name)
+        out[name] = {"speed_kmh": p.speed_kmh, "max_deg": degrees(p.max_abs(name)), "frequency_hz": p.frequency_hz}
+    return out
+
+
+def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
+    return {"from_hopf_kmh": b.start.speed_kmh if b.start else None,
+            "to_hopf_kmh": b.end.speed_kmh if b.end else None,
+            "complete": b.complete, "status": b.status.value, "message": interface_text(b.message),
+            "peak": peaks(family, b) if b.points else None,
+            "frequency_range_hz": list(b.frequency_range) if b.points else None,
+            "points": ([hopf_row(b.start, family)] if b.start else []) + [point_row(p) for p in b.points]
+            + ([hopf_row(b.end, family)] if b.end else [])}
+
+
+def diagram_json(diagram: CycleDiagram, family: SpeedFamily, pressure_bar: float, effects) -> dict:
+    from comparisons.figures.cycle_plots import special_point_labels
+
+    labels = {id(p): text for text, p in special_point_labels(diagram)}
+    specials = []
+    for i, b in enumerate(diagram.branches):
+        for s in sorted(b.special_points, key=lambda s: s.bracket[0]):
+            amp = s.data["amplitude"]
+            specials.append({"kind": s.kind.value, "label": labels[id(s)], "speed_kmh": s.speed * 3.6,
+                             "max_theta1_deg": degrees(amp[0]), "max_psi_deg": degrees(amp[4]),
+                             "frequency_hz": 1.0 / s.data["period"], "status": s.status.value, "branch": i})
+    return {"pressure_bar": pressure_bar, "effects": list(effects), "complete": diagram.complete,
+            "branches": [branch_row(b, family) for b in diagram.branches], "special_points": specials}
+
+
+def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, float, float]:
+    """(name, current value, lo, hi) in SI for --two-param, checked."""
+    name = args.two_param
+    if args.range is None:
+        raise UsageError("--two-param needs --range LO HI")
+    lo, hi = args.range
+    unit, factor = interface_unit(name)
+    check_window(lo, hi, name, unit)
+    value = SpeedFamily(model, name, pressure=operating_pressure(args)).nominal
+    if not lo * factor <= value <= hi * factor:
+        raise UsageError(f"--range {lo:g} {hi:g} {unit} must contain the current {name} = {value / factor:g} {unit}")
+    return name, value, lo * factor, hi * factor
+
+
+def codim2_row(p, factor: float) -> dict:
+    """A codimension-two point of a two-parameter curve: kind, place (km/h, interface unit), status."""
+    return {"kind": p.kind.value, "speed_kmh": p.speed * 3.6, "value": p.value / factor, "status": p.status.value}
+
+
+def curves_json(curves, labels, factor: float) -> list[dict]:
+    out = []
+    for (curve, error), label in zip(curves, labels):
+        if curve is None:
+            out.append({"label": label, "kind": None, "complete": False, "status": ["newton_failed"] * 2,
+                        "messages": [error, error], "points": [], "ends_at_zero_amplitude": [None, None]})
+            continue
+        out.append({"label": label, "kind": curve.kind.value, "complete": curve.complete,
+                    "status": [s.value for s in curve.status], "messages": [interface_text(m) for m in curve.messages],
+                    "points": [[v * 3.6, q / factor] for v, q in zip(curve.speeds, curve.values)],
+                    "ends_at_zero_amplitude": [None if e is None else [e[0] * 3.6, e[1] / factor]
+                                               for e in curve.ends],
+                    "end_points": [None if e is None else codim2_row(e, factor) for e in curve.end_points],
+                    "special_points": [codim2_row(e, factor) for e in curve.special_points]})
+    return out
+
+
+def _speeds(args: argparse.Namespace) -> tuple[float, float, tuple[float, ...]]:
+    """(vmin, vmax, --at speeds), km/h, checked.  --vmin = --vmax = V asks for the orbits at V: the branches
+    are then continued over the default window (they are born at Hopf points elsewhere)."""
+    at = tuple(args.at or ())
+    if args.vmin == args.vmax:
+        if at and set(at) != {args.vmin}:
+            raise UsageError(f"--vmin = --vmax = {args.vmin:g} km/h asks for that speed alone; --at "
+                             f"{','.join(f'{v:g}' for v in at)} km/h differs")
+        if args.vmin < MIN_SPEED * 3.6 - 1e-12:
+            raise UsageError(f"--vmin = --vmax = {args.vmin:g} km/h: cycles are computed from "
+                             f"{MIN_SPEED * 3.6:g} km/h on")
+        return DEFAULT_WINDOW_KMH[0], max(DEFAULT_WINDOW_KMH[1], args.vmax), (args.vmin,)
+    if not args.vmin < args.vmax:
+        raise UsageError(f"--vmin must be below --vmax, got {args.vmin:g} and {args.vmax:g} km/h")
+    outside = [v for v in at if not args.vmin <= v <= args.vmax]
+    if outside:
+        raise UsageError(f"--at {','.join(f'{v:g}' for v in outside)} km/h lies outside the window "
+                         f"{args.vmin:g}-{args.vmax:g} km/h")
+    return args.vmin, args.vmax, at
+
+
+def run(args: argparse.Namespace) -> int:
+    vmin_kmh, vmax_kmh, at_kmh = _speeds(args)
+    if args.range is not None and args.two_param is None:
+        raise UsageError("--range is only used with --two-param")
+    model = build_model(args)
+    if args.two_param:
+        name, q, lo, hi = _two_param_window(args, model)
+        family = SpeedFamily(model, name, pressure=operating_pressure(args))
+        family.validate(lo), family.validate(hi)
+    else:
+        family = SpeedFamily(model, "pressure", pressure=operating_pressure(args))
+        q = family.nominal
+    family.validate(q)
+    vmin, vmax = vmin_kmh * KMH, vmax_kmh * KMH
+    quiet = args.json or not sys.stderr.isatty()
+    options = {"at": tuple(v * KMH for v in at_kmh),
+               "max_step": args.max_step * KMH if args.max_step else None}
+    if args.tolerance != DEFAULT_SETTINGS.tolerance:
+        options["settings"] = CycleSettings(tolerance=args.tolerance)
+    with progress(1, "cycle branches", quiet) as bar:
+        diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar), **options)
+    unstable = unstable_without_hopf(diagram, family, q)
+    curves: list[tuple[CycleCurve | None, str]] = []
+    labels: list[str] = []
+    if args.two_param:
+        from comparisons.figures.cycle_plots import special_point_labels
+        chosen = [(text, p) for text, p in special_point_labels(diagram)
+                  if p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS, PointKind.PERIOD_DOUBLING)]
+        with progress(len(chosen), "bifurcation curves", quiet) as bar:
+            for text, p in chosen:
+                try:
+                    curves.append((cycle_bifurcation_curve(family, p, lo, hi, vmin, vmax), ""))
+                except ConvergenceError as exc:
+                    curves.append((None, f"newton_failed: {interface_text(str(exc))}"))
+                labels.append(text)
+                bar.update(1)
+    if args.plot:
+        if args.two_param:
+            from comparisons.figures.cycle_plots import plot_cycle_curves
+            from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
+            plot_cycle_curves(hopf_diagram(family, lo, hi, vmin, vmax), [c for c, _ in curves], labels, family,
+                              args.plot)
+        else:
+            from comparisons.figures.cycle_plots import plot_cycle_diagram
+            plot_cycle_diagram(diagram, family, args.plot)
+    factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
+    if args.json:
+        out = diagram_json(diagram, family, args.pressure, model.effects.names)
+        del out["pressure_bar"], out["effects"]
+        out = {**inputs_json(args), **out}
+        out.update({"tolerance": args.tolerance, "max_step_kmh": args.max_step,
+                    "all_meet_tolerance": not inaccurate(diagram)})
+        if at_kmh:
+            out["at"] = at_json(diagram, at_kmh)
+        if unstable is not None:
+            out["complete"], out["note"] = False, unstable
+        if args.two_param:
+            out["two_param"] = {"param": args.two_param, "unit": interface_unit(args.two_param)[0],
+                                "curves": curves_json(curves, labels, factor)}
+            out["complete"] = out["complete"] and all(c is not None and c.complete for c, _ in curves)
+        emit_json(out)
+    else:
+        args.vmin, args.vmax = vmin_kmh, vmax_kmh    # the continuation window, for the header
+        print_diagram(diagram, family, args)
+        if at_kmh:
+            print_at(diagram, at_kmh)
+        if args.two_param:
+            print_curves(curves, labels, args.two_param)
+    problems = [f"branch from {b.start.speed_kmh:.3f} km/h stopped: {interface_text(b.message)}"
+                for b in diagram.branches if not b.complete]
+    if unstable is not None:
+        problems.append(unstable)
+    problems += [f"curve {label}: " + (error or "; ".join(interface_text(m) for m, s in zip(c.messages, c.status)
+                                                         if not s.is_complete))
+                 for (c, error), label in zip(curves, labels) if c is None or not c.complete]
+    missed = inaccurate(diagram)
+    if missed:
+        sys.stderr.write(f"shimmy: warning: {len(missed)} cycles miss the error tolerance {args.tolerance:g} even "
+                         f"with {DEFAULT_SETTINGS.max_intervals} intervals (marked in the output), first at "
+                         f"{missed[0].speed_kmh:.3f} km/h\n")
+    if problems:
+        sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
+        return 3
+    return 0
+
+
+def inaccurate(diagram: CycleDiagram) -> list[CyclePoint]:
+    return [p for b in diagram.branches for p in (*b.points, *b.user_points) if not p.meets_tolerance]
+
+
+def print_at(diagram: CycleDiagram, speeds_kmh) -> None:
+    print("  orbits at the requested speeds (located on the branches):")
+    for v in speeds_kmh:
+        rows = [(i, p) for i, b in enumerate(diagram.branches) for p in b.user_points
+                if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
+        if not rows:
+            print(f"    {v:g} km/h: no branch in the window passes this speed")
+        for i, p in rows:
+            mu = largest(p.multipliers)
+            flag = "" if p.meets_tolerance else f"  [error estimate {p.error:.1e} above tolerance]"
+            print(f"    {v:g} km/h, branch {i}: period {p.period:.6f} s ({p.frequency_hz:.5f} Hz), "
+                  f"max|theta1| {degrees(p.max_abs('theta1')):.5f} deg, max|theta2| "
+                  f"{degrees(p.max_abs('theta2')):.5f} deg, max|psi| {degrees(p.max_abs('psi')):.5f} deg, "
+                  f"largest multiplier |mu| {abs(mu):.6f}, {'stable' if p.stable else 'unstable'}{flag}")
+            print("      multipliers: " + ", ".join(f"{m.real:.6g}{m.imag:+.6g}i" for m in p.multipliers))
+
+
+def unstable_without_hopf(diagram: CycleDiagram, family: SpeedFamily, q: float) -> str | None:
+    """Why an empty diagram is not 'no shimmy': straight running unstable with its Hopf points outside the window."""
+    if diagram.hopf:
+        return None
+    # From MIN_SPEED: at V = 0 the slip equations have zero eigenvalues that round-off can put on either side.
+    speeds = np.linspace(max(diagram.vmin, MIN_SPEED), diagram.vmax, 81)
+    bad = [V for V in speeds if np.max(np.linalg.eigvals(family.linear_matrix(V, q)).real) > 1e-9]
+    if not bad:
+        return None
+    return (f"straight running is unstable at {min(bad) * 3.6:.1f}-{max(bad) * 3.6:.1f} km/h but no Hopf point lies "
+            f"in the window: the shimmy cycles there are born outside it (widen --vmin/--vmax)")
+
+
+def print_curves(curves, labels, name: str) -> None:
+    unit, factor = interface_unit(name)
+    print(f"  two-parameter curves in (V, {name}):")
+    for (curve, error), label in zip(curves, labels):
+        if curve is None:
+            print(f"    {label:4s} [INCOMPLETE] {error}")
+            continue
+        flag = "" if curve.complete else "  [INCOMPLETE]"
+        print(f"    {label:4s} {curve.kind.value:10s} {len(curve.speeds)} points, {name} "
+              f"{curve.values.min() / factor:.6g}-{curve.values.max() / factor:.6g} {unit}{flag}")
+        for message in curve.messages:
+            print(f"         end: {message}")
+        for p in curve.special_points:
+            print(f"         {p.kind.value} at {p.speed * 3.6:.4f} km/h, {name} {p.value / factor:.6g} {unit} "
+                  f"({p.status.value})")
+
+
+def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Namespace) -> None:
+    from comparisons.figures.cycle_plots import special_point_labels
+
+    effects = ",".join(build_model(args).effects.names) or "none (section 3 model)"
+    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h, pressure effects: {effects}")
+    print(f"  {build_axle(args).label()}")
+    if not diagram.hopf:
+        unstable = unstable_without_hopf(diagram, family, diagram.value)
+        print(f"  [INCOMPLETE] {unstable}" if unstable else
+              "  no Hopf point in the window and straight running stable throughout: no shimmy")
+    labels = {id(p): text for text, p in special_point_labels(diagram)}
+    for b in diagram.branches:
+        head = f"  branch from HB at {b.start.speed_kmh:.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
+               f"{b.start.criticality.value if b.start.criticality else 'criticality unknown'}): " \
+               f"{len(b.points)} cycles"
+        print(head + ("" if b.complete else "  [INCOMPLETE]"))
+        print(f"    end: {interface_text(b.message)}")
+        if not b.points:
+            continue
+        peak = peaks(family, b)
+        lo, hi = b.frequency_range
+        stable = sum(p.stable for p in b.points)
+        print(f"    peak max|theta1| {peak['theta1']['max_deg']:.4f} deg at {peak['theta1']['speed_kmh']:.2f} km/h,"
+              f" peak max|psi| {peak['psi']['max_deg']:.4f} deg at {peak['psi']['speed_kmh']:.2f} km/h")
+        print(f"    frequency {lo:.3f}-{hi:.3f} Hz; {stable} of {len(b.points)} cycles stable")
+        for s in sorted(b.special_points, key=lambda s: s.bracket[0]):
+            amp = s.data["amplitude"]
+            print(f"    {labels[id(s)]:4s} {s.kind.value:16s} {s.speed * 3.6:10.3f} km/h  "
+                  f"max|theta1| {degrees(amp[0]):7.3f} deg  max|psi| {degrees(amp[4]):6.3f} deg  "
+                  f"({s.status.value})")
+    if args.plot:
+        print(f"  plot written to {args.plot}")

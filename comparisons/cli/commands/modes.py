@@ -1,0 +1,81 @@
+"""``shimmy modes``: eigenvalues of straight running at one pressure and speed, with frequency, damping ratio
+and what moves (yaw, tramp, slip; left/right share), for the reduced model and the MBS."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from comparisons.axles.limits import UsageError
+from comparisons.axles.units import KMH
+from comparisons.cli.options import (
+    add_model_options,
+    add_output_options,
+    build_axle,
+    build_fidelity,
+    build_model,
+    emit_json,
+    inputs_json,
+    operating_pressure,
+    positive_float,
+    pressure_label,
+)
+from reduced_model.mode_shapes import mode_shapes
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("modes", help="eigenvalues of straight running at one pressure and speed: frequency, "
+                                     "damping ratio and character of each mode, reduced model and MBS")
+    add_model_options(p)
+    p.add_argument("--speed", type=positive_float("--speed"), required=True, metavar="KMH", help="speed, km/h")
+    p.add_argument("--fidelity", choices=("reduced", "full"), default=None,
+                   help="MBS: all assumptions of the reduced model on (reduced, default) or all off (full)")
+    p.add_argument("--assume", metavar="NAME[,NAME]", default=None,
+                   help="MBS: keep exactly these assumptions on (see 'shimmy assumptions')")
+    add_output_options(p)
+    p.set_defaults(run=run)
+
+
+def _models(args: argparse.Namespace):
+    """(key, title, Jacobian at straight running) for the reduced model and the MBS."""
+    from mbs_shimmy import MbsFamily
+    from reduced_model.family import SpeedFamily
+    model = build_model(args)
+    pressure = operating_pressure(args)
+    args.model = "mbs"
+    fidelity = build_fidelity(args)
+    reduced = SpeedFamily(model, pressure=pressure)
+    mbs = MbsFamily.of(model.params, model.effects, fidelity, dims=build_axle(args).dims, pressure=pressure)
+    speed = args.speed * KMH
+    return [("reduced", "reduced model", reduced.linear_matrix(speed, reduced.nominal)),
+            ("mbs", f"MBS, fidelity {fidelity.label}", mbs.linear_matrix(speed, mbs.nominal))], fidelity
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.speed > 1000.0:
+        raise UsageError(f"--speed must be at most 1000 km/h, got {args.speed:g}")
+    models, fidelity = _models(args)
+    params = build_model(args).params
+    results = [(key, title, mode_shapes(A, params.I1, params.I3)) for key, title, A in models]
+    if args.json:
+        emit_json({**inputs_json(args), "speed_kmh": args.speed, "fidelity": fidelity.label,
+                   "models": {key: [m.as_json() for m in modes] for key, _, modes in results}})
+        return 0
+    print(f"Modes of straight running at {pressure_label(args)}, {args.speed:g} km/h")
+    print(f"  {build_axle(args).label()}")
+    print("  shares: yaw / tramp of the kinetic energy, slip of the squared angles; left: the left wheel's part "
+          "of the wheel yaw; phase: theta2 against theta1")
+    for _, title, modes in results:
+        print(f"\n{title}")
+        print(f"  {'eigenvalue [1/s]':>24s}  {'freq [Hz]':>9s}  {'damping':>8s}  {'character':9s}  "
+              f"{'yaw':>5s} {'tramp':>5s} {'slip':>5s} {'left':>5s} {'phase':>6s}")
+        for m in modes:
+            lam = m.eigenvalue
+            phase = "-" if math.isnan(m.wheel_phase_deg) else f"{round(m.wheel_phase_deg) or 0:d}"
+            left = "-" if math.isnan(m.left_share) else f"{m.left_share:.2f}"
+            flag = "" if m.stable else "  UNSTABLE"
+            print(f"  {lam.real:+11.4f} {lam.imag:+11.4f}i  {m.frequency_hz:9.3f}  {m.damping_ratio:+8.4f}  "
+                  f"{m.character:9s}  {m.yaw_share:5.2f} {m.tramp_share:5.2f} {m.slip_share:5.2f} {left:>5s} "
+                  f"{phase:>6s}{flag}")
+    print("\n'-': the mode does not move that wheel (no share, no phase)")
+    return 0

@@ -1,0 +1,75 @@
+"""``shimmy params``: the axle's entries (Table 1 and the multibody dimensions) with units, ranges and sources."""
+
+from __future__ import annotations
+
+import argparse
+
+from comparisons.axles.axle import entries
+from comparisons.axles.limits import UsageError
+from comparisons.cli.options import add_axle_option, add_output_options, build_axle, check_output_path, emit_json
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("params", help="print the axle (Table 1 and the multibody dimensions) with units, physical "
+                                      "ranges and sources; --write makes an axle file to edit")
+    add_axle_option(p)
+    p.add_argument("--write", metavar="FILE.toml", help="write the axle as an axle file (start from the paper's "
+                                                        "truck, edit it, read it back with --axle)")
+    add_output_options(p)
+    p.set_defaults(run=run)
+
+
+def rows_of(axle) -> list[dict]:
+    rows = []
+    for name, e in entries().items():
+        lo, hi = e.range
+        row = {"name": name, "section": e.section, "value": e.to_interface(axle.value(name)), "unit": e.unit,
+               "range": [lo, hi], "description": e.description, "source": e.source}
+        if e.section == "table1":
+            row["printed_as"] = e.printed
+        else:
+            row["plausible"] = [e.to_interface(v) for v in axle.plausible_range(name)]
+        rows.append(row)
+    return rows
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.write is not None:
+        if not args.write.strip():
+            raise UsageError("--write needs a file name")
+        check_output_path(args.write)
+    axle = build_axle(args)
+    rows = rows_of(axle)
+    if args.write is not None:
+        from comparisons.axles.axle_file import write_axle
+        try:
+            write_axle(axle, args.write)
+        except OSError as exc:
+            raise UsageError(f"cannot write {args.write}: {exc.strerror or exc}") from None
+    if args.json:
+        emit_json({"parameter_set": axle.name, "axle": axle.describe(),
+                   "pressure_range_bar": list(axle.pressure_range_bar), "parameters": rows,
+                   **({"written": args.write} if args.write else {})})
+        return 0
+    print(f"Axle {axle.name}: {axle.label().split(': ', 1)[1]}; values in the units shown, "
+          f"physical range in brackets")
+    for section, title in (("table1", "Table 1 (Yang, Knowles & Mavros)"),
+                           ("multibody", "multibody dimensions the paper does not give (plausible range after the "
+                                         "physical one)")):
+        print(f"\n{title}")
+        print(f"{'name':26s} {'value':>11s}  {'unit':10s} {'range':22s} description; source")
+        for r in rows:
+            if r["section"] != section:
+                continue
+            rng = f"[{r['range'][0]:g}, {r['range'][1]:g}]"
+            extra = f" plausible [{r['plausible'][0]:g}, {r['plausible'][1]:g}]" if "plausible" in r else ""
+            note = f" [printed {r['printed_as']}]" if r.get("printed_as") else ""
+            print(f"{r['name']:26s} {r['value']:11.6g}  {r['unit']:10s} {rng:22s} {r['description']}; "
+                  f"{r['source']}{note}{extra}")
+    print(f"\npressure range for 'shimmy verify --axle': {axle.pressure_range_bar[0]:g}-{axle.pressure_range_bar[1]:g}"
+          f" bar")
+    if axle.inherited:
+        print(f"inherited from the paper's axle (base = YANG2024): {', '.join(axle.inherited)}")
+    if args.write:
+        print(f"axle file written to {args.write}")
+    return 0

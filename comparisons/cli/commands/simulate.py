@@ -1,0 +1,234 @@
+"""``shimmy simulate``: time simulation at constant speed or along a speed ramp, with shimmy-mode switches."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+import numpy as np
+
+from comparisons.axles.limits import (
+    ANGLE_RANGE_DEG,
+    DURATION_RANGE_S,
+    RAMP_TIME_RANGE_S,
+    RATE_RANGE_DEG_S,
+    SPEED_RANGE_KMH,
+    UsageError,
+)
+from comparisons.axles.units import KMH
+from comparisons.cli.options import (
+    add_model_choice,
+    add_model_options,
+    add_output_options,
+    build_axle,
+    build_fidelity,
+    build_model,
+    emit_json,
+    inputs_json,
+    operating_pressure,
+    parse_number,
+    pressure_label,
+    ranged,
+)
+from comparisons.cli.progress import progress
+from reduced_model.model import STATE_NAMES, STATE_UNITS
+from reduced_model.modes import ModeClassifier, ModeHistory
+from reduced_model.simulation import initial_state, simulate
+from reduced_model.trajectory import SpeedSchedule, Trajectory
+
+HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
+CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
+MAX_CYCLES = 5.0e4         # periods of the fastest mode an integrator must resolve; about 80 s of LSODA here
+MBS_MAX_DURATION = 100.0   # s: the MBS steps at 1 ms through a Python tyre element, about 2 s per simulated s
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("simulate", help="time simulation at constant speed or along a speed ramp; reports "
+                                        "switches between the yaw and tramp modes")
+    add_model_options(p)
+    add_model_choice(p)
+    how = p.add_mutually_exclusive_group(required=True)
+    how.add_argument("--speed", type=ranged("--speed", *SPEED_RANGE_KMH, "km/h"), metavar="KMH",
+                     help="constant speed, km/h (within [{:g}, {:g}])".format(*SPEED_RANGE_KMH))
+    how.add_argument("--ramp", metavar="FROM:TO:SECONDS",
+                     help="speed ramp: FROM to TO km/h linearly in SECONDS s, then held (speeds within "
+                          "[{:g}, {:g}] km/h, SECONDS within [{:g}, {:g}])".format(*SPEED_RANGE_KMH,
+                                                                                 *RAMP_TIME_RANGE_S))
+    p.add_argument("--duration", type=ranged("--duration", *DURATION_RANGE_S, "s"), metavar="SECONDS",
+                   help=f"simulated time, s (default {CONSTANT_DURATION:g} at constant speed, ramp time + "
+                        f"{HOLD_AFTER_RAMP:g} for a ramp; within [{DURATION_RANGE_S[0]:g}, "
+                        f"{DURATION_RANGE_S[1]:g}])")
+    p.add_argument("--initial", action="append", metavar="NAME=VALUE",
+                   help=f"initial state in degrees and deg/s (angles within [{ANGLE_RANGE_DEG[0]:g}, "
+                        f"{ANGLE_RANGE_DEG[1]:g}] deg, rates within [{RATE_RANGE_DEG_S[0]:g}, "
+                        f"{RATE_RANGE_DEG_S[1]:g}] deg/s); names: {' '.join(STATE_NAMES)}; repeatable "
+                        f"(default theta1=0.573 deg (0.01 rad), the rest 0)")
+    add_output_options(p, plot=True)
+    p.add_argument("--rerun", metavar="FILE.rrd", help="write a Rerun recording of the run (3D scene, states, "
+                                                        "speed, mode lane, switch events)")
+    p.add_argument("--series", metavar="FILE.csv|.parquet",
+                   help="write the time series: time, speed, every state in degrees (per second), detected mode")
+    p.set_defaults(run=run)
+
+
+def parse_ramp(text: str) -> SpeedSchedule:
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise UsageError(f"--ramp expects FROM:TO:SECONDS, got '{text}'")
+    start, end = (parse_number(x, f"--ramp {what}", *SPEED_RANGE_KMH, "km/h") for x, what in
+                  zip(parts[:2], ("FROM", "TO")))
+    seconds = parse_number(parts[2], "--ramp SECONDS", *RAMP_TIME_RANGE_S, "s")
+    return SpeedSchedule.ramp(start * KMH, end * KMH, seconds)
+
+
+def parse_initial(items: list[str] | None) -> np.ndarray:
+    """``--initial NAME=VALUE`` in degrees (angles) and degrees per second (rates) to the SI state vector."""
+    if not items:
+        return initial_state()
+    values: dict[str, float] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise UsageError(f"--initial expects NAME=VALUE, got '{item}'")
+        if name not in STATE_NAMES:
+            raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
+        rate = STATE_UNITS[STATE_NAMES.index(name)] == "rad/s"
+        lo, hi = RATE_RANGE_DEG_S if rate else ANGLE_RANGE_DEG
+        values[name] = math.radians(parse_number(text, f"--initial {name}", lo, hi, "deg/s" if rate else "deg"))
+    return initial_state(values)
+
+
+def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
+    """Refuse a run whose fastest oscillation would take the integrator minutes to resolve (exit 2, with why).
+
+    Within the physical ranges an axle can still combine a stiff tie rod with a light wheel (k1 = 1e8 N m/rad,
+    I1 = 0.1 kg m^2 oscillate at 7 kHz): both integrators must follow every period of such a mode, and 20 s take
+    hours.  The fastest frequency is read from the reduced model's linearisation at both ends of the speed range.
+    """
+    if args.model == "mbs" and args.duration > MBS_MAX_DURATION:
+        raise UsageError(f"--duration with --model mbs must be at most {MBS_MAX_DURATION:g} s (about 2 s of "
+                         f"computing per simulated second), got {args.duration:g}")
+    model = build_model(args)
+    pressure = operating_pressure(args)
+    speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
+    fastest = max(float(np.max(np.abs(np.linalg.eigvals(model.linear_matrix(v, pressure)).imag))) / (2 * np.pi)
+                  for v in speeds)
+    cycles = fastest * args.duration
+    if cycles > MAX_CYCLES:
+        raise UsageError(f"the axle's fastest oscillation, {fastest:.4g} Hz, would need {cycles:.3g} periods "
+                         f"resolved in {args.duration:g} s (limit {MAX_CYCLES:g}): shorten --duration or check the "
+                         f"stiffnesses and inertias (k1, k2, I1, ...)")
+
+
+def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.ndarray) -> Trajectory:
+    """The one place where a trajectory is made: the reduced model (scipy) or the multibody model (Exudyn)."""
+    model = build_model(args)
+    fidelity = build_fidelity(args)
+    if fidelity is not None:
+        from mbs_shimmy import simulate as simulate_mbs
+        return simulate_mbs(model.params, model.effects, fidelity, operating_pressure(args), schedule, x0,
+                            args.duration, dims=build_axle(args).dims, poses=bool(args.rerun))
+    quiet = args.json or not sys.stderr.isatty()
+    with progress(100, "simulating", quiet) as bar:
+        def tick(t):
+            bar.n = int(100 * t / args.duration)
+            bar.refresh()
+        return simulate(model, operating_pressure(args), schedule, args.duration, x0, progress=tick)
+
+
+def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
+    final = history.final
+    return {
+        "model": trajectory.model,
+        "integrator": trajectory.integrator,
+        "complete": trajectory.complete,
+        "status": trajectory.status.value,
+        "message": trajectory.message,
+        "duration_s": float(trajectory.t[-1]),
+        "initial_mode": history.initial.value,
+        "mode_switches": [{"time_s": s.time, "speed_kmh": s.speed * 3.6, "from": s.before.value,
+                           "to": s.after.value} for s in history.switches],
+        "final": {"mode": history.final_mode.value, "max_theta1_deg": math.degrees(final.theta1),
+                  "max_psi_deg": math.degrees(final.psi),
+                  "frequency_hz": None if not np.isfinite(final.frequency_hz) else final.frequency_hz,
+                  "speed_kmh": final.speed * 3.6},
+    }
+
+
+def schedule_json(args: argparse.Namespace) -> dict:
+    """The run's inputs beyond the axle and pressures: speed schedule, duration asked, start, MBS fidelity."""
+    if args.speed is not None:
+        schedule = {"speed_kmh": args.speed}
+    else:
+        start, end, seconds = (float(x) for x in args.ramp.split(":"))
+        schedule = {"ramp": {"from_kmh": start, "to_kmh": end, "seconds": seconds}}
+    fidelity = build_fidelity(args)
+    return {"schedule": schedule, "duration_requested_s": args.duration, "initial": list(args.initial or []),
+            "fidelity": None if fidelity is None else fidelity.label}
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.speed is not None:
+        schedule = SpeedSchedule.constant(args.speed * KMH)
+        default = CONSTANT_DURATION
+    else:
+        schedule = parse_ramp(args.ramp)
+        default = schedule.ramp_time + HOLD_AFTER_RAMP
+    if args.duration is None:
+        args.duration = default
+    x0 = parse_initial(args.initial)
+    check_work(args, schedule)
+    if args.series:   # the paths themselves are checked by comparisons.cli before any command runs
+        from comparisons.recordings.series import series_format
+        try:
+            series_format(args.series)
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+    trajectory = simulate_model(args, schedule, x0)
+    history = ModeClassifier().classify(trajectory)
+    if args.rerun:
+        from comparisons.recordings.writer import RecordingError, write_recording
+        try:
+            write_recording(args.rerun, trajectory, history.segments(), history.switches,
+                            title=f"{trajectory.model} model, {pressure_label(args)}", model=build_model(args),
+                            pressure=operating_pressure(args))
+        except RecordingError as exc:
+            raise UsageError(str(exc)) from None
+    how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
+    if args.plot:
+        from comparisons.figures.cycle_plots import MODEL_NAMES, plot_trajectory
+        plot_trajectory(trajectory, history, args.plot,
+                        title=f"{MODEL_NAMES.get(trajectory.model, trajectory.model)}, {pressure_label(args)}, "
+                              f"{how}; {trajectory.integrator.split(',')[0]}")
+    if args.series:
+        from comparisons.recordings.series import series_table, write_series
+        write_series(args.series, series_table(trajectory, history.segments(),
+                                               {**inputs_json(args), "schedule": how}))
+    if args.json:
+        emit_json({**inputs_json(args), **schedule_json(args), **result_json(trajectory, history)})
+    else:
+        out = result_json(trajectory, history)
+        print(f"{trajectory.model} model at {pressure_label(args)}, {how}, {out['duration_s']:g} s simulated")
+        print(f"  {build_axle(args).label()}")
+        print(f"  integrator: {trajectory.integrator}")
+        print(f"  initial mode: {out['initial_mode']}")
+        for s in out["mode_switches"]:
+            print(f"  switch {s['from']:>5s} -> {s['to']:5s} at t = {s['time_s']:7.2f} s, {s['speed_kmh']:7.2f} km/h")
+        f = out["final"]
+        freq = "-" if f["frequency_hz"] is None else f"{f['frequency_hz']:.3f} Hz"
+        print(f"  final: {f['mode']}, max|theta1| {f['max_theta1_deg']:.4f} deg, max|psi| {f['max_psi_deg']:.4f} deg,"
+              f" {freq} (last {ModeClassifier().window:g} s)")
+        if not trajectory.complete:
+            print(f"  INCOMPLETE: {trajectory.message}")
+        if args.plot:
+            print(f"  plot written to {args.plot}")
+        if args.rerun:
+            print(f"  recording written to {args.rerun}")
+        if args.series:
+            print(f"  time series written to {args.series}")
+    if not trajectory.complete:
+        sys.stderr.write(f"shimmy: incomplete: {trajectory.message}\n")
+        return 3
+    return 0

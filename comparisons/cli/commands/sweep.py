@@ -1,0 +1,190 @@
+"""``shimmy sweep``: Hopf points, assumption shifts and cycle amplitudes over a grid or a sample of inputs, on Dask."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+from comparisons.cli.options import (
+    add_model_options,
+    add_output_options,
+    add_speed_window,
+    build_axle,
+    check_output_path,
+    emit_json,
+    inputs_json,
+    pressure_label,
+)
+from comparisons.cli.progress import progress
+
+
+def _count(what: str, minimum: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{what} must be an integer, got '{text}'") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{what} must be at least {minimum}, got {value}")
+        return value
+    return parse
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("sweep", help="vary axle entries and pressures over a grid or a quasi-random sample, on Dask; "
+                                     "results to Parquet, sensitivities, stability map, tornado chart")
+    p.add_argument("--vary", action="append", metavar="NAME=SPEC", required=True,
+                   help="an axle entry (units of 'shimmy params') or pressure/pressure_left/pressure_right (bar): "
+                        "LO:HI:N (grid; several: full factorial), uniform:LO:HI or normal:MEAN:SD (with --samples); "
+                        "repeatable")
+    p.add_argument("--samples", type=_count("--samples", 1), default=None, metavar="N",
+                   help="number of quasi-random samples (Saltelli design: base samples, N (D + 2) rows)")
+    p.add_argument("--seed", type=_count("--seed", 0), default=0, metavar="S", help="seed of the sample (default 0)")
+    p.add_argument("--design", choices=("sobol", "saltelli"), default=None,
+                   help="sobol: scrambled Sobol' sequence (default); saltelli: A/AB/B matrices for Sobol' indices")
+    p.add_argument("--compute", default="hopf", metavar="LIST",
+                   help="comma list of hopf (reduced model, and MBS with --mbs), assumptions (each assumption's "
+                        "Hopf-speed shift, MBS), cycles (peak limit-cycle amplitude of each mode); default hopf")
+    p.add_argument("--mbs", default="", metavar="FIDELITIES",
+                   help="also the MBS Hopf points at these fidelities, comma list of reduced, full (with hopf)")
+    p.add_argument("--lyapunov", action="store_true", help="also each Hopf point's first Lyapunov coefficient "
+                                                           "(reduced model; about doubles the Hopf cost)")
+    add_model_options(p, pressure_required=False)
+    add_speed_window(p)
+    p.add_argument("--out", default="sweep.parquet", metavar="FILE.parquet",
+                   help="results, one row per sample (default sweep.parquet; schema in the README)")
+    p.add_argument("--resume", action="store_true", help="continue an interrupted sweep into the same --out "
+                                                         "without recomputing its finished batches")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help="an existing Dask scheduler (tcp://host:8786); default: a local cluster on this machine's "
+                        "cores")
+    p.add_argument("--workers", type=_count("--workers", 1), default=None, metavar="N",
+                   help="local cluster: worker processes (default: one per core)")
+    p.add_argument("--batch-size", type=_count("--batch-size", 1), default=None, metavar="N",
+                   help="samples per Dask task (default: about one second of work each)")
+    p.add_argument("--output", default=None, metavar="COLUMN",
+                   help="output for the sensitivities and the tornado chart (default onset_kmh, the lowest Hopf "
+                        "speed; any numeric column, or a list column with an index: hopf_kmh[0])")
+    add_output_options(p, plot=True)
+    p.set_defaults(run=run)
+
+
+def _compute(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    from comparisons.axles.limits import UsageError
+    from comparisons.sweeps.sample import COMPUTE
+    compute = tuple(dict.fromkeys(s.strip() for s in args.compute.split(",") if s.strip()))
+    bad = [c for c in compute if c not in COMPUTE]
+    if bad or not compute:
+        raise UsageError(f"--compute: unknown output '{bad[0] if bad else args.compute}' "
+                         f"(known: {', '.join(COMPUTE)})")
+    mbs = tuple(dict.fromkeys(s.strip() for s in args.mbs.split(",") if s.strip()))
+    for f in mbs:
+        if f not in ("reduced", "full"):
+            raise UsageError(f"--mbs: unknown fidelity '{f}' (known: reduced, full)")
+    if mbs and "hopf" not in compute:
+        raise UsageError("--mbs adds MBS Hopf points: it needs --compute hopf")
+    return compute, mbs
+
+
+def build_task(args: argparse.Namespace, names: tuple[str, ...]):
+    from comparisons.axles.limits import UsageError
+    from comparisons.cli.options import resolve_pressures
+    from comparisons.sweeps.sample import SweepTask
+    from reduced_model.model import Effects
+    from reduced_model.parameters import ParameterError
+    compute, mbs = _compute(args)
+    try:
+        effects = Effects.parse(args.effects).names
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+    resolve_pressures(args)
+    return SweepTask(axle=build_axle(args), effects=effects, pressure_right_bar=args.pressure_right,
+                     pressure_left_bar=args.pressure_left, names=names, compute=compute, mbs=mbs,
+                     vmax_kmh=args.vmax, lyapunov=args.lyapunov)
+
+
+class _Progress:
+    """tqdm on a terminal; plain lines on stderr otherwise (every 10 %); nothing under --json."""
+
+    def __init__(self, total: int, quiet: bool):
+        self.quiet, self.total = quiet, total
+        self.tty = sys.stderr.isatty()
+        self.bar = progress(total, "sweep", quiet) if self.tty else None
+        self.start, self.shown = time.perf_counter(), -1
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.quiet:
+            return
+        if self.bar is not None:
+            self.bar.total, self.bar.n = total, done
+            self.bar.refresh()
+            return
+        tenth = (10 * done) // max(total, 1)
+        if tenth > self.shown:
+            self.shown = tenth
+            elapsed = time.perf_counter() - self.start
+            left = f", about {elapsed * (total - done) / done:.0f} s left" if 0 < done < total else ""
+            sys.stderr.write(f"sweep: {done}/{total} samples, {elapsed:.0f} s{left}\n")
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _quiet_shutdown() -> None:
+    """After Ctrl-C, Dask's loop thread and atexit hooks may still report the cancelled start-up: the user asked
+    for the stop and has been told what was kept, so those reports are dropped."""
+    import logging
+    import threading
+    for name in ("distributed", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+    sys.unraisablehook = lambda unraisable: None
+    threading.excepthook = lambda hook_args: None
+
+
+def run(args: argparse.Namespace) -> int:
+    from comparisons.sweeps.analysis import OutputChoice, sensitivity, write_plot
+    from comparisons.sweeps.design import make_design, parse_vary
+    from comparisons.sweeps.run import run_sweep
+    variations = [parse_vary(v) for v in args.vary]
+    design = make_design(variations, args.samples, args.seed, args.design)
+    task = build_task(args, design.names)
+    output = OutputChoice.parse(args.output, task)
+    check_output_path(args.out)
+    if args.plot:
+        check_output_path(args.plot)
+    bar = _Progress(len(design), args.json)
+    try:
+        result = run_sweep(task, design, args.out, scheduler=args.scheduler, workers=args.workers,
+                           size=args.batch_size, resume=args.resume, progress=bar)
+    except KeyboardInterrupt:
+        bar.close()
+        _quiet_shutdown()
+        parts = args.out + ".parts"
+        kept = len([f for f in os.listdir(parts) if f.startswith("batch-")]) if os.path.isdir(parts) else 0
+        sys.stderr.write(f"shimmy: interrupted; {kept} finished batches kept in {parts}: the same command with "
+                         f"--resume continues\n")
+        return 130
+    finally:
+        bar.close()
+    sens = sensitivity(result.table, design, output)
+    if args.plot:
+        write_plot(args.plot, result.table, design, task, output, sens)
+    if args.json:
+        emit_json({**inputs_json(args), "design": design.to_json(), "run": result.to_json(),
+                   "sensitivity": sens.to_json()})
+        return 0
+    run_ = result.to_json()
+    print(f"Sweep of {len(design)} samples ({design.kind}) over {', '.join(design.names)} at {pressure_label(args)}, "
+          f"0-{args.vmax:g} km/h")
+    print(f"  {build_axle(args).label()}")
+    print(f"  {run_['computed_batches']} of {run_['batches']} batches of {run_['batch_size']} computed on "
+          f"{run_['workers']} workers ({run_['scheduler']}) in {run_['elapsed_s']:.1f} s; "
+          f"{result.failed} failed samples; written to {args.out}")
+    for line in sens.lines():
+        print(f"  {line}")
+    if args.plot:
+        print(f"  plot: {args.plot}")
+    return 0

@@ -1,0 +1,86 @@
+"""``shimmy verify``: the main job; compares the models with the paper and with each other, writes a report."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import shlex
+import sys
+import time
+
+from comparisons.axles.limits import UsageError
+from comparisons.cli.options import add_axle_option, add_output_options, build_axle, emit_json, positive_float
+from comparisons.cli.progress import StepProgress
+from comparisons.verify.report import markdown_table, run_metadata, section_table, write_report
+from comparisons.verify.run import run_verification
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("verify", help="compare the models with the paper and with each other; write a report")
+    p.add_argument("--out", default="shimmy-report", metavar="DIR",
+                   help="folder for report.md, figures and recordings (default ./shimmy-report)")
+    p.add_argument("--quick", action="store_true", help="fewer speeds and shorter runs (under a minute)")
+    add_axle_option(p)
+    p.add_argument("--pressure-left", type=positive_float("--pressure-left"), metavar="BAR",
+                   help="also verify this asymmetric case: left tyre (wheel 2) pressure, bar (needs --pressure-right)")
+    p.add_argument("--pressure-right", type=positive_float("--pressure-right"), metavar="BAR",
+                   help="right tyre (wheel 1) pressure of the asymmetric case, bar")
+    p.add_argument("--no-recordings", action="store_true", help="write no Rerun recordings")
+    add_output_options(p)
+    p.set_defaults(run=run)
+
+
+def prepare_out(path: str) -> None:
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise UsageError(f"--out {path}: a file is in the way (need a folder)")
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as exc:
+        raise UsageError(f"--out {path}: cannot create the folder ({exc.strerror})") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise UsageError(f"--out {path}: folder is not writable")
+
+
+def run(args: argparse.Namespace) -> int:
+    asymmetric = None
+    if (args.pressure_left is None) != (args.pressure_right is None):
+        raise UsageError("verify: give both --pressure-left and --pressure-right for an asymmetric case")
+    if args.pressure_left is not None:
+        asymmetric = (args.pressure_right, args.pressure_left)
+    prepare_out(args.out)
+    axle = build_axle(args)
+    start = time.perf_counter()
+    with StepProgress(job="verify") as progress:
+        report = run_verification(args.out, args.quick, axle=axle, asymmetric=asymmetric,
+                                  from_file=args.axle is not None or bool(args.overrides),
+                                  recordings=not args.no_recordings, progress=progress)
+    command = "shimmy " + " ".join(shlex.quote(a) for a in args.argv)
+    report = dataclasses.replace(report, metadata=run_metadata(args.quick, axle, time.perf_counter() - start,
+                                                               command))
+    try:
+        path, page = write_report(report, args.out)
+    except OSError as exc:
+        raise UsageError(f"cannot write the report into {args.out}: {exc.strerror or exc}") from None
+    if args.json:
+        emit_json({"report": path, "html": page, "failed": report.failed, "axle": axle.describe(),
+                   "metadata": dataclasses.asdict(report.metadata),
+                   "plan": report.plan.to_json(), "plan_notes": list(report.plan.notes),
+                   "summary": report.summary_rows(),
+                   "sections": [{"key": s.key, "title": s.title,
+                                 "rows": [{**r.cells, "status": r.status.value, "note": r.note} for r in s.rows]}
+                                for s in report.sections]})
+    else:
+        print(axle.label())
+        for s in report.sections:
+            print(f"\n{s.title}")
+            keys, headers, rows, factors = section_table(s, with_note=False)
+            print(markdown_table(keys, rows, headers, factors))
+        print("\nSummary")
+        print(markdown_table(["section", "checks", "pass", "known differences", "fail", "info"],
+                             report.summary_rows()))
+        print(f"\nreport written to {path} and {page}")
+    if report.failed:
+        sys.stderr.write("shimmy: verification failed: see the FAIL rows in the report\n")
+        return 1
+    return 0

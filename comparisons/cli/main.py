@@ -1,0 +1,319 @@
+"""The ``shimmy`` command: dispatches to :mod:`comparisons.cli.commands`; every failure is one line on stderr.
+
+Exit codes (also in the README):
+
+====  =======================================================================================================
+0     success
+1     ``verify``: a check failed (a FAIL row in the report)
+2     bad input: an option, a value outside its physical range, an output path that cannot be written
+3     the computation did not complete: no convergence, a non-finite number or an overflow (the line says where)
+4     ``figures --only``: a requested figure cannot be made yet
+74    an output could not be written: disk full, read-only file system, stdout closed, full or a broken pipe
+130   interrupted (Ctrl-C, SIGINT); temporary files removed, completed outputs kept
+143   terminated (SIGTERM); as for 130
+====  =======================================================================================================
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib
+import importlib.util
+import os
+import signal
+import sys
+import threading
+import time
+import traceback
+
+# Only the standard library and .files here: the signal handlers are installed before the model packages load.
+from comparisons.files import (
+    FAULTED_TEMPORARIES,
+    LIVE_TEMPORARIES,
+    STUCK_WRITERS,
+    OutputFault,
+    OutputPathError,
+    check_outputs,
+    remove_live_temporaries,
+)
+
+COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "simulate", "assumptions", "figures", "params", "bench", "sweep")
+
+EXIT_FAILED = 1
+EXIT_USAGE = 2
+EXIT_INCOMPLETE = 3
+EXIT_WRITE = 74
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+GRACE_S = 0.5                 # after a signal: time given to unwind normally before the hard exit
+# Commands that answer an interrupt themselves: sweep closes its Dask cluster and says which batches it kept.
+GRACE_BY_COMMAND = {"sweep": 10.0}
+# Output options checked before any work, by attribute name; recordings are read back, so no device for them.
+OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
+RECORDING_OPTIONS = ("--rerun",)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, not usage + message
+        _say(f"shimmy: error: {message}")
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="shimmy", description="Truck wheel shimmy: reduced model, bifurcations, multibody model")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        # A command whose module is not written yet is simply not offered.
+        if importlib.util.find_spec(f"comparisons.cli.commands.{name}") is not None:
+            importlib.import_module(f"comparisons.cli.commands.{name}").add_parser(sub)
+    return parser
+
+
+class Interrupted(BaseException):
+    """SIGTERM, raised in the main thread like KeyboardInterrupt is for SIGINT."""
+
+
+def one_line(text: str) -> str:
+    """``text`` with control characters and line breaks escaped: user input echoed in a message stays one line."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() or 0xDC80 <= ord(c) <= 0xDCFF else repr(c)[1:-1] for c in text)
+
+
+def _say(line: str) -> None:
+    """One line on stderr, whatever state stderr is in."""
+    line = one_line(line)
+    try:
+        sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+    except (OSError, ValueError, AttributeError):
+        try:
+            os.write(2, (line + "\n").encode("utf-8", "replace"))
+        except OSError:
+            pass
+
+
+def _stop_children(wait: float = 0.1) -> None:
+    """Terminate worker processes (figures): they remove their own temporary files on SIGTERM."""
+    import multiprocessing
+    children = multiprocessing.active_children()
+    for child in children:
+        child.terminate()
+    deadline = time.monotonic() + wait
+    for child in children:
+        child.join(max(0.0, deadline - time.monotonic()))
+        if child.is_alive():
+            child.kill()
+
+
+def hard_exit(code: int, line: str | None) -> None:
+    """Leave now: stop workers, remove temporary files, say ``line``, exit without waiting for any thread."""
+    try:
+        _stop_children()
+    except Exception:  # noqa: BLE001 - nothing may stop the exit
+        pass
+    remove_live_temporaries()
+    if line:
+        _say(line)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # noqa: BLE001
+            pass
+    os._exit(code)
+
+
+class _Signals:
+    """SIGINT and SIGTERM: raise in the main thread, and if the run has not ended within GRACE_S (a C extension
+    holding the thread, a library that swallows KeyboardInterrupt in a callback), exit from a watchdog thread."""
+
+    def __init__(self) -> None:
+        self.code: int | None = None
+        self.grace = GRACE_S
+        self.done = threading.Event()
+        self.previous: dict[int, object] = {}
+        self.loading = False        # inside :meth:`while_loading`
+        self.pending = False        # a signal came while loading
+
+    def install(self) -> None:
+        if threading.current_thread() is not threading.main_thread():
+            return
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.previous[sig] = signal.signal(sig, self.handle)
+
+    def restore(self) -> None:
+        self.done.set()
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+
+    def handle(self, signum, frame) -> None:
+        code = EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED
+        line = "shimmy: interrupted" if code == EXIT_INTERRUPTED else "shimmy: terminated"
+        if self.code is not None:   # second signal: leave at once
+            hard_exit(self.code, line)
+        self.code = code
+        if self.grace <= GRACE_S:   # workers first: a pool waiting on them would hold the main thread
+            try:
+                _stop_children(wait=0.0)
+            except Exception:  # noqa: BLE001 - the exit must go on
+                pass
+
+        def watchdog() -> None:
+            if not self.done.wait(self.grace):
+                hard_exit(code, line)
+        threading.Thread(target=watchdog, name="shimmy-signal-watchdog", daemon=True).start()
+        if self.loading:
+            self.pending = True
+            return
+        self._raise()
+
+    def _raise(self) -> None:
+        raise KeyboardInterrupt if self.code == EXIT_INTERRUPTED else Interrupted()
+
+    @contextlib.contextmanager
+    def while_loading(self):
+        """The model packages load: an exception raised inside a C extension's initialisation (Exudyn's, scipy's
+        HiGHS wrapper) makes that import fail with an ImportError traceback instead of stopping cleanly.  A signal
+        here is acted on when loading is over, or by the watchdog after the grace time, whichever comes first."""
+        self.loading = True
+        try:
+            yield
+        finally:
+            self.loading = False
+        if self.pending:
+            self._raise()
+
+
+def _where(exc: BaseException) -> str:
+    """The innermost frame of this project in the traceback: 'module.function'."""
+    place = "?"
+    for frame in traceback.extract_tb(exc.__traceback__):
+        path = frame.filename.replace(os.sep, "/")
+        for package in ("reduced_model/", "mbs_shimmy/", "comparisons/"):
+            if package in path:
+                module = package + path.rsplit(package, 1)[1]
+                place = f"{module[:-3].replace('/', '.')}.{frame.name}"
+    return place
+
+
+def check_output_options(args: argparse.Namespace) -> None:
+    """Every output file option of the command, before the work (see :func:`comparisons.files.check_outputs`)."""
+    from comparisons.axles.limits import UsageError
+    items = [(flag, getattr(args, attr)) for attr, flag in OUTPUT_OPTIONS if getattr(args, attr, None) is not None]
+    try:
+        check_outputs(items, RECORDING_OPTIONS)
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _run(args: argparse.Namespace) -> int:
+    from comparisons.cli.options import resolve_pressures
+    resolve_pressures(args)
+    check_output_options(args)
+    code = int(args.run(args) or 0)
+    if sys.stdout is None:
+        raise OutputFault("stdout is closed")
+    sys.stdout.flush()   # here, not at exit: a full or closed stdout must be reported like any other write
+    return code
+
+
+def _silence_stdout() -> None:
+    """After a stdout fault: nothing more may be written there (the interpreter's final flush would fail again)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.close(devnull)
+    except OSError:
+        pass
+    sys.stdout = open(os.devnull, "w")
+
+
+def main(argv: list[str] | None = None) -> int:
+    for stream in (sys.stdout, sys.stderr):   # file names with undecodable bytes are printed as they are
+        if stream is not None and hasattr(stream, "reconfigure"):
+            try:
+                stream.reconfigure(errors="surrogateescape")
+            except (ValueError, OSError):
+                pass
+    signals = _Signals()
+    signals.install()
+    os.environ["SHIMMY_RUN_ID"] = str(os.getpid())   # worker processes tag their temporary files with it
+    # Rerun's Rust side logs its own errors on stderr (read once, when it loads); faults are reported in one line.
+    os.environ.setdefault("RUST_LOG", "off")
+    try:
+        if sys.stdout is None:
+            raise OutputFault("stdout is closed")
+        import numpy as np
+
+        from comparisons.axles.axle import interface_text
+        from comparisons.axles.limits import UsageError
+        from reduced_model.bifurcation.special_points import ConvergenceError
+        from reduced_model.parameters import ParameterError
+        try:
+            with signals.while_loading():
+                parser = build_parser()
+            args = parser.parse_args(argv)
+            signals.grace = GRACE_BY_COMMAND.get(args.command, GRACE_S)
+            args.argv = list(sys.argv[1:] if argv is None else argv)    # echoed in reports
+            return _run(args)
+        except (UsageError, ParameterError) as exc:
+            _say(f"shimmy: error: {exc}")
+            return EXIT_USAGE
+        except ConvergenceError as exc:
+            _say(f"shimmy: failed: {interface_text(str(exc))}")
+            return EXIT_INCOMPLETE
+        except (FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError) as exc:
+            _say(f"shimmy: failed: numerical {type(exc).__name__} in {_where(exc)}: {exc}")
+            return EXIT_INCOMPLETE
+        except OSError as exc:
+            if _stdout_fault(exc):
+                raise OutputFault(f"cannot write to stdout: {exc.strerror}") from None
+            raise
+    except KeyboardInterrupt:
+        _stop_children()
+        remove_live_temporaries()
+        _say("shimmy: interrupted")
+        return EXIT_INTERRUPTED
+    except Interrupted:
+        _stop_children()
+        remove_live_temporaries()
+        _say("shimmy: terminated")
+        return EXIT_TERMINATED
+    except OutputFault as exc:
+        remove_live_temporaries()
+        if "stdout" in exc.message:
+            _silence_stdout()
+        _say(f"shimmy: write error: {exc.message}")
+        return EXIT_WRITE
+    finally:
+        signals.restore()
+
+
+def _stdout_fault(exc: OSError) -> bool:
+    """An error of writing stdout (the only writes that carry no file name: the files go through .files)."""
+    import errno
+    return exc.errno in (errno.ENOSPC, errno.EPIPE, errno.EBADF, errno.EIO, errno.ECONNRESET) and not exc.filename
+
+
+def entry() -> None:
+    """The console script: :func:`main`, then leave without waiting on a writer thread that never returned."""
+    code = main()
+    if STUCK_WRITERS or LIVE_TEMPORARIES or FAULTED_TEMPORARIES:
+        time.sleep(0.2)   # a failed writer's thread may still create its file: remove it after that
+        hard_exit(code, None)
+    if code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+        # A KeyboardInterrupt that hit a C extension's PyRun_String while it was imported marks the interpreter,
+        # which would then end itself by SIGINT (status -2) however the interrupt was handled: leave directly.
+        hard_exit(code, None)
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError, AttributeError):
+        _silence_stdout()
+        _say("shimmy: write error: cannot write to stdout")
+        code = EXIT_WRITE
+    sys.exit(code)
+
+
+if __name__ == "__main__":
+    entry()

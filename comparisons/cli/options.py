@@ -1,0 +1,287 @@
+"""Command-line option parsing shared by the ``shimmy`` commands: units at the interface, model construction."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Any
+
+from comparisons.axles.units import BAR
+from reduced_model.model import Effects, ShimmyModel
+from reduced_model.parameters import ParameterError
+
+# Second parameters of two-parameter diagrams: pressures and the four tyre properties.
+SECOND_PARAMETERS = ("pressure", "pressure_left", "pressure_right", "a0", "t0", "sigma0", "k5_0")
+from comparisons.axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH, UsageError
+from reduced_model.family import PRESSURE_PARAMS
+
+
+def parse_number(text: str, what: str, lo: float, hi: float, unit: str, lo_open: bool = False) -> float:
+    """A finite number within [lo, hi] (``(lo, hi]`` with ``lo_open``) or :class:`UsageError` naming the range."""
+    try:
+        value = float(text)
+    except (ValueError, TypeError):
+        raise UsageError(f"{what} must be a number, got '{text}'") from None
+    if not math.isfinite(value) or value > hi or value < lo or (lo_open and value == lo):
+        bracket = "(" if lo_open else "["
+        raise UsageError(f"{what} must be within {bracket}{lo:g}, {hi:g}] {unit}, got {text.strip()}")
+    return value
+
+
+def ranged(what: str, lo: float, hi: float, unit: str, lo_open: bool = False):
+    """An argparse ``type`` for :func:`parse_number` (one-line errors through the parser)."""
+    def parse(text: str) -> float:
+        try:
+            return parse_number(text, what, lo, hi, unit, lo_open)
+        except UsageError as exc:
+            raise argparse.ArgumentTypeError(str(exc)[len(what) + 1:]) from None  # argparse names the option
+    return parse
+
+
+def positive_float(what: str):
+    """An argparse ``type``: a finite number above zero (settings without a physical range, e.g. tolerances)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a number, got '{text}'") from None
+        if not math.isfinite(value) or value <= 0.0:
+            raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
+        return value
+    return parse
+
+
+def pressure_bar(what: str):
+    """A pressure option, bar."""
+    return ranged(what, *PRESSURE_RANGE_BAR, "bar")
+
+
+def add_speed_window(p: argparse.ArgumentParser, vmin: bool = False) -> None:
+    lo, hi = SPEED_RANGE_KMH
+    if vmin:
+        p.add_argument("--vmin", type=ranged("--vmin", 0.0, hi, "km/h"), default=0.0, metavar="KMH",
+                       help=f"lower end of the speed window, km/h (default 0; within [0, {hi:g}])")
+    p.add_argument("--vmax", type=ranged("--vmax", lo, hi, "km/h", lo_open=True), default=400.0, metavar="KMH",
+                   help=f"upper end of the speed window, km/h (default 400; within ({lo:g}, {hi:g}]: the window "
+                        f"must reach above {lo:g} km/h)")
+
+
+def check_window(lo: float, hi: float, name: str, unit: str) -> None:
+    """A second-parameter window (``--range LO HI``, interface units) inside the parameter's physical range."""
+    if name in PRESSURE_PARAMS:
+        a, b = PRESSURE_RANGE_BAR
+    else:
+        from comparisons.axles.axle import entry
+        a, b = entry(name).range
+    for v in (lo, hi):
+        if not math.isfinite(v) or not a <= v <= b:
+            raise UsageError(f"--range for {name} must lie within [{a:g}, {b:g}] {unit}, got {lo:g} {hi:g}")
+    if not lo < hi:
+        raise UsageError(f"--range needs LO < HI, got {lo:g} {hi:g}")
+
+
+def parse_overrides(items: list[str] | None) -> dict[str, float]:
+    """``NAME=VALUE`` strings to overrides in interface units (degrees, bar; see 'shimmy params')."""
+    from comparisons.axles.axle import entries
+    overrides: dict[str, float] = {}
+    for item in items or []:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise UsageError(f"--set expects NAME=VALUE, got '{item}'")
+        if name not in entries():
+            from comparisons.axles.axle import entry
+            try:
+                entry(name, "parameter")
+            except ParameterError as exc:
+                raise UsageError(f"{exc} in --set") from None
+        try:
+            value = float(text)
+        except ValueError:
+            raise UsageError(f"--set {name}: '{text}' is not a number") from None
+        overrides[name] = value
+    return overrides
+
+
+def add_axle_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--axle", metavar="FILE.toml", help="the axle to use, from an axle file ('shimmy params --write' "
+                                                        "makes one); default: the paper's truck")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", dest="overrides",
+                   help="override an axle entry, in the units of 'shimmy params' (degrees, bar, otherwise SI), "
+                        "on top of --axle; repeatable")
+
+
+def add_model_options(p: argparse.ArgumentParser, pressure_required: bool = True) -> None:
+    p.add_argument("--pressure", type=pressure_bar("--pressure"), default=None, metavar="BAR",
+                   help="inflation pressure of both tyres, bar" + ("" if pressure_required else " (default 2.5)"))
+    p.add_argument("--pressure-left", type=pressure_bar("--pressure-left"), default=None, metavar="BAR",
+                   help="left tyre (wheel 2, theta2) pressure, bar; the right takes --pressure")
+    p.add_argument("--pressure-right", type=pressure_bar("--pressure-right"), default=None, metavar="BAR",
+                   help="right tyre (wheel 1, theta1) pressure, bar; the left takes --pressure")
+    p.add_argument("--effects", default="", metavar="LIST",
+                   help="pressure effects beyond the lateral force: comma list of hcl,pt,rl,vs, or all")
+    add_axle_option(p)
+    p.set_defaults(pressure_required=pressure_required)
+
+
+def resolve_pressures(args: argparse.Namespace) -> None:
+    """Fill ``args.pressure_right``/``pressure_left`` (bar) and ``args.pressure`` (their mean) from the options."""
+    if getattr(args, "_pressures_resolved", False) or not hasattr(args, "pressure_required"):
+        return
+    both, left, right = args.pressure, args.pressure_left, args.pressure_right
+    if both is None and (left is None or right is None):
+        if left is None and right is None and not args.pressure_required:
+            both = 2.5
+        elif left is None and right is None:
+            raise UsageError("--pressure BAR is required (or both --pressure-left and --pressure-right)")
+        else:
+            given = "--pressure-left" if left is not None else "--pressure-right"
+            raise UsageError(f"{given} sets one tyre; give --pressure for the other "
+                             f"(or both --pressure-left and --pressure-right)")
+    right = both if right is None else right
+    left = both if left is None else left
+    for what, value in (("--pressure-right", right), ("--pressure-left", left)):
+        if not PRESSURE_RANGE_BAR[0] <= value <= PRESSURE_RANGE_BAR[1]:
+            raise UsageError(f"{what if value is not both else '--pressure'} must be within [0.05, 20] bar, "
+                             f"got {value:g}")
+    args.pressure_right, args.pressure_left = float(right), float(left)
+    args.pressure = args.pressure_right if right == left else 0.5 * (right + left)
+    args._pressures_resolved = True
+
+
+def operating_pressure(args: argparse.Namespace) -> float | tuple[float, float]:
+    """Tyre pressures for the models, Pa: one value when both tyres are alike, else (right, left)."""
+    resolve_pressures(args)
+    r, l = args.pressure_right * BAR, args.pressure_left * BAR
+    return r if args.pressure_right == args.pressure_left else (r, l)
+
+
+def pressures_json(args: argparse.Namespace) -> dict:
+    """The pressure fields of every JSON output: left and right always, ``pressure_bar`` when they are equal."""
+    resolve_pressures(args)
+    out = {"pressure_left_bar": args.pressure_left, "pressure_right_bar": args.pressure_right}
+    if args.pressure_left == args.pressure_right:
+        out = {"pressure_bar": args.pressure_left, **out}
+    return out
+
+
+def pressure_label(args: argparse.Namespace) -> str:
+    """'1.5 bar' or 'right 1.5 / left 1.2 bar' for text headers."""
+    resolve_pressures(args)
+    if args.pressure_left == args.pressure_right:
+        return f"{args.pressure_left:g} bar"
+    return f"right {args.pressure_right:g} / left {args.pressure_left:g} bar"
+
+
+def build_axle(args: argparse.Namespace):
+    """The axle of the command: ``--axle`` (or the paper's) with ``--set`` on top; cached on ``args``."""
+    cached = getattr(args, "_axle", None)
+    if cached is not None:
+        return cached
+    from comparisons.axles.axle_file import axle_from_path_or_paper
+    try:
+        axle = axle_from_path_or_paper(getattr(args, "axle", None))
+        overrides = parse_overrides(getattr(args, "overrides", None))
+        axle = axle.with_overrides(overrides) if overrides else axle
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+    args._axle = axle
+    return axle
+
+
+def inputs_json(args: argparse.Namespace) -> dict:
+    """What every JSON output echoes: the axle, the pressures and the pressure effects."""
+    out = {"axle": build_axle(args).describe()}
+    if hasattr(args, "pressure_left"):
+        out.update(pressures_json(args))
+    if hasattr(args, "effects"):
+        out["effects"] = list(Effects.parse(args.effects).names)
+    return out
+
+
+def add_model_choice(p: argparse.ArgumentParser) -> None:
+    """``--model reduced|mbs`` with the MBS fidelity options."""
+    p.add_argument("--model", choices=("reduced", "mbs"), default="reduced",
+                   help="the paper's reduced model (default) or the Exudyn multibody model")
+    p.add_argument("--fidelity", choices=("reduced", "full"), default=None,
+                   help="MBS: all assumptions of the reduced model on (reduced, default) or all off (full)")
+    p.add_argument("--assume", metavar="NAME[,NAME]", default=None,
+                   help="MBS: keep exactly these assumptions on (see 'shimmy assumptions')")
+
+
+def build_fidelity(args: argparse.Namespace):
+    """The MBS fidelity from --fidelity/--assume; None for the reduced model (and an error if they are given)."""
+    if args.model != "mbs":
+        if args.fidelity is not None or args.assume is not None:
+            raise UsageError("--fidelity and --assume apply to --model mbs only")
+        return None
+    if args.fidelity is not None and args.assume is not None:
+        raise UsageError("give either --fidelity or --assume, not both")
+    from mbs_shimmy import Fidelity
+    try:
+        return Fidelity.parse(args.assume if args.assume is not None else (args.fidelity or "reduced"))
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def build_family(args: argparse.Namespace, param: str = "pressure"):
+    """The speed family of the chosen model (reduced or MBS) over ``param``, at the operating pressures."""
+    model = build_model(args)
+    fidelity = build_fidelity(args)
+    pressure = operating_pressure(args)
+    if fidelity is None:
+        from reduced_model.family import SpeedFamily
+        return SpeedFamily(model, param, pressure=pressure)
+    from mbs_shimmy import MbsFamily
+    return MbsFamily.of(model.params, model.effects, fidelity, dims=build_axle(args).dims, param=param,
+                        pressure=pressure)
+
+
+def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:
+    p.add_argument("--json", action="store_true", help="machine-readable output on stdout (schema in README)")
+    if plot:
+        p.add_argument("--plot", metavar="FILE.png", help="draw the result into a PNG file")
+
+
+def build_model(args: argparse.Namespace) -> ShimmyModel:
+    """The reduced model of the axle with the chosen pressure effects."""
+    axle = build_axle(args)
+    try:
+        effects = Effects.parse(args.effects)
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+    return ShimmyModel(params=axle.params, effects=effects)
+
+
+def check_output_path(path: str, what: str = "output", recording: bool = False) -> None:
+    """Fail before the work, not after it, when an output file cannot be written where asked."""
+    from comparisons.files import OutputPathError, check_output
+    try:
+        check_output(path, what, recording)
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def finite_json(obj: Any) -> Any:
+    """``obj`` with every non-finite float (NaN, infinity) replaced by None: JSON has no such numbers."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_json(v) for v in obj]
+    if hasattr(obj, "tolist") and hasattr(obj, "dtype"):   # numpy scalars and arrays
+        return finite_json(obj.tolist())
+    return obj
+
+
+def emit_json(obj: Any) -> None:
+    """Write ``obj`` as JSON on stdout; non-finite numbers become null (never NaN or Infinity)."""
+    json.dump(finite_json(obj), sys.stdout, indent=2, allow_nan=False)
+    sys.stdout.write("\n")
+
+
+
+

@@ -1,0 +1,181 @@
+"""Figures of limit-cycle branches (the paper's figures 3, 4, 9 and 15) and of simulated runs (figures 10, 11)."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from comparisons.figures.plots import place_labels, save_figure, stability_grid
+from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram
+from reduced_model.bifurcation.special_points import PointKind
+from reduced_model.family import SpeedFamily
+from reduced_model.model import STATE_NAMES
+from reduced_model.modes import ModeHistory
+from reduced_model.trajectory import Trajectory
+
+LABELS = {PointKind.CYCLE_FOLD: ("S", "o"), PointKind.TORUS: ("T", "s"), PointKind.PERIOD_DOUBLING: ("PD", "^")}
+MODEL_NAMES = {"reduced": "reduced model", "mbs": "multibody model (Exudyn)"}
+PANELS = (("theta1", r"max $|\theta_1|$ [deg]"), ("psi", r"max $|\psi|$ [deg]"))
+
+
+def special_point_labels(diagram: CycleDiagram) -> list[tuple[str, object]]:
+    """(label, point) numbered like the paper: S1, S2, ... and T1, T2, ... by decreasing speed (figure 9a: S1
+    184.75 and S2 135.56 km/h, T1 181.65 and T2 157.39 km/h); listed in branch order."""
+    points = [p for b in diagram.branches for p in sorted(b.special_points, key=lambda p: p.bracket[0])]
+    number = {}
+    for kind in {p.kind for p in points}:
+        same = sorted((p for p in points if p.kind is kind), key=lambda p: -p.speed)
+        number.update({id(p): i for i, p in enumerate(same, 1)})
+    return [(f"{LABELS.get(p.kind, (p.kind.value, 'x'))[0]}{number[id(p)]}", p) for p in points]
+
+
+def _stability_runs(branch: CycleBranch):
+    """Consecutive runs of equal stability, each sharing its end point with the next run."""
+    runs, start = [], 0
+    for i in range(1, len(branch.points) + 1):
+        if i == len(branch.points) or branch.points[i].stable != branch.points[start].stable:
+            runs.append((branch.points[start].stable, branch.points[start:min(i + 1, len(branch.points))]))
+            start = i
+    return runs
+
+
+def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None) -> None:
+    """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
+    max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
+    point) pairs; default HB1, HB2, ... by speed).  Labels are placed so that they do not collide."""
+    speeds = np.linspace(diagram.vmin, diagram.vmax, 801)
+    unstable = stability_grid(family, speeds, np.array([diagram.value]))[0] > 0
+    labels = special_point_labels(diagram)
+    if hopf_labels is None:
+        hopf_labels = [(f"HB{i}", h) for i, h in enumerate(sorted(diagram.hopf, key=lambda h: h.speed), 1)]
+    for ax, (name, ylabel) in zip(axes, PANELS):
+        # Straight running on the axis: solid where stable, dashed where not.
+        for flag, style in ((False, "-"), (True, "--")):
+            y = np.where(unstable == flag, 0.0, np.nan)
+            ax.plot(speeds * 3.6, y, style, color="0.4", lw=1.2)
+        for branch in diagram.branches:
+            for stable, pts in _stability_runs(branch):
+                v = [p.speed * 3.6 for p in pts]
+                a = [np.degrees(p.max_abs(name)) for p in pts]
+                if branch.start is not None and pts[0] is branch.points[0]:
+                    v, a = [branch.start.speed_kmh] + v, [0.0] + a
+                if branch.end is not None and pts[-1] is branch.points[-1]:
+                    v, a = v + [branch.end.speed_kmh], a + [0.0]
+                ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
+        items = []
+        for text, h in hopf_labels:
+            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
+            items.append((h.speed_kmh, 0.0, text, "C0"))
+        for text, p in labels:
+            amp = np.degrees(p.data["amplitude"][STATE_NAMES.index(name)])
+            marker = LABELS.get(p.kind, ("", "x"))[1]
+            ax.plot(p.speed * 3.6, amp, marker, color="C3", ms=6, mfc="none")
+            items.append((p.speed * 3.6, amp, text, "C3"))
+        ax.set_xlim(diagram.vmin * 3.6, diagram.vmax * 3.6)
+        ax.set_ylabel(ylabel)
+        top = max(ax.get_ylim()[1], 1e-3)
+        ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
+        place_labels(ax, items)
+    axes[-1].set_xlabel("speed V [km/h]")
+
+
+def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, title: str | None = None) -> None:
+    fig = Figure(figsize=(6.4, 6.4))
+    axes = fig.subplots(2, 1, sharex=True)
+    draw_cycle_diagram(axes, diagram, family)
+    effects = ",".join(family.model.effects.names) or "section 3 model"
+    axes[0].set_title(title or f"Limit cycles at {diagram.value / 1e5:g} bar ({effects}); "
+                               f"solid stable, dashed unstable", fontsize=10)
+    save_figure(fig, path)
+
+
+def plot_trajectory(trajectory: Trajectory, history: ModeHistory, path: str, title: str | None = None) -> None:
+    """theta1 and psi (degrees) against time, the speed on a second axis, mode switches marked."""
+    fig = Figure(figsize=(7.2, 5.6))
+    axes = fig.subplots(2, 1, sharex=True)
+    for ax, (name, label) in zip(axes, ((r"theta1", r"$\theta_1$ [deg]"), ("psi", r"$\psi$ [deg]"))):
+        ax.plot(trajectory.t, np.degrees(trajectory.state(name)), lw=0.5, color="k")
+        ax.set_ylabel(label)
+        for s in history.switches:
+            ax.axvline(s.time, color="C3", lw=1.0, ls=":")
+        if not np.allclose(trajectory.speed, trajectory.speed[0]):
+            twin = ax.twinx()
+            twin.plot(trajectory.t, trajectory.speed * 3.6, color="C0", lw=1.0)
+            twin.set_ylabel("speed [km/h]", color="C0")
+    for s in history.switches:
+        axes[0].annotate(f"{s.before.value} -> {s.after.value}\n{s.speed * 3.6:.1f} km/h", (s.time, 1.0),
+                         xycoords=("data", "axes fraction"), textcoords="offset points", xytext=(3, -22),
+                         fontsize=8, color="C3")
+    axes[-1].set_xlabel("time [s]")
+    model = MODEL_NAMES.get(trajectory.model, trajectory.model)
+    axes[0].set_title(title or f"{model}: {trajectory.integrator.split(',')[0]}", fontsize=9)
+    save_figure(fig, path)
+
+
+def plot_phase_portrait(trajectories, path: str, labels=None, title: str | None = None) -> None:
+    """psi against psi_dot (figure 11), one curve per trajectory, initial points as squares."""
+    fig = Figure(figsize=(5.6, 4.6))
+    ax = fig.subplots()
+    for i, tr in enumerate(trajectories):
+        psi, psid = np.degrees(tr.state("psi")), np.degrees(tr.state("psi_dot"))
+        ax.plot(psi, psid, lw=0.5, color=f"C{i}", label=None if labels is None else labels[i])
+        ax.plot(psi[0], psid[0], "s", color=f"C{i}")
+    ax.set_xlabel(r"$\psi$ [deg]")
+    ax.set_ylabel(r"$\dot\psi$ [deg/s]")
+    if labels is not None:
+        ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    save_figure(fig, path)
+
+
+CURVE_STYLES = {PointKind.CYCLE_FOLD: ("-.", "C2"), PointKind.TORUS: (":", "C1")}
+
+
+def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, title: str | None = None) -> None:
+    """Figure 8/18 style: Hopf curves of straight running (shaded where it is stable) with the curves of cycle
+    folds (S, dash-dotted) and torus points (T, dotted) in the (V, q) plane; ends at zero amplitude marked."""
+    from comparisons.axles.axle import interface_unit
+    from comparisons.figures.plots import draw_hopf_diagram
+
+    unit, factor = interface_unit(family.param)
+    fig = Figure(figsize=(6.8, 5.0))
+    ax = fig.subplots()
+    draw_hopf_diagram(ax, hopf, family)
+    for curve, label in zip(curves, labels):
+        if curve is None or len(curve.speeds) == 0:
+            continue
+        style, color = CURVE_STYLES.get(curve.kind, ("--", "C4"))
+        ax.plot(curve.speeds * 3.6, curve.values / factor, style, color=color, lw=1.6)
+        k = len(curve.speeds) // 2
+        ax.annotate(label, (curve.speeds[k] * 3.6, curve.values[k] / factor), textcoords="offset points",
+                    xytext=(4, -10), fontsize=8, color=color)
+        for end in curve.ends:
+            if end is not None:
+                ax.plot(end[0] * 3.6, end[1] / factor, "*", color=color, ms=8)
+    ax.set_title(title or f"cycle folds (S, dash-dot) and torus points (T, dotted) in (V, {family.param} "
+                          f"[{unit}])", fontsize=10)
+    save_figure(fig, path)
+
+
+def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: dict, path: str,
+                       title: str | None = None) -> None:
+    """The continuation diagram with steady amplitudes of simulations on top (brute-force bifurcation diagram).
+
+    ``simulated`` maps a label to a list of (speed m/s, max|theta1| rad, max|psi| rad).
+    """
+    fig = Figure(figsize=(6.4, 6.4))
+    axes = fig.subplots(2, 1, sharex=True)
+    draw_cycle_diagram(axes, diagram, family)
+    styles = {"reduced": ("o", "C0", "MBS, all assumptions on"), "full": ("x", "C3", "MBS, full geometry")}
+    for label, points in simulated.items():
+        marker, color, text = styles.get(label, ("s", "C2", label))
+        good = [(v, a, b) for v, a, b in points if np.isfinite(a)]
+        if not good:
+            continue
+        v, a, b = (np.array(c) for c in zip(*good))
+        axes[0].plot(v * 3.6, np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
+        axes[1].plot(v * 3.6, np.degrees(b), marker, color=color, mfc="none", ms=6)
+    axes[0].legend(fontsize=8, loc="upper right")
+    axes[0].set_title(title or f"Limit cycles at {diagram.value / 1e5:g} bar", fontsize=10)
+    save_figure(fig, path)

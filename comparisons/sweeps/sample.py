@@ -1,0 +1,221 @@
+"""What ``shimmy sweep`` computes for one sample, and the Parquet schema of its rows (runs on the Dask workers).
+
+A :class:`SweepTask` is everything a worker needs (the base axle, pressures, effects and what to compute); it is
+sent to each worker once.  :func:`evaluate_batch` evaluates consecutive samples and returns one Arrow table: a
+sample that fails (a meaningless value, a Newton iteration that does not converge) is a row with status
+``failed`` and its error message, never a lost batch.  The numbers come from the same calls as the single-point
+commands: :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` on the same family as ``shimmy hopf``,
+:func:`mbs_shimmy.assumption_study` (without cycles) as ``shimmy assumptions --no-cycles``, and
+:func:`reduced_model.bifurcation.cycles.problem.cycle_diagram` as ``shimmy cycles``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+import pyarrow as pa
+
+from comparisons.axles.axle import Axle, entry
+from comparisons.axles.units import BAR, KMH
+from reduced_model.model import Effects
+
+COMPUTE = ("hopf", "assumptions", "cycles")
+PRESSURE_LIMITS_BAR = (0.05, 20.0)
+# Hopf points and cycles are labelled with the mode they belong to by the thresholds of
+# reduced_model.modes.ModeClassifier: tramp above both the psi/theta1 ratio and the frequency split, yaw below both.
+RATIO_SPLIT = 0.22
+FREQUENCY_SPLIT_HZ = 8.8
+# Rough cost of one sample (s, one core) for batch sizing; measured on the paper's axle at 1.5 bar.
+COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "assumptions": 0.3, "cycles": 1.5}
+
+
+def mode_of(ratio: float, frequency_hz: float) -> str:
+    if ratio > RATIO_SPLIT and frequency_hz > FREQUENCY_SPLIT_HZ:
+        return "tramp"
+    if ratio < RATIO_SPLIT and frequency_hz < FREQUENCY_SPLIT_HZ:
+        return "yaw"
+    return "mixed"
+
+
+def _column_safe(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9]+", "_", text).strip("_")
+
+
+@dataclass(frozen=True)
+class SweepTask:
+    """What every sample shares (SI inside the axle; pressures in bar, speeds in km/h as at the interface)."""
+
+    axle: Axle
+    effects: tuple[str, ...]
+    pressure_right_bar: float
+    pressure_left_bar: float
+    names: tuple[str, ...]                  # varied inputs, as given
+    compute: tuple[str, ...] = ("hopf",)
+    mbs: tuple[str, ...] = ()               # MBS fidelities whose Hopf points are computed too
+    vmax_kmh: float = 400.0
+    lyapunov: bool = False
+
+    def cost_s(self) -> float:
+        cost = COST_S["hopf"] + (COST_S["lyapunov"] if self.lyapunov else 0.0) + COST_S["mbs"] * len(self.mbs)
+        return cost + sum(COST_S[c] for c in self.compute if c != "hopf")
+
+    def to_json(self) -> dict:
+        return {"axle": self.axle.describe(), "effects": list(self.effects),
+                "pressure_right_bar": self.pressure_right_bar, "pressure_left_bar": self.pressure_left_bar,
+                "compute": list(self.compute), "mbs": list(self.mbs), "vmax_kmh": self.vmax_kmh,
+                "lyapunov": self.lyapunov}
+
+    # --- schema -------------------------------------------------------------------------------------------
+    def assumption_names(self) -> list[str]:
+        from mbs_shimmy.assumption_study import study_fidelities
+        return [name for name, _ in study_fidelities()]
+
+    def schema(self) -> pa.Schema:
+        floats, strings = pa.list_(pa.float64()), pa.list_(pa.string())
+        fields = [pa.field("sample", pa.int64()), pa.field("batch", pa.int32())]
+        fields += [pa.field(n, pa.float64()) for n in self.names]
+        fields += [pa.field("status", pa.string()), pa.field("error", pa.string()),
+                   pa.field("pressure_right_bar", pa.float64()), pa.field("pressure_left_bar", pa.float64())]
+        if "hopf" in self.compute:
+            fields += [pa.field("hopf_kmh", floats), pa.field("hopf_hz", floats), pa.field("hopf_mode", strings)]
+            if self.lyapunov:
+                fields.append(pa.field("hopf_l1", floats))
+            fields += [pa.field("n_hopf", pa.int32()), pa.field("onset_kmh", pa.float64()),
+                       pa.field("unstable_from_kmh", floats), pa.field("unstable_to_kmh", floats)]
+            for f in self.mbs:
+                c = f"mbs_{_column_safe(f)}"
+                fields += [pa.field(f"{c}_hopf_kmh", floats), pa.field(f"{c}_hopf_hz", floats),
+                           pa.field(f"{c}_hopf_mode", strings), pa.field(f"{c}_onset_kmh", pa.float64()),
+                           pa.field(f"{c}_shift_kmh", floats)]
+        if "assumptions" in self.compute:
+            for name in self.assumption_names():
+                fields += [pa.field(f"shift_{name}_kmh", floats), pa.field(f"only_{name}_kmh", floats)]
+        if "cycles" in self.compute:
+            fields += [pa.field("cycle_mode", strings), pa.field("cycle_peak_kmh", floats),
+                       pa.field("cycle_peak_theta1_deg", floats), pa.field("cycle_peak_psi_deg", floats),
+                       pa.field("cycles_complete", pa.bool_()),
+                       pa.field("peak_yaw_theta1_deg", pa.float64()), pa.field("peak_tramp_theta1_deg", pa.float64())]
+        return pa.schema(fields)
+
+    # --- one sample ---------------------------------------------------------------------------------------
+    def sample_inputs(self, values: np.ndarray) -> tuple[Axle, float, float]:
+        """(axle, right bar, left bar) of one sample; :class:`ParameterError` for a meaningless value."""
+        from reduced_model.parameters import ParameterError
+        right, left = self.pressure_right_bar, self.pressure_left_bar
+        si = {}
+        given = dict(zip(self.names, (float(v) for v in values)))
+        if "pressure" in given:
+            shift = given["pressure"] - (0.5 * (right + left))
+            right, left = right + shift, left + shift
+            if self.pressure_right_bar == self.pressure_left_bar:
+                right = left = given["pressure"]
+        right = given.get("pressure_right", right)
+        left = given.get("pressure_left", left)
+        for name, value in given.items():
+            if name not in ("pressure", "pressure_right", "pressure_left"):
+                si[name] = entry(name).to_si(value)
+        lo, hi = PRESSURE_LIMITS_BAR
+        for what, value in (("right tyre pressure", right), ("left tyre pressure", left)):
+            if not (math.isfinite(value) and lo <= value <= hi):
+                raise ParameterError(f"{what} {value:g} bar is outside [{lo:g}, {hi:g}] bar")
+        return (self.axle.with_values(si) if si else self.axle), right, left
+
+    def evaluate(self, values: np.ndarray) -> dict:
+        """The output columns of one sample (raises on failure)."""
+        from reduced_model.bifurcation.equilibria.hopf import hopf_points
+        from reduced_model.family import SpeedFamily
+        from reduced_model.model import ShimmyModel
+        axle, right, left = self.sample_inputs(values)
+        pressure = right * BAR if right == left else (right * BAR, left * BAR)
+        effects = Effects.parse(self.effects)
+        model = ShimmyModel(params=axle.params, effects=effects)
+        vmax = self.vmax_kmh * KMH
+        row: dict = {"pressure_right_bar": right, "pressure_left_bar": left}
+        family = SpeedFamily(model, pressure=pressure)
+        if "hopf" in self.compute:
+            points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
+            row.update(_hopf_columns("", points))
+            if self.lyapunov:
+                row["hopf_l1"] = [h.first_lyapunov for h in points]
+            row["unstable_from_kmh"], row["unstable_to_kmh"] = _unstable_intervals(family, points, vmax)
+            if self.mbs:
+                import mbs_shimmy
+                for f in self.mbs:
+                    mf = mbs_shimmy.MbsFamily.of(axle.params, effects, mbs_shimmy.Fidelity.parse(f), dims=axle.dims,
+                                                 pressure=pressure)
+                    mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=False)
+                    row.update(_hopf_columns(f"mbs_{_column_safe(f)}_", mp))
+                    # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
+                    shifts = {m.reduced_kmh: m.shift_kmh for m in mbs_shimmy.match_hopf(points, mp)}
+                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed_kmh) for h in points]
+        if "assumptions" in self.compute:
+            from mbs_shimmy import assumption_study
+            study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
+            for r in study.rows:
+                row[f"shift_{r.assumption}_kmh"] = [h.shift_kmh for h in r.hopf if h.reduced_kmh is not None]
+                row[f"only_{r.assumption}_kmh"] = [h.mbs_kmh for h in r.hopf if h.reduced_kmh is None]
+        if "cycles" in self.compute:
+            row.update(_cycle_columns(family, vmax))
+        return row
+
+
+def _hopf_columns(prefix: str, points) -> dict:
+    modes = [mode_of(abs(h.eigenvector[4]) / abs(h.eigenvector[0]), h.frequency_hz) for h in points]
+    out = {f"{prefix}hopf_kmh": [h.speed_kmh for h in points], f"{prefix}hopf_hz": [h.frequency_hz for h in points],
+           f"{prefix}hopf_mode": modes, f"{prefix}onset_kmh": points[0].speed_kmh if points else None}
+    if not prefix:
+        out["n_hopf"] = len(points)
+    return out
+
+
+def _unstable_intervals(family, points, vmax: float) -> tuple[list[float], list[float]]:
+    """Speed intervals (km/h) where straight running is unstable: between Hopf points, decided by the eigenvalues
+    at each interval's midpoint."""
+    from reduced_model.bifurcation.equilibria.hopf import eigenvalues
+    q = family.nominal
+    edges = [family.primary_min] + [h.speed for h in points] + [vmax]
+    lo, hi = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
+        if b <= a:
+            continue
+        if eigenvalues(family, 0.5 * (a + b), q)[0].real > 0.0:
+            if hi and abs(hi[-1] - a / KMH) < 1e-9:
+                hi[-1] = b / KMH
+            else:
+                lo.append(a / KMH)
+                hi.append(b / KMH)
+    return lo, hi
+
+
+def _cycle_columns(family, vmax: float) -> dict:
+    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    diagram = cycle_diagram(family, family.nominal, 0.0, vmax)
+    modes, speeds, th, ps = [], [], [], []
+    for b in diagram.branches:
+        p = b.peak("theta1")
+        t1, psi = p.max_abs("theta1"), p.max_abs("psi")
+        modes.append(mode_of(psi / t1 if t1 > 0 else math.nan, p.frequency_hz))
+        speeds.append(p.speed_kmh)
+        th.append(math.degrees(t1))
+        ps.append(math.degrees(psi))
+    peak = {m: max((t for t, mm in zip(th, modes) if mm == m), default=None) for m in ("yaw", "tramp")}
+    return {"cycle_mode": modes, "cycle_peak_kmh": speeds, "cycle_peak_theta1_deg": th, "cycle_peak_psi_deg": ps,
+            "cycles_complete": diagram.complete, "peak_yaw_theta1_deg": peak["yaw"],
+            "peak_tramp_theta1_deg": peak["tramp"]}
+
+
+def evaluate_batch(task: SweepTask, batch: int, start: int, values: np.ndarray) -> pa.Table:
+    """Rows ``start .. start + len(values) - 1`` of the sweep as one Arrow table (the unit of work on Dask)."""
+    rows = []
+    for i, v in enumerate(values):
+        row = {"sample": start + i, "batch": batch, **{n: float(x) for n, x in zip(task.names, v)}}
+        try:
+            row.update(task.evaluate(v))
+            row["status"] = "ok"
+        except Exception as exc:  # recorded in the row: one bad sample never loses its batch
+            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {exc}"
+        rows.append(row)
+    return pa.Table.from_pylist(rows, schema=task.schema())

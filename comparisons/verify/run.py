@@ -1,0 +1,61 @@
+"""``shimmy verify`` as a whole: the plan, then every section in turn (one failing section becomes a FAIL row, not
+a crash), the report written at the end.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from comparisons.axles.axle import Axle
+from comparisons.verify.context import Context
+from comparisons.verify.plan import Plan
+from comparisons.verify.report import CheckStatus, Report, Row, Section
+from comparisons.verify.sections import assumptions_section, hopf_section, paper_section, plan_section
+
+
+def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]:
+    from comparisons.verify.cycles import cycles_section, jumps_section
+    steps = [("Plan", plan_section)]
+    if ctx.axle.is_paper:
+        steps.append(("Paper", paper_section))
+    steps += [("Hopf speeds", hopf_section), ("Limit cycles", cycles_section)]
+    if ctx.plan.bistable:
+        steps.append(("Bistable jumps", jumps_section))
+    steps.append(("Assumptions", assumptions_section))
+    from comparisons.verify.robustness import robustness_section
+    steps.append(("Robustness", robustness_section))
+    return steps
+
+
+def make_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None, from_file: bool,
+              progress: Callable[[str], None]) -> Plan:
+    """The paper's cases for the paper's truck (no axle file), a plan of its own otherwise."""
+    from comparisons.verify.plan import axle_plan, paper_plan
+    if not from_file and axle.is_paper:
+        return paper_plan(axle, asymmetric)
+    return axle_plan(axle, quick, asymmetric, progress=progress)
+
+
+def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric: tuple[float, float] | None = None,
+                     from_file: bool = False, recordings: bool = True,
+                     progress: Callable[[str], None] | None = None) -> Report:
+    """Plan, then run every section; a section that raises is reported as a FAIL row with its error.
+
+    ``progress(message)`` is called as each step starts (and with "done: ..." as it ends)."""
+    progress = progress or (lambda message: None)
+    axle = axle or Axle()
+    plan = make_plan(axle, quick, asymmetric, from_file, progress)
+    ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress)
+    sections = []
+    steps = sections_for(ctx)
+    getattr(progress, "set_steps", lambda names: None)([title for title, _ in steps])
+    for title, make in steps:
+        progress(f"{title}")
+        try:
+            sections.append(make(ctx))
+        except Exception as exc:  # a failed sub-check is reported in the table, never swallowed
+            sections.append(Section(key=title.lower().replace(" ", "_"), title=title, columns=("error",),
+                                    rows=(Row({"error": f"{type(exc).__name__}: {exc}"}, CheckStatus.FAIL),),
+                                    text="This part of the verification could not be completed."))
+        progress(f"done: {title}")
+    return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle)

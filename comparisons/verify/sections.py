@@ -1,0 +1,226 @@
+"""What ``shimmy verify`` checks: each section function returns one report section (:mod:`comparisons.verify.report`).
+
+The cases come from a plan (:mod:`comparisons.verify.plan`): the paper's own cases for the paper's truck, a plan made
+from the axle's Hopf curves and cycles for any axle file.  Equivalence checks (reduced model against the MBS with
+every assumption of the reduced model switched on) can fail and make ``verify`` exit non-zero; comparisons with the
+paper (only for the paper's axle) pass to its printed digits, or are known differences listed in
+``paper_reference.KNOWN_DIFFERENCES``; what the full geometry changes is reported as information.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from comparisons.axles.paper_reference import HOPF_SPEEDS_KMH, KNOWN_DIFFERENCES
+from comparisons.verify.context import (
+    EIGEN_SPEEDS_KMH,
+    EIGEN_TOL,
+    HOPF_TOL_KMH,
+    MODEL_SETS,
+    Context,
+    agrees_to_printed_digits,
+    mbs_package,
+    shimmy_cases,
+)
+from comparisons.verify.plan import VMAX, CaseKind
+from comparisons.verify.report import CheckStatus, Row, Section
+from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from reduced_model.family import SpeedFamily
+from reduced_model.model import ShimmyModel
+
+# --- the plan -------------------------------------------------------------------------------------------------
+
+def plan_section(ctx: Context) -> Section:
+    rows = [Row({"case": f"C{i}", "pressure_right_bar": c.pressure_right_bar, "pressure_left_bar": c.pressure_left_bar,
+                 "kind": c.kind.value, "reason": c.reason}, CheckStatus.INFO)
+            for i, c in enumerate(ctx.plan.cases, 1)]
+    for b in ctx.plan.bistable:
+        window = "" if math.isnan(b.low_kmh) else f" ({b.low_kmh:.1f}-{b.high_kmh:.1f} km/h)"
+        rows.append(Row({"case": "B", "pressure_right_bar": b.pressure_bar, "pressure_left_bar": b.pressure_bar,
+                         "kind": "bistable" + window, "reason": b.reason}, CheckStatus.INFO))
+    text = "; ".join(ctx.plan.notes)
+    return Section(key="plan", title=f"Plan: the cases verified for axle {ctx.axle.name}",
+                   columns=("case", "pressure_right_bar", "pressure_left_bar", "kind", "reason"), rows=tuple(rows),
+                   text=("Wheel 1 (theta1) is the right wheel. " + (text + "." if text else "")).strip())
+
+
+# --- the paper's printed numbers (the paper's axle only) -----------------------------------------------------
+
+def paper_status(key: str, printed: float | None, computed: float | None) -> tuple[CheckStatus, str]:
+    if printed is None:
+        return CheckStatus.INFO, ""
+    if computed is None:
+        return CheckStatus.FAIL, "printed in the paper, not found"
+    if agrees_to_printed_digits(printed, computed):
+        return CheckStatus.PASS, "agrees to the printed digits"
+    if key in KNOWN_DIFFERENCES:
+        return CheckStatus.KNOWN_DIFFERENCE, KNOWN_DIFFERENCES[key]
+    return CheckStatus.FAIL, f"differs by {computed - printed:+.3f} km/h"
+
+
+def paper_section(ctx: Context) -> Section:
+    """Section 3 Hopf speeds printed in the paper against the reduced model (figure 9a's points are checked with
+    the bistable jumps, where their continuation is made)."""
+    rows = []
+    family = SpeedFamily(ShimmyModel(params=ctx.axle.params))
+    for p, printed in HOPF_SPEEDS_KMH.items():
+        computed = hopf_points(family, p * 1e5, 0.0, VMAX)
+        if not printed:
+            ok = not computed
+            rows.append(Row({"quantity": f"Hopf points at {p:g} bar", "paper": "none",
+                             "computed": "none" if ok else ", ".join(f"{h.speed_kmh:.2f}" for h in computed)},
+                            CheckStatus.PASS if ok else CheckStatus.FAIL,
+                            "no shimmy at any speed, as in the paper" if ok else "the paper has none"))
+            continue
+        for i, ref in enumerate(printed):
+            h = computed[i] if i < len(computed) else None
+            status, note = paper_status(f"hopf:{p}:HB{i + 1}", ref, h.speed_kmh if h else None)
+            rows.append(Row({"quantity": f"HB{i + 1} at {p:g} bar (km/h)", "paper": ref,
+                             "computed": h.speed_kmh if h else None}, status, note))
+        if len(computed) != len(printed):
+            rows.append(Row({"quantity": f"number of Hopf points at {p:g} bar", "paper": len(printed),
+                             "computed": len(computed)}, CheckStatus.FAIL, "a different number of Hopf points"))
+    return Section(key="paper", title="The paper's printed numbers against the reduced model",
+                   columns=("quantity", "paper", "computed"), rows=tuple(rows),
+                   text="Section 3 model (figures 3 and 4). Only for the paper's axle.")
+
+
+# --- Hopf speeds and eigenvalues ------------------------------------------------------------------------------
+
+def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
+    """Largest relative difference of the MBS's eigenvalues from the reduced model's at a few speeds."""
+    mbs = mbs_package()
+    family = mbs.MbsFamily.of(model.params, model.effects, fidelity, dims=dims, pressure=pressure)
+    reduced = SpeedFamily(model, pressure=pressure)
+    worst_rel = 0.0
+    for v in EIGEN_SPEEDS_KMH:
+        a = np.sort_complex(np.linalg.eigvals(reduced.linear_matrix(v / 3.6, reduced.nominal)))
+        b = np.sort_complex(np.linalg.eigvals(family.linear_matrix(v / 3.6, family.nominal)))
+        worst_rel = max(worst_rel, float(np.max(np.abs(a - b)) / np.max(np.abs(a))))
+    return worst_rel
+
+
+def hopf_section(ctx: Context) -> Section:
+    mbs = mbs_package()
+    rows = []
+    dims = ctx.axle.dims
+    speeds = {}     # figure: model set -> source -> [(pressure bar, km/h)] at the symmetric cases
+    for label, effects in MODEL_SETS:
+        model = ShimmyModel(params=ctx.axle.params, effects=effects)
+        for case in ctx.plan.cases:
+            ctx.progress(f"Hopf speeds: {label} model, {case.label}")
+            family = SpeedFamily(model, pressure=case.pressure)
+            reduced = hopf_points(family, family.nominal, 0.0, VMAX)
+            by_fidelity = {}
+            for name in ("reduced", "full"):
+                mfam = mbs.MbsFamily.of(model.params, effects, mbs.Fidelity.parse(name), dims=dims,
+                                        pressure=case.pressure)
+                by_fidelity[name] = mbs.match_hopf(reduced, hopf_points(mfam, mfam.nominal, 0.0, VMAX,
+                                                                        lyapunov=False))
+            rel = _eigen_check(model, mbs.Fidelity.reduced(), case.pressure, dims)
+            eig_ok = rel <= EIGEN_TOL
+            base = {"model": label, "case": case.label}
+            rows.append(Row({**base, "point": "eigenvalues", "relative_diff": rel},
+                            CheckStatus.PASS if eig_ok else CheckStatus.FAIL,
+                            f"MBS (reduced fidelity) against the reduced model at "
+                            f"{', '.join(f'{v:g}' for v in EIGEN_SPEEDS_KMH)} km/h (tolerance {EIGEN_TOL:g})"))
+            if not reduced:
+                extra = [s for s in by_fidelity["reduced"] if s.reduced_kmh is None]
+                ok = not extra
+                rows.append(Row({**base, "point": "none"}, CheckStatus.PASS if ok else CheckStatus.FAIL,
+                                "no Hopf point in the reduced model nor in the MBS (reduced fidelity)" if ok else
+                                "the MBS (reduced fidelity) has Hopf points the reduced model lacks"))
+            full_by_reduced = {s.reduced_kmh: s for s in by_fidelity["full"] if s.reduced_kmh is not None}
+            for i, h in enumerate(reduced):
+                red = next((s for s in by_fidelity["reduced"] if s.reduced_kmh == h.speed_kmh), None)
+                full = full_by_reduced.get(h.speed_kmh)
+                ok = red is not None and red.mbs_kmh is not None and abs(red.mbs_kmh - h.speed_kmh) <= HOPF_TOL_KMH
+                _collect_hopf_speeds(speeds, label, case, h.speed_kmh, red, full)
+                rows.append(Row({**base, "point": f"HB{i + 1}", "reduced_kmh": h.speed_kmh,
+                                 "mbs_reduced_kmh": red.mbs_kmh if red else None,
+                                 "mbs_full_kmh": full.mbs_kmh if full else None,
+                                 "full_shift_kmh": full.shift_kmh if full else None,
+                                 "frequency_hz": h.frequency_hz,
+                                 "criticality": h.criticality.value if h.criticality else None},
+                                CheckStatus.PASS if ok else CheckStatus.FAIL,
+                                "" if ok else f"MBS (reduced fidelity) differs by more than {HOPF_TOL_KMH} km/h"))
+            for s in by_fidelity["full"]:
+                if s.reduced_kmh is None:
+                    rows.append(Row({**base, "point": "MBS full only", "mbs_full_kmh": s.mbs_kmh}, CheckStatus.INFO,
+                                    "a Hopf point of the full geometry with no reduced-model partner"))
+    figures = _hopf_figure(ctx, speeds)
+    return Section(
+        key="hopf", title="Hopf speeds and eigenvalues: reduced model and MBS", figures=figures,
+        columns=("model", "case", "point", "reduced_kmh", "mbs_reduced_kmh", "mbs_full_kmh", "full_shift_kmh",
+                 "frequency_hz", "criticality", "relative_diff"),
+        rows=tuple(rows),
+        text=(f"Hopf points of straight running, 0-400 km/h, at every planned case. Check: the MBS with every "
+              f"assumption of the reduced model on (`mbs_reduced`) has the same eigenvalues (relative "
+              f"{EIGEN_TOL:g}) and the same Hopf points to {HOPF_TOL_KMH} km/h. `mbs_full` (all assumptions off) is "
+              f"information: what the full geometry changes."))
+
+
+def _collect_hopf_speeds(speeds: dict, label: str, case, reduced_kmh: float, red, full) -> None:
+    if case.pressure_right_bar != case.pressure_left_bar:
+        return
+    p = case.pressure_right_bar
+    by_source = speeds.setdefault(label, {})
+    by_source.setdefault("reduced", []).append((p, reduced_kmh))
+    by_source.setdefault("mbs_reduced", []).append((p, red.mbs_kmh if red else None))
+    by_source.setdefault("mbs_full", []).append((p, full.mbs_kmh if full else None))
+
+
+def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
+    """Hopf speeds of the paper, the reduced model and both MBS fidelities against pressure, per model set."""
+    from comparisons.verify.report_figures import plot_hopf_speeds
+    if not speeds:
+        return ()
+    if ctx.axle.is_paper and MODEL_SETS[0][0] in speeds:
+        speeds[MODEL_SETS[0][0]]["paper"] = [(p, v) for p, printed in HOPF_SPEEDS_KMH.items() for v in printed]
+    ctx.progress("Hopf speeds: figure")
+    plot_hopf_speeds(speeds, os.path.join(ctx.out, "hopf_speeds.png"),
+                     title=f"Hopf speeds against tyre pressure, axle {ctx.axle.name} (both tyres alike)")
+    return ("hopf_speeds.png",)
+
+
+# --- assumptions ------------------------------------------------------------------------------------------
+
+def assumptions_section(ctx: Context) -> Section:
+    from comparisons.verify.report_figures import AssumptionShift, plot_assumption_tornado
+    mbs = mbs_package()
+    model = ShimmyModel(params=ctx.axle.params)
+    rows, tornado = [], []
+    cases = [c for c in shimmy_cases(ctx) if c.kind is not CaseKind.ASYMMETRIC][:2]
+    for case in cases:
+        ctx.progress(f"Assumptions at {case.label}")
+        study = mbs.assumption_study(model.params, model.effects, case.pressure, dims=ctx.axle.dims,
+                                     cycles=not ctx.quick)
+        for r in study.rows:
+            shifts = ", ".join("-" if h.shift_kmh is None else f"{h.shift_kmh:+.2f}" for h in r.hopf)
+            rows.append(Row({"case": case.label, "assumption_off": r.assumption, "hopf_shifts_kmh": shifts,
+                             "peak_theta1_shift_deg": r.peak_theta1_shift_deg}, CheckStatus.INFO))
+            tornado.append(AssumptionShift(case.pressure_right_bar, r.assumption, [h.shift_kmh for h in r.hopf],
+                                           r.peak_theta1_shift_deg))
+    figures = ()
+    if tornado:
+        plot_assumption_tornado(tornado, os.path.join(ctx.out, "assumptions.png"),
+                                title=f"What each assumption of the reduced model costs, axle {ctx.axle.name}")
+        figures = ("assumptions.png",)
+    return Section(
+        key="assumptions", title="What each assumption of the reduced model costs (MBS, one switch off at a time)",
+        figures=figures,
+        columns=("case", "assumption_off", "hopf_shifts_kmh", "peak_theta1_shift_deg"), rows=tuple(rows),
+        text=("Shift of every Hopf speed (MBS minus reduced, in the order of the reduced model's Hopf points; '-' where "
+              "a point has no partner) and of the peak limit-cycle amplitude, from `shimmy assumptions`, at the first "
+              "two planned cases with shimmy. Rows named after a geometric element of the full axle "
+              "(no_kingpin_inclination, ..., rigid_steering_gear): full geometry minus full geometry without that "
+              "element." + (" Quick mode skips the amplitudes." if ctx.quick else "")))
+
+
+
+
+
+

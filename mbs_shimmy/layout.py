@@ -1,0 +1,64 @@
+"""Which coordinates the multibody tree has for a set of switches, and the maps between its state order and the
+extended reduced-model order (shared by the system builder, the force element and the linearisation).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from reduced_model.model import STATE_NAMES
+
+EXTRA_COORDINATES = ("y_axle", "phi_gear")
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Which coordinates the tree has, and the maps between its states and the extended reduced-model order.
+
+    MBS state ``y = (q, q', alpha1, alpha2)`` with q the mechanical coordinates in tree order; extended state
+    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [phi_gear, phi_gear'])``:
+    the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`) followed by the new coordinates.
+    """
+
+    lateral: bool
+    gear: bool
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return (("y_axle",) if self.lateral else ()) + ("psi", "theta1", "theta2") + (
+            ("phi_gear",) if self.gear else ())
+
+    @property
+    def extras(self) -> tuple[str, ...]:
+        return tuple(n for n in EXTRA_COORDINATES if n in self.coordinates)
+
+    @property
+    def n_mech(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def n(self) -> int:
+        return 2 * self.n_mech + 2
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return STATE_NAMES + tuple(x for n in self.extras for x in (n, n + "_dot"))
+
+    def index(self, name: str) -> int:
+        return self.coordinates.index(name)
+
+    @property
+    def y_to_x(self) -> np.ndarray:
+        """x[k] = y[y_to_x[k]]."""
+        m = self.n_mech
+        i = self.index
+        order = [i("theta1"), m + i("theta1"), i("theta2"), m + i("theta2"), i("psi"), m + i("psi"), 2 * m, 2 * m + 1]
+        for n in self.extras:
+            order += [i(n), m + i(n)]
+        return np.array(order)
+
+    @property
+    def x_to_y(self) -> np.ndarray:
+        return np.argsort(self.y_to_x)

@@ -1,0 +1,30 @@
+"""The entry of two-parameter cycle work: the curve through a located cycle fold, torus or period-doubling point,
+by the defining system of its kind.
+"""
+
+from __future__ import annotations
+
+from reduced_model.bifurcation.continuation import ContinuationSettings
+from reduced_model.bifurcation.cycle_curves.result import CycleCurve
+from reduced_model.bifurcation.cycles.problem import CycleSettings
+from reduced_model.bifurcation.problem import Family, clip_window
+from reduced_model.bifurcation.special_points import (
+    PointKind,
+    SpecialPoint,
+)
+
+
+def cycle_bifurcation_curve(family: Family, point: SpecialPoint, lo: float, hi: float, vmin: float,
+                            vmax: float, settings: CycleSettings = CycleSettings(),
+                            continuation: ContinuationSettings | None = None) -> CycleCurve:
+    """The curve of cycle folds, torus or period-doubling points through ``point`` (from a speed branch of
+    ``family`` at fixed q), followed both ways in the window [vmin, vmax] x [lo, hi] by its defining system."""
+    from reduced_model.bifurcation.cycle_curves.bordered import FOLD_SETTINGS
+    from reduced_model.bifurcation.cycle_curves.fold import fold_curve, period_doubling_curve
+    from reduced_model.bifurcation.cycle_curves.torus import torus_curve
+
+    follow = {PointKind.CYCLE_FOLD: fold_curve, PointKind.PERIOD_DOUBLING: period_doubling_curve,
+              PointKind.TORUS: torus_curve}.get(point.kind)
+    if follow is None:
+        raise ValueError(f"no two-parameter continuation for {point.kind.value}")
+    return follow(family, point, lo, hi, *clip_window(family, vmin, vmax), settings, continuation or FOLD_SETTINGS)

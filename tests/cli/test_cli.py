@@ -1,0 +1,94 @@
+"""The ``shimmy`` command line: JSON schemas, plots and one-line errors with exit code 2."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from comparisons.cli.main import main
+
+
+def run(*args):
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", *args], capture_output=True, text=True,
+                          timeout=300)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def test_hopf_json_schema(capsys):
+    assert main(["hopf", "--pressure", "2.5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["pressure_bar"] == 2.5 and out["effects"] == []
+    assert [round(h["speed_kmh"], 2) for h in out["hopf"]] == [46.14, 70.5]
+    assert {h["criticality"] for h in out["hopf"]} == {"supercritical"}
+    assert all(set(h) == {"speed_kmh", "frequency_hz", "first_lyapunov", "criticality"} for h in out["hopf"])
+
+
+def test_hopf_with_effects_and_set(capsys):
+    assert main(["hopf", "--pressure", "1.5", "--effects", "all", "--set", "t0=0.1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["effects"] == ["hcl", "pt", "rl", "vs"]
+
+
+def test_curves_json_and_plot(tmp_path, capsys):
+    png = tmp_path / "fig.png"
+    assert main(["curves", "--param", "a0", "--range", "0.1", "0.3", "--pressure", "2.5", "--json",
+                 "--plot", str(png)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["curves"] and all(len(c["points"][0]) == 2 for c in out["curves"])
+    kinds = [s["kind"] for s in out["special_points"]]
+    assert kinds.count("hopf_fold") == 1
+    assert png.stat().st_size > 10_000
+
+
+def test_params_lists_table1(capsys):
+    assert main(["params", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["parameters"]
+    pi0 = next(r for r in rows if r["name"] == "pi0")
+    assert pi0["value"] == 2.5 and pi0["unit"] == "bar"
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["hopf", "--pressure", "-1"], "must be within [0.05, 20] bar"),
+    (["hopf", "--pressure", "0"], "must be within [0.05, 20] bar"),
+    (["hopf", "--pressure", "abc"], "must be a number"),
+    (["hopf", "--pressure", "2", "--vmax", "-5"], "must be within (0.5, 1000] km/h"),
+    (["hopf", "--pressure", "2", "--set", "zz=1"], "unknown parameter 'zz'"),
+    (["hopf", "--pressure", "2", "--set", "t0"], "NAME=VALUE"),
+    (["hopf", "--pressure", "2", "--set", "t0=x"], "not a number"),
+    (["hopf", "--pressure", "2", "--effects", "hcl,foo"], "unknown effect 'foo'"),
+    (["hopf", "--pressure", "2", "--set", "sigma0=-0.3"], "sigma0 = -0.3 m is outside its physical range"),
+    (["hopf", "--pressure", "2", "--set", "k5_0=-1"], "k5_0 = -1 N/m is outside its physical range"),
+    (["hopf", "--pressure", "9"], "cornering stiffness"),
+    (["hopf", "--pressure", "3.5", "--effects", "pt", "--set", "p_pz1=3"], "pneumatic trail"),
+    (["curves", "--param", "t0", "--range", "0.3", "0.1"], "LO < HI"),
+    (["curves", "--param", "t0", "--range", "-0.1", "0.1"], "must lie within [0.001, 0.5] m"),
+    (["curves", "--param", "zz", "--range", "0.1", "0.2"], "invalid choice"),
+    (["bench", "nosuch"], "unknown benchmark"),
+])
+def test_bad_input_is_one_line_exit_2(args, fragment):
+    code, out, err = run(*args)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and fragment in lines[0] and "Traceback" not in err
+
+
+def test_hopf_mbs_fidelities(capsys):
+    assert main(["hopf", "--pressure", "2.5", "--model", "mbs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "mbs" and out["fidelity"] == "reduced"
+    assert [round(h["speed_kmh"], 2) for h in out["hopf"]] == [46.14, 70.5]
+    assert all(h["criticality"] is None for h in out["hopf"])  # no l1 for the MBS
+    # The full geometry damps tramp through the sliding contact patch: no shimmy at 2.5 bar.
+    assert main(["hopf", "--pressure", "2.5", "--model", "mbs", "--fidelity", "full", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["hopf"] == []
+
+
+def test_simulate_mbs_with_recording(tmp_path):
+    rrd = tmp_path / "run.rrd"
+    code, out, err = run("simulate", "--model", "mbs", "--pressure", "1.5", "--speed", "60", "--duration", "3",
+                         "--rerun", str(rrd), "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["model"] == "mbs" and result["final"]["mode"] == "yaw"
+    assert rrd.stat().st_size > 100_000

@@ -1,0 +1,188 @@
+"""What the reduced model's assumptions are worth (issue 4, items 6-7 with ``--fidelity full``).
+
+The numbers asserted here are the multibody model's computed Hopf speeds with one assumption dropped and with
+all dropped (section 3 model, Table 1, the dimensions of :class:`mbs_shimmy.AxleDimensions`).  They are results,
+listed in the README; a change of the model that moves them must update both.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from comparisons.axles.units import BAR, KMH
+from comparisons.cli.main import main
+from mbs_shimmy import Fidelity, MbsFamily, MbsModel, assumption_study, match_hopf
+from mbs_shimmy.assumption_study import study_fidelities
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points
+from reduced_model.model import Effects
+
+# Hopf speeds (km/h) of the MBS, section 3 model; the reduced model has 26.630, 97.128, 192.983, 345.889 at
+# 1.5 bar and 46.143, 70.501 at 2.5 bar.
+COMPUTED = {
+    1.5: {"small_angles": [26.7123, 97.0031, 193.4276, 344.9754],
+          "fixed_static_load_arms": [26.4820, 97.1821, 190.4743, 347.2965],
+          "uncoupled_inertia": [26.2132, 99.3014, 202.5059, 333.0922],
+          "slip_heading_only": [32.6377, 97.8254],
+          "load_tramp_only": [26.8668, 94.8023, 179.8043, 380.3522],
+          "lateral_stiffness_tramp_only": [26.8727, 95.7051, 184.8643, 365.5915],
+          "constant_load": [26.6301, 97.1280, 192.9828, 345.8892],
+          "quasi_steady_speed": [26.6301, 97.1280, 192.9828, 345.8892],
+          "separate_lateral_spring": [26.1076, 95.4905, 171.2039, 377.7018],
+          "full": [41.3158, 87.8321],
+          # full geometry without one of the new elements
+          "no_kingpin_inclination": [38.4343, 91.3592],
+          "roll_axis_at_wheel_centre": [37.7321, 98.8457],
+          "rigid_axle_mounts": [25.5286, 89.7359],
+          "parallel_steering_arms": [41.3158, 87.8321],
+          "rigid_steering_gear": []},
+    2.5: {"small_angles": [46.4705, 70.1101],
+          "fixed_static_load_arms": [45.5317, 71.1541],
+          "uncoupled_inertia": [44.1379, 74.0966],
+          "slip_heading_only": [],
+          "load_tramp_only": [48.5512, 65.8754],
+          "lateral_stiffness_tramp_only": [47.7810, 67.6239],
+          "constant_load": [46.1426, 70.5006],
+          "quasi_steady_speed": [46.1426, 70.5006],
+          "separate_lateral_spring": [44.6456, 70.4751],
+          "full": [],
+          "no_kingpin_inclination": [],
+          "roll_axis_at_wheel_centre": [],
+          "rigid_axle_mounts": [43.1781, 64.0232],
+          "parallel_steering_arms": [],
+          "rigid_steering_gear": []},
+}
+
+
+@pytest.mark.parametrize("pressure", [1.5, 2.5])
+@pytest.mark.parametrize("name,fidelity", study_fidelities())
+def test_hopf_speeds_without_each_assumption(pressure, name, fidelity):
+    points = hopf_points(MbsFamily(MbsModel(fidelity=fidelity)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
+    assert [h.speed_kmh for h in points] == pytest.approx(COMPUTED[pressure][name], abs=1e-3)
+
+
+@pytest.mark.parametrize("name", ["constant_load", "quasi_steady_speed", "parallel_steering_arms"])
+def test_nonlinear_assumptions_move_no_hopf_point(name):
+    """Ackermann arms are a new element: measured on the full geometry (its tie-rod stays along y at straight
+    running, so its lever about both kingpins, and k1, are unchanged)."""
+    base, without = ((Fidelity.reduced(), Fidelity.reduced().without(name)) if name != "parallel_steering_arms"
+                     else (Fidelity.parse(name), Fidelity.full()))
+    reduced = hopf_points(MbsFamily(MbsModel(fidelity=base)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    dropped = hopf_points(MbsFamily(MbsModel(fidelity=without)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    assert np.max(np.abs(np.array([h.speed for h in dropped]) - [h.speed for h in reduced])) < 1e-6
+
+
+def test_full_geometry_with_large_trail():
+    """t0 = 0.25 m (figure 9 of the paper): the full geometry (with the new elements) moves all three Hopf points
+    up."""
+    from reduced_model.parameters import YANG2024
+    family = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
+    assert [h.speed_kmh for h in hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
+        pytest.approx([3.8955, 187.3135, 219.9508], abs=1e-3)
+
+
+def _hopf(kmh, hz):
+    return HopfPoint(speed=kmh * KMH, value=0.0, omega=2 * np.pi * hz, first_lyapunov=float("nan"),
+                     eigenvector=np.zeros(8))
+
+
+def test_match_hopf_pairs_modes_and_leaves_vanished_ones_open():
+    reduced = [_hopf(26.6, 5.3), _hopf(97.1, 6.6), _hopf(193.0, 10.6), _hopf(345.9, 13.2)]
+    mbs = [_hopf(32.5, 5.4), _hopf(96.3, 6.5), _hopf(250.0, 30.0)]
+    rows = match_hopf(reduced, mbs)
+    pairs = [(None if r.reduced_kmh is None else round(r.reduced_kmh, 6),
+              None if r.mbs_kmh is None else round(r.mbs_kmh, 6)) for r in rows]
+    assert pairs[:2] == [(26.6, 32.5), (97.1, 96.3)]
+    assert (193.0, None) in pairs and (345.9, None) in pairs and (None, 250.0) in pairs
+    assert rows[0].shift_kmh == pytest.approx(5.9) and rows[2].shift_kmh is None
+
+
+def test_study_without_cycles():
+    study = assumption_study(MbsModel().params, Effects(), 2.5 * BAR, cycles=False)
+    names = [r.assumption for r in study.rows]
+    assert names == [n for n, _ in study_fidelities()]
+    full = study.rows[names.index("full")]
+    assert [h.mbs_kmh for h in full.hopf] == [None, None] and full.peak_theta1_shift_deg is None
+    # an element's row: full geometry (mbs side) against full geometry without it (reference side)
+    mounts = study.rows[names.index("rigid_axle_mounts")]
+    assert [(h.reduced_kmh, h.mbs_kmh) for h in mounts.hopf] == [(pytest.approx(43.1781, abs=1e-3), None),
+                                                               (pytest.approx(64.0232, abs=1e-3), None)]
+    uncoupled = study.rows[names.index("uncoupled_inertia")]
+    assert [h.shift_kmh for h in uncoupled.hopf] == pytest.approx([44.1379 - 46.1426, 74.0966 - 70.5006],
+                                                                  abs=1e-3)
+
+
+def test_cli_json(capsys):
+    assert main(["assumptions", "--pressure", "2.5", "--no-cycles", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["pressure_bar"] == 2.5
+    assert [r["assumption"] for r in out["rows"]][-1] == "rigid_steering_gear"
+    assert "full" in [r["assumption"] for r in out["rows"]]
+    for row in out["rows"]:
+        assert set(row) == {"assumption", "hopf", "peak_theta1_shift_deg"}
+        for h in row["hopf"]:
+            assert set(h) == {"reduced_kmh", "mbs_kmh", "shift_kmh"}
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["assumptions", "--pressure", "0"], "must be within [0.05, 20] bar"),
+    (["assumptions", "--pressure", "2", "--effects", "nope"], "unknown effect"),
+    (["assumptions", "--pressure", "2", "--set", "k4=-3", "--no-cycles"], "k4 = -3 N/m is outside its physical range"),
+    (["assumptions"], "required"),
+])
+def test_cli_bad_input(argv, message, capsys):
+    with pytest.raises(SystemExit) as exc:
+        code = main(argv)
+        raise SystemExit(code)
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_peak_amplitude_shifts_at_1_5_bar():
+    """The limit-cycle column of the README table: steady theta1 amplitude of the MBS at the speed of the reduced
+    model's largest cycle (48.15 km/h, 9.854 deg), each assumption dropped, each element taken out of the full
+    geometry."""
+    study = assumption_study(MbsModel().params, Effects(), 1.5 * BAR, cycles=True)
+    assert study.peak_speed_kmh == pytest.approx(48.15, abs=0.05)
+    assert study.peak_theta1_deg == pytest.approx(9.854, abs=0.002)
+    shifts = {r.assumption: r.peak_theta1_shift_deg for r in study.rows}
+    expected = {"small_angles": 0.191, "fixed_static_load_arms": 0.069, "uncoupled_inertia": 0.256,
+                "slip_heading_only": -1.078, "load_tramp_only": -0.232, "lateral_stiffness_tramp_only": -0.162,
+                "constant_load": -0.621, "quasi_steady_speed": 0.0, "separate_lateral_spring": 0.168,
+                "full": -4.475,
+                # elements: full geometry minus full geometry without the element
+                "no_kingpin_inclination": -1.285, "roll_axis_at_wheel_centre": -2.414, "rigid_axle_mounts": -4.024,
+                "parallel_steering_arms": 0.0, "rigid_steering_gear": 5.378}
+    for name, value in expected.items():
+        assert shifts[name] == pytest.approx(value, abs=0.005), name
+
+
+@pytest.mark.slow
+def test_peak_amplitude_shifts_at_2_5_bar():
+    """As above at 2.5 bar: the reduced model's cycle peaks at 3.449 deg near 56.8 km/h (paper: 3.45 deg at
+    56.34 km/h, a flat maximum); without the slip assumption, and in full, straight running attracts there."""
+    study = assumption_study(MbsModel().params, Effects(), 2.5 * BAR, cycles=True)
+    assert study.peak_speed_kmh == pytest.approx(56.78, abs=0.05)
+    assert study.peak_theta1_deg == pytest.approx(3.4488, abs=0.001)
+    shifts = {r.assumption: r.peak_theta1_shift_deg for r in study.rows}
+    expected = {"small_angles": -0.014, "fixed_static_load_arms": 0.185, "uncoupled_inertia": 0.723,
+                "slip_heading_only": -3.4485, "load_tramp_only": -0.937, "lateral_stiffness_tramp_only": -0.600,
+                "constant_load": -0.315, "quasi_steady_speed": 0.0, "separate_lateral_spring": 0.301,
+                "full": -3.4485, "no_kingpin_inclination": 0.0, "roll_axis_at_wheel_centre": 0.0,
+                "rigid_axle_mounts": -2.568, "parallel_steering_arms": 0.0, "rigid_steering_gear": 0.0}
+    for name, value in expected.items():
+        assert shifts[name] == pytest.approx(value, abs=0.005), name
+
+
+@pytest.mark.parametrize("dims,expected", [
+    ({"drag_link_inclination": 0.0}, [46.3541, 79.7500]),           # the gear's compliance alone (no roll steer)
+    ({"steering_gear_compliance": 0.0}, [57.2107, 87.4823]),         # roll steer alone (rigid gear)
+    ({"drag_link_inclination": 0.0, "steering_gear_compliance": 0.0}, []),
+])
+def test_steering_gear_row_split_into_compliance_and_roll_steer(dims, expected):
+    """The `rigid_steering_gear` row holds two effects; at 1.5 bar each alone makes the yaw mode unstable."""
+    from mbs_shimmy import DEFAULT_DIMENSIONS
+    family = MbsFamily(MbsModel(fidelity=Fidelity.full(), dims=DEFAULT_DIMENSIONS.replace(**dims)))
+    points = hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    assert [h.speed_kmh for h in points] == pytest.approx(expected, abs=1e-3)

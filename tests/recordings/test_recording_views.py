@@ -1,0 +1,119 @@
+"""What a person sees of a recording: min/max decimation that keeps every peak, the size of a 100 s run, and
+the side-by-side recording of two models."""
+
+import os
+
+import numpy as np
+import pyarrow as pa
+import pytest
+from rerun.chunk import RrdReader
+from rrd_helpers import blueprint_views, rows
+
+from comparisons.axles.units import BAR
+from comparisons.recordings import writer as recording
+from comparisons.recordings.decimation import envelope_indices, peak_loss, uniform_indices
+from comparisons.recordings.layout import RunPaths
+from comparisons.recordings.scene import reduced_model_poses
+from comparisons.recordings.writer import ComparedRun, write_comparison, write_recording
+from reduced_model.model import STATE_NAMES, ShimmyModel
+from reduced_model.modes import ModeClassifier
+from reduced_model.simulation import simulate
+from reduced_model.trajectory import SpeedSchedule, Trajectory
+
+
+def test_envelope_keeps_every_peak_where_striding_loses_them():
+    t = np.arange(0.0, 20.0, 1e-3)
+    y = 12.0 * np.sin(2 * np.pi * 9.3 * t + 0.3) * np.minimum(t / 10.0, 1.0)
+    kept = envelope_indices(t, y, 0.01)
+    assert len(kept) <= 2 * 2000 + 2
+    assert peak_loss(y, kept) == 0.0
+    # The measure can fail: a 100 Hz stride cuts the 9.3 Hz peaks by 1 - cos(pi 9.3/100) ~ 4 %.
+    assert 0.03 < peak_loss(y, uniform_indices(t, 100.0)) < 0.05
+    # Hand-made: a peak dropped from the kept set is missed by exactly its excess over its neighbours.
+    z = np.array([0.0, 1.0, 3.0, 1.0, 0.0, -2.0, 0.0])
+    assert peak_loss(z, np.array([0, 1, 3, 4, 5, 6])) == pytest.approx(2.0 / 3.0)
+    assert peak_loss(z, np.arange(7)) == 0.0
+
+
+def test_envelope_indices_per_bin():
+    t = np.arange(10) * 0.1
+    y = np.array([0.0, 5.0, -1.0, 2.0, 2.0, 7.0, 1.0, -3.0, 4.0, 0.0])
+    # Bins of 0.3 s: [0, 1, 2], [3, 4, 5], [6, 7, 8], [9]; min and max of each, plus both ends.
+    np.testing.assert_array_equal(envelope_indices(t, y, 0.3 - 1e-9), [0, 1, 2, 3, 5, 7, 8, 9])
+
+
+@pytest.fixture(scope="module")
+def ramp(tmp_path_factory):
+    """The issue's example: t = 0.25 m, 1.5 bar, 120-200 km/h in 100 s, the tramp cycle in its last 30 s."""
+    model = ShimmyModel().with_params(t0=0.25)
+    tr = simulate(model, 1.5 * BAR, SpeedSchedule.ramp(120 / 3.6, 200 / 3.6, 100.0), 100.0)
+    history = ModeClassifier().classify(tr)
+    path = tmp_path_factory.mktemp("ramp") / "ramp.rrd"
+    summary = write_recording(str(path), tr, history.segments(), history.switches, "ramp", model=model,
+                              pressure=1.5 * BAR)
+    return tr, summary
+
+
+def test_100_s_run_is_small_and_keeps_its_peaks(ramp):
+    tr, summary = ramp
+    assert np.max(np.abs(np.degrees(tr.state("theta1")[tr.t > 70.0]))) > 10.0   # a real tramp cycle
+    assert summary.bytes == os.path.getsize(summary.path) <= 15e6     # was 57 MB at 1 kHz
+    for k, name in enumerate(STATE_NAMES):
+        y = tr.x[:, k]
+        table = rows(summary.path, recording.STATE_ENTITIES[name])
+        recorded_ns = table.column("sim_time").cast(pa.int64()).to_numpy()
+        kept = np.searchsorted(recording.time_ns(tr.t), recorded_ns)
+        assert len(kept) < 0.25 * len(tr.t)
+        assert peak_loss(y, kept) <= 0.01, name
+
+
+def side_by_side_runs(n=401, seconds=2.0):
+    model = ShimmyModel()
+    reduced = simulate(model, 1.5 * BAR, SpeedSchedule.constant(60 / 3.6), seconds, sample_interval=seconds / (n - 1))
+    poses = reduced_model_poses(reduced, model, 1.5 * BAR).to_dict()
+    # A stand-in for the MBS: the same motion, twice the yaw, its own poses.
+    x = reduced.x.copy()
+    x[:, 0] *= 2.0
+    mbs = Trajectory(t=reduced.t, x=x, speed=reduced.speed, model="mbs", integrator="test", extra={"poses": poses})
+    return model, reduced, mbs
+
+
+def test_side_by_side_recording(tmp_path):
+    model, reduced, mbs = side_by_side_runs()
+    path = str(tmp_path / "both.rrd")
+    summary = write_comparison(path, [ComparedRun(reduced, [(0.0, "yaw")]), ComparedRun(mbs, [(0.0, "straight"),
+                                                                                               (1.0, "yaw")])],
+                               "both", model=model, pressure=1.5 * BAR)
+    assert summary.path == path and os.path.getsize(path) > 0
+    store = RrdReader(path).store().summary()
+    for key in ("reduced", "mbs"):
+        p = RunPaths(key)
+        assert f"{p.scene}/wheel_left" in store and p.state("theta1") in store and p.mode in store
+    # Each state of both models under one parent: one plot per state overlays them.
+    for key, tr in (("reduced", reduced), ("mbs", mbs)):
+        values = np.array(rows(path, f"/states/theta1_deg/{key}").column("Scalars:scalars").to_pylist())[:, 0]
+        assert values.max() == pytest.approx(np.degrees(tr.state("theta1")).max(), rel=1e-12)
+    views = blueprint_views(path)
+    assert views["3D"] == {"/scene/reduced", "/scene/mbs"}
+    assert "/states/theta1_deg" in views["TimeSeries"] and "/states/psi_deg" in views["TimeSeries"]
+    assert views["StateTimeline"] == {"/mode"}
+    with pytest.raises(ValueError, match="different models"):
+        write_comparison(str(tmp_path / "x.rrd"), [ComparedRun(reduced), ComparedRun(reduced)], pressure=1.5 * BAR)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(__import__("comparisons.recordings.screenshots", fromlist=["x"]).lavapipe_icd() is None,
+                    reason="no software Vulkan driver (Debian: apt-get install -y mesa-vulkan-drivers)")
+def test_screenshot_in_the_real_viewer(tmp_path):
+    """The README's screenshots come from the real viewer, headless (about 10 s)."""
+    import matplotlib.image
+
+    from comparisons.recordings.screenshots import take_screenshots
+    model, reduced, mbs = side_by_side_runs()
+    path = str(tmp_path / "both.rrd")
+    write_comparison(path, [ComparedRun(reduced, [(0.0, "yaw")]), ComparedRun(mbs, [(0.0, "yaw")])], "both",
+                     model=model, pressure=1.5 * BAR)
+    (png,) = take_screenshots(path, [1.0], str(tmp_path / "shots"), size="1200x800")
+    image = matplotlib.image.imread(png)
+    assert image.shape[0] >= 800 and image.shape[1] >= 1200
+    assert np.std(image[..., :3]) > 0.05          # not a blank frame

@@ -1,0 +1,188 @@
+"""``shimmy verify``: report contents, exit status and safe writing."""
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from comparisons.files import write_atomically
+from comparisons.verify.report import CheckStatus, Report, Row, Section, render_markdown
+
+
+def run_quick_verify(out, *extra):
+    """``shimmy verify --quick --json`` in a fresh process, as a user runs it: (completed process, report folder)."""
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", *extra, "--out", str(out),
+                           "--json"], capture_output=True, text=True, timeout=400)
+    return proc, out
+
+
+@pytest.fixture(scope="module")
+def quick_report(tmp_path_factory):
+    return run_quick_verify(tmp_path_factory.mktemp("verify") / "rep")
+
+
+def test_verify_quick_passes_and_writes_report(quick_report):
+    proc, out = quick_report
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["failed"] is False
+    text = (out / "report.md").read_text()
+    assert text.startswith("# shimmy verification report") and "## Summary" in text
+    assert not [f for f in os.listdir(out) if f.startswith(".")]
+
+
+def section(quick_report, key):
+    summary = json.loads(quick_report[0].stdout)
+    return next(s for s in summary["sections"] if s["key"] == key)
+
+
+def test_verify_hopf_rows(quick_report):
+    rows = {(r["model"], r["case"], r["point"]): r for r in section(quick_report, "hopf")["rows"]}
+    assert rows[("section 3", "2.5 bar", "HB1")]["status"] == "pass"
+    assert abs(rows[("section 3", "2.5 bar", "HB1")]["mbs_reduced_kmh"] - 46.1426) < 1e-3
+    assert rows[("section 3", "2.7 bar", "none")]["status"] == "pass"
+    assert all(r["status"] == "pass" for r in rows.values() if r["point"] == "eigenvalues")
+    # The full geometry removes the tramp mode at 1.5 bar: no partner for HB3, HB4.
+    assert rows[("section 3", "1.5 bar", "HB3")]["mbs_full_kmh"] is None
+
+
+def test_verify_paper_section_and_plan(quick_report):
+    summary = json.loads(quick_report[0].stdout)
+    assert [(c["pressure_right_bar"], c["kind"]) for c in summary["plan"]][:3] == [
+        (1.5, "paper"), (2.5, "paper"), (2.7, "paper")]
+    assert summary["axle"]["name"] == "YANG2024" and summary["axle"]["differs_from_paper"] == []
+    paper = {r["quantity"]: r for r in section(quick_report, "paper")["rows"]}
+    assert paper["HB1 at 1.5 bar (km/h)"]["status"] == "known difference"
+    assert paper["HB2 at 2.5 bar (km/h)"]["status"] == "pass"
+    assert paper["Hopf points at 2.7 bar"]["status"] == "pass"
+
+
+def test_verify_cycles_jumps_assumptions(quick_report):
+    _, out = quick_report
+    cycles = [r for r in section(quick_report, "cycles")["rows"] if r["point"] == "stable cycle"]
+    assert len(cycles) >= 6 and all(r["status"] == "pass" for r in cycles)
+    assert (out / "cycles_2p5bar.png").stat().st_size > 10_000
+    jumps = {r["run"].split(" ")[0] + " " + r["run"].split(" ")[1]: r for r in section(quick_report, "jumps")["rows"]}
+    assert jumps["continuation S1"]["status"] == "pass"
+    up = next(r for r in section(quick_report, "jumps")["rows"] if r["run"].startswith("ramp up"))
+    assert up["reduced_kmh"] >= up["continuation_kmh"] - 0.5 and up["mbs_reduced_kmh"] >= up["continuation_kmh"] - 0.5
+    for name in ("ramp_up_reduced.rrd", "ramp_up_mbs.rrd", "ramp_down_reduced.rrd", "fig11_L1_mbs.rrd"):
+        assert (out / name).stat().st_size > 100_000
+    names = {r["assumption_off"] for r in section(quick_report, "assumptions")["rows"]}
+    assert {"full", "small_angles", "slip_heading_only"} <= names
+
+
+def test_verify_report_html_figures_recordings_progress(quick_report):
+    """What an engineer gets: headers in words, metadata, a figure per section, report.html, side-by-side
+    recordings, and one progress line per finished step on stderr (nothing but JSON on stdout)."""
+    from comparisons.verify.report import COLUMN_LABELS
+    proc, out = quick_report
+    summary = json.loads(proc.stdout)
+    assert summary["html"].endswith("report.html") and os.path.getsize(summary["html"]) > 100_000
+    assert summary["metadata"]["exudyn"] == "1.13.6" and summary["metadata"]["mode"] == "quick"
+    for s in summary["sections"]:
+        for row in s["rows"]:
+            assert set(row) - {"status", "note"} <= set(COLUMN_LABELS), (s["key"], set(row) - set(COLUMN_LABELS))
+    text = (out / "report.md").read_text()
+    assert "| rerun-sdk | 0.41.0 |" in text and "MBS with the reduced model's assumptions [km/h]" in text
+    assert "mbs_reduced_kmh" not in text.split("## Summary")[1].split("\n| ")[0]
+    for name in ("hopf_speeds.png", "assumptions.png", "jumps_1p5bar.png", "cycles_2p5bar.png"):
+        assert f"![{name}]({name})" in text and (out / name).stat().st_size > 20_000, name
+    for name in ("ramp_up_both.rrd", "ramp_down_both.rrd", "fig11_L1_both.rrd"):
+        assert (out / name).stat().st_size > 100_000, name
+    lines = proc.stderr.splitlines()
+    done = [line for line in lines if line.startswith("verify: [")]
+    assert len(done) == len(summary["sections"]) and all(" done in " in line for line in done)
+    assert any(line.startswith("verify:   Bistable jumps: ramp up") for line in lines)
+
+
+def test_verify_robustness_over_plausible_dimensions(quick_report):
+    _, out = quick_report
+    rows = section(quick_report, "robustness")["rows"]
+    checks = [r for r in rows if r["quantity"].startswith("MBS with every assumption on")]
+    assert [r["case"] for r in checks] == ["1.5 bar", "2.5 bar"] and all(r["status"] == "pass" for r in checks)
+    hb1 = next(r for r in rows if r["case"] == "1.5 bar" and r["quantity"].startswith("HB1"))
+    # median over the 32 plausible axles in which HB1 keeps a partner (16 %: with the full geometry of issue 9 the
+    # yaw mode's lower Hopf point vanishes in most); the chosen dimensions give +14.69 km/h
+    assert hb1["plausible_axles"].startswith("+5.5 km/h") and hb1["plausible_axles"].endswith("partner in 16 %")
+    assert (out / "robustness_1p5bar.parquet").exists() and not list(out.glob("*.parts"))
+    assert (out / "robustness.png").stat().st_size > 10_000
+
+
+def test_failed_row_makes_report_fail():
+    section = Section("x", "X", ("a",), (Row({"a": 1.0}, CheckStatus.PASS), Row({"a": 2.0}, CheckStatus.FAIL)))
+    report = Report((section,), quick=True)
+    assert report.failed and "FAILED" in render_markdown(report)
+
+
+def test_file_in_the_way_of_out(tmp_path):
+    blocker = tmp_path / "blocker"
+    blocker.write_text("x")
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--out", str(blocker)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and "file is in the way" in proc.stderr and len(proc.stderr.splitlines()) == 1
+
+
+def test_out_that_cannot_be_created(tmp_path):
+    blocker = tmp_path / "blocker"
+    blocker.write_text("x")
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--out",
+                           str(blocker / "sub")], capture_output=True, text=True)
+    assert proc.returncode == 2 and "cannot create the folder" in proc.stderr
+    assert len(proc.stderr.splitlines()) == 1
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root ignores directory permissions")
+def test_unwritable_out(tmp_path):
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--out",
+                           str(locked / "sub")], capture_output=True, text=True)
+    assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1
+
+
+def test_interrupted_write_leaves_no_file(tmp_path):
+    target = tmp_path / "report.md"
+
+    class Exploding:
+        pass
+
+    with pytest.raises(TypeError):
+        write_atomically(str(target), Exploding())  # fails inside the write
+    assert not target.exists() and os.listdir(tmp_path) == []
+    with pytest.raises(IsADirectoryError):
+        write_atomically(str(tmp_path), "x")
+
+
+@pytest.fixture(scope="module")
+def axle_report(tmp_path_factory):
+    """The paper's truck with t0 = 0.25 m from an axle file: verify must find the bistable window by itself."""
+    folder = tmp_path_factory.mktemp("verify_axle")
+    axle = folder / "t025.toml"
+    axle.write_text('name = "paper, t0 = 0.25 m"\nbase = "YANG2024"\n[table1]\nt0 = 0.25\n')
+    return run_quick_verify(folder / "rep", "--no-recordings", "--axle", str(axle))
+
+
+def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
+    proc, out = axle_report
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["axle"]["name"] == "paper, t0 = 0.25 m"
+    assert [d["name"] for d in summary["axle"]["differs_from_paper"]] == ["t0"]
+    bistable = [c for c in summary["plan"] if c["kind"] == "bistable" and "window_kmh" in c]
+    assert len(bistable) == 1 and bistable[0]["pressure_left_bar"] == bistable[0]["pressure_right_bar"]
+    low, high = bistable[0]["window_kmh"]
+    assert low < 185.0 and high > 157.0          # it overlaps figure 9a's T2..S1 (157.38-184.75 km/h at 1.5 bar)
+    assert all(c["reason"] for c in summary["plan"])
+    assert "paper" not in [s["key"] for s in summary["sections"]]    # printed numbers only for the paper's axle
+    jumps = section(axle_report, "jumps")["rows"]
+    ramps = [r for r in jumps if r["run"].startswith("ramp")]
+    assert len(ramps) == 2 and all(r["status"] == "pass" for r in ramps)
+    assert all(r["reduced_kmh"] is not None and r["mbs_reduced_kmh"] is not None for r in ramps)
+    starts = [r for r in jumps if "two starts" in r["run"]]
+    assert len(starts) == 2 and all(r["status"] == "pass" for r in starts)
+    assert not list(out.glob("*.rrd"))          # --no-recordings
+    text = (out / "report.md").read_text()
+    assert "Axle: axle paper, t0 = 0.25 m" in text and "sha256" in text
