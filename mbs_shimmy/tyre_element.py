@@ -90,7 +90,7 @@ class LoadTable:
         self._p = types.SimpleNamespace(**{f_.name: getattr(params, f_.name) for f_ in dataclasses.fields(params)})
         self.layout = (("B", "D", "E") + (("Bt", "Dt", "Et0") if effects.pt else ()) + (("a",) if effects.hcl else ())
                        + (("sigma",) if effects.rl else ()))
-        self._pick = tuple(("B", "D", "E", "Bt", "Dt", "Et0", "a", "sigma").index(k) for k in self.layout)
+        self.columns = tuple(("B", "D", "E", "Bt", "Dt", "Et0", "a", "sigma").index(k) for k in self.layout)
         self._per_load = tuple(i for i, k in enumerate(self.layout) if k in ("D", "Dt"))
         self._short = len(self.layout) == 3
         rows = []
@@ -101,7 +101,7 @@ class LoadTable:
 
     def _row(self, load: float) -> tuple[float, ...]:
         values = self.direct(load)
-        row = [values[i] for i in self._pick]
+        row = [values[i] for i in self.columns]
         for i in self._per_load:
             row[i] /= load
         return tuple(row)
@@ -122,7 +122,7 @@ class LoadTable:
         k = int(x) - 1
         if k < 0 or k > self.n - 4:
             values = self.direct(load)
-            return [values[i] for i in self._pick]
+            return [values[i] for i in self.columns]
         x -= k + 1.0                  # in [0, 1): between nodes k+1 and k+2
         xm, x1, x2 = x + 1.0, x - 1.0, x - 2.0
         w0 = -x * x1 * x2 / 6.0       # cubic Lagrange weights on the nodes k .. k+3

@@ -24,9 +24,9 @@ from comparisons.figures import (  # noqa: F401
     simulation_figures,
     tyre_figures,
 )
-from comparisons.figures.cumulative import P17_BAR, Z1, Z2, ZOOM_SEEDS, _uncovered  # noqa: F401
+from comparisons.figures.cumulative import P17_BAR, Z1, Z2, ZOOM_SEEDS, uncovered  # noqa: F401
 from comparisons.figures.cycle_figures import hopf_names  # noqa: F401
-from comparisons.figures.hopf_figures import _pressure_key  # noqa: F401
+from comparisons.figures.hopf_figures import pressure_key  # noqa: F401
 from comparisons.figures.registry import (  # noqa: F401
     PAPER_TITLES,
     REGISTRY,
@@ -38,7 +38,7 @@ from comparisons.figures.registry import (  # noqa: F401
     FigureEntry,
     FigureResult,
     FigureUnavailable,
-    _store_cycles,
+    store_cycles,
     available_figures,
     make_figure,
     make_figures,

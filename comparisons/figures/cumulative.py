@@ -15,17 +15,17 @@ from comparisons.figures.drawing import (
     _speed_axis,
     marker_key,
 )
-from comparisons.figures.hopf_figures import _pressure_key
+from comparisons.figures.hopf_figures import pressure_key
 from comparisons.figures.plots import place_labels
 from comparisons.figures.registry import BAR, EFFECT_STYLES, DiagramStore, Drawing, register
 from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram
 from reduced_model.bifurcation.special_points import PointKind
 from reduced_model.model import Effects
 
-ZOOM_SEEDS = 41   # a curve lying between two seed lines of a zoom window would be missed: see _uncovered
+ZOOM_SEEDS = 41   # a curve lying between two seed lines of a zoom window would be missed: see uncovered
 
 
-def _uncovered(full: HopfDiagram, zoom: HopfDiagram, tol: float = 1e-2) -> int:
+def uncovered(full: HopfDiagram, zoom: HopfDiagram, tol: float = 1e-2) -> int:
     """How many points of the full-window curves inside the zoom window are farther than ``tol`` (relative to
     the zoom window; chords of the polylines sag by ~1e-3) from every zoom curve: a check that the zoom's own
     seeding found every curve."""
@@ -86,7 +86,7 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
     notes, complete = [], True
     z2_labels = []
     for effects, (label, colour) in zip(Effects.cumulative(), EFFECT_STYLES):
-        diagram = store.diagram(_pressure_key(effects, *P17_BAR))
+        diagram = store.diagram(pressure_key(effects, *P17_BAR))
         _draw_curves(ax, diagram, BAR, colour, label=label)
         folds = _located(diagram, PointKind.HOPF_FOLD)
         if folds:
@@ -96,8 +96,8 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
         notes += _incomplete_notes(f"{label}: ", diagram)
         complete &= diagram.complete
         for zax, (plo, phi, vlo, vhi) in zip(zooms, (Z1, Z2)):
-            zd = store.diagram(_pressure_key(effects, plo, phi, vlo, vhi, n_seeds=ZOOM_SEEDS))
-            missed = _uncovered(diagram, zd)
+            zd = store.diagram(pressure_key(effects, plo, phi, vlo, vhi, n_seeds=ZOOM_SEEDS))
+            missed = uncovered(diagram, zd)
             if missed:
                 complete = False
                 notes.append(f"{label} zoom: INCOMPLETE: {missed} points of the full-window curves inside the "

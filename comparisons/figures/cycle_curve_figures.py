@@ -18,7 +18,7 @@ from comparisons.figures.drawing import (
     _shade_stable,
     _speed_axis,
 )
-from comparisons.figures.hopf_figures import T0_RANGE, _pressure_key
+from comparisons.figures.hopf_figures import T0_RANGE, pressure_key
 from comparisons.figures.plots import place_labels
 from comparisons.figures.registry import (
     BAR,
@@ -103,7 +103,7 @@ def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, fac
 def draw_cycle_curves(store: DiagramStore) -> Drawing:
     lo_bar, hi_bar, vmin_kmh, vmax_kmh = FIG18_WINDOW
     effects = Effects.parse(FIG18_EFFECTS)
-    key = _pressure_key(effects, lo_bar, hi_bar, vmin_kmh, vmax_kmh, n_seeds=21)
+    key = pressure_key(effects, lo_bar, hi_bar, vmin_kmh, vmax_kmh, n_seeds=21)
     hopf, family = store.diagram(key), store.family(key)
     cycles = cycle_diagram(family, FIG18_START_BAR * BAR, vmin_kmh * KMH, vmax_kmh * KMH)
     fig = Figure(figsize=(7.2, 5.4))

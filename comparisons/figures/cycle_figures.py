@@ -16,7 +16,7 @@ from comparisons.figures.registry import (
     CycleKey,
     DiagramStore,
     Drawing,
-    _store_cycles,
+    store_cycles,
     register,
 )
 from reduced_model.bifurcation.cycles.branches import branch_peak
@@ -108,7 +108,7 @@ def _cycle_panels(store: DiagramStore, panels, vmax_kmh: float, figure_title: st
     axes = fig.subplots(2, columns, sharex="col", squeeze=False)
     notes, complete = [], True
     for j, (title, key) in enumerate(panels):
-        family, diagram = _store_cycles(store, key)
+        family, diagram = store_cycles(store, key)
         # The Hopf points carry the paper's names (HB1, HB2 bound the yaw mode, HB3, HB4 the second one), not
         # numbers by speed order.
         names = hopf_names(diagram, ((paper_args or [{}] * columns)[j]).get("hopf_labels"))

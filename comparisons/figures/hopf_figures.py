@@ -40,14 +40,14 @@ from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024
 
 
-def _pressure_key(effects: Effects = Effects(), lo_bar=0.05, hi_bar=3.0, vmin_kmh=0.0, vmax_kmh=VMAX_KMH,
+def pressure_key(effects: Effects = Effects(), lo_bar=0.05, hi_bar=3.0, vmin_kmh=0.0, vmax_kmh=VMAX_KMH,
                   n_seeds=9) -> DiagramKey:
     return DiagramKey(effects, "pressure", P_I0_BAR, lo_bar * BAR, hi_bar * BAR, vmin_kmh, vmax_kmh, n_seeds)
 
 
 @register(5, "pressure_hopf_curves", cost=1)
 def draw_pressure_curves(store: DiagramStore) -> Drawing:
-    key = _pressure_key()
+    key = pressure_key()
     diagram, family = store.diagram(key), store.family(key)
     fig = Figure(figsize=(6.8, 4.8))
     ax = fig.subplots()

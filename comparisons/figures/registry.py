@@ -230,7 +230,7 @@ def _cycle_family(key: CycleKey) -> SpeedFamily:
     return SpeedFamily(ShimmyModel(effects=key.effects).with_params(**dict(key.params)))
 
 
-def _store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, CycleDiagram]:
+def store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, CycleDiagram]:
     """(family, cycle diagram) for ``key``, computed once per store (figures 9a, 10 and 11 share one)."""
     cache = store._cycles
     if key not in cache:

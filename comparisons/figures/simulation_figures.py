@@ -9,7 +9,7 @@ from comparisons.axles import paper_reference as paper
 from comparisons.axles.axle import interface_text
 from comparisons.figures.cycle_figures import _trail_key
 from comparisons.figures.cycle_plots import special_point_labels
-from comparisons.figures.registry import BAR, KMH, DiagramStore, Drawing, _store_cycles, register
+from comparisons.figures.registry import BAR, KMH, DiagramStore, Drawing, store_cycles, register
 from reduced_model.bifurcation.cycles.branches import cycle_at
 from reduced_model.bifurcation.special_points import ConvergenceError
 from reduced_model.modes import ModeClassifier, ModeHistory
@@ -59,7 +59,7 @@ def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tup
 
 @register(10, "mode_change_time_histories", cost=18)
 def draw_mode_changes(store: DiagramStore) -> Drawing:
-    family, diagram = _store_cycles(store, _trail_key(0.25))
+    family, diagram = store_cycles(store, _trail_key(0.25))
     labels = dict(special_point_labels(diagram))
     s1, t2 = labels["S1"].speed * 3.6, labels["T2"].speed * 3.6
     model = family.model
@@ -89,7 +89,7 @@ PHASE_DURATION = 20.0
 
 @register(11, "phase_portrait_180kmh", cost=6)
 def draw_phase_portrait(store: DiagramStore) -> Drawing:
-    family, diagram = _store_cycles(store, _trail_key(0.25))
+    family, diagram = store_cycles(store, _trail_key(0.25))
     V = paper.FIG11_SPEED_KMH * KMH
     fig = Figure(figsize=(6.8, 5.4))
     ax = fig.subplots()

@@ -267,7 +267,7 @@ def _write_file(path: str, runs: list[_Run], title: str, blueprint, recording_id
     expected = len(series_indices(first.trajectory.t, first.series()[entity]))
     try:
         with atomic_path(final) as tmp:
-            run_writer(_write, tmp, runs, title, blueprint, recording_id)
+            run_writer(write_runs, tmp, runs, title, blueprint, recording_id)
             _check_written(tmp, entity, expected, path)
             size = os.path.getsize(tmp)
     except RecordingError:
@@ -293,7 +293,7 @@ def _check_written(tmp: str, entity: str, rows_expected: int, path: str) -> None
                              f"rows, not {rows_expected}{hint}")
 
 
-def _write(tmp: str, runs: list[_Run], title: str, blueprint, recording_id: str) -> None:
+def write_runs(tmp: str, runs: list[_Run], title: str, blueprint, recording_id: str) -> None:
     import rerun as rr
 
     rec = rr.RecordingStream(APP_ID, recording_id=recording_id, send_properties=False)
@@ -308,7 +308,7 @@ def _write(tmp: str, runs: list[_Run], title: str, blueprint, recording_id: str)
             for run in runs:
                 _log_static(rec, run)
                 _log_scene(rec, run)
-                _log_series(rec, run)
+                log_series(rec, run)
                 _log_modes(rec, run)
     finally:
         del rec     # the SDK releases a recording's threads and buffers when its last reference goes
@@ -419,7 +419,7 @@ def _log_scene(rec, run: _Run) -> None:
                      ).partition([2] * n))
 
 
-def _log_series(rec, run: _Run) -> None:
+def log_series(rec, run: _Run) -> None:
     import rerun as rr
     t = run.trajectory.t
     for entity, values in run.series().items():

@@ -99,7 +99,7 @@ def test_cycle_figures(tmp_path, capsys):
 def test_hopf_names_follow_the_paper():
     """HB1, HB2 bound the first branch and HB3, HB4 the second, whatever their speed order (figure 9a)."""
     store = figures.DiagramStore()
-    _, d = figures._store_cycles(store, figures.CycleKey(1.5, 400.0, (("t0", 0.25),)))
+    _, d = figures.store_cycles(store, figures.CycleKey(1.5, 400.0, (("t0", 0.25),)))
     names = {name: round(h.speed_kmh, 2) for name, h in figures.hopf_names(d)}
     assert names == {"HB1": 1.47, "HB2": 164.75, "HB3": 137.97}
 
@@ -159,8 +159,8 @@ def test_zoom_check_catches_a_curve_between_seed_lines():
     missed; the check says so."""
     store = figures.DiagramStore()
     effects = Effects.parse("hcl,pt")
-    full = store.diagram(figures._pressure_key(effects, *figures.P17_BAR))
-    sparse = store.diagram(figures._pressure_key(effects, *figures.Z2, n_seeds=13))
-    dense = store.diagram(figures._pressure_key(effects, *figures.Z2, n_seeds=figures.ZOOM_SEEDS))
-    assert figures._uncovered(full, sparse) > 0
-    assert figures._uncovered(full, dense) == 0
+    full = store.diagram(figures.pressure_key(effects, *figures.P17_BAR))
+    sparse = store.diagram(figures.pressure_key(effects, *figures.Z2, n_seeds=13))
+    dense = store.diagram(figures.pressure_key(effects, *figures.Z2, n_seeds=figures.ZOOM_SEEDS))
+    assert figures.uncovered(full, sparse) > 0
+    assert figures.uncovered(full, dense) == 0

@@ -299,7 +299,7 @@ def test_straight_running_is_equilibrium_and_jacobian_affine_in_speed(name, fide
 
 def table_error(element, loads) -> float:
     """Largest relative interpolation error of a wheel's load table against direct evaluation."""
-    pick = list(element.table._pick)
+    pick = list(element.table.columns)
     worst = 0.0
     for load in loads:
         a = np.array(element.table.values(float(load)))[pick]

@@ -278,7 +278,7 @@ def test_failure_while_writing_leaves_nothing_behind(tmp_path, short, monkeypatc
     def explode(*args, **kwargs):
         raise error
 
-    monkeypatch.setattr(recording, "_log_series", explode)
+    monkeypatch.setattr(recording, "log_series", explode)
     with pytest.raises(type(error)):
         write_recording(str(target), short, pressure=PRESSURE)
     assert os.listdir(tmp_path) == ["r.rrd"] and target.read_bytes() == b"previous recording"
@@ -287,14 +287,14 @@ def test_failure_while_writing_leaves_nothing_behind(tmp_path, short, monkeypatc
 @pytest.mark.filterwarnings("ignore:RRD file has no footer")
 def test_truncated_file_is_caught(tmp_path, short, monkeypatch):
     """A full disk shows as a file the reader rejects: the check before the rename catches it."""
-    real_write = recording._write
+    real_write = recording.write_runs
 
     def write_then_truncate(tmp, *args):
         real_write(tmp, *args)
         with open(tmp, "r+b") as fh:
             fh.truncate(os.path.getsize(tmp) // 2)
 
-    monkeypatch.setattr(recording, "_write", write_then_truncate)
+    monkeypatch.setattr(recording, "write_runs", write_then_truncate)
     with pytest.raises(RecordingError, match="came out"):
         write_recording(str(tmp_path / "r.rrd"), short, pressure=PRESSURE)
     assert os.listdir(tmp_path) == []
