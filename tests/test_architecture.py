@@ -1,0 +1,92 @@
+"""The layout's rules, read from the source: no import circle, no library package importing the CLI, a toolkit
+that knows no problem, and no facades."""
+
+import ast
+import pathlib
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+PACKAGES = ("reduced_model", "mbs_shimmy", "comparisons")
+
+
+def modules() -> dict[str, pathlib.Path]:
+    found = {}
+    for package in PACKAGES:
+        for path in (ROOT / package).rglob("*.py"):
+            parts = path.relative_to(ROOT).with_suffix("").parts
+            name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+            found[name] = path
+    return found
+
+
+def import_graph() -> dict[str, set[str]]:
+    """Every import of a project module by a project module, the ones inside functions included."""
+    mods = modules()
+    graph = {}
+    for name, path in mods.items():
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                candidates = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Import):
+                candidates = [a.name for a in node.names]
+            else:
+                continue
+            targets |= {c for c in candidates if c in mods and c != name}
+        graph[name] = targets
+    return graph
+
+
+def strongly_connected(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Tarjan's algorithm: the components with more than one module are the import circles."""
+    index, low, stack, on_stack, circles = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return circles
+
+
+def test_the_import_graph_has_no_circle():
+    assert strongly_connected(import_graph()) == []
+
+
+def test_no_library_package_imports_the_command_line():
+    offenders = {m: sorted(t for t in targets if t.startswith("comparisons.cli"))
+                 for m, targets in import_graph().items() if not m.startswith("comparisons.cli")}
+    assert {m: t for m, t in offenders.items() if t} == {}
+
+
+def test_the_toolkit_imports_nothing_of_the_models():
+    graph = import_graph()
+    toolkit = {m: targets for m, targets in graph.items() if m.startswith("reduced_model.bifurcation")}
+    assert toolkit, "the toolkit package is missing"
+    outside = {m: sorted(t for t in targets if not t.startswith("reduced_model.bifurcation"))
+               for m, targets in toolkit.items()}
+    assert {m: t for m, t in outside.items() if t} == {}
+
+
+def test_no_module_level_getattr_facade():
+    facades = [name for name, path in modules().items()
+               if any(isinstance(n, ast.FunctionDef) and n.name == "__getattr__" for n in ast.parse(path.read_text()).body)]
+    assert facades == []
