@@ -43,6 +43,7 @@ from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.forces import AxleForces, layout_of
 from mbs_shimmy.layout import Layout
 from mbs_shimmy.system import MbsSystem, build_system
+from reduced_model.bifurcation.derivatives import DifferenceDerivatives
 from reduced_model.family import PRESSURE_PARAMS, ShimmyFamily, pressure_at
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
@@ -130,7 +131,7 @@ class MbsModel:
 
 
 @dataclass
-class MbsFamily(ShimmyFamily):
+class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     """The MBS as a speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` (with ``lyapunov=False``).
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
@@ -189,9 +190,13 @@ class MbsFamily(ShimmyFamily):
         return ev.rhs(np.asarray(y, dtype=float))
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,)."""
+        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) or for
+        each column of x (n, k): Exudyn evaluates one state at a time."""
+        x = np.asarray(x, dtype=float)
+        if x.ndim == 2:
+            return np.stack([self.rhs(column, speed, q) for column in x.T], axis=1)
         L = self.layout
-        return self.rhs_mbs(np.asarray(x)[L.x_to_y], speed, q)[L.y_to_x]
+        return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
         ev, sp = self._at(q)

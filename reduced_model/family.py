@@ -14,6 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
+from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
 from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
 from reduced_model.parameters import ParameterError, ShimmyParameters
 
@@ -103,7 +104,7 @@ class ShimmyFamily:
 
 
 @dataclass(frozen=True)
-class SpeedFamily(ShimmyFamily):
+class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
     """f(x; V, q): the model with speed V (m/s) and parameter ``param`` = q (SI) free."""
 
     model: ShimmyModel

@@ -16,8 +16,8 @@ from comparisons.figures.registry import (
     CycleKey,
     DiagramStore,
     Drawing,
-    store_cycles,
     register,
+    store_cycles,
 )
 from reduced_model.bifurcation.cycles.branches import branch_peak
 from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram

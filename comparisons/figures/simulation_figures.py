@@ -9,7 +9,7 @@ from comparisons.axles import paper_reference as paper
 from comparisons.axles.axle import interface_text
 from comparisons.figures.cycle_figures import _trail_key
 from comparisons.figures.cycle_plots import special_point_labels
-from comparisons.figures.registry import BAR, KMH, DiagramStore, Drawing, store_cycles, register
+from comparisons.figures.registry import BAR, KMH, DiagramStore, Drawing, register, store_cycles
 from reduced_model.bifurcation.cycles.branches import cycle_at
 from reduced_model.bifurcation.special_points import ConvergenceError
 from reduced_model.modes import ModeClassifier, ModeHistory

@@ -90,6 +90,8 @@ class SweepTask:
                 fields += [pa.field(f"{c}_hopf_kmh", floats), pa.field(f"{c}_hopf_hz", floats),
                            pa.field(f"{c}_hopf_mode", strings), pa.field(f"{c}_onset_kmh", pa.float64()),
                            pa.field(f"{c}_shift_kmh", floats)]
+                if self.lyapunov:
+                    fields.append(pa.field(f"{c}_hopf_l1", floats))
         if "assumptions" in self.compute:
             for name in self.assumption_names():
                 fields += [pa.field(f"shift_{name}_kmh", floats), pa.field(f"only_{name}_kmh", floats)]
@@ -146,8 +148,10 @@ class SweepTask:
                 for f in self.mbs:
                     mf = mbs_shimmy.MbsFamily.of(axle.params, effects, mbs_shimmy.Fidelity.parse(f), dims=axle.dims,
                                                  pressure=pressure)
-                    mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=False)
+                    mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.lyapunov)
                     row.update(_hopf_columns(f"mbs_{_column_safe(f)}_", mp))
+                    if self.lyapunov:
+                        row[f"mbs_{_column_safe(f)}_hopf_l1"] = [h.first_lyapunov for h in mp]
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
                     shifts = {m.reduced_kmh: m.shift_kmh for m in mbs_shimmy.match_hopf(points, mp)}
                     row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed_kmh) for h in points]

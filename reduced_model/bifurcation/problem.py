@@ -54,7 +54,7 @@ class Family(Protocol):
         """Typical size of each state in an oscillation at omega rad/s (for norms and mesh monitors)."""
 
     def rhs(self, x: np.ndarray, p: float, q: float) -> np.ndarray:
-        ...
+        """f at one state (n,) or at the columns of X (n, k)."""
 
     def jacobian(self, x: np.ndarray, p: float, q: float) -> np.ndarray:
         ...
@@ -67,6 +67,16 @@ class Family(Protocol):
 
     def validate(self, q: float) -> None:
         """Raise where the family is meaningless at q."""
+
+    # How the derivatives are formed: inherit one of :mod:`reduced_model.bifurcation.derivatives`.
+    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
+        """f (M, n) and df/dx (M, n, n) at the states P (M, n)."""
+
+    def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
+        """df/d(free) (M, n) at the states P (M, n); ``scale`` is the free parameter's size."""
+
+    def multilinear_forms(self, x0: np.ndarray, p: float, q: float):
+        """The forms B and C of f at the equilibrium x0 (:class:`~reduced_model.bifurcation.equilibria.normal_form.MultilinearForms`)."""
 
 
 def clip_window(family: Family, lo: float, hi: float) -> tuple[float, float]:

@@ -8,6 +8,7 @@ import pytest
 from comparisons.axles.units import BAR, KMH
 from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from reduced_model.bifurcation.cycles.branches import cycle_diagram
+from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
 from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
 from reduced_model.bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
@@ -71,7 +72,7 @@ def test_figure18_torus_curves_do_not_meet_again_down_to_0_05_bar():
     assert all(abs(h[1] - 0.532) < 1e-3 for h in hits)
 
 
-class ComplexStepFamily:
+class ComplexStepFamily(ComplexStepDerivatives):
     """What the cycle code needs from a family, for a vector field rhs(X, V, q) analytic in X."""
 
     n = 2

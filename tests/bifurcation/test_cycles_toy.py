@@ -14,6 +14,7 @@ from reduced_model.bifurcation.cycles import collocation as col
 from reduced_model.bifurcation.cycles.branches import branch_from_hopf
 from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
 from reduced_model.bifurcation.cycles.problem import CycleSettings
+from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus
 
@@ -23,7 +24,7 @@ C_TORUS = 0.3    # speed at which the attached oscillator destabilises
 W2 = 3.1         # rad/s, attached oscillator (incommensurate with W)
 
 
-class ToyFamily:
+class ToyFamily(ComplexStepDerivatives):
     """Just what the cycle code needs from a family: rhs(X, V, q) on (n, m) arrays, complex allowed."""
 
     param = "pressure"

@@ -37,8 +37,8 @@ def hopf_row(h: HopfPoint) -> dict:
 def run(args: argparse.Namespace) -> int:
     family = build_family(args)
     mbs = args.model == "mbs"
-    # The MBS is not evaluated at complex states, so its points carry no first Lyapunov coefficient.
-    points = hopf_points(family, family.nominal, 0.0, args.vmax * KMH, lyapunov=not mbs)
+    # Both models carry the first Lyapunov coefficient: the MBS's from multilinear forms by finite differences.
+    points = hopf_points(family, family.nominal, 0.0, args.vmax * KMH)
     effects = list(family.model.effects.names)
     if args.json:
         out = {**inputs_json(args), "hopf": [hopf_row(h) for h in points]}

@@ -160,12 +160,11 @@ class FoldSystem:
         wk = w[:K].reshape(-1, n)
         T, V, q = e["T"], e["V"], e["q"]
         Jf = e["Jf"].reshape(-1, n, n)
-        rhs = lambda X, V_=V, q_=q: self.family.rhs(X, V_, q_)          # noqa: E731
         # f_xx[v_k, .] by a central difference of the exact Jacobians along v_k.
         size = np.max(np.abs(vk) / cp.scales)
         eps = FD_RELATIVE / max(size, 1e-300)
-        _, Jp = col.values_and_jacobians(rhs, xk + eps * vk)
-        _, Jm = col.values_and_jacobians(rhs, xk - eps * vk)
+        _, Jp = self.family.rhs_and_jacobians(xk + eps * vk, V, q)
+        _, Jm = self.family.rhs_and_jacobians(xk - eps * vk, V, q)
         H = (Jp - Jm) / (2.0 * eps)                                     # (Nm, a, b) = d/dx_b (f_x v)_a
         gx = np.einsum("ka,kab->kb", wk, T * H + S * Jf)               # -w^T dR/dx_k
         per_interval = np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)) * sgn[:, :, None]
@@ -175,7 +174,7 @@ class FoldSystem:
         # Parameters: psi(p) = T f_x(x_k; p) v_k + S f(x_k; p), g_p = w^T dpsi/dp (central differences).
 
         def psi(V_, q_):
-            fv = col.values_and_jacobians(lambda X: self.family.rhs(X, V_, q_), xk)[1]
+            fv = self.family.rhs_and_jacobians(xk, V_, q_)[1]
             return T * np.einsum("kab,kb->ka", fv, vk) + S * self.family.rhs(xk.T, V_, q_).T
 
         hV = FD_RELATIVE * cp.p_scale

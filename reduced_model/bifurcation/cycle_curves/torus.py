@@ -127,7 +127,7 @@ class TorusSystem(FoldSystem):
         hV, hq = FD_RELATIVE * cp.p_scale, FD_RELATIVE * self.q_scale
 
         def jac(V_, q_):
-            return col.values_and_jacobians(lambda X: self.family.rhs(X, V_, q_), xk)[1]
+            return self.family.rhs_and_jacobians(xk, V_, q_)[1]
         return (jac(V + hV, q) - jac(V - hV, q)) / (2 * hV), (jac(V, q + hq) - jac(V, q - hq)) / (2 * hq)
 
     def _entry_gradient(self, U: np.ndarray, e: dict, Z: np.ndarray, W: np.ndarray, i: int, j: int,
@@ -140,7 +140,6 @@ class TorusSystem(FoldSystem):
         xk = e["Xc"].reshape(-1, n)
         Jf = e["Jf"].reshape(-1, n, n)
         dJ_V, dJ_q = self._parameter_jacobians(e) if dJ is None else dJ
-        rhs = lambda X, V_=V, q_=q: self.family.rhs(X, V_, q_)          # noqa: E731
         v_copies = self._interval_values(Z[:, j], kappa)
         w_rows = W[:2 * K, i].reshape(2, N * m, n)                      # collocation rows of both periods
         g_nodes = np.zeros((N * m, n))
@@ -148,8 +147,8 @@ class TorusSystem(FoldSystem):
         for Yv, wk in zip(v_copies, w_rows):
             vk = col.collocation_states(Yv, cp.sch).reshape(-1, n)
             eps = FD_RELATIVE / max(np.max(np.abs(vk) / cp.scales), 1e-300)
-            H = (col.values_and_jacobians(rhs, xk + eps * vk)[1]
-                 - col.values_and_jacobians(rhs, xk - eps * vk)[1]) / (2.0 * eps)
+            H = (self.family.rhs_and_jacobians(xk + eps * vk, V, q)[1]
+                 - self.family.rhs_and_jacobians(xk - eps * vk, V, q)[1]) / (2.0 * eps)
             gx = np.einsum("ka,kab->kb", wk, T * H)
             np.add.at(g_nodes, col.node_index(N, m), np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)))
             g_T += float(np.einsum("ka,kab,kb->", wk, Jf, vk))

@@ -38,7 +38,6 @@ import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
 
-COMPLEX_STEP = 1e-30
 DEFAULT_DEGREE = 4
 RECURSION_LIMIT = 1e6   # growth of the partial transfer products beyond which the cyclic system is factorised
 
@@ -201,21 +200,6 @@ def collocation_states(Y: np.ndarray, sch: Scheme) -> np.ndarray:
 def collocation_derivatives(Y: np.ndarray, widths: np.ndarray, sch: Scheme) -> np.ndarray:
     """(N, m, n) d/dtau at the collocation points."""
     return np.einsum("ki,jin->jkn", sch.D, Y) / widths[:, None, None]
-
-
-def values_and_jacobians(rhs, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """f and df/dx at the M points P (M, n) from one complex-step call of the vectorised ``rhs(X (n, k))``.
-
-    Re f(x + i h e_b) = f(x) + O(h^2), so with h = 1e-30 the real parts are f itself (Squire & Trapp 1998).
-    Returns f (M, n) and J (M, n, n) with J[k, a, b] = df_a/dx_b at point k.
-    """
-    M, n = P.shape
-    C = P[:, None, :] + (1j * COMPLEX_STEP) * np.eye(n)[None, :, :]       # (M, dir, n)
-    F = rhs(C.reshape(M * n, n).T)                                        # (n, M*dir)
-    F = np.asarray(F).reshape(n, M, n)
-    f = F[:, :, 0].real.T
-    J = np.transpose(F.imag, (1, 0, 2)) / COMPLEX_STEP                    # (M, a, dir)
-    return f, J
 
 
 def block_jacobians(Jf: np.ndarray, widths: np.ndarray, period: float, sch: Scheme) -> np.ndarray:

@@ -86,7 +86,7 @@ class _Forms:
         self.J0 = self.Jf.reshape(-1, self.n, self.n)
         self.xk = e["Xc"].reshape(-1, self.n)
         self.quad = (cp.widths[:, None] * cp.sch.weights[None, :]).reshape(-1)    # Gauss weights on [0, 1]
-        self.jac = lambda X: col.values_and_jacobians(lambda Z: system.family.rhs(Z, V, q), X)[1]   # noqa: E731
+        self.jac = lambda X: system.family.rhs_and_jacobians(X, V, q)[1]   # noqa: E731
 
     def at_points(self, nodes: np.ndarray, signs: np.ndarray | None = None) -> np.ndarray:
         N, m, n = self.N, self.m, self.n

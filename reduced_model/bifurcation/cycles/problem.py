@@ -246,12 +246,8 @@ class CycleProblem:
 
     # --- evaluation ----------------------------------------------------------------------------------
     def _parameter_derivative(self, P: np.ndarray, speed: float, value: float) -> np.ndarray:
-        """df/dp at the points P (M, n): complex step in the speed, central difference in a Table 1 entry."""
-        if self.free == self.family.primary:
-            h = col.COMPLEX_STEP
-            return (self.family.rhs(P.T.astype(complex), speed + 1j * h, value).imag / h).T
-        h = 1e-6 * max(abs(value), self.p_scale)
-        return ((self.family.rhs(P.T, speed, value + h) - self.family.rhs(P.T, speed, value - h)) / (2 * h)).T
+        """df/dp at the points P (M, n), as the family forms it."""
+        return self.family.parameter_derivative(P, speed, value, self.free, self.p_scale)
 
     def evaluate(self, u: np.ndarray) -> dict:
         if self._cache is not None and np.array_equal(self._cache[0], u):
@@ -263,7 +259,7 @@ class CycleProblem:
         Y = X[col.node_index(N, m)]
         Xc = col.collocation_states(Y, self.sch)
         dX = col.collocation_derivatives(Y, self.widths, self.sch)
-        f, Jf = col.values_and_jacobians(lambda Z: self.family.rhs(Z, V, q), Xc.reshape(-1, n))
+        f, Jf = self.family.rhs_and_jacobians(Xc.reshape(-1, n), V, q)
         out = {"Y": Y, "Xc": Xc, "dX": dX, "f": f.reshape(N, m, n), "Jf": Jf.reshape(N, m, n, n),
                "T": T, "V": V, "q": q, "p": p}
         self._cache = (u.copy(), out)

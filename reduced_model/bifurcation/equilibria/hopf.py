@@ -101,8 +101,7 @@ def locate_hopf(family: Family, q: float, speed: float, omega: float, v: np.ndar
                 tol: float = 1e-11, lyapunov: bool = True) -> HopfPoint:
     """Newton on the Hopf defining system at fixed q, from a guess (speed, omega, eigenvector v).
 
-    ``family`` needs ``n`` and ``linear_matrix(V, q)``; with ``lyapunov`` also ``rhs(X, V, q)`` analytic in X
-    (complex states) and ``equilibrium(V, q)``.
+    With ``lyapunov`` the first Lyapunov coefficient comes from the family's multilinear forms.
     """
     n = family.n
     v = np.asarray(v, dtype=complex) / np.linalg.norm(v)
@@ -126,7 +125,7 @@ def locate_hopf(family: Family, q: float, speed: float, omega: float, v: np.ndar
     if lyapunov:
         A = family.linear_matrix(V, q)
         x0 = family.equilibrium(V, q)
-        l1 = first_lyapunov_coefficient(lambda X: family.rhs(X, V, q), x0, A, w, vec)
+        l1 = first_lyapunov_coefficient(family.multilinear_forms(x0, V, q), A, w, vec)
     return HopfPoint(speed=float(V), value=float(q), omega=float(w), first_lyapunov=l1, eigenvector=vec,
                      newton_iterations=it)
 

@@ -125,7 +125,7 @@ class _HopfProblem:
         vr, vi, w, V, q = self.unpack(u)
         A = self.family.linear_matrix(V, q)
         x0 = self.family.equilibrium(V, q)
-        return first_lyapunov_coefficient(lambda X: self.family.rhs(X, V, q), x0, A, abs(w),
+        return first_lyapunov_coefficient(self.family.multilinear_forms(x0, V, q), A, abs(w),
                                           vr + 1j * vi if w > 0 else vr - 1j * vi)
 
 

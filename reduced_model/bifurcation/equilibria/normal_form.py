@@ -9,7 +9,8 @@ Bifurcation Theory, 3rd ed., 2004, eq. 3.20), with <q, q> = 1 and <p, q> = 1; l1
 
 from __future__ import annotations
 
-from typing import Callable
+import itertools
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -43,8 +44,91 @@ def bilinear(f: VectorField, x0: np.ndarray, pairs: list[tuple[np.ndarray, np.nd
     return [0.25 * (a2[2 * i] - a2[2 * i + 1]) for i in range(len(pairs))]
 
 
-def first_lyapunov_coefficient(f: VectorField, x0: np.ndarray, A: np.ndarray, omega: float,
-                               q: np.ndarray, **kw) -> float:
+class MultilinearForms(Protocol):
+    """The multilinear forms of f at an equilibrium x0 that normal-form coefficients need (complex arguments)."""
+
+    def bilinear(self, pairs: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarray]:
+        """B(u, v) = D^2 f(x0)[u, v] for each pair."""
+
+    def hopf_terms(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(B(q, conj q), B(q, q), C(q, q, conj q))."""
+
+
+class CauchyForms:
+    """The forms of an analytic vector field ``f(X (n, m))`` (complex states allowed) from Taylor coefficients on
+    complex circles (module docstring): one call of f per request."""
+
+    def __init__(self, f: VectorField, x0: np.ndarray, **kw):
+        self.f, self.x0, self.kw = f, x0, kw
+
+    def bilinear(self, pairs):
+        return bilinear(self.f, self.x0, pairs, **self.kw)
+
+    def hopf_terms(self, q):
+        qb = q.conj()
+        # B(q, qb), B(q, q) and C(q, q, qb) = [T(q + qb) - T(q - qb) - 2 T(qb)] / 6 with T(w) = D^3 f[w, w, w].
+        c = taylor_coefficients(self.f, self.x0, np.array([q + qb, q - qb, 2.0 * q, 0.0 * q, qb]), order=3, **self.kw)
+        B_qqb = 0.25 * (2.0 * c[0, 2] - 2.0 * c[1, 2])
+        B_qq = 0.25 * (2.0 * c[2, 2] - 2.0 * c[3, 2])
+        C_qqqb = (6.0 * c[0, 3] - 6.0 * c[1, 3] - 12.0 * c[4, 3]) / 6.0
+        return B_qqb, B_qq, C_qqqb
+
+
+# Stencil weights (offsets -k..k) of fourth-order central differences for the second and third derivative along
+# a direction (Fornberg, Math. Comp. 51, 1988): truncation O(h^4).
+SECOND = {-2: -1 / 12, -1: 16 / 12, 0: -30 / 12, 1: 16 / 12, 2: -1 / 12}
+THIRD = {-3: 1 / 8, -2: -1.0, -1: 13 / 8, 1: -13 / 8, 2: 1.0, 3: -1 / 8}
+
+
+class DifferenceForms:
+    """The forms of a vector field known at real states only, ``f(x (n,)) -> (n,)``, by finite differences along
+    real directions, extended to complex arguments by multilinearity (MatCont's numerical multilinear forms:
+    Dhooge, Govaerts, Kuznetsov, Meijer & Sautois, Math. Comput. Model. Dyn. Syst. 14, 2008).
+
+    A direction w is stepped so that its largest component, measured in ``scales`` (the problem's typical state
+    sizes), moves ``relative_step`` of its scale: small enough that the truncation error (h / radius of
+    analyticity)^4 stays small, large enough that rounding in f, divided by h^2 or h^3, does not take over."""
+
+    def __init__(self, f, x0: np.ndarray, scales: np.ndarray, relative_step: float = 0.05):
+        self.f, self.x0 = f, np.asarray(x0, dtype=float)
+        self.scales, self.relative_step = np.asarray(scales, dtype=float), relative_step
+
+    def _along(self, w: np.ndarray, stencil: dict, order: int) -> np.ndarray:
+        size = np.max(np.abs(w) / self.scales)
+        if size == 0.0:
+            return np.zeros_like(self.x0)
+        h = self.relative_step / size
+        total = sum(c * np.asarray(self.f(self.x0 + k * h * w), dtype=float) for k, c in stencil.items())
+        return total / h ** order
+
+    def _real_bilinear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return 0.25 * (self._along(a + b, SECOND, 2) - self._along(a - b, SECOND, 2))
+
+    def _real_trilinear(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+        T = lambda w: self._along(w, THIRD, 3)      # noqa: E731
+        return (T(a + b + c) - T(a + b - c) - T(a - b + c) + T(a - b - c)) / 24.0
+
+    def _complex(self, real_form, *args: np.ndarray) -> np.ndarray:
+        """A multilinear form of complex arguments as the sum over their real and imaginary parts."""
+        parts = [(np.asarray(a).real, np.asarray(a).imag) for a in args]
+        total = np.zeros(len(self.x0), dtype=complex)
+        for choice in itertools.product((0, 1), repeat=len(args)):
+            vectors = [parts[k][c] for k, c in enumerate(choice)]
+            if any(not np.any(v) for v in vectors):
+                continue
+            total = total + (1j ** sum(choice)) * real_form(*vectors)
+        return total
+
+    def bilinear(self, pairs):
+        return [self._complex(self._real_bilinear, u, v) for u, v in pairs]
+
+    def hopf_terms(self, q):
+        qb = q.conj()
+        return (self._complex(self._real_bilinear, q, qb), self._complex(self._real_bilinear, q, q),
+                self._complex(self._real_trilinear, q, q, qb))
+
+
+def first_lyapunov_coefficient(forms: MultilinearForms, A: np.ndarray, omega: float, q: np.ndarray) -> float:
     """l1 at a Hopf point with A q = i omega q (Kuznetsov 2004, eq. 3.20), for <q, q> = 1.
 
     With this normalisation the planar normal form x' = -w y + a x r^2, y' = w x + a y r^2 has l1 = 2a/w.
@@ -57,12 +141,8 @@ def first_lyapunov_coefficient(f: VectorField, x0: np.ndarray, A: np.ndarray, om
     p = vh[-1].conj()
     p = p / np.conj(np.vdot(p, q))
     qb = q.conj()
-    # B(q, qb), B(q, q) and C(q, q, qb) = [T(q + qb) - T(q - qb) - 2 T(qb)] / 6 with T(w) = D^3 f[w, w, w].
-    c = taylor_coefficients(f, x0, np.array([q + qb, q - qb, 2.0 * q, 0.0 * q, qb]), order=3, **kw)
-    B_qqb = 0.25 * (2.0 * c[0, 2] - 2.0 * c[1, 2])
-    B_qq = 0.25 * (2.0 * c[2, 2] - 2.0 * c[3, 2])
-    C_qqqb = (6.0 * c[0, 3] - 6.0 * c[1, 3] - 12.0 * c[4, 3]) / 6.0
-    term2, term3 = bilinear(f, x0, [(q, np.linalg.solve(A, B_qqb)),
-                                    (qb, np.linalg.solve(2j * omega * np.eye(n) - A, B_qq))], **kw)
+    B_qqb, B_qq, C_qqqb = forms.hopf_terms(q)
+    term2, term3 = forms.bilinear([(q, np.linalg.solve(A, B_qqb)),
+                                   (qb, np.linalg.solve(2j * omega * np.eye(n) - A, B_qq))])
     value = np.vdot(p, C_qqqb) - 2.0 * np.vdot(p, term2) + np.vdot(p, term3)
     return float(value.real / (2.0 * omega))
