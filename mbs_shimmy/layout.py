@@ -8,9 +8,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from reduced_model.model import STATE_NAMES
+from reduced_model.model import STATE_NAMES, STATE_UNITS
 
 EXTRA_COORDINATES = ("y_axle", "phi_gear")
+EXTRA_UNITS = {"y_axle": "m", "phi_gear": "rad"}
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,11 @@ class Layout:
     @property
     def state_names(self) -> tuple[str, ...]:
         return STATE_NAMES + tuple(x for n in self.extras for x in (n, n + "_dot"))
+
+    @property
+    def state_units(self) -> tuple[str, ...]:
+        """SI unit of each state of :attr:`state_names`."""
+        return STATE_UNITS + tuple(u for n in self.extras for u in (EXTRA_UNITS[n], EXTRA_UNITS[n] + "/s"))
 
     def index(self, name: str) -> int:
         return self.coordinates.index(name)

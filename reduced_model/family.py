@@ -15,7 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
-from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
+from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel
 from reduced_model.parameters import ParameterError, ShimmyParameters
 
 # Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
@@ -116,6 +116,7 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
         self.check_param()
 
     state_names: tuple[str, ...] = field(default=STATE_NAMES, init=False, repr=False)
+    state_units: tuple[str, ...] = field(default=STATE_UNITS, init=False, repr=False)
 
     def at(self, q: float) -> tuple[ShimmyModel, float | Sequence[float]]:
         q = float(q)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
+import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Mapping
@@ -191,8 +192,9 @@ def interface_unit(name: str) -> tuple[str, float]:
 def interface_text(text: str) -> str:
     """A toolkit message (``name = VALUE`` in SI, :func:`reduced_model.bifurcation.problem.describe`) in
     interface units: the speed, the pressures and every axle entry converted and labelled, so that
-    "speed = 41.66667, pressure = 150000" reads "speed = 150 km/h, pressure = 1.5 bar"."""
-    text = interface_message(text, "speed", *interface_of("m/s"))
+    "speed = 41.66667, pressure = 150000" reads "150 km/h, pressure = 1.5 bar"."""
+    # The unit says which parameter a speed is: "speed = 41.66667" reads "150 km/h".
+    text = re.sub(r"\bspeed = (?=[-+0-9.])", "", interface_message(text, "speed", *interface_of("m/s")))
     for name in PRESSURE_PARAMS + tuple(entries()):
         if f"{name} = " in text:
             unit, factor = interface_unit(name)

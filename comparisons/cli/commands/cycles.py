@@ -10,13 +10,15 @@ import numpy as np
 
 from comparisons.axles.axle import interface_text, interface_unit
 from comparisons.axles.limits import UsageError
-from comparisons.axles.units import KMH
+from comparisons.axles.units import KMH, interface_of
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
+    add_model_choice,
     add_model_options,
     add_output_options,
     add_speed_window,
     build_axle,
+    build_family,
     build_model,
     check_window,
     emit_json,
@@ -34,6 +36,7 @@ from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, 
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint
 from reduced_model.bifurcation.special_points import ConvergenceError, PointKind
 from reduced_model.family import MIN_SPEED, SpeedFamily
+from reduced_model.model import STATE_NAMES
 
 TWO_PARAMS = SECOND_PARAMETERS
 DEFAULT_SETTINGS = CycleSettings()
@@ -59,6 +62,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("cycles", help="limit cycles (shimmy amplitudes) born at the Hopf points, with their "
                                       "folds, torus and period-doubling points")
     add_model_options(p)
+    add_model_choice(p)
     add_speed_window(p, vmin=True)
     p.add_argument("--two-param", metavar="NAME", choices=TWO_PARAMS,
                    help="also continue every cycle fold, torus and period-doubling point in the (speed, NAME) plane "
@@ -88,11 +92,24 @@ def largest(mu: np.ndarray) -> complex:
     return complex(rest[np.argmax(np.abs(rest))])
 
 
-def point_row(p: CyclePoint) -> dict:
+def extra_amplitudes(p: CyclePoint, family) -> dict:
+    """max |x| of the coordinates beyond the reduced model's (the multibody axle's lateral travel and steering
+    gear), each in its interface unit: ``max_y_axle_m``, ``max_phi_gear_deg``."""
+    out = {}
+    for name, unit in zip(family.state_names, family.state_units):
+        if name in STATE_NAMES or unit.endswith("/s"):
+            continue
+        label, factor = interface_of(unit)
+        out[f"max_{name}_{label}"] = p.max_abs(name) / factor
+    return out
+
+
+def point_row(p: CyclePoint, family) -> dict:
     mu = largest(p.multipliers)
     return {"kind": "cycle", "speed_kmh": p.speed_kmh, "period_s": p.period, "frequency_hz": p.frequency_hz,
             "max_theta1_deg": degrees(p.max_abs("theta1")), "max_theta2_deg": degrees(p.max_abs("theta2")),
-            "max_psi_deg": degrees(p.max_abs("psi")), "largest_multiplier": [mu.real, mu.imag],
+            "max_psi_deg": degrees(p.max_abs("psi")), **extra_amplitudes(p, family),
+            "largest_multiplier": [mu.real, mu.imag],
             "largest_multiplier_abs": abs(mu), "stable": p.stable, "error_estimate": p.error,
             "meets_tolerance": p.meets_tolerance, "intervals": p.orbit.intervals}
 
@@ -103,23 +120,25 @@ def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
     period = 2.0 * np.pi / h.omega
     mu = np.exp(np.linalg.eigvals(family.linear_matrix(h.speed, h.value)) * period)
     big = largest(mu)
+    extras = {f"max_{n}_{interface_of(u)[0]}": 0.0 for n, u in zip(family.state_names, family.state_units)
+              if n not in STATE_NAMES and not u.endswith("/s")}
     return {"kind": "hopf", "speed_kmh": h.speed_kmh, "period_s": period, "frequency_hz": h.frequency_hz,
-            "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0,
+            "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0, **extras,
             "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,
             "error_estimate": 0.0, "meets_tolerance": True, "intervals": 0}
 
 
-def orbit_row(p: CyclePoint, branch: int) -> dict:
+def orbit_row(p: CyclePoint, branch: int, family) -> dict:
     """An orbit at a requested speed: everything of :func:`point_row` and all Floquet multipliers."""
-    row = point_row(p)
+    row = point_row(p, family)
     row.pop("kind")
     return {"branch": branch, **row, "multipliers": [[m.real, m.imag] for m in p.multipliers]}
 
 
-def at_json(diagram: CycleDiagram, speeds_kmh) -> list[dict]:
+def at_json(diagram: CycleDiagram, speeds_kmh, family) -> list[dict]:
     out = []
     for v in speeds_kmh:
-        orbits = [orbit_row(p, i) for i, b in enumerate(diagram.branches) for p in b.user_points
+        orbits = [orbit_row(p, i, family) for i, b in enumerate(diagram.branches) for p in b.user_points
                   if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
         out.append({"speed_kmh": v, "orbits": orbits})
     return out
@@ -143,7 +162,7 @@ def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
             "complete": b.complete, "status": b.status.value, "message": interface_text(b.message),
             "peak": peaks(family, b) if b.points else None,
             "frequency_range_hz": list(b.frequency_range) if b.points else None,
-            "points": ([hopf_row(b.start, family)] if b.start else []) + [point_row(p) for p in b.points]
+            "points": ([hopf_row(b.start, family)] if b.start else []) + [point_row(p, family) for p in b.points]
             + ([hopf_row(b.end, family)] if b.end else [])}
 
 
@@ -226,10 +245,10 @@ def run(args: argparse.Namespace) -> int:
     model = build_model(args)
     if args.two_param:
         name, q, lo, hi = _two_param_window(args, model)
-        family = SpeedFamily(model, name, pressure=operating_pressure(args))
+        family = build_family(args, name)
         family.validate(lo), family.validate(hi)
     else:
-        family = SpeedFamily(model, "pressure", pressure=operating_pressure(args))
+        family = build_family(args)
         q = family.nominal
     family.validate(q)
     vmin, vmax = vmin_kmh * KMH, vmax_kmh * KMH
@@ -269,10 +288,12 @@ def run(args: argparse.Namespace) -> int:
         out = diagram_json(diagram, family, args.pressure, model.effects.names)
         del out["pressure_bar"], out["effects"]
         out = {**inputs_json(args), **out}
+        if args.model == "mbs":
+            out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
         out.update({"tolerance": args.tolerance, "max_step_kmh": args.max_step,
                     "all_meet_tolerance": not inaccurate(diagram)})
         if at_kmh:
-            out["at"] = at_json(diagram, at_kmh)
+            out["at"] = at_json(diagram, at_kmh, family)
         if unstable is not None:
             out["complete"], out["note"] = False, unstable
         if args.two_param:
@@ -360,7 +381,9 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
     from comparisons.figures.cycle_plots import special_point_labels
 
     effects = ",".join(build_model(args).effects.names) or "none (section 3 model)"
-    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h, pressure effects: {effects}")
+    what = f"MBS, fidelity {family.model.fidelity.label}" if args.model == "mbs" else "reduced model"
+    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h ({what}), pressure effects: "
+          f"{effects}")
     print(f"  {build_axle(args).label()}")
     if not diagram.hopf:
         unstable = unstable_without_hopf(diagram, family, diagram.value)
