@@ -13,7 +13,13 @@ PATH = re.compile(r"`((?:%s)/[\w./-]*)`" % "|".join(TOP))
 MODULE = re.compile(r"`((?:reduced_model|mbs_shimmy|comparisons)(?:\.\w+)+)")
 # Named by the README's Python example, written on the API branch; it exists once that branch is merged.
 ELSEWHERE = {"comparisons/api.py"}
-LINK = re.compile(r"\]\(([^)#\s]+)(?:#[^)]*)?\)")
+LINK = re.compile(r"\]\(([^)#\s]*)(?:#([^)]*))?\)")
+
+
+def _anchors(path) -> set[str]:
+    """GitHub's ids of a page's headings: lower case, punctuation but '-' dropped, spaces to '-'."""
+    heads = re.findall(r"^#+ (.*)$", path.read_text(), re.M)
+    return {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-") for h in heads}
 
 
 def _defines(path, name: str) -> bool:
@@ -37,5 +43,12 @@ def test_named_paths_exist(doc):
     missing = [p for p in PATH.findall(text) if not (ROOT / p.split("::")[0]).exists() and p not in ELSEWHERE]
     missing += [m for m in MODULE.findall(text) if not _module_ok(m)]
     here = (ROOT / doc).parent
-    missing += [link for link in LINK.findall(text) if "://" not in link and not (here / link).exists()]
+    for link, anchor in LINK.findall(text):
+        target = here / link if link else ROOT / doc
+        if "://" in link:
+            continue
+        if not target.exists():
+            missing.append(link)
+        elif anchor and target.suffix == ".md" and anchor not in _anchors(target):
+            missing.append(f"{link}#{anchor}")
     assert not missing, f"{doc} names what does not exist: {missing}"

@@ -3,8 +3,13 @@
 import contextlib
 import io
 import json
+import re
 
+from comparisons.cli.commands import figures
 from comparisons.cli.main import EXIT_CODES, main
+from comparisons.figures import REGISTRY, available_figures
+from mbs_shimmy.fidelity import ASSUMPTIONS
+from tests.docs.conftest import ROOT
 
 
 def test_no_generated_table_drifted(docs_tables):
@@ -40,7 +45,6 @@ def test_axle_table_is_what_params_json_prints(docs_tables):
 
 
 def test_exit_code_registry_matches_the_commands():
-    from comparisons.cli.commands import figures
     assert EXIT_CODES[figures.EXIT_UNAVAILABLE].startswith("`figures`")
     assert figures.EXIT_INCOMPLETE in EXIT_CODES
     assert list(EXIT_CODES) == sorted(EXIT_CODES)
@@ -48,10 +52,16 @@ def test_exit_code_registry_matches_the_commands():
 
 def test_the_cost_table_has_a_row_per_switch():
     # Its numbers are measured, not generated; its rows must still follow the registry.
-    from mbs_shimmy.fidelity import ASSUMPTIONS
-    from tests.docs.conftest import ROOT
     text = (ROOT / "docs" / "results.md").read_text()
     costs = text[text.index("| switch | Hopf 1.5 bar (km/h) |"):]
     costs = costs[:costs.index("\n\n")]
     rows = [line.split("|")[1].strip() for line in costs.splitlines()[2:]]
     assert [r for r in rows if not r.startswith("**full**")] == [f"`{a.name}`" for a in ASSUMPTIONS]
+
+
+def test_the_figure_table_follows_the_registry():
+    # The 'what' column holds computed numbers, so the table is written by hand; its rows must follow the registry.
+    text = (ROOT / "docs" / "figures.md").read_text()
+    rows = re.findall(r"^\| (\d+) \| \[`(fig\w+\.png)`\]\(figures/(fig\w+\.png)\)", text, re.M)
+    assert [(int(n), a) for n, a, _ in rows] == [(n, REGISTRY[n].file_name) for n in available_figures()]
+    assert all(a == b and (ROOT / "docs" / "figures" / a).exists() for _, a, b in rows)
