@@ -5,7 +5,7 @@ the geometry of a rigid axle with caster-tilted kingpins, two steered and spinni
 patch is one :class:`Assumption`.  With all of them on (``Fidelity.parse("reduced")``) the multibody equations
 are (2.1)-(2.11) exactly; with all off (``"full"``) every force acts where and in the direction the actual poses
 put it.  :data:`ASSUMPTIONS` documents each one: where it enters the reduced equations and what the full geometry
-does instead (the README table is generated from it).
+does instead (the table in docs/results.md is generated from it by tools/docs_tables.py).
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ class UsageError(Exception):
     """Bad input from the command line: reported as one line, exit code 2."""
 
 
-# Physical ranges of the inputs that are not axle entries (interface units; the README's table lists them).
+# Physical ranges of the inputs that are not axle entries (interface units; docs/cli.md's table is generated from them).
 SPEED_RANGE_KMH = (0.5, 1000.0)       # below 0.5 km/h the slip equations degenerate (reduced_model.family.MIN_SPEED)
 PRESSURE_RANGE_BAR = (0.05, 20.0)
 DURATION_RANGE_S = (0.01, 1000.0)     # simulated time; 1000 s at 1 kHz samples is 8 MB of states

@@ -1,17 +1,6 @@
 """The ``shimmy`` command: dispatches to :mod:`comparisons.cli.commands`; every failure is one line on stderr.
 
-Exit codes (also in the README):
-
-====  =======================================================================================================
-0     success
-1     ``verify``: a check failed (a FAIL row in the report)
-2     bad input: an option, a value outside its physical range, an output path that cannot be written
-3     the computation did not complete: no convergence, a non-finite number or an overflow (the line says where)
-4     ``figures --only``: a requested figure cannot be made yet
-74    an output could not be written: disk full, read-only file system, stdout closed, full or a broken pipe
-130   interrupted (Ctrl-C, SIGINT); temporary files removed, completed outputs kept
-143   terminated (SIGTERM); as for 130
-====  =======================================================================================================
+Exit codes: :data:`EXIT_CODES` (the table in ``docs/cli.md`` is generated from it by ``tools/docs_tables.py``).
 """
 
 from __future__ import annotations
@@ -46,6 +35,25 @@ EXIT_INCOMPLETE = 3
 EXIT_WRITE = 74
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
+EXIT_UNAVAILABLE = 4          # the value of comparisons.cli.commands.figures.EXIT_UNAVAILABLE (tests/docs checks it)
+# One list of the exit codes with their meanings, so that the documented table cannot drift from the code.
+EXIT_CODES = {
+    0: "done",
+    EXIT_FAILED: "`verify` found a failed check (a FAIL row in the report)",
+    EXIT_USAGE: "bad input: an option, a value outside its physical range (the line names the range), an output path "
+                "that cannot be written (checked before the work)",
+    EXIT_INCOMPLETE: "the computation did not complete: a continuation or simulation stopped early (what was computed "
+                     "is printed, marked incomplete), no convergence, a non-finite number or an overflow (the line "
+                     "names the function)",
+    EXIT_UNAVAILABLE: "`figures` was asked for a figure it cannot make",
+    EXIT_WRITE: "an output could not be written: disk full, read-only file system, stdout full or closed, a broken "
+                "pipe (`shimmy: write error: ...`); no temporary file is left, and a fault in writing is never "
+                "reported as a failed check",
+    EXIT_INTERRUPTED: "interrupted (Ctrl-C): stops within a second with `shimmy: interrupted`; temporary files "
+                      "removed, completed outputs kept (`sweep` first closes its Dask cluster, up to 10 s, and says "
+                      "which batches it kept)",
+    EXIT_TERMINATED: "terminated (SIGTERM): as 130, with `shimmy: terminated`",
+}
 GRACE_S = 0.5                 # after a signal: time given to unwind normally before the hard exit
 # Commands that answer an interrupt themselves: sweep closes its Dask cluster and says which batches it kept.
 GRACE_BY_COMMAND = {"sweep": 10.0}

@@ -240,7 +240,7 @@ def build_family(args: argparse.Namespace, param: str = "pressure"):
 
 
 def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:
-    p.add_argument("--json", action="store_true", help="machine-readable output on stdout (schema in README)")
+    p.add_argument("--json", action="store_true", help="machine-readable output on stdout (schema in docs/json.md)")
     if plot:
         p.add_argument("--plot", metavar="FILE.png", help="draw the result into a PNG file")
 

@@ -33,7 +33,7 @@ def rerun_command(recording: str) -> str:
 class CheckStatus(enum.Enum):
     PASS = "pass"
     FAIL = "FAIL"
-    KNOWN_DIFFERENCE = "known difference"  # differs from the paper; listed with its reason in the README
+    KNOWN_DIFFERENCE = "known difference"  # differs from the paper; listed with its reason in docs/results.md
     INFO = "info"                          # a measured number with nothing to check against
 
 
@@ -101,7 +101,7 @@ SUMMARY_COLUMNS = ("section", "checks", "pass", "known differences", "fail", "in
 STATUS_TEXT = {
     CheckStatus.PASS: "the check passed",
     CheckStatus.FAIL: "the check failed (verify exits 1)",
-    CheckStatus.KNOWN_DIFFERENCE: "differs from the paper for a reason listed in the README",
+    CheckStatus.KNOWN_DIFFERENCE: "differs from the paper for a reason listed in docs/results.md",
     CheckStatus.INFO: "a measured number with nothing to check it against",
 }
 

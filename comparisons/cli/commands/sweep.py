@@ -54,7 +54,7 @@ def add_parser(sub) -> None:
     add_model_options(p, pressure_required=False)
     add_speed_window(p)
     p.add_argument("--out", default="sweep.parquet", metavar="FILE.parquet",
-                   help="results, one row per sample (default sweep.parquet; schema in the README)")
+                   help="results, one row per sample (default sweep.parquet; schema in docs/sweeps.md)")
     p.add_argument("--resume", action="store_true", help="continue an interrupted sweep into the same --out "
                                                          "without recomputing its finished batches")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
