@@ -10,20 +10,19 @@ from comparisons.axles.limits import UsageError
 from comparisons.axles.units import KMH
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
+    add_model_choice,
     add_model_options,
     add_output_options,
     add_speed_window,
     build_axle,
-    build_model,
+    build_family,
     check_window,
     emit_json,
     inputs_json,
-    operating_pressure,
     pressure_label,
 )
 from comparisons.cli.progress import progress, ticker
 from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
-from reduced_model.family import SpeedFamily
 from reduced_model.parameters import ParameterError
 
 PARAMS = SECOND_PARAMETERS
@@ -35,6 +34,7 @@ def add_parser(sub) -> None:
     p.add_argument("--range", required=True, nargs=2, type=float, metavar=("LO", "HI"),
                    help="parameter window (bar for pressures, otherwise the units of 'shimmy params')")
     add_model_options(p, pressure_required=False)
+    add_model_choice(p)
     add_speed_window(p)
     add_output_options(p, plot=True)
     p.set_defaults(run=run)
@@ -62,8 +62,7 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = args.range
     unit, factor = interface_unit(args.param)
     check_window(lo, hi, args.param, unit)
-    model = build_model(args)
-    family = SpeedFamily(model, args.param, pressure=operating_pressure(args))
+    family = build_family(args, args.param)
     try:
         for q in (lo * factor, hi * factor):
             family.validate(q)
@@ -76,11 +75,13 @@ def run(args: argparse.Namespace) -> int:
         from comparisons.figures.plots import plot_hopf_diagram
         plot_hopf_diagram(diagram, family, args.plot)
     if args.json:
-        emit_json({**inputs_json(args), **diagram_json(diagram, factor)})
+        model = {"model": "mbs", "fidelity": family.model.fidelity.label} if args.model == "mbs" else {}
+        emit_json({**inputs_json(args), **model, **diagram_json(diagram, factor)})
     else:
         print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
               f"[{diagram.vmin * 3.6:g}, {args.vmax:g}] km/h"
-              + ("" if args.param == "pressure" else f", at {pressure_label(args)}"))
+              + ("" if args.param == "pressure" else f", at {pressure_label(args)}")
+              + (f" (MBS, fidelity {family.model.fidelity.label})" if args.model == "mbs" else ""))
         print(f"  {build_axle(args).label()}")
         for i, c in enumerate(diagram.curves, 1):
             ends = " | ".join(interface_text(m) for m in c.messages)

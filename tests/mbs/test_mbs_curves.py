@@ -1,0 +1,59 @@
+"""Hopf curves of the multibody model in (speed, pressure): the real axle's shimmy-free boundary.
+
+The curve's fold in pressure is the highest pressure with a Hopf point: checked against eigenvalue scans just
+below and above it (an independent computation of the same boundary), and, with every assumption on, against
+the reduced model's fold.
+"""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from comparisons.axles.units import BAR, KMH
+from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+from reduced_model.bifurcation.equilibria.hopf import eigenvalues
+from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
+from reduced_model.bifurcation.special_points import PointKind
+from reduced_model.family import SpeedFamily
+from reduced_model.model import ShimmyModel
+
+WINDOW = (0.5 * BAR, 3.5 * BAR)
+VMAX = 400.0 * KMH
+
+
+def _folds(family):
+    diagram = hopf_diagram(family, *WINDOW, 0.0, VMAX)
+    assert diagram.complete
+    return sorted(diagram.points_of(PointKind.HOPF_FOLD), key=lambda p: -p.value)
+
+
+def _unstable_somewhere(family, pressure):
+    speeds = np.linspace(1.0, 150.0, 300) * KMH
+    return any(eigenvalues(family, v, pressure)[0].real > 0.0 for v in speeds)
+
+
+def test_mbs_with_every_assumption_on_has_the_reduced_models_folds():
+    reduced = _folds(SpeedFamily(ShimmyModel(), "pressure", pressure=1.5 * BAR))
+    mbs = _folds(MbsFamily(MbsModel(fidelity=Fidelity.reduced()), param="pressure", pressure=1.5 * BAR))
+    assert len(mbs) == len(reduced) == 2
+    for a, b in zip(reduced, mbs):
+        assert b.value == pytest.approx(a.value, rel=1e-7)
+        assert b.speed == pytest.approx(a.speed, rel=1e-6)
+
+
+def test_full_geometry_shimmy_free_boundary_from_the_curves_command():
+    """``shimmy curves --model mbs``: the fold of the full geometry's Hopf curve, checked by eigenvalue scans
+    0.01 bar below (an unstable speed) and above it (stable at every speed)."""
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "curves", "--param", "pressure", "--range", "0.5",
+                           "3.5", "--model", "mbs", "--fidelity", "full", "--vmax", "150", "--json"],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert out["model"] == "mbs" and out["fidelity"] == "full" and out["unit"] == "bar"
+    boundary_bar = max(s["value"] for s in out["special_points"] if s["kind"] == "hopf_fold")
+    family = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="pressure", pressure=1.5 * BAR)
+    assert _unstable_somewhere(family, (boundary_bar - 0.01) * BAR)
+    assert not _unstable_somewhere(family, (boundary_bar + 0.01) * BAR)
