@@ -78,6 +78,9 @@ def add_parser(sub) -> None:
                    metavar="REL", help="collocation error allowed in every orbit, relative to each state's "
                                        f"amplitude (default {DEFAULT_SETTINGS.tolerance:g}); the mesh gains "
                                        "intervals until it is met, points that cannot meet it are marked")
+    p.add_argument("--kick", action="store_true",
+                   help="also, in the middle of every bistable window, the smallest initial yaw angle theta1 that "
+                        "leaves the lower state, bracketed by simulations of the same model (tens of runs)")
     add_output_options(p, plot=True)
     p.set_defaults(run=run)
 
@@ -260,6 +263,10 @@ def run(args: argparse.Namespace) -> int:
     with progress(1, "cycle branches", quiet) as bar:
         diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar), **options)
     unstable = unstable_without_hopf(diagram, family, q)
+    found_kicks = []
+    if args.kick:
+        from mbs_shimmy.kick import kicks
+        found_kicks = kicks(family, diagram)
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
     if args.two_param:
@@ -294,6 +301,9 @@ def run(args: argparse.Namespace) -> int:
                     "all_meet_tolerance": not inaccurate(diagram)})
         if at_kmh:
             out["at"] = at_json(diagram, at_kmh, family)
+        if args.kick:
+            out["kicks"] = [kick_row(k) for k in found_kicks]
+            out["complete"] = out["complete"] and all(k.status.is_complete for k in found_kicks)
         if unstable is not None:
             out["complete"], out["note"] = False, unstable
         if args.two_param:
@@ -306,12 +316,16 @@ def run(args: argparse.Namespace) -> int:
         print_diagram(diagram, family, args)
         if at_kmh:
             print_at(diagram, at_kmh)
+        if args.kick:
+            print_kicks(found_kicks)
         if args.two_param:
             print_curves(curves, labels, args.two_param)
     problems = [f"branch from {b.start.speed_kmh:.3f} km/h stopped: {interface_text(b.message)}"
                 for b in diagram.branches if not b.complete]
     if unstable is not None:
         problems.append(unstable)
+    problems += [f"kick at {k.speed / KMH:.2f} km/h: {k.status.value}" for k in found_kicks
+                 if not k.status.is_complete]
     problems += [f"curve {label}: " + (error or "; ".join(interface_text(m) for m, s in zip(c.messages, c.status)
                                                          if not s.is_complete))
                  for (c, error), label in zip(curves, labels) if c is None or not c.complete]
@@ -324,6 +338,26 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
     return 0
+
+
+def kick_row(k) -> dict:
+    """A kick threshold (:mod:`mbs_shimmy.kick`) in interface units, with the two runs that bracket it."""
+    def run(r):
+        return None if r is None else {"settled": r.settled, "max_theta1_deg": degrees(r.theta1),
+                                       "max_psi_deg": degrees(r.psi)}
+    return {"speed_kmh": k.speed / KMH, "status": k.status.value, "lower": k.lower.label, "upper": k.upper.label,
+            "kick_theta1_deg": degrees(k.kick), "stays_theta1_deg": degrees(k.stays),
+            "leaves_theta1_deg": degrees(k.leaves), "unstable_cycle_max_theta1_deg": degrees(k.unstable_theta1),
+            "runs": k.runs, "stays_run": run(k.stays_run), "leaves_run": run(k.leaves_run)}
+
+
+def print_kicks(found) -> None:
+    if not found:
+        print("  kicks: no bistable window in the speed window")
+    for k in found:
+        print(f"  kick at {k.speed / KMH:.2f} km/h: theta1 {degrees(k.stays):.3f} deg stays on the "
+              f"{k.lower.label}, {degrees(k.leaves):.3f} deg leaves for the {k.upper.label} ({k.status.value}, "
+              f"{k.runs} runs; the unstable cycle between has max|theta1| {degrees(k.unstable_theta1):.3f} deg)")
 
 
 def inaccurate(diagram: CycleDiagram) -> list[CyclePoint]:
