@@ -23,6 +23,7 @@ class BenchResult:
     runs: tuple[float, ...]
     baseline_s: float
     target_s: float | None
+    counts: dict | None = None      # what the benchmark counts besides time (e.g. Exudyn calls per cycle)
 
     @property
     def ratio(self) -> float:
@@ -40,6 +41,7 @@ class Benchmark:
     target_s: float | None
     setup: Callable[[], Callable[[], object]]  # returns the timed callable (setup work is not timed)
     repeats: int = 7
+    count: Callable[[object], dict] | None = None   # counts from the timed callable's last result
 
 
 def baseline_workload() -> None:
@@ -49,14 +51,14 @@ def baseline_workload() -> None:
         np.linalg.eigvals(A)
 
 
-def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, tuple[float, ...]]:
-    fn()  # warm caches and imports
+def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, tuple[float, ...], object]:
+    result = fn()  # warm caches and imports
     runs = []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        fn()
+        result = fn()
         runs.append(time.perf_counter() - t0)
-    return statistics.median(runs), tuple(runs)
+    return statistics.median(runs), tuple(runs), result
 
 
 def _hopf_one_pressure():
@@ -141,6 +143,29 @@ def _mbs_simulation(fidelity: str):
     return setup
 
 
+def _mbs_cycle_branch():
+    from comparisons.axles.units import BAR, KMH
+    from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
+    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+
+    hb1, hb2 = hopf_points(MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=1.5 * BAR), 1.5 * BAR, 0.0,
+                           400 * KMH)
+
+    def run():
+        family = MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=1.5 * BAR)
+        branch = branch_from_hopf(family, hb1, 0.0, 400 * KMH, others=(hb2,))
+        assert branch.end is hb2 and all(p.multipliers.shape == (family.n,) for p in branch.points)
+        return family, branch
+    return run
+
+
+def _mbs_cycle_counts(result) -> dict:
+    family, branch = result
+    return {"cycles": len(branch.points), "exudyn_calls": family.rhs_calls,
+            "exudyn_calls_per_cycle": family.rhs_calls / len(branch.points)}
+
+
 def _sweep(samples: int, mbs: tuple[str, ...] = (), in_process: bool = False):
     """``shimmy sweep`` over pressure and t0 (uniform, Sobol'), on a fresh local Dask cluster (start-up timed) or
     as one batch in this process (the serial reference for the cluster's speed-up)."""
@@ -184,6 +209,9 @@ BENCHMARKS: list[Benchmark] = [
     Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced), RK67 "
               "h = 1/240 s (DOPRI5 needs more evaluations there for 1e-4)", 0.5,
               _mbs_simulation("reduced"), repeats=5),
+    Benchmark("mbs_cycle_branch_full", "limit cycles of the full-geometry MBS continued on Exudyn, 1.5 bar, HB1 -> HB2 "
+              "(41.3 -> 87.8 km/h) with Floquet multipliers at the default tolerance; target 30 s on 2 cores", 30.0,
+              _mbs_cycle_branch, repeats=3, count=_mbs_cycle_counts),
     Benchmark("sweep_hopf_10k", "shimmy sweep: 10,000 reduced-model Hopf samples (pressure, t0) on a local Dask "
               "cluster, one worker per core, cluster start-up and Parquet included; target 30 s on 2 cores", 30.0,
               _sweep(10_000), repeats=3),
@@ -197,11 +225,12 @@ BENCHMARKS: list[Benchmark] = [
 
 def run_benchmarks(names: list[str] | None = None, progress=None) -> list[BenchResult]:
     chosen = [b for b in BENCHMARKS if not names or b.name in names]
-    baseline, _ = median_time(baseline_workload, 7)
+    baseline, _, _ = median_time(baseline_workload, 7)
     results = []
     for i, b in enumerate(chosen):
-        median, runs = median_time(b.setup(), b.repeats)
-        results.append(BenchResult(b.name, b.description, median, runs, baseline, b.target_s))
+        median, runs, last = median_time(b.setup(), b.repeats)
+        counts = b.count(last) if b.count is not None else None
+        results.append(BenchResult(b.name, b.description, median, runs, baseline, b.target_s, counts))
         if progress is not None:
             progress(i + 1, len(chosen))
     return results

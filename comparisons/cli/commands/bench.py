@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
         emit_json({"baseline_s": results[0].baseline_s if results else None,
                    "benchmarks": [{"name": r.name, "description": r.description, "median_s": r.median_s,
                                    "runs_s": list(r.runs), "ratio_to_baseline": r.ratio, "target_s": r.target_s,
-                                   "meets_target": r.meets_target} for r in results]})
+                                   "meets_target": r.meets_target, "counts": r.counts} for r in results]})
         return 0
     if results:
         print(f"baseline (1000 x eig of 8x8): {results[0].baseline_s * 1e3:.2f} ms")
@@ -38,4 +38,6 @@ def run(args: argparse.Namespace) -> int:
                                                 f"{'met' if r.meets_target else 'MISSED'}")
         print(f"{r.name:24s} median {r.median_s * 1e3:9.2f} ms over {len(r.runs)} runs "
               f"({r.ratio:7.2f} x baseline){target}   {r.description}")
+        if r.counts:
+            print(" " * 26 + ", ".join(f"{k.replace('_', ' ')} {v:,.0f}" for k, v in r.counts.items()))
     return 0
