@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,12 +27,37 @@ AMPLITUDE_TOL = 0.005        # relative, MBS steady amplitude against the contin
 WINDOW_SLACK_KMH = 0.5       # a jump may come this much before the window's end (classifier windows)
 
 
-def _sample_stable(branch, count: int) -> list:
+def sample_stable(branch, count: int) -> list:
     stable = [p for p in branch.points if p.stable]
     if len(stable) <= count:
         return stable
     idx = np.unique(np.linspace(1, len(stable) - 2, count).round().astype(int))
     return [stable[i] for i in idx]
+
+
+@dataclass(frozen=True)
+class CycleCheck:
+    """The MBS (every assumption of the reduced model on) started on a continuation cycle and run until steady."""
+
+    reference: float          # max|theta1| of the continuation's cycle, rad
+    mbs: object               # mbs_shimmy.limit_cycle.SteadyAmplitude
+    relative_diff: float      # inf when the MBS run stopped
+
+    @property
+    def ok(self) -> bool:
+        return self.relative_diff <= AMPLITUDE_TOL
+
+
+def cycle_amplitude_check(model: ShimmyModel, point, pressure, dims, settle: float, x0=None) -> CycleCheck:
+    """The MBS steady amplitude at the speed of ``point`` (a continuation cycle of ``model``) against the cycle's
+    max|theta1|; the run starts on the cycle unless ``x0`` is given."""
+    mbs = mbs_package()
+    start = point.orbit.nodes[0] if x0 is None else x0
+    got = mbs.mbs_steady_amplitude(model.params, model.effects, mbs.Fidelity.reduced(), pressure, point.speed,
+                                   start, settle=settle, dims=dims)
+    ref = point.max_abs("theta1")
+    rel = abs(got.theta1 - ref) / ref if math.isfinite(got.theta1) else math.inf
+    return CycleCheck(ref, got, rel)
 
 
 def cycles_section(ctx: Context) -> Section:
@@ -61,27 +87,23 @@ def cycles_section(ctx: Context) -> Section:
             if not branch.complete:
                 rows.append(Row({"case": case.label, "branch": where, "point": "branch"}, CheckStatus.FAIL,
                                 f"continuation stopped: {interface_text(branch.message)}"))
-            for point in _sample_stable(branch, per_branch):
+            for point in sample_stable(branch, per_branch):
                 ctx.progress(f"Limit cycles: MBS runs at {case.label}, {point.speed_kmh:.1f} km/h")
-                x0 = point.orbit.nodes[0]
-                got = {}
-                for name in ("reduced", "full"):
-                    got[name] = mbs.mbs_steady_amplitude(model.params, model.effects, mbs.Fidelity.parse(name),
-                                                         case.pressure, point.speed, x0, settle=settle,
-                                                         dims=ctx.axle.dims)
-                    overlay[name].append((point.speed, got[name].theta1, got[name].psi))
-                ref = point.max_abs("theta1")
-                red = got["reduced"].theta1
-                rel = abs(red - ref) / ref if math.isfinite(red) else math.inf
-                ok = rel <= AMPLITUDE_TOL
-                full = got["full"].theta1
+                check = cycle_amplitude_check(model, point, case.pressure, ctx.axle.dims, settle)
+                full_run = mbs.mbs_steady_amplitude(model.params, model.effects, mbs.Fidelity.parse("full"),
+                                                    case.pressure, point.speed, point.orbit.nodes[0], settle=settle,
+                                                    dims=ctx.axle.dims)
+                full = full_run.theta1
+                overlay["reduced"].append((point.speed, check.mbs.theta1, check.mbs.psi))
+                overlay["full"].append((point.speed, full_run.theta1, full_run.psi))
+                red, rel = check.mbs.theta1, check.relative_diff
                 rows.append(Row({"case": case.label, "branch": where, "point": "stable cycle",
-                                 "speed_kmh": point.speed_kmh, "continuation_theta1_deg": math.degrees(ref),
+                                 "speed_kmh": point.speed_kmh, "continuation_theta1_deg": math.degrees(check.reference),
                                  "mbs_reduced_theta1_deg": math.degrees(red) if math.isfinite(red) else None,
                                  "relative_diff": rel if math.isfinite(rel) else None,
                                  "mbs_full_theta1_deg": math.degrees(full) if math.isfinite(full) else None},
-                                CheckStatus.PASS if ok else CheckStatus.FAIL,
-                                "" if ok else f"MBS steady amplitude off by more than {AMPLITUDE_TOL:.1%}"))
+                                CheckStatus.PASS if check.ok else CheckStatus.FAIL,
+                                "" if check.ok else f"MBS steady amplitude off by more than {AMPLITUDE_TOL:.1%}"))
         tag = case.label.replace(" ", "").replace("/", "_").replace(".", "p")
         name = f"cycles_{tag}.png"
         plot_cycle_overlay(diagram, family, overlay, os.path.join(ctx.out, name),
@@ -215,19 +237,129 @@ def _jump_figure(ctx: Context, experiments, case: BistableCase, paper: bool) -> 
     return name
 
 
-def jumps_section(ctx: Context) -> Section:
-    from reduced_model.modes import Mode
-    from reduced_model.simulation import initial_state
-    from reduced_model.trajectory import SpeedSchedule
+@dataclass(frozen=True)
+class JumpSetup:
+    """What the jump experiments of one bistable case need: the window (km/h), the two stable cycles inside it,
+    the mode classifier split between them, which mode lives below and which above the window, the ramp range."""
 
+    case: BistableCase
+    diagram: object
+    paper: bool               # the paper's figure 9a window: its ends are the printed T2 and S1
+    named: dict               # the window's special points by name (window_points)
+    low: float
+    high: float
+    cycles: list              # stable cycles at the window's middle
+    classify: object          # trajectory -> ModeHistory
+    below_mode: object
+    above_mode: object
+    v_lo: float
+    v_hi: float
+
+    @property
+    def mid(self) -> float:
+        return 0.5 * (self.low + self.high)
+
+
+def jump_setup(case: BistableCase, paper: bool) -> JumpSetup:
+    """The window and cycles of ``case`` from its cycle diagram (continued here if the plan did not keep it)."""
+    from reduced_model.modes import Mode
+    diagram = _bistable_diagram(case)
+    named = window_points(diagram)
+    if paper:
+        low, high = named["T2"], named["S1"]
+    else:   # the ends of the window are special points of the branches
+        low, high = _snap(case.low_kmh, named.values()), _snap(case.high_kmh, named.values())
+    mid = 0.5 * (low + high)
+    cycles = _stable_cycles_at(diagram, mid / 3.6)
+    margin = max(20.0, 1.5 * (high - low))
+    v_lo, v_hi = (120.0, 200.0) if paper else (max(1.0, low - margin), high + margin)
+    # Which cycle lives below the window (its stable stretch reaches lower) and which above it; the classifier
+    # built from the two names the lower-frequency one "yaw".  The paper: yaw below, tramp above.
+    below_mode, above_mode = Mode.YAW, Mode.TRAMP
+    if not paper and len(cycles) >= 2:
+        reach = {id(c): _stable_reach(diagram, c) for c in cycles[:2]}
+        lower = min(cycles[:2], key=lambda c: reach[id(c)])
+        upper = next(c for c in cycles[:2] if c is not lower)
+        if lower.frequency_hz > upper.frequency_hz:
+            below_mode, above_mode = Mode.TRAMP, Mode.YAW
+    return JumpSetup(case, diagram, paper, named, low, high, cycles, _classifier_for(cycles).classify, below_mode,
+                     above_mode, v_lo, v_hi)
+
+
+@dataclass(frozen=True)
+class Ramp:
+    name: str                 # "ramp up" or "ramp down"
+    schedule: object          # SpeedSchedule
+    duration: float           # s
+    before: object            # the mode it starts in
+    after: object             # the mode it must jump to
+    edge: float               # km/h: the end of the window the ramp leaves through
+
+    @property
+    def up(self) -> bool:
+        return self.name == "ramp up"
+
+    def beyond(self, jump_kmh: float | None) -> bool:
+        """The jump comes at or past the window's end it leaves through (a slow passage only delays it)."""
+        if jump_kmh is None:
+            return False
+        return jump_kmh >= self.edge - WINDOW_SLACK_KMH if self.up else jump_kmh <= self.edge + WINDOW_SLACK_KMH
+
+
+def ramps(setup: JumpSetup, rate_kmh_s: float) -> tuple[Ramp, Ramp]:
+    """Speed ramps up and down through the whole window, starting from a small disturbance of straight running."""
+    from reduced_model.trajectory import SpeedSchedule
+    ramp_time = (setup.v_hi - setup.v_lo) / rate_kmh_s
+    lo, hi = setup.v_lo / 3.6, setup.v_hi / 3.6
+    return (Ramp("ramp up", SpeedSchedule.ramp(lo, hi, ramp_time), ramp_time + 10.0, setup.below_mode,
+                 setup.above_mode, setup.high),
+            Ramp("ramp down", SpeedSchedule.ramp(hi, lo, ramp_time), ramp_time + 10.0, setup.above_mode,
+                 setup.below_mode, setup.low))
+
+
+def run_ramp(setup: JumpSetup, ramp: Ramp) -> tuple[dict, list]:
+    """Both models through one ramp: ({model: speed of the first before->after switch, km/h, or None},
+    [(trajectory, mode history)] for the reduced model and the MBS)."""
+    from reduced_model.simulation import initial_state
+    found, both = {}, []
+    for traj in _run_both(setup.case, ramp.schedule, initial_state(), ramp.duration):
+        history = setup.classify(traj)
+        jumps = [s for s in history.switches if s.before is ramp.before and s.after is ramp.after]
+        found[traj.model] = jumps[0].speed * 3.6 if jumps else None
+        both.append((traj, history))
+    return found, both
+
+
+def two_start_states(setup: JumpSetup) -> tuple[float, tuple]:
+    """(speed km/h, ((label, state), ...)): two starts inside the window, one near each stable cycle (figure 11's
+    L1 and L2 for the paper)."""
+    from reduced_model.simulation import initial_state
+    if setup.paper:
+        return 180.0, (("L1", initial_state()), ("L2", initial_state({"theta1": 0.2, "psi": 0.01})))
+    return setup.mid, tuple((f"on cycle {i}", 0.9 * c.orbit.nodes[0]) for i, c in enumerate(setup.cycles[:2], 1))
+
+
+def run_start(setup: JumpSetup, speed_kmh: float, x0, duration: float) -> list:
+    """Both models at constant speed from ``x0``: [(trajectory, mode history)]."""
+    from reduced_model.trajectory import SpeedSchedule
+    return [(traj, setup.classify(traj))
+            for traj in _run_both(setup.case, SpeedSchedule.constant(speed_kmh / 3.6), x0, duration)]
+
+
+def settled_apart(first, second) -> bool:
+    """Two starts ended on different cycles (neither on straight running)."""
+    from reduced_model.modes import Mode
+    return first is not second and Mode.NONE not in (first, second)
+
+
+def jumps_section(ctx: Context) -> Section:
     rows, recordings, figures = [], [], []
     for case in ctx.plan.bistable:
         ctx.progress(f"Bistable jumps: cycles at {case.pressure_bar:g} bar")
-        diagram = _bistable_diagram(case)
         paper = ctx.axle.is_paper and not math.isfinite(case.low_kmh)
-        named = window_points(diagram)
+        setup = jump_setup(case, paper)
+        named = setup.named
         if paper:
-            low, high = named["T2"], named["S1"]
             for key in ("S1", "T1", "T2", "S2"):
                 ref, got = FIG9A[key], named.get(key)
                 ok = got is not None and agrees_to_printed_digits(ref, got)
@@ -237,79 +369,46 @@ def jumps_section(ctx: Context) -> Section:
                 rows.append(Row({"run": f"continuation {key}", "paper_kmh": ref, "reduced_kmh": got}, status,
                                 "paper: agrees to the printed digits" if ok else known or "differs from the paper"))
         else:
-            low, high = case.low_kmh, case.high_kmh
-            # the ends of the window are special points of the branches; name them from the diagram
             for key, v in sorted(named.items(), key=lambda kv: -kv[1]):
                 rows.append(Row({"run": f"continuation {key}", "reduced_kmh": v}, CheckStatus.INFO,
                                 "cycle fold" if key.startswith("S") else "torus point"))
-            low, high = (_snap(low, named.values()), _snap(high, named.values()))
-        mid = 0.5 * (low + high)
-        cycles = _stable_cycles_at(diagram, mid / 3.6)
-        classify = _classifier_for(cycles).classify
-        width = high - low
-        margin = max(20.0, 1.5 * width) if not paper else None
-        v_lo, v_hi = (120.0, 200.0) if paper else (max(1.0, low - margin), high + margin)
-        rate = 2.0 if ctx.quick else 1.0                       # km/h per s
-        ramp_time = (v_hi - v_lo) / rate
-        # Which cycle lives below the window (its stable stretch reaches lower) and which above it; the classifier
-        # built from the two names the lower-frequency one "yaw".  The paper: yaw below, tramp above.
-        below_mode, above_mode = Mode.YAW, Mode.TRAMP
-        if not paper and len(cycles) >= 2:
-            reach = {id(c): _stable_reach(diagram, c) for c in cycles[:2]}
-            lower = min(cycles[:2], key=lambda c: reach[id(c)])
-            upper = next(c for c in cycles[:2] if c is not lower)
-            if lower.frequency_hz > upper.frequency_hz:
-                below_mode, above_mode = Mode.TRAMP, Mode.YAW
-        runs = (("ramp up", SpeedSchedule.ramp(v_lo / 3.6, v_hi / 3.6, ramp_time), below_mode, above_mode, high),
-                ("ramp down", SpeedSchedule.ramp(v_hi / 3.6, v_lo / 3.6, ramp_time), above_mode, below_mode, low))
+        v_lo, v_hi = setup.v_lo, setup.v_hi
         experiments = []
-        for name, schedule, before, after, edge in runs:
+        for ramp in ramps(setup, 2.0 if ctx.quick else 1.0):       # km/h per s
+            name, edge, up = ramp.name, ramp.edge, ramp.up
             ctx.progress(f"Bistable jumps: {name} {v_lo:.0f}-{v_hi:.0f} km/h in both models")
-            found, both = {}, []
-            for traj in _run_both(case, schedule, initial_state(), ramp_time + 10.0):
-                history = classify(traj)
-                jumps = [s for s in history.switches if s.before is before and s.after is after]
-                found[traj.model] = jumps[0].speed * 3.6 if jumps else None
+            found, both = run_ramp(setup, ramp)
+            for traj, history in both:
                 rec = _record(ctx, f"{name.replace(' ', '_')}_{traj.model}.rrd", traj, history,
                               f"{name}, {traj.model} model, {case.pressure_bar:g} bar", case)
                 if rec:
                     recordings.append(rec)
-                both.append((traj, history))
-            mark = ("S1" if name == "ramp up" else "T2") if paper else "window end"
+            mark = ("S1" if up else "T2") if paper else "window end"
             experiments.append(_experiment(f"{name}, {case.pressure_bar:g} bar", both, {mark: edge}))
             recordings += _record_both(ctx, f"{name.replace(' ', '_')}_both.rrd", both,
                                        f"{name}: reduced model and MBS side by side, {case.pressure_bar:g} bar", case)
-            up = name == "ramp up"
-            beyond = (lambda v: v is not None and v >= edge - WINDOW_SLACK_KMH) if up else \
-                (lambda v: v is not None and v <= edge + WINDOW_SLACK_KMH)
-            ok = all(beyond(v) for v in found.values())
+            before, after = ramp.before, ramp.after
+            ok = all(ramp.beyond(v) for v in found.values())
             rows.append(Row({"run": f"{name} {v_lo:.0f}->{v_hi:.0f} km/h" if up else
                              f"{name} {v_hi:.0f}->{v_lo:.0f} km/h", "continuation_kmh": edge,
                              "reduced_kmh": found["reduced"], "mbs_reduced_kmh": found["mbs"],
                              "model_diff_kmh": (found["mbs"] - found["reduced"]) if None not in found.values()
                              else None},
                             CheckStatus.PASS if ok else CheckStatus.FAIL,
-                            f"{before.value} -> {after.value}: both models jump {'at or above' if up else 'at or below'}"
-                            f" the window's end {edge:.2f} km/h (delayed by the slow passage)" if ok else
+                            f"{before.value} -> {after.value}: both models jump "
+                            f"{'at or above' if up else 'at or below'} the window's end {edge:.2f} km/h (delayed by the slow passage)" if ok else
                             f"a model did not jump {before.value}->{after.value} past {edge:.2f} km/h"))
         figures.append(_jump_figure(ctx, experiments, case, paper))
         # Two starts inside the window settle on different cycles.
         duration = 20.0 if ctx.quick else 40.0
-        if paper:
-            speed = 180.0
-            starts = (("L1", initial_state()), ("L2", initial_state({"theta1": 0.2, "psi": 0.01})))
-        else:
-            speed = mid
-            starts = tuple((f"on cycle {i}", 0.9 * c.orbit.nodes[0]) for i, c in enumerate(cycles[:2], 1))
+        speed, starts = two_start_states(setup)
+        prefix = "fig11_" if paper else "two_starts_"
         finals = {}
         for label, x0 in starts:
             ctx.progress(f"Bistable jumps: start {label} at {speed:.1f} km/h in both models")
-            both = []
-            for traj in _run_both(case, SpeedSchedule.constant(speed / 3.6), x0, duration):
-                history = classify(traj)
-                both.append((traj, history))
+            both = run_start(setup, speed, x0, duration)
+            for traj, history in both:
                 finals[(label, traj.model)] = history.final_mode
-                prefix = "fig11_" if paper else "two_starts_"
                 rec = _record(ctx, f"{prefix}{label.replace(' ', '_')}_{traj.model}.rrd", traj, history,
                               f"start {label} at {speed:.1f} km/h, {traj.model} model", case)
                 if rec:
@@ -319,7 +418,7 @@ def jumps_section(ctx: Context) -> Section:
         if len(starts) == 2:
             for m in ("reduced", "mbs"):
                 a, b = finals[(starts[0][0], m)], finals[(starts[1][0], m)]
-                ok = a is not b and Mode.NONE not in (a, b)
+                ok = settled_apart(a, b)
                 rows.append(Row({"run": f"{speed:.1f} km/h, two starts ({m})", "final_1": a.value,
                                  "final_2": b.value}, CheckStatus.PASS if ok else CheckStatus.FAIL,
                                 "two different stable cycles" if ok else
