@@ -29,6 +29,7 @@ from comparisons.verify.pytest_plugin import axle_under_test
 from reduced_model.family import MIN_SPEED
 
 FREQUENCY_TOL = 1e-6        # relative, Hopf frequencies of the two models
+LYAPUNOV_TOL = 1e-4        # relative, MBS (reduced fidelity) l1 against the reduced model's
 TRANSIENT_TOL = 1e-4        # of the amplitude of each state (the MBS's fixed-step RK67 against DOP853 at rtol 1e-12)
 SIDE_KMH = 0.5              # how far beside a Hopf point the crossing direction is sampled
 GROWTH_MIN = 0.5            # 1/s: a cycle whose straight running grows this fast settles within the MBS run's
@@ -181,12 +182,13 @@ def test_eigenvalues_equal(axle, pressure, effects, quick):
 
 
 def test_hopf_points_equal(axle, pressure):
-    """Same Hopf points 0-400 km/h (speed to 0.01 km/h, frequency to 1e-6), crossing in the same direction; where
-    the reduced model has none, the MBS has none either."""
+    """Same Hopf points 0-400 km/h (speed to 0.01 km/h, frequency to 1e-6, first Lyapunov coefficient to 1e-4:
+    the MBS's from multilinear forms by finite differences of Exudyn's right-hand side, the reduced model's from
+    Cauchy integrals), crossing in the same direction; where the reduced model has none, the MBS has none either."""
     from reduced_model.bifurcation.equilibria.hopf import hopf_points
     red_family, mbs_family = families(axle, pressure)
-    red = hopf_points(red_family, red_family.nominal, 0.0, VMAX, lyapunov=False)
-    mbs = hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX, lyapunov=False)
+    red = hopf_points(red_family, red_family.nominal, 0.0, VMAX)
+    mbs = hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX)
     speeds = lambda pts: ", ".join(f"{h.speed_kmh:.2f}" for h in pts) or "none"   # noqa: E731
     assert len(mbs) == len(red), f"{label(pressure)}: reduced {speeds(red)} km/h, MBS {speeds(mbs)} km/h"
     for i, (h, r) in enumerate(zip(mbs, red), 1):
@@ -194,6 +196,8 @@ def test_hopf_points_equal(axle, pressure):
             f"HB{i} at {label(pressure)}: MBS {h.speed_kmh:.4f} km/h, reduced {r.speed_kmh:.4f} km/h"
         assert abs(h.omega - r.omega) < FREQUENCY_TOL * r.omega, \
             f"HB{i} at {label(pressure)}: MBS {h.frequency_hz:.6f} Hz, reduced {r.frequency_hz:.6f} Hz"
+        assert abs(h.first_lyapunov - r.first_lyapunov) <= LYAPUNOV_TOL * abs(r.first_lyapunov), \
+            f"HB{i} at {label(pressure)}: MBS l1 {h.first_lyapunov:.6g}, reduced {r.first_lyapunov:.6g}"
         for side in (-SIDE_KMH, SIDE_KMH):
             v = max(r.speed + side * KMH, MIN_SPEED)
             a = critical_real_part(mbs_family, v, r.omega)
@@ -234,8 +238,7 @@ def cycle_diagrams(axle):
 
 def test_criticality(axle, pressure, quick, cycle_diagrams):
     """The first Lyapunov coefficient l1 of each Hopf point (normal form of the reduced model, Kuznetsov eq. 3.20;
-    the MBS has none: its right-hand side cannot be evaluated at the complex states the Cauchy-integral
-    derivatives need) against two independent sides: the continuation (l1 < 0 exactly when the cycle branch leaves into the side
+    the MBS's equals it, :func:`test_hopf_points_equal`) against two independent sides: the continuation (l1 < 0 exactly when the cycle branch leaves into the side
     where straight running is unstable, before the branch's first fold), and the MBS: for a supercritical point a
     run started at half the first well-attracting stable cycle grows onto it (within verify's 0.5 %); for a
     subcritical one where straight running is stable, runs started inside and outside the unstable cycle stay on
