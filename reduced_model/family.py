@@ -26,7 +26,7 @@ COORDINATE_SCALES = {"theta1": 0.1, "theta2": 0.1, "psi": 0.1, "alpha1": 0.1, "a
 # Lower end of every speed window (m/s).  At V = 0 the relaxation equations lose their speed terms, two
 # eigenvalues are zero and the Hopf defining system is singular: a Hopf curve that runs down to V -> 0 turns back
 # on itself there instead of ending, and Newton near V = 0 is ill-conditioned.  Shimmy below walking pace is moot.
-MIN_SPEED = 0.5 / 3.6
+MIN_SPEED = 0.1388888888888889   # 0.5 km/h
 PRESSURE_PARAMS = ("pressure", "pressure_right", "pressure_left")
 
 

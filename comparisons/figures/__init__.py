@@ -38,10 +38,10 @@ from comparisons.figures.registry import (  # noqa: F401
     FigureEntry,
     FigureResult,
     FigureUnavailable,
-    store_cycles,
     available_figures,
     make_figure,
     make_figures,
     register,
+    store_cycles,
     unavailable_reason,
 )

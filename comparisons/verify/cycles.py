@@ -15,6 +15,7 @@ import numpy as np
 
 from comparisons.axles.axle import interface_text
 from comparisons.axles.paper_reference import FIG9A, KNOWN_DIFFERENCES
+from comparisons.axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context, agrees_to_printed_digits, mbs_package, shimmy_cases
 from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row, Section
@@ -53,16 +54,16 @@ def cycles_section(ctx: Context) -> Section:
     for case, family, diagram in diagrams:
         overlay = {"reduced": [], "full": []}
         for b, branch in enumerate(diagram.branches, 1):
-            where = f"from HB at {branch.start.speed_kmh:.2f} km/h"
+            where = f"from HB at {kmh(branch.start.speed):.2f} km/h"
             for s in sorted(branch.special_points, key=lambda s: s.speed):
-                rows.append(Row({"case": case.label, "branch": where, "speed_kmh": s.speed * 3.6,
+                rows.append(Row({"case": case.label, "branch": where, "speed_kmh": kmh(s.speed),
                                  "point": s.kind.value, "continuation_theta1_deg": math.degrees(s.data["amplitude"][0])},
                                 CheckStatus.INFO, f"{s.kind.value} of the cycles ({s.status.value})"))
             if not branch.complete:
                 rows.append(Row({"case": case.label, "branch": where, "point": "branch"}, CheckStatus.FAIL,
                                 f"continuation stopped: {interface_text(branch.message)}"))
             for point in _sample_stable(branch, per_branch):
-                ctx.progress(f"Limit cycles: MBS runs at {case.label}, {point.speed_kmh:.1f} km/h")
+                ctx.progress(f"Limit cycles: MBS runs at {case.label}, {kmh(point.speed):.1f} km/h")
                 x0 = point.orbit.nodes[0]
                 got = {}
                 for name in ("reduced", "full"):
@@ -76,7 +77,7 @@ def cycles_section(ctx: Context) -> Section:
                 ok = rel <= AMPLITUDE_TOL
                 full = got["full"].theta1
                 rows.append(Row({"case": case.label, "branch": where, "point": "stable cycle",
-                                 "speed_kmh": point.speed_kmh, "continuation_theta1_deg": math.degrees(ref),
+                                 "speed_kmh": kmh(point.speed), "continuation_theta1_deg": math.degrees(ref),
                                  "mbs_reduced_theta1_deg": math.degrees(red) if math.isfinite(red) else None,
                                  "relative_diff": rel if math.isfinite(rel) else None,
                                  "mbs_full_theta1_deg": math.degrees(full) if math.isfinite(full) else None},
@@ -107,7 +108,7 @@ def _bistable_diagram(case: BistableCase):
     if case.value_diagram is not None:
         return case.value_diagram
     family = SpeedFamily(ShimmyModel(params=case.axle.params))
-    return cycle_diagram(family, case.pressure_bar * 1e5, 0.0, VMAX)
+    return cycle_diagram(family, case.pressure_bar * BAR, 0.0, VMAX)
 
 
 def window_points(diagram) -> dict:
@@ -115,8 +116,8 @@ def window_points(diagram) -> dict:
     speed) and T1.. (torus points), as the paper names them in figure 9a."""
     folds = sorted(diagram.points_of(PointKind.CYCLE_FOLD), key=lambda s: -s.speed)
     tori = sorted(diagram.points_of(PointKind.TORUS), key=lambda s: -s.speed)
-    named = {f"S{i}": s.speed * 3.6 for i, s in enumerate(folds, 1)}
-    named.update({f"T{i}": s.speed * 3.6 for i, s in enumerate(tori, 1)})
+    named = {f"S{i}": kmh(s.speed) for i, s in enumerate(folds, 1)}
+    named.update({f"T{i}": kmh(s.speed) for i, s in enumerate(tori, 1)})
     return named
 
 
@@ -171,8 +172,8 @@ def _run_both(case: BistableCase, schedule, x0, duration: float):
     from reduced_model.simulation import simulate
     mbs = mbs_package()
     model = ShimmyModel(params=case.axle.params)
-    reduced = simulate(model, case.pressure_bar * 1e5, schedule, duration, x0)
-    multibody = mbs.simulate(model.params, model.effects, mbs.Fidelity.reduced(), case.pressure_bar * 1e5, schedule,
+    reduced = simulate(model, case.pressure_bar * BAR, schedule, duration, x0)
+    multibody = mbs.simulate(model.params, model.effects, mbs.Fidelity.reduced(), case.pressure_bar * BAR, schedule,
                              x0, duration, dims=case.axle.dims, poses=True)
     return reduced, multibody
 
@@ -183,7 +184,7 @@ def _record(ctx: Context, name: str, trajectory, history, title: str, case: Bist
     from comparisons.recordings.writer import write_recording
     path = os.path.join(ctx.out, name)
     write_recording(path, trajectory, history.segments(), history.switches, title=title,
-                    model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * 1e5)
+                    model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * BAR)
     return name
 
 
@@ -193,14 +194,14 @@ def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase) 
         return []
     from comparisons.recordings.writer import ComparedRun, write_comparison
     write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches) for t, h in both],
-                     title, model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * 1e5)
+                     title, model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * BAR)
     return [name]
 
 
 def _experiment(title: str, both, marks: dict):
     from comparisons.verify.report_figures import Experiment, RunHistory
-    runs = [RunHistory(t.model, t.t, t.speed * 3.6, np.degrees(t.state("theta1")), np.degrees(t.state("psi")),
-                       [(s.time, s.speed * 3.6, f"{s.before.value} -> {s.after.value}") for s in h.switches])
+    runs = [RunHistory(t.model, t.t, kmh(t.speed), np.degrees(t.state("theta1")), np.degrees(t.state("psi")),
+                       [(s.time, kmh(s.speed), f"{s.before.value} -> {s.after.value}") for s in h.switches])
             for t, h in both]
     return Experiment(title, runs, marks)
 
@@ -244,7 +245,7 @@ def jumps_section(ctx: Context) -> Section:
                                 "cycle fold" if key.startswith("S") else "torus point"))
             low, high = (_snap(low, named.values()), _snap(high, named.values()))
         mid = 0.5 * (low + high)
-        cycles = _stable_cycles_at(diagram, mid / 3.6)
+        cycles = _stable_cycles_at(diagram, from_kmh(mid))
         classify = _classifier_for(cycles).classify
         width = high - low
         margin = max(20.0, 1.5 * width) if not paper else None
@@ -260,8 +261,9 @@ def jumps_section(ctx: Context) -> Section:
             upper = next(c for c in cycles[:2] if c is not lower)
             if lower.frequency_hz > upper.frequency_hz:
                 below_mode, above_mode = Mode.TRAMP, Mode.YAW
-        runs = (("ramp up", SpeedSchedule.ramp(v_lo / 3.6, v_hi / 3.6, ramp_time), below_mode, above_mode, high),
-                ("ramp down", SpeedSchedule.ramp(v_hi / 3.6, v_lo / 3.6, ramp_time), above_mode, below_mode, low))
+        lo_si, hi_si = from_kmh(v_lo), from_kmh(v_hi)
+        runs = (("ramp up", SpeedSchedule.ramp(lo_si, hi_si, ramp_time), below_mode, above_mode, high),
+                ("ramp down", SpeedSchedule.ramp(hi_si, lo_si, ramp_time), above_mode, below_mode, low))
         experiments = []
         for name, schedule, before, after, edge in runs:
             ctx.progress(f"Bistable jumps: {name} {v_lo:.0f}-{v_hi:.0f} km/h in both models")
@@ -269,7 +271,7 @@ def jumps_section(ctx: Context) -> Section:
             for traj in _run_both(case, schedule, initial_state(), ramp_time + 10.0):
                 history = classify(traj)
                 jumps = [s for s in history.switches if s.before is before and s.after is after]
-                found[traj.model] = jumps[0].speed * 3.6 if jumps else None
+                found[traj.model] = kmh(jumps[0].speed) if jumps else None
                 rec = _record(ctx, f"{name.replace(' ', '_')}_{traj.model}.rrd", traj, history,
                               f"{name}, {traj.model} model, {case.pressure_bar:g} bar", case)
                 if rec:
@@ -305,7 +307,7 @@ def jumps_section(ctx: Context) -> Section:
         for label, x0 in starts:
             ctx.progress(f"Bistable jumps: start {label} at {speed:.1f} km/h in both models")
             both = []
-            for traj in _run_both(case, SpeedSchedule.constant(speed / 3.6), x0, duration):
+            for traj in _run_both(case, SpeedSchedule.constant(from_kmh(speed)), x0, duration):
                 history = classify(traj)
                 both.append((traj, history))
                 finals[(label, traj.model)] = history.final_mode

@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from comparisons.axles.units import from_kmh
 from comparisons.cli.main import main
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
@@ -36,7 +37,7 @@ def test_linear_oscillator_by_hand():
 def test_modes_at_the_first_hopf_point():
     """At HB1 the Hopf solver's frequency (an independent computation) is the undamped yaw mode's."""
     family = SpeedFamily(ShimmyModel(), pressure=1.5e5)
-    hb1 = hopf_points(family, 1.5e5, 0.0, 400 / 3.6, lyapunov=False)[0]
+    hb1 = hopf_points(family, 1.5e5, 0.0, from_kmh(400), lyapunov=False)[0]
     modes = mode_shapes(family.linear_matrix(hb1.speed, 1.5e5), 6.0, 160.0)
     critical = modes[0]
     assert abs(critical.eigenvalue.real) < 1e-6
