@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from comparisons.axles.limits import UsageError
+from comparisons.axles.limits import SPEED_RANGE_KMH, UsageError
 from comparisons.axles.units import KMH
 from comparisons.cli.options import (
     add_model_options,
@@ -52,8 +52,8 @@ def _models(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.speed > 1000.0:
-        raise UsageError(f"--speed must be at most 1000 km/h, got {args.speed:g}")
+    if args.speed > SPEED_RANGE_KMH[1]:
+        raise UsageError(f"--speed must be at most {SPEED_RANGE_KMH[1]:g} km/h, got {args.speed:g}")
     models, fidelity = _models(args)
     params = build_model(args).params
     results = [(key, title, mode_shapes(A, params.I1, params.I3)) for key, title, A in models]
