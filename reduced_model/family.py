@@ -14,7 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
-from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
+from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel, pressure_pair
 from reduced_model.parameters import ParameterError, ShimmyParameters
 
 # Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
@@ -39,14 +39,6 @@ def oscillation_scales(state_names: tuple[str, ...], omega: float) -> np.ndarray
         scale = COORDINATE_SCALES[coordinate]
         scales.append(scale * omega if coordinate != name else scale)
     return np.array(scales)
-
-
-def pressure_pair(pressure: float | Sequence[float]) -> tuple[float, float]:
-    """(right, left) tyre pressures of one value or a pair (Pa)."""
-    if isinstance(pressure, (int, float, np.floating)):
-        return float(pressure), float(pressure)
-    right, left = pressure
-    return float(right), float(left)
 
 
 def pressure_at(param: str, q: float, operating: float | Sequence[float]) -> float | tuple[float, float]:
