@@ -19,7 +19,7 @@ import numpy as np
 import pyarrow as pa
 
 from comparisons.assumption_shifts import mbs_kmh, shift_kmh
-from comparisons.axles.axle import Axle, entry
+from comparisons.axles.axle import Axle, entry, interface_text
 from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
 
@@ -217,6 +217,6 @@ def evaluate_batch(task: SweepTask, batch: int, start: int, values: np.ndarray) 
             row.update(task.evaluate(v))
             row["status"] = "ok"
         except Exception as exc:  # recorded in the row: one bad sample never loses its batch
-            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {exc}"
+            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {interface_text(str(exc))}"
         rows.append(row)
     return pa.Table.from_pylist(rows, schema=task.schema())
