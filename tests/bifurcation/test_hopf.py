@@ -8,17 +8,13 @@ import numpy as np
 import pytest
 
 from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH
+from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.bifurcation.equilibria.hopf import bialternate, hopf_points
 from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
 from reduced_model.bifurcation.equilibria.normal_form import first_lyapunov_coefficient
 from reduced_model.bifurcation.special_points import Criticality, PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-
-
-def kmh(points):
-    return [kmh(h.speed) for h in points]
 
 
 def test_bialternate_eigenvalues_are_pair_sums():
