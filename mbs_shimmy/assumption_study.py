@@ -28,62 +28,42 @@ from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import ShimmyParameters
 
 ELEMENTS = frozenset(info.name for info in ASSUMPTIONS if info.element)
-from mbs_shimmy.limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak
+from mbs_shimmy.limit_cycle import VMAX, SteadyAmplitude, mbs_steady_amplitude, reduced_peak
 from mbs_shimmy.linearisation import MbsFamily, MbsModel
 
-KMH = 3.6
 MATCH_FREQUENCY = 0.3     # relative frequency difference above which two Hopf points are different modes
+# Speed difference (m/s) that weighs as much as a relative frequency difference of 1 when pairing Hopf points.
+MATCH_SPEED = 2.7777777777777777   # 10 km/h
 
 
 @dataclass(frozen=True)
 class HopfShift:
-    reduced_kmh: float | None
-    mbs_kmh: float | None
+    """A Hopf point of the reference side and its partner on the MBS side; None where a mode has no partner.
+    The shift is left to the reader: in km/h it is the difference of the converted speeds."""
+
+    reduced_speed: float | None     # m/s
+    mbs_speed: float | None         # m/s
     reduced_hz: float | None
     mbs_hz: float | None
-
-    @property
-    def shift_kmh(self) -> float | None:
-        if self.reduced_kmh is None or self.mbs_kmh is None:
-            return None
-        return self.mbs_kmh - self.reduced_kmh
-
-    def to_json(self) -> dict:
-        return {"reduced_kmh": self.reduced_kmh, "mbs_kmh": self.mbs_kmh, "shift_kmh": self.shift_kmh}
 
 
 @dataclass(frozen=True)
 class AssumptionRow:
     assumption: str                  # an assumption's name, or "full"
     hopf: tuple[HopfShift, ...]
-    peak_theta1_mbs_deg: float | None
-    peak_theta1_reduced_deg: float | None
+    peak_theta1_mbs: float | None       # rad
+    peak_theta1_reduced: float | None   # rad
     peak_settled: bool | None
-
-    @property
-    def peak_theta1_shift_deg(self) -> float | None:
-        if self.peak_theta1_mbs_deg is None or self.peak_theta1_reduced_deg is None:
-            return None
-        return self.peak_theta1_mbs_deg - self.peak_theta1_reduced_deg
-
-    def to_json(self) -> dict:
-        return {"assumption": self.assumption, "hopf": [h.to_json() for h in self.hopf],
-                "peak_theta1_shift_deg": self.peak_theta1_shift_deg}
 
 
 @dataclass(frozen=True)
 class AssumptionStudy:
-    pressure_bar: float
+    pressure: float                  # Pa (the nominal pressure of the study's family)
     effects: tuple[str, ...]
-    reduced_hopf_kmh: tuple[float, ...]
-    peak_speed_kmh: float | None     # where the reduced model's limit cycle is largest (None: no cycle)
-    peak_theta1_deg: float | None
+    reduced_hopf_speeds: tuple[float, ...]   # m/s
+    peak_speed: float | None         # m/s, where the reduced model's limit cycle is largest (None: no cycle)
+    peak_theta1: float | None        # rad
     rows: tuple[AssumptionRow, ...]
-
-    def to_json(self) -> dict:
-        return {"pressure_bar": self.pressure_bar, "effects": list(self.effects),
-                "peak_speed_kmh": self.peak_speed_kmh, "reduced_peak_theta1_deg": self.peak_theta1_deg,
-                "rows": [r.to_json() for r in self.rows]}
 
 
 def match_hopf(reduced: Sequence[HopfPoint], mbs: Sequence[HopfPoint]) -> tuple[HopfShift, ...]:
@@ -95,16 +75,16 @@ def match_hopf(reduced: Sequence[HopfPoint], mbs: Sequence[HopfPoint]) -> tuple[
         for i, r in enumerate(reduced):
             for j, b in enumerate(mbs):
                 if abs(b.omega - r.omega) <= MATCH_FREQUENCY * r.omega:
-                    cost[i, j] = abs(b.speed - r.speed) * KMH / 10.0 + abs(b.omega - r.omega) / r.omega
+                    cost[i, j] = abs(b.speed - r.speed) / MATCH_SPEED + abs(b.omega - r.omega) / r.omega
         rows, cols = scipy.optimize.linear_sum_assignment(cost)
         pairs = [(i, j) for i, j in zip(rows, cols) if cost[i, j] < 1e6]
     matched_r = {i for i, _ in pairs}
     matched_m = {j for _, j in pairs}
-    out = [HopfShift(reduced[i].speed_kmh, mbs[j].speed_kmh, reduced[i].frequency_hz, mbs[j].frequency_hz)
+    out = [HopfShift(reduced[i].speed, mbs[j].speed, reduced[i].frequency_hz, mbs[j].frequency_hz)
            for i, j in pairs]
-    out += [HopfShift(r.speed_kmh, None, r.frequency_hz, None) for i, r in enumerate(reduced) if i not in matched_r]
-    out += [HopfShift(None, b.speed_kmh, None, b.frequency_hz) for j, b in enumerate(mbs) if j not in matched_m]
-    return tuple(sorted(out, key=lambda h: h.reduced_kmh if h.reduced_kmh is not None else h.mbs_kmh))
+    out += [HopfShift(r.speed, None, r.frequency_hz, None) for i, r in enumerate(reduced) if i not in matched_r]
+    out += [HopfShift(None, b.speed, None, b.frequency_hz) for j, b in enumerate(mbs) if j not in matched_m]
+    return tuple(sorted(out, key=lambda h: h.reduced_speed if h.reduced_speed is not None else h.mbs_speed))
 
 
 def study_fidelities() -> list[tuple[str, Fidelity]]:
@@ -118,7 +98,7 @@ def study_fidelities() -> list[tuple[str, Fidelity]]:
 
 
 def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float, *,
-                     dims: AxleDimensions = DEFAULT_DIMENSIONS, vmax: float = 400 / 3.6, cycles: bool = True,
+                     dims: AxleDimensions = DEFAULT_DIMENSIONS, vmax: float = VMAX, cycles: bool = True,
                      settle: float = 12.0, progress=None) -> AssumptionStudy:
     """The shifts table at one pressure (Pa, or (right, left)).  ``cycles=False`` skips the cycle amplitudes (None)."""
     model = ShimmyModel(params, effects)
@@ -126,32 +106,32 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float
     reduced = hopf_points(SpeedFamily(model, pressure=pressure), q, 0.0, vmax, lyapunov=False)
     peak: SteadyAmplitude | None = reduced_peak(model, pressure, vmax, settle) if cycles else None
     rows = []
-    full_points = full_deg = full_settled = None
+    full_points = full_amp = full_settled = None
 
     def amplitude(fidelity):
         # start from the reduced model's cycle: the MBS's own one, if it has one there, is close
         r = mbs_steady_amplitude(params, effects, fidelity, pressure, peak.speed, peak.final_state, settle,
                                  dims=dims)
-        return (math.degrees(r.theta1) if math.isfinite(r.theta1) else None), r.settled
+        return (r.theta1 if math.isfinite(r.theta1) else None), r.settled
 
     for k, (name, fidelity) in enumerate(study_fidelities()):
         family = MbsFamily(MbsModel(params, effects, fidelity, dims), pressure=pressure)
         mbs = hopf_points(family, q, 0.0, vmax, lyapunov=False)
-        mbs_deg = red_deg = settled = None
+        mbs_amp = red_amp = settled = None
         if name in ELEMENTS:
             # the element's worth: full geometry (mbs side) against full geometry without it (reference side)
             if peak is not None:
-                red_deg, _ = amplitude(fidelity)
-                mbs_deg, settled = full_deg, full_settled
-            rows.append(AssumptionRow(name, match_hopf(mbs, full_points), mbs_deg, red_deg, settled))
+                red_amp, _ = amplitude(fidelity)
+                mbs_amp, settled = full_amp, full_settled
+            rows.append(AssumptionRow(name, match_hopf(mbs, full_points), mbs_amp, red_amp, settled))
         else:
             if peak is not None:
-                mbs_deg, settled = amplitude(fidelity)
-                red_deg = peak.theta1_deg
-            rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_deg, red_deg, settled))
+                mbs_amp, settled = amplitude(fidelity)
+                red_amp = peak.theta1
+            rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_amp, red_amp, settled))
             if name == "full":
-                full_points, full_deg, full_settled = mbs, mbs_deg, settled
+                full_points, full_amp, full_settled = mbs, mbs_amp, settled
         if progress is not None:
             progress(k + 1)
-    return AssumptionStudy(q / 1e5, effects.names, tuple(h.speed_kmh for h in reduced),
-                           peak.speed * KMH if peak else None, peak.theta1_deg if peak else None, tuple(rows))
+    return AssumptionStudy(q, effects.names, tuple(h.speed for h in reduced),
+                           peak.speed if peak else None, peak.theta1 if peak else None, tuple(rows))

@@ -31,6 +31,7 @@ from reduced_model.parameters import ShimmyParameters
 from reduced_model.trajectory import SpeedSchedule
 
 SETTLE = 12.0            # s
+VMAX = 111.11111111111111   # m/s (400 km/h): the paper's speed window
 WINDOW = 2.0             # s: several periods of either mode (5-14 Hz)
 SETTLED_TOL = 1e-3
 DECAYED = 1e-5           # rad
@@ -50,10 +51,6 @@ class SteadyAmplitude:
     settled: bool                # changed by less than SETTLED_TOL against the window before
     final_state: np.ndarray = field(compare=False, repr=False)
     method: str = ""
-
-    @property
-    def theta1_deg(self) -> float:
-        return math.degrees(self.theta1)
 
 
 def _default_start() -> np.ndarray:
@@ -141,7 +138,7 @@ def unstable_windows(model: ShimmyModel, pressure: float, vmax: float) -> list[t
     return windows
 
 
-def reduced_peak(model: ShimmyModel, pressure: float, vmax: float = 400 / 3.6, settle: float = SETTLE,
+def reduced_peak(model: ShimmyModel, pressure: float, vmax: float = VMAX, settle: float = SETTLE,
                  iterations: int = 8) -> SteadyAmplitude | None:
     """The largest steady theta1 amplitude of the reduced model over its unstable speed windows.
 

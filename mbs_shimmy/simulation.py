@@ -36,6 +36,7 @@ from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 DEFAULT_METHOD = "RK44"
 DEFAULT_STEP = 1e-3          # s
+DEFAULT_SPEED = 16.666666666666668   # m/s (60 km/h)
 # The cheapest fixed-step setting found that keeps a 10 s run at 1.5 bar, 100 km/h (full geometry) within 1e-4 of
 # every state's amplitude (measured against step/4: ``tests/test_mbs_simulation.py``); used by the benchmark.
 FAST_METHOD = "RK67"
@@ -109,7 +110,7 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
     """
     effects = effects or Effects()
     fidelity = fidelity or Fidelity.reduced()
-    schedule = schedule or SpeedSchedule.constant(60.0 / 3.6)
+    schedule = schedule or SpeedSchedule.constant(DEFAULT_SPEED)
     if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0.0):
         raise ParameterError(f"duration must be positive, got {duration!r} s")
     if method not in METHODS:

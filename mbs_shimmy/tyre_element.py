@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 from mbs_shimmy.geometry import Vec
 from reduced_model import tyre
-from reduced_model.model import Effects, WheelTyre
+from reduced_model.model import Effects, WheelTyre, contact_lengths
 from reduced_model.parameters import ShimmyParameters
 
 
@@ -112,8 +112,7 @@ class LoadTable:
         p.Fz = load
         mf = tyre.magic_formula(p, self.pressure)
         tr = tyre.trail_formula(p, self.pressure)
-        a = tyre.half_contact_length(p, self.pressure) if self.effects.hcl else self.params.a0
-        sigma = tyre.relaxation_length(p, self.pressure) if self.effects.rl else self.params.sigma0
+        a, sigma = contact_lengths(p, self.effects, self.pressure)
         return (mf.B, mf.D, mf.E, tr.Bt, tr.Dt, tr.Et0, a, sigma)
 
     def at(self, load: float) -> list[float]:

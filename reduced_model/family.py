@@ -15,7 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
-from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel
+from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel, pressure_pair
 from reduced_model.parameters import ParameterError, ShimmyParameters
 
 # Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
@@ -27,7 +27,7 @@ COORDINATE_SCALES = {"theta1": 0.1, "theta2": 0.1, "psi": 0.1, "alpha1": 0.1, "a
 # Lower end of every speed window (m/s).  At V = 0 the relaxation equations lose their speed terms, two
 # eigenvalues are zero and the Hopf defining system is singular: a Hopf curve that runs down to V -> 0 turns back
 # on itself there instead of ending, and Newton near V = 0 is ill-conditioned.  Shimmy below walking pace is moot.
-MIN_SPEED = 0.5 / 3.6
+MIN_SPEED = 0.1388888888888889   # 0.5 km/h
 PRESSURE_PARAMS = ("pressure", "pressure_right", "pressure_left")
 
 
@@ -40,14 +40,6 @@ def oscillation_scales(state_names: tuple[str, ...], omega: float) -> np.ndarray
         scale = COORDINATE_SCALES[coordinate]
         scales.append(scale * omega if coordinate != name else scale)
     return np.array(scales)
-
-
-def pressure_pair(pressure: float | Sequence[float]) -> tuple[float, float]:
-    """(right, left) tyre pressures of one value or a pair (Pa)."""
-    if isinstance(pressure, (int, float, np.floating)):
-        return float(pressure), float(pressure)
-    right, left = pressure
-    return float(right), float(left)
 
 
 def pressure_at(param: str, q: float, operating: float | Sequence[float]) -> float | tuple[float, float]:

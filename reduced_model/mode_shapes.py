@@ -13,7 +13,7 @@ psi_dot, alpha1, alpha2, SI), each eigenvalue lambda (one of each complex pair, 
   Kinetic energy, not angle, decides yaw against tramp: the paper's tramp mode moves psi by a third of theta1
   (reduced_model.modes), but the axle's inertia I3 = 160 kg m^2 dwarfs the wheels' I1 = 6 kg m^2.
 * the left wheel's share of the wheel-yaw energy (wheel 2, theta2) and the phase of theta2 against theta1
-  (0: the wheels steer together, 180: against each other).
+  (0: the wheels steer together, pi: against each other).
 """
 
 from __future__ import annotations
@@ -39,17 +39,11 @@ class ModeShape:
     tramp_share: float
     slip_share: float            # of the squared angles
     left_share: float            # left wheel's part of the wheel-yaw kinetic energy
-    wheel_phase_deg: float       # phase of theta2 against theta1, (-180, 180]
+    wheel_phase: float           # phase of theta2 against theta1, rad, (-pi, pi]
 
     @property
     def stable(self) -> bool:
         return self.eigenvalue.real < 0.0
-
-    def as_json(self) -> dict:
-        return {"real_per_s": self.eigenvalue.real, "imag_rad_per_s": self.eigenvalue.imag,
-                "frequency_hz": self.frequency_hz, "damping_ratio": self.damping_ratio, "stable": self.stable,
-                "character": self.character, "yaw_share": self.yaw_share, "tramp_share": self.tramp_share,
-                "slip_share": self.slip_share, "left_share": self.left_share, "wheel_phase_deg": self.wheel_phase_deg}
 
 
 def mode_shape(eigenvalue: complex, vector: np.ndarray, I1: float, I3: float) -> ModeShape:
@@ -68,13 +62,13 @@ def mode_shape(eigenvalue: complex, vector: np.ndarray, I1: float, I3: float) ->
         wheels = angles[:2]
     left = float(wheels[1] / wheels.sum()) if wheels.sum() > 0 else float("nan")
     t1, t2 = v[_I["theta1"]], v[_I["theta2"]]
-    phase = math.degrees(np.angle(t2 / t1)) if abs(t1) > 0 and abs(t2) > 0 else float("nan")
+    phase = float(np.angle(t2 / t1)) if abs(t1) > 0 and abs(t2) > 0 else float("nan")
     character = "slip" if slip > 0.5 else ("tramp" if tramp_share > yaw_share else "yaw")
     modulus = abs(lam)
     return ModeShape(eigenvalue=lam, frequency_hz=abs(lam.imag) / (2 * math.pi) if abs(lam.imag) > REAL_TOL
                      else 0.0, damping_ratio=-lam.real / modulus if modulus > 0 else float("nan"),
                      character=character, yaw_share=yaw_share, tramp_share=tramp_share, slip_share=slip,
-                     left_share=left, wheel_phase_deg=phase)
+                     left_share=left, wheel_phase=phase)
 
 
 def mode_shapes(A: np.ndarray, I1: float, I3: float) -> list[ModeShape]:

@@ -80,13 +80,20 @@ class WheelTyre:
         return self.t0 if self.trail is None else self.trail.trail(alpha)
 
 
-def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> WheelTyre:
-    if not pressure > 0.0:
-        raise ParameterError(f"inflation pressure must be positive, got {pressure / 1e5:g} bar")
-    mf = tyre.magic_formula(params, pressure)
-    trail = tyre.trail_formula(params, pressure) if effects.pt else None
+def contact_lengths(params: ShimmyParameters, effects: Effects, pressure: float) -> tuple[float, float]:
+    """(half contact length a, relaxation length sigma) of a tyre: following the pressure (and the load
+    ``params.Fz``) with HCL and RL, the constants a0 and sigma0 without."""
     a = tyre.half_contact_length(params, pressure) if effects.hcl else params.a0
     sigma = tyre.relaxation_length(params, pressure) if effects.rl else params.sigma0
+    return a, sigma
+
+
+def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> WheelTyre:
+    if not pressure > 0.0:
+        raise ParameterError(f"inflation pressure must be positive, got pressure = {pressure:.10g}")
+    mf = tyre.magic_formula(params, pressure)
+    trail = tyre.trail_formula(params, pressure) if effects.pt else None
+    a, sigma = contact_lengths(params, effects, pressure)
     k5 = tyre.vertical_stiffness(params, pressure) if effects.vs else params.k5_0
     t_nominal = trail.Dt if trail is not None else params.t0
     checks = (("magic-formula peak force D_y", mf.D, "N"), ("cornering stiffness K_ya", mf.K, "N/rad"),
@@ -94,15 +101,15 @@ def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> 
               ("pneumatic trail", t_nominal, "m"), ("vertical stiffness k5", k5, "N/m"))
     for what, value, unit in checks:
         if not value > 0.0:
-            raise ParameterError(f"{what} is {value:.4g} {unit} at {pressure / 1e5:g} bar: "
+            raise ParameterError(f"{what} is {value:.4g} {unit} at pressure = {pressure:.10g}: "
                                  f"the model is meaningless there")
     return WheelTyre(pressure=pressure, force=mf, trail=trail, t0=params.t0, a=a, sigma=sigma, k5=k5)
 
 
-def _pair(pressure: float | Sequence[float]) -> tuple[float, float]:
-    if isinstance(pressure, (float, int, np.floating)):
-        p = float(pressure)
-        return p, p
+def pressure_pair(pressure: float | Sequence[float]) -> tuple[float, float]:
+    """(right, left) tyre pressures of one value or a pair (Pa)."""
+    if isinstance(pressure, (int, float, np.floating)):
+        return float(pressure), float(pressure)
     right, left = pressure
     return float(right), float(left)
 
@@ -120,7 +127,7 @@ class ShimmyModel:
         return dataclasses.replace(self, params=self.params.replace(**overrides))
 
     def tyres(self, pressure: float | Sequence[float]) -> tuple[WheelTyre, WheelTyre]:
-        key = _pair(pressure)
+        key = pressure_pair(pressure)
         found = self._tyre_cache.get(key)
         if found is None:
             found = (_wheel_tyre(self.params, self.effects, key[0]), _wheel_tyre(self.params, self.effects, key[1]))

@@ -113,7 +113,7 @@ def simulate(model: ShimmyModel, pressure: float | Sequence[float], schedule: Sp
     if len(beyond):
         status = SimulationStatus.DIVERGED
         message = (f"an angle passed {DIVERGENCE_ANGLE:g} rad at t = {t_end:.3f} s "
-                   f"({float(schedule.speed(t_end)) * 3.6:.2f} km/h)")
+                   f"(speed = {float(schedule.speed(t_end)):.10g})")
     elif sol.status != 0:
         status = SimulationStatus.SOLVER_FAILED
         message = f"{method} stopped at t = {t_end:.4f} s: {sol.message}"

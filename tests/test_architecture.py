@@ -90,3 +90,31 @@ def test_no_module_level_getattr_facade():
     facades = [name for name, path in modules().items()
                if any(isinstance(n, ast.FunctionDef) and n.name == "__getattr__" for n in ast.parse(path.read_text()).body)]
     assert facades == []
+
+
+def test_the_models_import_nothing_of_the_comparisons():
+    offenders = {m: sorted(t for t in targets if t.split(".")[0] == "comparisons")
+                 for m, targets in import_graph().items() if m.split(".")[0] != "comparisons"}
+    assert {m: t for m, t in offenders.items() if t} == {}
+
+
+def _sources():
+    for folder in PACKAGES + ("tools", "tests"):
+        for path in (ROOT / folder).rglob("*.py"):
+            yield path, ast.parse(path.read_text())
+
+
+def test_speeds_are_converted_in_the_units_module_only():
+    # a km/h conversion written by hand: a product or quotient with the literal 3.6
+    found = sorted({str(path.relative_to(ROOT)) for path, tree in _sources() for node in ast.walk(tree)
+                    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Mult, ast.Div))
+                    and any(isinstance(o, ast.Constant) and o.value == 3.6 for o in (node.left, node.right))})
+    assert found == []
+
+
+def test_library_code_chooses_no_matplotlib_backend():
+    found = sorted({str(path.relative_to(ROOT)) for path, tree in _sources() for node in ast.walk(tree)
+                    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "use"
+                    and isinstance(node.func.value, ast.Name) and node.func.value.id == "matplotlib"
+                    and not path.is_relative_to(ROOT / "tests")})
+    assert found == []

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Mapping
 
+from comparisons.axles.limits import PRESSURE_RANGE_BAR
 from comparisons.axles.units import BAR, interface_message, interface_of, to_interface, to_si
 from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from reduced_model.family import PRESSURE_PARAMS
@@ -176,8 +177,10 @@ def paper_axle() -> Axle:
 
 
 def check_pressure_range(lo: float, hi: float, where: str = "") -> tuple[float, float]:
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0.05 <= lo < hi <= 20.0):
-        raise ParameterError(f"{where}pressure range must satisfy 0.05 <= LO < HI <= 20 bar, got [{lo:g}, {hi:g}]")
+    low, high = PRESSURE_RANGE_BAR
+    if not (math.isfinite(lo) and math.isfinite(hi) and low <= lo < hi <= high):
+        raise ParameterError(f"{where}pressure range must satisfy {low:g} <= LO < HI <= {high:g} bar, "
+                             f"got [{lo:g}, {hi:g}]")
     return float(lo), float(hi)
 
 

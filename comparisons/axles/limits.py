@@ -10,6 +10,9 @@ class UsageError(Exception):
 
 
 # Physical ranges of the inputs that are not axle entries (interface units; docs/cli.md's table is generated from them).
+# comparisons.cli.main imports this module outside the guard for an interrupt during the model packages' import,
+# so the lowest speed repeats reduced_model.family.MIN_SPEED instead of importing it; tests/axles/test_limits.py
+# holds the two together.
 SPEED_RANGE_KMH = (0.5, 1000.0)       # below 0.5 km/h the slip equations degenerate (reduced_model.family.MIN_SPEED)
 PRESSURE_RANGE_BAR = (0.05, 20.0)
 DURATION_RANGE_S = (0.01, 1000.0)     # simulated time; 1000 s at 1 kHz samples is 8 MB of states

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import math
 
-KMH = 1.0 / 3.6   # m/s per km/h
-BAR = 1e5         # Pa per bar
+KMH_PER_M_S = 3.6
+KMH = 1.0 / KMH_PER_M_S   # m/s per km/h
+BAR = 1e5                 # Pa per bar
 DEG = math.pi / 180.0
 
 # SI unit -> (interface unit, SI per interface unit)
@@ -44,6 +45,19 @@ def to_interface(value: float, si_unit: str) -> float:
 
 def to_si(value: float, si_unit: str) -> float:
     return float(value) * interface_of(si_unit)[1]
+
+
+# Speeds are converted by multiplying or dividing by 3.6, not by KMH: ``v / 3.6`` and ``v * (1 / 3.6)`` can differ
+# in the last bit, and the reports' and the tests' numbers were computed the first way.  Pressures and angles need no
+# helper: ``p / BAR`` is exact enough and ``math.degrees`` exists.
+def kmh(speed):
+    """km/h of a speed in m/s (a float or an array)."""
+    return speed * KMH_PER_M_S
+
+
+def from_kmh(speed_kmh):
+    """m/s of a speed in km/h (a float or an array)."""
+    return speed_kmh / KMH_PER_M_S
 
 
 def interface_message(text: str, name: str, unit: str, factor: float) -> str:

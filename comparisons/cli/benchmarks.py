@@ -14,6 +14,8 @@ from typing import Callable
 
 import numpy as np
 
+from comparisons.axles.units import from_kmh
+
 
 @dataclass(frozen=True)
 class BenchResult:
@@ -68,7 +70,7 @@ def _hopf_one_pressure():
 
     def run():
         # A fresh model each run: no tyre cache carried over between runs.
-        return hopf_points(SpeedFamily(ShimmyModel()), 1.5e5, 0.0, 400 / 3.6)
+        return hopf_points(SpeedFamily(ShimmyModel()), 1.5e5, 0.0, from_kmh(400))
     return run
 
 
@@ -78,7 +80,7 @@ def _figure5():
     from reduced_model.model import ShimmyModel
 
     def run():
-        return hopf_diagram(SpeedFamily(ShimmyModel(), "pressure"), 0.05e5, 3e5, 0.0, 400 / 3.6)
+        return hopf_diagram(SpeedFamily(ShimmyModel(), "pressure"), 0.05e5, 3e5, 0.0, from_kmh(400))
     return run
 
 
@@ -88,10 +90,10 @@ def _cycle_branch_nominal():
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
 
-    hb1, hb2 = hopf_points(SpeedFamily(ShimmyModel()), 2.5e5, 0.0, 400 / 3.6)
+    hb1, hb2 = hopf_points(SpeedFamily(ShimmyModel()), 2.5e5, 0.0, from_kmh(400))
 
     def run():
-        branch = branch_from_hopf(SpeedFamily(ShimmyModel()), hb1, 0.0, 400 / 3.6, others=(hb2,))
+        branch = branch_from_hopf(SpeedFamily(ShimmyModel()), hb1, 0.0, from_kmh(400), others=(hb2,))
         assert branch.end is hb2 and all(p.multipliers.shape == (8,) for p in branch.points)
         return branch
     return run
@@ -103,7 +105,7 @@ def _figure9a_cycles():
     from reduced_model.model import ShimmyModel
 
     def run():
-        d = cycle_diagram(SpeedFamily(ShimmyModel().with_params(t0=0.25)), 1.5e5, 0.0, 400 / 3.6)
+        d = cycle_diagram(SpeedFamily(ShimmyModel().with_params(t0=0.25)), 1.5e5, 0.0, from_kmh(400))
         assert len(d.special_points) == 4
         return d
     return run
@@ -116,8 +118,8 @@ def _error_controlled_cycles():
 
     def run():
         # The hard case of the error control: down to 0.5 km/h the orbit needs 4x the intervals of the paper's.
-        d = cycle_diagram(SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt"))), 0.25e5, 0.0, 400 / 3.6,
-                          at=(60 / 3.6, 183 / 3.6))
+        d = cycle_diagram(SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt"))), 0.25e5, 0.0, from_kmh(400),
+                          at=(from_kmh(60), from_kmh(183)))
         assert d.complete and all(p.meets_tolerance for b in d.branches for p in b.points)
         return d
     return run
@@ -137,7 +139,7 @@ def _mbs_simulation(fidelity: str):
             # 10 s simulated at 1.5 bar, 100 km/h, the cheapest setting that keeps 1e-4 accuracy; real-time
             # factor = 10 / median
             return simulate(fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
-                            schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, poses=False,
+                            schedule=SpeedSchedule.constant(from_kmh(100)), x0=x0, duration=10.0, poses=False,
                             **BENCH_SETTINGS[fidelity])
         return run
     return setup

@@ -142,9 +142,10 @@ def resolve_pressures(args: argparse.Namespace) -> None:
                              f"(or both --pressure-left and --pressure-right)")
     right = both if right is None else right
     left = both if left is None else left
+    lo, hi = PRESSURE_RANGE_BAR
     for what, value in (("--pressure-right", right), ("--pressure-left", left)):
-        if not PRESSURE_RANGE_BAR[0] <= value <= PRESSURE_RANGE_BAR[1]:
-            raise UsageError(f"{what if value is not both else '--pressure'} must be within [0.05, 20] bar, "
+        if not lo <= value <= hi:
+            raise UsageError(f"{what if value is not both else '--pressure'} must be within [{lo:g}, {hi:g}] bar, "
                              f"got {value:g}")
     args.pressure_right, args.pressure_left = float(right), float(left)
     args.pressure = args.pressure_right if right == left else 0.5 * (right + left)

@@ -7,6 +7,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 from comparisons.axles import paper_reference as paper
+from comparisons.axles.units import BAR, kmh
 from comparisons.figures.drawing import (
     _draw_curves,
     _incomplete_notes,
@@ -17,7 +18,7 @@ from comparisons.figures.drawing import (
 )
 from comparisons.figures.hopf_figures import pressure_key
 from comparisons.figures.plots import place_labels
-from comparisons.figures.registry import BAR, EFFECT_STYLES, DiagramStore, Drawing, register
+from comparisons.figures.registry import EFFECT_STYLES, DiagramStore, Drawing, register
 from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram
 from reduced_model.bifurcation.special_points import PointKind
 from reduced_model.model import Effects
@@ -63,16 +64,16 @@ def _z2_names(zoom: HopfDiagram, effects: Effects, label: str, colour, notes: li
     if "cusp_kmh" in ref:
         folds = _located(zoom, PointKind.HOPF_FOLD)
         if folds:
-            f = min(folds, key=lambda p: abs(p.speed * 3.6 - ref["cusp_kmh"]))
-            out.append((f.speed * 3.6, f.value / BAR, f"cusp ({label})", colour))
-            notes.append(f"{label}: cusp (HB2 meets HB3) at {f.speed * 3.6:.2f} km/h, {f.value / BAR:.4f} bar "
+            f = min(folds, key=lambda p: abs(kmh(p.speed) - ref["cusp_kmh"]))
+            out.append((kmh(f.speed), f.value / BAR, f"cusp ({label})", colour))
+            notes.append(f"{label}: cusp (HB2 meets HB3) at {kmh(f.speed):.2f} km/h, {f.value / BAR:.4f} bar "
                          f"(paper {ref['cusp_kmh']:g} km/h, {ref['cusp_bar']:g} bar)")
     if "hopf_hopf_bar" in ref:
         crossings = _located(zoom, PointKind.HOPF_HOPF)
         if crossings:
             h = min(crossings, key=lambda p: abs(p.value / BAR - ref["hopf_hopf_bar"]))
-            out.append((h.speed * 3.6, h.value / BAR, f"HH1 ({label})", colour))
-            notes.append(f"{label}: HH1 (HB2 crosses HB3) at {h.speed * 3.6:.2f} km/h, {h.value / BAR:.4f} bar "
+            out.append((kmh(h.speed), h.value / BAR, f"HH1 ({label})", colour))
+            notes.append(f"{label}: HH1 (HB2 crosses HB3) at {kmh(h.speed):.2f} km/h, {h.value / BAR:.4f} bar "
                          f"(paper {ref['hopf_hopf_bar']:g} bar)")
     return out
 
@@ -91,7 +92,7 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
         folds = _located(diagram, PointKind.HOPF_FOLD)
         if folds:
             notes.append(f"{label}: no shimmy above {folds[-1].value / BAR:.4f} bar "
-                         f"(fold at {folds[-1].speed * 3.6:.2f} km/h)")
+                         f"(fold at {kmh(folds[-1].speed):.2f} km/h)")
         notes += _special_notes(f"{label}: ", diagram, "bar", BAR)
         notes += _incomplete_notes(f"{label}: ", diagram)
         complete &= diagram.complete
@@ -104,9 +105,9 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
                              f"zoom lie on no zoom curve")
             _draw_curves(zax, zd, BAR, colour, label=label)
             for f in _located(zd, PointKind.HOPF_FOLD):
-                zax.plot(f.speed * 3.6, f.value / BAR, "o", color=colour, ms=4, mfc="white")
+                zax.plot(kmh(f.speed), f.value / BAR, "o", color=colour, ms=4, mfc="white")
             for s in _located(zd, PointKind.HOPF_HOPF):
-                zax.plot(s.speed * 3.6, s.value / BAR, "s", color=colour, ms=4, mfc="white")
+                zax.plot(kmh(s.speed), s.value / BAR, "s", color=colour, ms=4, mfc="white")
             complete &= zd.complete
             notes += _incomplete_notes(f"{label} zoom: ", zd)
             if (plo, phi, vlo, vhi) == Z2:

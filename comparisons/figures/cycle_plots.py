@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from comparisons.axles.units import BAR, kmh
 from comparisons.figures.plots import place_labels, save_figure, stability_grid
 from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram
 from reduced_model.bifurcation.special_points import PointKind
@@ -52,26 +53,26 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
         # Straight running on the axis: solid where stable, dashed where not.
         for flag, style in ((False, "-"), (True, "--")):
             y = np.where(unstable == flag, 0.0, np.nan)
-            ax.plot(speeds * 3.6, y, style, color="0.4", lw=1.2)
+            ax.plot(kmh(speeds), y, style, color="0.4", lw=1.2)
         for branch in diagram.branches:
             for stable, pts in _stability_runs(branch):
-                v = [p.speed * 3.6 for p in pts]
+                v = [kmh(p.speed) for p in pts]
                 a = [np.degrees(p.max_abs(name)) for p in pts]
                 if branch.start is not None and pts[0] is branch.points[0]:
-                    v, a = [branch.start.speed_kmh] + v, [0.0] + a
+                    v, a = [kmh(branch.start.speed)] + v, [0.0] + a
                 if branch.end is not None and pts[-1] is branch.points[-1]:
-                    v, a = v + [branch.end.speed_kmh], a + [0.0]
+                    v, a = v + [kmh(branch.end.speed)], a + [0.0]
                 ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
         items = []
         for text, h in hopf_labels:
-            ax.plot(h.speed_kmh, 0.0, "o", color="C0", ms=5, zorder=5)
-            items.append((h.speed_kmh, 0.0, text, "C0"))
+            ax.plot(kmh(h.speed), 0.0, "o", color="C0", ms=5, zorder=5)
+            items.append((kmh(h.speed), 0.0, text, "C0"))
         for text, p in labels:
             amp = np.degrees(p.data["amplitude"][STATE_NAMES.index(name)])
             marker = LABELS.get(p.kind, ("", "x"))[1]
-            ax.plot(p.speed * 3.6, amp, marker, color="C3", ms=6, mfc="none")
-            items.append((p.speed * 3.6, amp, text, "C3"))
-        ax.set_xlim(diagram.vmin * 3.6, diagram.vmax * 3.6)
+            ax.plot(kmh(p.speed), amp, marker, color="C3", ms=6, mfc="none")
+            items.append((kmh(p.speed), amp, text, "C3"))
+        ax.set_xlim(kmh(diagram.vmin), kmh(diagram.vmax))
         ax.set_ylabel(ylabel)
         top = max(ax.get_ylim()[1], 1e-3)
         ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
@@ -84,7 +85,7 @@ def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, ti
     axes = fig.subplots(2, 1, sharex=True)
     draw_cycle_diagram(axes, diagram, family)
     effects = ",".join(family.model.effects.names) or "section 3 model"
-    axes[0].set_title(title or f"Limit cycles at {diagram.value / 1e5:g} bar ({effects}); "
+    axes[0].set_title(title or f"Limit cycles at {diagram.value / BAR:g} bar ({effects}); "
                                f"solid stable, dashed unstable", fontsize=10)
     save_figure(fig, path)
 
@@ -100,10 +101,10 @@ def plot_trajectory(trajectory: Trajectory, history: ModeHistory, path: str, tit
             ax.axvline(s.time, color="C3", lw=1.0, ls=":")
         if not np.allclose(trajectory.speed, trajectory.speed[0]):
             twin = ax.twinx()
-            twin.plot(trajectory.t, trajectory.speed * 3.6, color="C0", lw=1.0)
+            twin.plot(trajectory.t, kmh(trajectory.speed), color="C0", lw=1.0)
             twin.set_ylabel("speed [km/h]", color="C0")
     for s in history.switches:
-        axes[0].annotate(f"{s.before.value} -> {s.after.value}\n{s.speed * 3.6:.1f} km/h", (s.time, 1.0),
+        axes[0].annotate(f"{s.before.value} -> {s.after.value}\n{kmh(s.speed):.1f} km/h", (s.time, 1.0),
                          xycoords=("data", "axes fraction"), textcoords="offset points", xytext=(3, -22),
                          fontsize=8, color="C3")
     axes[-1].set_xlabel("time [s]")
@@ -146,13 +147,13 @@ def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, titl
         if curve is None or len(curve.speeds) == 0:
             continue
         style, color = CURVE_STYLES.get(curve.kind, ("--", "C4"))
-        ax.plot(curve.speeds * 3.6, curve.values / factor, style, color=color, lw=1.6)
+        ax.plot(kmh(curve.speeds), curve.values / factor, style, color=color, lw=1.6)
         k = len(curve.speeds) // 2
-        ax.annotate(label, (curve.speeds[k] * 3.6, curve.values[k] / factor), textcoords="offset points",
+        ax.annotate(label, (kmh(curve.speeds[k]), curve.values[k] / factor), textcoords="offset points",
                     xytext=(4, -10), fontsize=8, color=color)
         for end in curve.ends:
             if end is not None:
-                ax.plot(end[0] * 3.6, end[1] / factor, "*", color=color, ms=8)
+                ax.plot(kmh(end[0]), end[1] / factor, "*", color=color, ms=8)
     ax.set_title(title or f"cycle folds (S, dash-dot) and torus points (T, dotted) in (V, {family.param} "
                           f"[{unit}])", fontsize=10)
     save_figure(fig, path)
@@ -174,8 +175,8 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
         if not good:
             continue
         v, a, b = (np.array(c) for c in zip(*good))
-        axes[0].plot(v * 3.6, np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
-        axes[1].plot(v * 3.6, np.degrees(b), marker, color=color, mfc="none", ms=6)
+        axes[0].plot(kmh(v), np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
+        axes[1].plot(kmh(v), np.degrees(b), marker, color=color, mfc="none", ms=6)
     axes[0].legend(fontsize=8, loc="upper right")
-    axes[0].set_title(title or f"Limit cycles at {diagram.value / 1e5:g} bar", fontsize=10)
+    axes[0].set_title(title or f"Limit cycles at {diagram.value / BAR:g} bar", fontsize=10)
     save_figure(fig, path)

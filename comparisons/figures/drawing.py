@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from comparisons.axles.axle import interface_text
+from comparisons.axles.units import KMH, kmh
 from comparisons.figures.plots import stability_grid
-from comparisons.figures.registry import KMH, MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
+from comparisons.figures.registry import MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.bifurcation.equilibria.hopf_curves import HopfCurve, HopfDiagram
 from reduced_model.bifurcation.special_points import PointKind, PointStatus
@@ -22,17 +23,17 @@ def _shade_stable(ax, family: SpeedFamily, diagram: HopfDiagram, factor: float, 
     speeds = np.linspace(diagram.vmin, diagram.vmax, 201)
     values = np.linspace(diagram.lo, diagram.hi, 121)
     stable = (stability_grid(family, speeds, values) == 0).astype(float)
-    ax.contourf(speeds * 3.6, values / factor, stable, levels=[0.5, 1.5], colors=[colour], alpha=alpha)
+    ax.contourf(kmh(speeds), values / factor, stable, levels=[0.5, 1.5], colors=[colour], alpha=alpha)
 
 
 def _draw_curves(ax, diagram: HopfDiagram, factor: float, colour, label=None, lw=1.4) -> None:
     for i, c in enumerate(diagram.curves):
-        ax.plot(c.speeds * 3.6, c.values / factor, "-", color=colour, lw=lw, label=label if i == 0 else None)
+        ax.plot(kmh(c.speeds), c.values / factor, "-", color=colour, lw=lw, label=label if i == 0 else None)
 
 
 def _located(diagram: HopfDiagram, kind: PointKind) -> list:
     return sorted((p for p in diagram.points_of(kind) if p.status is PointStatus.LOCATED
-                   and p.speed * 3.6 >= MIN_LABEL_SPEED_KMH), key=lambda p: p.value)
+                   and kmh(p.speed) >= MIN_LABEL_SPEED_KMH), key=lambda p: p.value)
 
 
 def _curve_of(diagram: HopfDiagram, point) -> HopfCurve:
@@ -53,7 +54,7 @@ def _fold_is_maximum(diagram: HopfDiagram, point) -> bool:
 
 def _mark(ax, point, factor, text, colour="k", offset=(5, 5), marker="o", text_at=None) -> None:
     """Mark a special point; the label sits ``offset`` points away, or at data position ``text_at`` with an arrow."""
-    x, y = point.speed * 3.6, point.value / factor
+    x, y = kmh(point.speed), point.value / factor
     ax.plot(x, y, marker, color=colour, ms=5, mfc="white", mew=1.3, zorder=5)
     if text:
         where = dict(xytext=text_at, textcoords="data", arrowprops=dict(arrowstyle="-", color=colour, lw=0.7)) \
@@ -67,14 +68,14 @@ def _label_hopf_points(ax, family: SpeedFamily, q: float, factor: float, vmax_km
     """Label the Hopf points on the line q = const as HB1, HB2, ... by speed (the paper's naming)."""
     points = hopf_points(family, q, 0.0, vmax_kmh * KMH, lyapunov=False)
     for i, h in enumerate(points, 1):
-        ax.plot(h.speed * 3.6, q / factor, ".", color=colour, ms=6)
-        ax.annotate(f"HB{i}", (h.speed * 3.6, q / factor), textcoords="offset points", xytext=offset, fontsize=8,
+        ax.plot(kmh(h.speed), q / factor, ".", color=colour, ms=6)
+        ax.annotate(f"HB{i}", (kmh(h.speed), q / factor), textcoords="offset points", xytext=offset, fontsize=8,
                     color=colour)
     return list(points)
 
 
 def _point_note(name: str, p, unit: str, factor: float, fmt: str = ".4g") -> str:
-    return f"{name}: {p.speed * 3.6:.2f} km/h, {p.value / factor:{fmt}} {unit}"
+    return f"{name}: {kmh(p.speed):.2f} km/h, {p.value / factor:{fmt}} {unit}"
 
 
 def _special_notes(prefix: str, diagram: HopfDiagram, unit: str, factor: float) -> list[str]:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from comparisons.axles.units import BAR, kmh
 from comparisons.figures.drawing import (
     SPECIAL_MARKERS,
     _curve_of,
@@ -24,7 +25,6 @@ from comparisons.figures.drawing import (
 )
 from comparisons.figures.plots import stability_grid
 from comparisons.figures.registry import (
-    BAR,
     FOUR_PRESSURES_BAR,
     K5_PRESSURES_BAR,
     P_I0_BAR,
@@ -58,10 +58,10 @@ def draw_pressure_curves(store: DiagramStore) -> Drawing:
     notes = []
     if folds:
         f1 = folds[-1]   # the highest-pressure fold: where the last (yaw) mode vanishes
-        _mark(ax, f1, BAR, f"F1 ({f1.speed * 3.6:.1f} km/h, {f1.value / BAR:.3f} bar)", offset=(6, 4))
+        _mark(ax, f1, BAR, f"F1 ({kmh(f1.speed):.1f} km/h, {f1.value / BAR:.3f} bar)", offset=(6, 4))
         notes.append(_point_note("F1 (yaw mode vanishes)", f1, "bar", BAR))
         for f in folds[:-1]:
-            _mark(ax, f, BAR, f"tramp-mode fold\n({f.speed * 3.6:.1f} km/h, {f.value / BAR:.3f} bar)",
+            _mark(ax, f, BAR, f"tramp-mode fold\n({kmh(f.speed):.1f} km/h, {f.value / BAR:.3f} bar)",
                   offset=(-40, 8))
             notes.append(_point_note("tramp-mode fold (tramp mode vanishes)", f, "bar", BAR))
     ax.text(70, 1.0, "yaw\nmode", ha="center", fontsize=9)
@@ -105,7 +105,7 @@ def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float,
             _draw_curves(panel, diagram, 1.0, colour, label=_pressure_label(p) if panel is ax else None)
             for kind, marker, _ in SPECIAL_MARKERS:
                 for s in _located(diagram, kind):
-                    panel.plot(s.speed * 3.6, s.value, marker, color=colour, ms=4, mfc="white", zorder=4)
+                    panel.plot(kmh(s.speed), s.value, marker, color=colour, ms=4, mfc="white", zorder=4)
         notes += _special_notes(f"{p:g} bar: ", diagram, unit, 1.0)
         notes += _incomplete_notes(f"{p:g} bar: ", diagram)
         complete &= diagram.complete
@@ -115,7 +115,7 @@ def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float,
     n = len(pressures)
     greys = [str(0.97 - 0.06 * k) for k in range(n)]
     for panel in panels:
-        panel.contourf(speeds * 3.6, values, stable_count, levels=np.arange(0.5, n + 1), zorder=0, colors=greys)
+        panel.contourf(kmh(speeds), values, stable_count, levels=np.arange(0.5, n + 1), zorder=0, colors=greys)
         panel.axhline(getattr(YANG2024, param), color="0.4", lw=0.7, ls=":")
     _speed_axis(ax)
     ax.set_ylim(lo, hi)

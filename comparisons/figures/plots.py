@@ -7,6 +7,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from comparisons.axles.axle import interface_unit
+from comparisons.axles.units import kmh
 from comparisons.files import atomic_path
 from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram
 from reduced_model.bifurcation.special_points import PointKind
@@ -39,15 +40,15 @@ def draw_hopf_diagram(ax, diagram: HopfDiagram, family: SpeedFamily, color="k", 
         speeds = np.linspace(diagram.vmin, diagram.vmax, 161)
         values = np.linspace(diagram.lo, diagram.hi, 121)
         stable = stability_grid(family, speeds, values) == 0
-        ax.contourf(speeds * 3.6, values / factor, stable.astype(float), levels=[0.5, 1.5], colors=["0.85"])
+        ax.contourf(kmh(speeds), values / factor, stable.astype(float), levels=[0.5, 1.5], colors=["0.85"])
     for i, c in enumerate(diagram.curves):
-        ax.plot(c.speeds * 3.6, c.values / factor, "-", color=color, lw=1.4, label=label if i == 0 else None)
+        ax.plot(kmh(c.speeds), c.values / factor, "-", color=color, lw=1.4, label=label if i == 0 else None)
     for s in diagram.special_points:
         marker, text = MARKERS.get(s.kind, ("x", s.kind.value))
-        ax.plot(s.speed * 3.6, s.value / factor, marker, color="C3", ms=5)
-        ax.annotate(text, (s.speed * 3.6, s.value / factor), textcoords="offset points", xytext=(4, 4),
+        ax.plot(kmh(s.speed), s.value / factor, marker, color="C3", ms=5)
+        ax.annotate(text, (kmh(s.speed), s.value / factor), textcoords="offset points", xytext=(4, 4),
                     fontsize=8, color="C3")
-    ax.set_xlim(diagram.vmin * 3.6, diagram.vmax * 3.6)
+    ax.set_xlim(kmh(diagram.vmin), kmh(diagram.vmax))
     ax.set_ylim(diagram.lo / factor, diagram.hi / factor)
     ax.set_xlabel("speed V [km/h]")
     ax.set_ylabel(f"{diagram.param} [{unit}]")

@@ -8,6 +8,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable
 
+from comparisons.axles.units import BAR, KMH
 from comparisons.figures.plots import save_figure
 from comparisons.files import interrupts_blocked, worker_signals
 from reduced_model.bifurcation.cycles.branches import cycle_diagram
@@ -17,8 +18,6 @@ from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import YANG2024
 
-BAR = 1e5
-KMH = 1.0 / 3.6
 P_I0_BAR = YANG2024.pi0 / BAR
 VMAX_KMH = 400.0                            # speed window of every (V, q) figure
 FOUR_PRESSURES_BAR = (1.5, 2.0, 2.5, 3.0)   # 0.6, 0.8, 1.0, 1.2 p_i0 (figures 6, 7, 13)

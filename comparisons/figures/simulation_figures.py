@@ -7,9 +7,10 @@ from matplotlib.figure import Figure
 
 from comparisons.axles import paper_reference as paper
 from comparisons.axles.axle import interface_text
+from comparisons.axles.units import BAR, KMH, kmh
 from comparisons.figures.cycle_figures import _trail_key
 from comparisons.figures.cycle_plots import special_point_labels
-from comparisons.figures.registry import BAR, KMH, DiagramStore, Drawing, register, store_cycles
+from comparisons.figures.registry import DiagramStore, Drawing, register, store_cycles
 from reduced_model.bifurcation.cycles.branches import cycle_at
 from reduced_model.bifurcation.special_points import ConvergenceError
 from reduced_model.modes import ModeClassifier, ModeHistory
@@ -24,7 +25,7 @@ RAMP_DOWN_KMH = (200.0, 120.0, 80.0, 80.0)
 
 def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tuple[str, float], title: str) -> list:
     name, v_cross = crossing
-    speed_kmh = tr.speed * 3.6
+    speed_kmh = kmh(tr.speed)
     k = int(np.argmin(np.abs(speed_kmh - v_cross)))
     notes = []
     for ax, (state, label) in zip(axes, (("theta1", r"$\theta_1$ [deg]"), ("psi", r"$\psi$ [deg]"))):
@@ -39,11 +40,11 @@ def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tup
     top.annotate(f"{name} {v_cross:.2f} km/h", (tr.t[k], 0.02), xycoords=("data", "axes fraction"),
                  textcoords="offset points", xytext=(-3, 0), ha="right", fontsize=8, color="0.3")
     for s in history.switches:
-        top.annotate(f"{s.before.value} → {s.after.value}\n{s.speed * 3.6:.2f} km/h", (s.time, 0.97),
+        top.annotate(f"{s.before.value} → {s.after.value}\n{kmh(s.speed):.2f} km/h", (s.time, 0.97),
                      xycoords=("data", "axes fraction"), textcoords="offset points", xytext=(3, -24), fontsize=8,
                      color="C3", zorder=6, bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85))
         notes.append(f"{title[:3]} switch {s.before.value} -> {s.after.value} at t = {s.time:.2f} s, "
-                     f"{s.speed * 3.6:.2f} km/h ({name} = {v_cross:.2f} km/h)")
+                     f"{kmh(s.speed):.2f} km/h ({name} = {v_cross:.2f} km/h)")
     if not history.switches:
         notes.append(f"{title[:3]} no mode switch detected (initial mode {history.initial.value})")
     twin = top.twinx()
@@ -53,7 +54,7 @@ def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tup
     top.set_title(title, fontsize=10)
     axes[-1].set_xlabel("time [s]")
     if not tr.complete:
-        notes.append(f"{title[:3]} INCOMPLETE simulation: {tr.message}")
+        notes.append(f"{title[:3]} INCOMPLETE simulation: {interface_text(tr.message)}")
     return notes
 
 
@@ -61,7 +62,7 @@ def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tup
 def draw_mode_changes(store: DiagramStore) -> Drawing:
     family, diagram = store_cycles(store, _trail_key(0.25))
     labels = dict(special_point_labels(diagram))
-    s1, t2 = labels["S1"].speed * 3.6, labels["T2"].speed * 3.6
+    s1, t2 = kmh(labels["S1"].speed), kmh(labels["T2"].speed)
     model = family.model
     fig = Figure(figsize=(12.0, 6.0))
     axes = fig.subplots(2, 2, sharex="col")

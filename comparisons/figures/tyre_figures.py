@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from comparisons.axles.units import BAR
 from comparisons.figures.drawing import _pressure_label
 from comparisons.figures.registry import (
-    BAR,
     P_I0_BAR,
     PRESSURE_COLOURS,
     SLIP_PRESSURES_BAR,

@@ -14,6 +14,7 @@ import os
 
 import numpy as np
 
+from comparisons.axles.units import kmh
 from comparisons.files import atomic_path
 from comparisons.recordings.layout import STATE_LEAVES, STATE_UNIT_LABELS
 from comparisons.recordings.writer import mode_label
@@ -45,7 +46,7 @@ def series_table(trajectory: Trajectory, segments, inputs: dict | None = None):
     """The run as a pyarrow Table (module docstring)."""
     import pyarrow as pa
     columns = {"time_s": np.asarray(trajectory.t, dtype=float),
-               "speed_kmh": np.asarray(trajectory.speed, dtype=float) * 3.6}
+               "speed_kmh": kmh(np.asarray(trajectory.speed, dtype=float))}
     for k, name in enumerate(STATE_NAMES):
         columns[STATE_LEAVES[name]] = np.degrees(trajectory.x[:, k])
     columns["mode"] = mode_per_sample(trajectory.t, segments)

@@ -37,6 +37,8 @@ from typing import Sequence
 
 import numpy as np
 
+from comparisons.axles.axle import interface_text
+from comparisons.axles.units import kmh
 from comparisons.files import atomic_path, run_writer
 from comparisons.recordings.decimation import envelope_indices, uniform_indices
 from comparisons.recordings.layout import (
@@ -174,7 +176,7 @@ class _Run:
                for k, (name, unit) in enumerate(zip(STATE_NAMES, STATE_UNITS))}
         forces = self.poses.lateral_forces()
         out.update({self.paths.force(side): forces[:, k] for k, side in enumerate(SIDES)})
-        out[self.paths.speed] = np.asarray(tr.speed, dtype=float) * 3.6
+        out[self.paths.speed] = kmh(np.asarray(tr.speed, dtype=float))
         return out
 
 
@@ -319,9 +321,9 @@ def info_text(runs: list[_Run], title: str) -> str:
     lines = [f"# {title or 'shimmy simulation'}", ""]
     for run in runs:
         tr = run.trajectory
-        status = tr.status.value + (f" ({tr.message})" if tr.message else "")
+        status = tr.status.value + (f" ({interface_text(tr.message)})" if tr.message else "")
         lines += [f"**{run.title}**: integrator {tr.integrator}; status {status}; {len(tr.t)} samples, "
-                  f"{tr.t[0]:g}-{tr.t[-1]:g} s; speed {np.min(tr.speed) * 3.6:.1f}-{np.max(tr.speed) * 3.6:.1f} "
+                  f"{tr.t[0]:g}-{tr.t[-1]:g} s; speed {kmh(np.min(tr.speed)):.1f}-{kmh(np.max(tr.speed)):.1f} "
                   f"km/h.", ""]
     lines += [
         "* **Plots**: angles in degrees, rates in degrees per second, forces in N, speed in km/h, against "
@@ -441,7 +443,7 @@ def _log_modes(rec, run: _Run) -> None:
     levels = ["INFO"] * len(events)
     if not trajectory.complete:
         texts.append(f"simulation ended early: {trajectory.status.value}"
-                     + (f": {trajectory.message}" if trajectory.message else ""))
+                     + (f": {interface_text(trajectory.message)}" if trajectory.message else ""))
         times.append(float(trajectory.t[-1]))
         levels.append("WARN")
     if texts:

@@ -280,9 +280,7 @@ def draw_tornado(ax, sens: Sensitivity) -> None:
 
 def write_plot(path: str, table: pa.Table, design: Design, task: SweepTask, output: OutputChoice,
                sens: Sensitivity) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from comparisons.files import atomic_path
     panels = []
@@ -294,7 +292,8 @@ def write_plot(path: str, table: pa.Table, design: Design, task: SweepTask, outp
         panels.append("tornado")
     if not panels:
         raise UsageError("--plot: nothing to draw (no Hopf points computed and no sensitivity)")
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.6 * len(panels), 4.6), squeeze=False)
+    fig = Figure(figsize=(5.6 * len(panels), 4.6))
+    axes = fig.subplots(1, len(panels), squeeze=False)
     for ax, what in zip(axes[0], panels):
         if what == "map":
             draw_stability_map(ax, table, design, task)
@@ -306,4 +305,3 @@ def write_plot(path: str, table: pa.Table, design: Design, task: SweepTask, outp
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)

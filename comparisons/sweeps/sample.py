@@ -18,8 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 import pyarrow as pa
 
-from comparisons.axles.axle import Axle, entry
-from comparisons.axles.units import BAR, KMH
+from comparisons.assumption_shifts import mbs_kmh, shift_kmh
+from comparisons.axles.axle import Axle, entry, interface_text
+from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
 
 COMPUTE = ("hopf", "assumptions", "cycles")
@@ -153,14 +154,14 @@ class SweepTask:
                     if self.lyapunov:
                         row[f"mbs_{_column_safe(f)}_hopf_l1"] = [h.first_lyapunov for h in mp]
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
-                    shifts = {m.reduced_kmh: m.shift_kmh for m in mbs_shimmy.match_hopf(points, mp)}
-                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed_kmh) for h in points]
+                    shifts = {m.reduced_speed: shift_kmh(m) for m in mbs_shimmy.match_hopf(points, mp)}
+                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed) for h in points]
         if "assumptions" in self.compute:
             from mbs_shimmy import assumption_study
             study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
             for r in study.rows:
-                row[f"shift_{r.assumption}_kmh"] = [h.shift_kmh for h in r.hopf if h.reduced_kmh is not None]
-                row[f"only_{r.assumption}_kmh"] = [h.mbs_kmh for h in r.hopf if h.reduced_kmh is None]
+                row[f"shift_{r.assumption}_kmh"] = [shift_kmh(h) for h in r.hopf if h.reduced_speed is not None]
+                row[f"only_{r.assumption}_kmh"] = [mbs_kmh(h) for h in r.hopf if h.reduced_speed is None]
         if "cycles" in self.compute:
             row.update(_cycle_columns(family, vmax))
         return row
@@ -168,8 +169,8 @@ class SweepTask:
 
 def _hopf_columns(prefix: str, points) -> dict:
     modes = [mode_of(abs(h.eigenvector[4]) / abs(h.eigenvector[0]), h.frequency_hz) for h in points]
-    out = {f"{prefix}hopf_kmh": [h.speed_kmh for h in points], f"{prefix}hopf_hz": [h.frequency_hz for h in points],
-           f"{prefix}hopf_mode": modes, f"{prefix}onset_kmh": points[0].speed_kmh if points else None}
+    out = {f"{prefix}hopf_kmh": [kmh(h.speed) for h in points], f"{prefix}hopf_hz": [h.frequency_hz for h in points],
+           f"{prefix}hopf_mode": modes, f"{prefix}onset_kmh": kmh(points[0].speed) if points else None}
     if not prefix:
         out["n_hopf"] = len(points)
     return out
@@ -202,7 +203,7 @@ def _cycle_columns(family, vmax: float) -> dict:
         p = b.peak("theta1")
         t1, psi = p.max_abs("theta1"), p.max_abs("psi")
         modes.append(mode_of(psi / t1 if t1 > 0 else math.nan, p.frequency_hz))
-        speeds.append(p.speed_kmh)
+        speeds.append(kmh(p.speed))
         th.append(math.degrees(t1))
         ps.append(math.degrees(psi))
     peak = {m: max((t for t, mm in zip(th, modes) if mm == m), default=None) for m in ("yaw", "tramp")}
@@ -220,6 +221,6 @@ def evaluate_batch(task: SweepTask, batch: int, start: int, values: np.ndarray) 
             row.update(task.evaluate(v))
             row["status"] = "ok"
         except Exception as exc:  # recorded in the row: one bad sample never loses its batch
-            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {exc}"
+            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {interface_text(str(exc))}"
         rows.append(row)
     return pa.Table.from_pylist(rows, schema=task.schema())

@@ -16,6 +16,7 @@ import numpy as np
 
 from comparisons.axles.axle import interface_text
 from comparisons.axles.paper_reference import FIG9A, KNOWN_DIFFERENCES
+from comparisons.axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context, agrees_to_printed_digits, mbs_package, shimmy_cases
 from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row, Section
@@ -79,16 +80,16 @@ def cycles_section(ctx: Context) -> Section:
     for case, family, diagram in diagrams:
         overlay = {"reduced": [], "full": []}
         for b, branch in enumerate(diagram.branches, 1):
-            where = f"from HB at {branch.start.speed_kmh:.2f} km/h"
+            where = f"from HB at {kmh(branch.start.speed):.2f} km/h"
             for s in sorted(branch.special_points, key=lambda s: s.speed):
-                rows.append(Row({"case": case.label, "branch": where, "speed_kmh": s.speed * 3.6,
+                rows.append(Row({"case": case.label, "branch": where, "speed_kmh": kmh(s.speed),
                                  "point": s.kind.value, "continuation_theta1_deg": math.degrees(s.data["amplitude"][0])},
                                 CheckStatus.INFO, f"{s.kind.value} of the cycles ({s.status.value})"))
             if not branch.complete:
                 rows.append(Row({"case": case.label, "branch": where, "point": "branch"}, CheckStatus.FAIL,
                                 f"continuation stopped: {interface_text(branch.message)}"))
             for point in sample_stable(branch, per_branch):
-                ctx.progress(f"Limit cycles: MBS runs at {case.label}, {point.speed_kmh:.1f} km/h")
+                ctx.progress(f"Limit cycles: MBS runs at {case.label}, {kmh(point.speed):.1f} km/h")
                 check = cycle_amplitude_check(model, point, case.pressure, ctx.axle.dims, settle)
                 full_run = mbs.mbs_steady_amplitude(model.params, model.effects, mbs.Fidelity.parse("full"),
                                                     case.pressure, point.speed, point.orbit.nodes[0], settle=settle,
@@ -98,7 +99,7 @@ def cycles_section(ctx: Context) -> Section:
                 overlay["full"].append((point.speed, full_run.theta1, full_run.psi))
                 red, rel = check.mbs.theta1, check.relative_diff
                 rows.append(Row({"case": case.label, "branch": where, "point": "stable cycle",
-                                 "speed_kmh": point.speed_kmh, "continuation_theta1_deg": math.degrees(check.reference),
+                                 "speed_kmh": kmh(point.speed), "continuation_theta1_deg": math.degrees(check.reference),
                                  "mbs_reduced_theta1_deg": math.degrees(red) if math.isfinite(red) else None,
                                  "relative_diff": rel if math.isfinite(rel) else None,
                                  "mbs_full_theta1_deg": math.degrees(full) if math.isfinite(full) else None},
@@ -129,7 +130,7 @@ def _bistable_diagram(case: BistableCase):
     if case.value_diagram is not None:
         return case.value_diagram
     family = SpeedFamily(ShimmyModel(params=case.axle.params))
-    return cycle_diagram(family, case.pressure_bar * 1e5, 0.0, VMAX)
+    return cycle_diagram(family, case.pressure_bar * BAR, 0.0, VMAX)
 
 
 def window_points(diagram) -> dict:
@@ -137,8 +138,8 @@ def window_points(diagram) -> dict:
     speed) and T1.. (torus points), as the paper names them in figure 9a."""
     folds = sorted(diagram.points_of(PointKind.CYCLE_FOLD), key=lambda s: -s.speed)
     tori = sorted(diagram.points_of(PointKind.TORUS), key=lambda s: -s.speed)
-    named = {f"S{i}": s.speed * 3.6 for i, s in enumerate(folds, 1)}
-    named.update({f"T{i}": s.speed * 3.6 for i, s in enumerate(tori, 1)})
+    named = {f"S{i}": kmh(s.speed) for i, s in enumerate(folds, 1)}
+    named.update({f"T{i}": kmh(s.speed) for i, s in enumerate(tori, 1)})
     return named
 
 
@@ -193,8 +194,8 @@ def _run_both(case: BistableCase, schedule, x0, duration: float):
     from reduced_model.simulation import simulate
     mbs = mbs_package()
     model = ShimmyModel(params=case.axle.params)
-    reduced = simulate(model, case.pressure_bar * 1e5, schedule, duration, x0)
-    multibody = mbs.simulate(model.params, model.effects, mbs.Fidelity.reduced(), case.pressure_bar * 1e5, schedule,
+    reduced = simulate(model, case.pressure_bar * BAR, schedule, duration, x0)
+    multibody = mbs.simulate(model.params, model.effects, mbs.Fidelity.reduced(), case.pressure_bar * BAR, schedule,
                              x0, duration, dims=case.axle.dims, poses=True)
     return reduced, multibody
 
@@ -205,7 +206,7 @@ def _record(ctx: Context, name: str, trajectory, history, title: str, case: Bist
     from comparisons.recordings.writer import write_recording
     path = os.path.join(ctx.out, name)
     write_recording(path, trajectory, history.segments(), history.switches, title=title,
-                    model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * 1e5)
+                    model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * BAR)
     return name
 
 
@@ -215,14 +216,14 @@ def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase) 
         return []
     from comparisons.recordings.writer import ComparedRun, write_comparison
     write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches) for t, h in both],
-                     title, model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * 1e5)
+                     title, model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * BAR)
     return [name]
 
 
 def _experiment(title: str, both, marks: dict):
     from comparisons.verify.report_figures import Experiment, RunHistory
-    runs = [RunHistory(t.model, t.t, t.speed * 3.6, np.degrees(t.state("theta1")), np.degrees(t.state("psi")),
-                       [(s.time, s.speed * 3.6, f"{s.before.value} -> {s.after.value}") for s in h.switches])
+    runs = [RunHistory(t.model, t.t, kmh(t.speed), np.degrees(t.state("theta1")), np.degrees(t.state("psi")),
+                       [(s.time, kmh(s.speed), f"{s.before.value} -> {s.after.value}") for s in h.switches])
             for t, h in both]
     return Experiment(title, runs, marks)
 
@@ -270,7 +271,7 @@ def jump_setup(case: BistableCase, paper: bool) -> JumpSetup:
     else:   # the ends of the window are special points of the branches
         low, high = _snap(case.low_kmh, named.values()), _snap(case.high_kmh, named.values())
     mid = 0.5 * (low + high)
-    cycles = _stable_cycles_at(diagram, mid / 3.6)
+    cycles = _stable_cycles_at(diagram, from_kmh(mid))
     margin = max(20.0, 1.5 * (high - low))
     v_lo, v_hi = (120.0, 200.0) if paper else (max(1.0, low - margin), high + margin)
     # Which cycle lives below the window (its stable stretch reaches lower) and which above it; the classifier
@@ -310,7 +311,7 @@ def ramps(setup: JumpSetup, rate_kmh_s: float) -> tuple[Ramp, Ramp]:
     """Speed ramps up and down through the whole window, starting from a small disturbance of straight running."""
     from reduced_model.trajectory import SpeedSchedule
     ramp_time = (setup.v_hi - setup.v_lo) / rate_kmh_s
-    lo, hi = setup.v_lo / 3.6, setup.v_hi / 3.6
+    lo, hi = from_kmh(setup.v_lo), from_kmh(setup.v_hi)
     return (Ramp("ramp up", SpeedSchedule.ramp(lo, hi, ramp_time), ramp_time + 10.0, setup.below_mode,
                  setup.above_mode, setup.high),
             Ramp("ramp down", SpeedSchedule.ramp(hi, lo, ramp_time), ramp_time + 10.0, setup.above_mode,
@@ -325,7 +326,7 @@ def run_ramp(setup: JumpSetup, ramp: Ramp) -> tuple[dict, list]:
     for traj in _run_both(setup.case, ramp.schedule, initial_state(), ramp.duration):
         history = setup.classify(traj)
         jumps = [s for s in history.switches if s.before is ramp.before and s.after is ramp.after]
-        found[traj.model] = jumps[0].speed * 3.6 if jumps else None
+        found[traj.model] = kmh(jumps[0].speed) if jumps else None
         both.append((traj, history))
     return found, both
 
@@ -343,7 +344,7 @@ def run_start(setup: JumpSetup, speed_kmh: float, x0, duration: float) -> list:
     """Both models at constant speed from ``x0``: [(trajectory, mode history)]."""
     from reduced_model.trajectory import SpeedSchedule
     return [(traj, setup.classify(traj))
-            for traj in _run_both(setup.case, SpeedSchedule.constant(speed_kmh / 3.6), x0, duration)]
+            for traj in _run_both(setup.case, SpeedSchedule.constant(from_kmh(speed_kmh)), x0, duration)]
 
 
 def settled_apart(first, second) -> bool:

@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from comparisons.axles.units import BAR, KMH, kmh
 from comparisons.verify.context import EIGEN_SPEEDS_KMH, EIGEN_TOL, HOPF_TOL_KMH
 from comparisons.verify.cycles import AMPLITUDE_TOL, cycle_amplitude_check, sample_stable
 from comparisons.verify.plan import VMAX
@@ -189,11 +189,11 @@ def test_hopf_points_equal(axle, pressure):
     red_family, mbs_family = families(axle, pressure)
     red = hopf_points(red_family, red_family.nominal, 0.0, VMAX)
     mbs = hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX)
-    speeds = lambda pts: ", ".join(f"{h.speed_kmh:.2f}" for h in pts) or "none"   # noqa: E731
+    speeds = lambda pts: ", ".join(f"{kmh(h.speed):.2f}" for h in pts) or "none"   # noqa: E731
     assert len(mbs) == len(red), f"{label(pressure)}: reduced {speeds(red)} km/h, MBS {speeds(mbs)} km/h"
     for i, (h, r) in enumerate(zip(mbs, red), 1):
-        assert abs(h.speed_kmh - r.speed_kmh) < HOPF_TOL_KMH, \
-            f"HB{i} at {label(pressure)}: MBS {h.speed_kmh:.4f} km/h, reduced {r.speed_kmh:.4f} km/h"
+        assert abs(kmh(h.speed) - kmh(r.speed)) < HOPF_TOL_KMH, \
+            f"HB{i} at {label(pressure)}: MBS {kmh(h.speed):.4f} km/h, reduced {kmh(r.speed):.4f} km/h"
         assert abs(h.omega - r.omega) < FREQUENCY_TOL * r.omega, \
             f"HB{i} at {label(pressure)}: MBS {h.frequency_hz:.6f} Hz, reduced {r.frequency_hz:.6f} Hz"
         assert abs(h.first_lyapunov - r.first_lyapunov) <= LYAPUNOV_TOL * abs(r.first_lyapunov), \
@@ -258,7 +258,7 @@ def test_criticality(axle, pressure, quick, cycle_diagrams):
         stretch = first_stretch(branch, h)
         if not math.isfinite(h.first_lyapunov) or abs(h.speed - branch.start.speed) > 0.01 * KMH or not stretch:
             continue
-        where = f"HB at {h.speed_kmh:.2f} km/h, {label(pressure)}"
+        where = f"HB at {kmh(h.speed):.2f} km/h, {label(pressure)}"
         offset = stretch[-1].speed - h.speed
         # the side the cycles leave into, a little way off the Hopf point (0.5 km/h: well inside the crossing
         # pair's window, well beyond the accuracy of the branch's speeds)
@@ -274,7 +274,7 @@ def test_criticality(axle, pressure, quick, cycle_diagrams):
                 check = cycle_amplitude_check(model, target, pressure, axle.dims, settle,
                                               x0=0.5 * target.orbit.nodes[0])
                 assert check.ok, (f"{where}: MBS from half the cycle reached {math.degrees(check.mbs.theta1):.4f} "
-                                  f"deg, the stable cycle at {target.speed_kmh:.2f} km/h has "
+                                  f"deg, the stable cycle at {kmh(target.speed):.2f} km/h has "
                                   f"{math.degrees(check.reference):.4f} deg")
         else:
             cycle = stretch[-1]           # the unstable cycle farthest from the Hopf point before the fold
@@ -334,7 +334,7 @@ def test_limit_cycle_amplitude(axle, pressure, quick, cycle_diagrams):
     model = ShimmyModel(axle.params)
     for point in points[:1] if quick else points:
         check = cycle_amplitude_check(model, point, pressure, axle.dims, 6.0 if quick else 12.0)
-        assert check.ok, (f"{point.speed_kmh:.2f} km/h, {label(pressure)}: MBS {math.degrees(check.mbs.theta1):.4f} "
+        assert check.ok, (f"{kmh(point.speed):.2f} km/h, {label(pressure)}: MBS {math.degrees(check.mbs.theta1):.4f} "
                           f"deg against the continuation's {math.degrees(check.reference):.4f} deg "
                           f"(off by {check.relative_diff:.2%}, tolerance {AMPLITUDE_TOL:.1%})")
 

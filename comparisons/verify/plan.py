@@ -25,12 +25,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from comparisons.axles.axle import Axle
+from comparisons.axles.units import BAR, from_kmh, kmh
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import MIN_SPEED, SpeedFamily
 from reduced_model.model import STATE_NAMES, ShimmyModel
 from reduced_model.modes import ModeClassifier
 
-VMAX = 400 / 3.6
+VMAX = from_kmh(400)
 # |psi| / max|theta| of the critical eigenvector above which a window is the tramp mode: the split the simulation's
 # mode classifier uses for cycles, so that a planned mode and a simulated one carry the same name.
 TRAMP_SHARE = ModeClassifier().ratio_split
@@ -57,7 +58,7 @@ class Case:
     @property
     def pressure(self) -> float | tuple[float, float]:
         """Pa, one value when both tyres are alike."""
-        r, l = self.pressure_right_bar * 1e5, self.pressure_left_bar * 1e5
+        r, l = self.pressure_right_bar * BAR, self.pressure_left_bar * BAR
         return r if r == l else (r, l)
 
     @property
@@ -187,7 +188,7 @@ def bistable_windows(diagram) -> list[tuple[float, float]]:
     for j in range(len(segs)):
         for k in range(j + 1, len(segs)):
             lo, hi = max(segs[j][0], segs[k][0]), min(segs[j][1], segs[k][1])
-            if hi - lo > 0.5 / 3.6:
+            if hi - lo > from_kmh(0.5):
                 found.append((lo, hi))
     return found
 
@@ -206,7 +207,7 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
     grid = np.linspace(lo, hi, n_grid)
     scan = []
     for i, p in enumerate(grid):
-        windows, points = unstable_windows(family, p * 1e5, vmax)
+        windows, points = unstable_windows(family, p * BAR, vmax)
         scan.append((float(p), windows, points))
         if progress is not None:
             progress(f"plan: Hopf points at {p:.3g} bar ({i + 1}/{n_grid})")
@@ -228,7 +229,7 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
             continue
         (_, width), p, w = best
         same = next((c for c in cases if c.pressure_right_bar == p), None)
-        text = (f"{mode} mode widest here: unstable {w.low * 3.6:.1f}-{w.high * 3.6:.1f} km/h at "
+        text = (f"{mode} mode widest here: unstable {kmh(w.low):.1f}-{kmh(w.high):.1f} km/h at "
                 f"{w.frequency_hz:.1f} Hz" + ("" if w.closed else " (reaches the edge of the speed window)"))
         if same is not None:
             cases[cases.index(same)] = Case(p, p, CaseKind.MODE, same.reason + "; " + text)
@@ -238,8 +239,8 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
     # The shimmy-free boundary from the folds of the Hopf curves.
     if progress is not None:
         progress("plan: Hopf curves over the pressure window")
-    diagram = hopf_diagram(family, lo * 1e5, hi * 1e5, MIN_SPEED, vmax, n_seeds=5 if quick else 9)
-    folds = sorted(s.value / 1e5 for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD)
+    diagram = hopf_diagram(family, lo * BAR, hi * BAR, MIN_SPEED, vmax, n_seeds=5 if quick else 9)
+    folds = sorted(s.value / BAR for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD)
     shimmy_at_top = any(w for w in scan[-1][1])
     boundary = None
     if folds and not shimmy_at_top:
@@ -249,7 +250,7 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
         above = min(hi, boundary + EDGE_BAR)
         cases.append(Case(round(below, 4), round(below, 4), CaseKind.BELOW_BOUNDARY,
                           f"{EDGE_BAR:g} bar below the shimmy-free boundary at {boundary:.4f} bar (fold of the Hopf "
-                          f"curves at {fold.speed * 3.6:.1f} km/h): the last mode's narrow window"))
+                          f"curves at {kmh(fold.speed):.1f} km/h): the last mode's narrow window"))
         cases.append(Case(round(above, 4), round(above, 4), CaseKind.SHIMMY_FREE,
                           f"{EDGE_BAR:g} bar above the shimmy-free boundary: no Hopf point in either model"))
     elif shimmy_at_top:
@@ -257,8 +258,8 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
     else:
         notes.append("no fold of the Hopf curves in the pressure window")
     for s in diagram.special_points:
-        if s.kind is PointKind.HOPF_FOLD and (boundary is None or s.value / 1e5 != boundary):
-            notes.append(f"a mode is born or vanishes at {s.value / 1e5:.4f} bar, {s.speed * 3.6:.1f} km/h "
+        if s.kind is PointKind.HOPF_FOLD and (boundary is None or s.value / BAR != boundary):
+            notes.append(f"a mode is born or vanishes at {s.value / BAR:.4f} bar, {kmh(s.speed):.1f} km/h "
                          f"(fold of the Hopf curves)")
     if asymmetric is not None:
         cases.append(_asymmetric_case(*asymmetric))
@@ -270,7 +271,7 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
         if not windows:
             continue
         sub = sum(h.first_lyapunov > 0.0 for h in points)
-        if sub or _overlapping_pairs(family, p * 1e5, windows):
+        if sub or _overlapping_pairs(family, p * BAR, windows):
             scored.append((-sub, abs(p - 0.5 * (lo + hi)), p, windows, points))
     limit = 2 if quick else 4
     candidates = [(p, w, pts) for _, _, p, w, pts in sorted(scored, key=lambda s: s[:2])[:limit]]
@@ -278,16 +279,16 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
     for p, _, _ in candidates:
         if progress is not None:
             progress(f"plan: cycle branches at {p:.3g} bar (bistability)")
-        cd = cycle_diagram(family, p * 1e5, MIN_SPEED, vmax)
+        cd = cycle_diagram(family, p * BAR, MIN_SPEED, vmax)
         for a, b in bistable_windows(cd):
             if best is None or b - a > best[2] - best[1]:
                 best = (p, a, b, cd)
     bistable = ()
     if best is not None:
         p, a, b, cd = best
-        reason = (f"two stable cycles coexist at {a * 3.6:.1f}-{b * 3.6:.1f} km/h (widest such window found at the "
+        reason = (f"two stable cycles coexist at {kmh(a):.1f}-{kmh(b):.1f} km/h (widest such window found at the "
                   f"pressures where modes overlap or a Hopf point is subcritical)")
-        bistable = (BistableCase(axle, p, a * 3.6, b * 3.6, reason, cd),)
+        bistable = (BistableCase(axle, p, kmh(a), kmh(b), reason, cd),)
         if not any(c.pressure_right_bar == p == c.pressure_left_bar for c in cases):
             cases.append(Case(p, p, CaseKind.BISTABLE, reason))
     elif candidates:

@@ -207,12 +207,11 @@ def planned_pressures(ctx: Context) -> tuple[tuple[float, float], ...] | None:
 def plot_robustness(studies: list[PressureStudy], path: str) -> None:
     """Per case: the full geometry's Hopf speeds over the plausible axles (one dot per axle and point, by
     frequency) against the reduced model's (vertical lines)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from comparisons.files import atomic_path
-    fig, axes = plt.subplots(1, len(studies), figsize=(5.2 * len(studies), 3.8), squeeze=False)
+    fig = Figure(figsize=(5.2 * len(studies), 3.8))
+    axes = fig.subplots(1, len(studies), squeeze=False)
     for ax, s in zip(axes[0], studies):
         for speed, mode in s.reduced_points():
             ax.axvline(speed, color="tab:red" if mode == "tramp" else "tab:blue", lw=1.2, ls="--")
@@ -232,7 +231,6 @@ def plot_robustness(studies: list[PressureStudy], path: str) -> None:
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=100, format="png")
-    plt.close(fig)
 
 
 def robustness_section(ctx: Context) -> Section:

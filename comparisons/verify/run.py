@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Callable
 
-from comparisons.axles.axle import Axle
+from comparisons.axles.axle import Axle, interface_text
 from comparisons.verify.context import Context
 from comparisons.verify.plan import Plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section
@@ -54,8 +54,9 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
         try:
             sections.append(make(ctx))
         except Exception as exc:  # a failed sub-check is reported in the table, never swallowed
+            error = f"{type(exc).__name__}: {interface_text(str(exc))}"
             sections.append(Section(key=title.lower().replace(" ", "_"), title=title, columns=("error",),
-                                    rows=(Row({"error": f"{type(exc).__name__}: {exc}"}, CheckStatus.FAIL),),
+                                    rows=(Row({"error": error}, CheckStatus.FAIL),),
                                     text="This part of the verification could not be completed."))
         progress(f"done: {title}")
     return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle)

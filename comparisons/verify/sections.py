@@ -14,7 +14,9 @@ import os
 
 import numpy as np
 
+from comparisons import assumption_shifts as shifts
 from comparisons.axles.paper_reference import HOPF_SPEEDS_KMH, KNOWN_DIFFERENCES
+from comparisons.axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import (
     EIGEN_SPEEDS_KMH,
     EIGEN_TOL,
@@ -67,19 +69,19 @@ def paper_section(ctx: Context) -> Section:
     rows = []
     family = SpeedFamily(ShimmyModel(params=ctx.axle.params))
     for p, printed in HOPF_SPEEDS_KMH.items():
-        computed = hopf_points(family, p * 1e5, 0.0, VMAX)
+        computed = hopf_points(family, p * BAR, 0.0, VMAX)
         if not printed:
             ok = not computed
             rows.append(Row({"quantity": f"Hopf points at {p:g} bar", "paper": "none",
-                             "computed": "none" if ok else ", ".join(f"{h.speed_kmh:.2f}" for h in computed)},
+                             "computed": "none" if ok else ", ".join(f"{kmh(h.speed):.2f}" for h in computed)},
                             CheckStatus.PASS if ok else CheckStatus.FAIL,
                             "no shimmy at any speed, as in the paper" if ok else "the paper has none"))
             continue
         for i, ref in enumerate(printed):
             h = computed[i] if i < len(computed) else None
-            status, note = paper_status(f"hopf:{p}:HB{i + 1}", ref, h.speed_kmh if h else None)
+            status, note = paper_status(f"hopf:{p}:HB{i + 1}", ref, kmh(h.speed) if h else None)
             rows.append(Row({"quantity": f"HB{i + 1} at {p:g} bar (km/h)", "paper": ref,
-                             "computed": h.speed_kmh if h else None}, status, note))
+                             "computed": kmh(h.speed) if h else None}, status, note))
         if len(computed) != len(printed):
             rows.append(Row({"quantity": f"number of Hopf points at {p:g} bar", "paper": len(printed),
                              "computed": len(computed)}, CheckStatus.FAIL, "a different number of Hopf points"))
@@ -97,8 +99,8 @@ def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
     reduced = SpeedFamily(model, pressure=pressure)
     worst_rel = 0.0
     for v in EIGEN_SPEEDS_KMH:
-        a = np.sort_complex(np.linalg.eigvals(reduced.linear_matrix(v / 3.6, reduced.nominal)))
-        b = np.sort_complex(np.linalg.eigvals(family.linear_matrix(v / 3.6, family.nominal)))
+        a = np.sort_complex(np.linalg.eigvals(reduced.linear_matrix(from_kmh(v), reduced.nominal)))
+        b = np.sort_complex(np.linalg.eigvals(family.linear_matrix(from_kmh(v), family.nominal)))
         worst_rel = max(worst_rel, float(np.max(np.abs(a - b)) / np.max(np.abs(a))))
     return worst_rel
 
@@ -128,28 +130,30 @@ def hopf_section(ctx: Context) -> Section:
                             f"MBS (reduced fidelity) against the reduced model at "
                             f"{', '.join(f'{v:g}' for v in EIGEN_SPEEDS_KMH)} km/h (tolerance {EIGEN_TOL:g})"))
             if not reduced:
-                extra = [s for s in by_fidelity["reduced"] if s.reduced_kmh is None]
+                extra = [s for s in by_fidelity["reduced"] if s.reduced_speed is None]
                 ok = not extra
                 rows.append(Row({**base, "point": "none"}, CheckStatus.PASS if ok else CheckStatus.FAIL,
                                 "no Hopf point in the reduced model nor in the MBS (reduced fidelity)" if ok else
                                 "the MBS (reduced fidelity) has Hopf points the reduced model lacks"))
-            full_by_reduced = {s.reduced_kmh: s for s in by_fidelity["full"] if s.reduced_kmh is not None}
+            full_by_reduced = {s.reduced_speed: s for s in by_fidelity["full"] if s.reduced_speed is not None}
             for i, h in enumerate(reduced):
-                red = next((s for s in by_fidelity["reduced"] if s.reduced_kmh == h.speed_kmh), None)
-                full = full_by_reduced.get(h.speed_kmh)
-                ok = red is not None and red.mbs_kmh is not None and abs(red.mbs_kmh - h.speed_kmh) <= HOPF_TOL_KMH
-                _collect_hopf_speeds(speeds, label, case, h.speed_kmh, red, full)
-                rows.append(Row({**base, "point": f"HB{i + 1}", "reduced_kmh": h.speed_kmh,
-                                 "mbs_reduced_kmh": red.mbs_kmh if red else None,
-                                 "mbs_full_kmh": full.mbs_kmh if full else None,
-                                 "full_shift_kmh": full.shift_kmh if full else None,
+                red = next((s for s in by_fidelity["reduced"] if s.reduced_speed == h.speed), None)
+                full = full_by_reduced.get(h.speed)
+                red_kmh = shifts.mbs_kmh(red) if red else None
+                ok = red_kmh is not None and abs(red_kmh - kmh(h.speed)) <= HOPF_TOL_KMH
+                _collect_hopf_speeds(speeds, label, case, kmh(h.speed), red, full)
+                rows.append(Row({**base, "point": f"HB{i + 1}", "reduced_kmh": kmh(h.speed),
+                                 "mbs_reduced_kmh": red_kmh,
+                                 "mbs_full_kmh": shifts.mbs_kmh(full) if full else None,
+                                 "full_shift_kmh": shifts.shift_kmh(full) if full else None,
                                  "frequency_hz": h.frequency_hz,
                                  "criticality": h.criticality.value if h.criticality else None},
                                 CheckStatus.PASS if ok else CheckStatus.FAIL,
                                 "" if ok else f"MBS (reduced fidelity) differs by more than {HOPF_TOL_KMH} km/h"))
             for s in by_fidelity["full"]:
-                if s.reduced_kmh is None:
-                    rows.append(Row({**base, "point": "MBS full only", "mbs_full_kmh": s.mbs_kmh}, CheckStatus.INFO,
+                if s.reduced_speed is None:
+                    rows.append(Row({**base, "point": "MBS full only", "mbs_full_kmh": shifts.mbs_kmh(s)},
+                                    CheckStatus.INFO,
                                     "a Hopf point of the full geometry with no reduced-model partner"))
     figures = _hopf_figure(ctx, speeds)
     return Section(
@@ -169,8 +173,8 @@ def _collect_hopf_speeds(speeds: dict, label: str, case, reduced_kmh: float, red
     p = case.pressure_right_bar
     by_source = speeds.setdefault(label, {})
     by_source.setdefault("reduced", []).append((p, reduced_kmh))
-    by_source.setdefault("mbs_reduced", []).append((p, red.mbs_kmh if red else None))
-    by_source.setdefault("mbs_full", []).append((p, full.mbs_kmh if full else None))
+    by_source.setdefault("mbs_reduced", []).append((p, shifts.mbs_kmh(red) if red else None))
+    by_source.setdefault("mbs_full", []).append((p, shifts.mbs_kmh(full) if full else None))
 
 
 def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
@@ -199,11 +203,12 @@ def assumptions_section(ctx: Context) -> Section:
         study = mbs.assumption_study(model.params, model.effects, case.pressure, dims=ctx.axle.dims,
                                      cycles=not ctx.quick)
         for r in study.rows:
-            shifts = ", ".join("-" if h.shift_kmh is None else f"{h.shift_kmh:+.2f}" for h in r.hopf)
-            rows.append(Row({"case": case.label, "assumption_off": r.assumption, "hopf_shifts_kmh": shifts,
-                             "peak_theta1_shift_deg": r.peak_theta1_shift_deg}, CheckStatus.INFO))
-            tornado.append(AssumptionShift(case.pressure_right_bar, r.assumption, [h.shift_kmh for h in r.hopf],
-                                           r.peak_theta1_shift_deg))
+            hopf = [shifts.shift_kmh(h) for h in r.hopf]
+            text = ", ".join("-" if v is None else f"{v:+.2f}" for v in hopf)
+            peak = shifts.peak_theta1_shift_deg(r)
+            rows.append(Row({"case": case.label, "assumption_off": r.assumption, "hopf_shifts_kmh": text,
+                             "peak_theta1_shift_deg": peak}, CheckStatus.INFO))
+            tornado.append(AssumptionShift(case.pressure_right_bar, r.assumption, hopf, peak))
     figures = ()
     if tornado:
         plot_assumption_tornado(tornado, os.path.join(ctx.out, "assumptions.png"),

@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from test_cycles_toy import SHIFT, ToyFamily, W, first_hopf, supercritical
 
-from comparisons.axles.units import KMH
+from comparisons.axles.units import KMH, kmh
 from comparisons.cli.main import main
 from reduced_model.bifurcation.cycles import collocation as col
 from reduced_model.bifurcation.cycles import mesh_adaptation
@@ -108,7 +108,7 @@ def test_user_points_are_the_continuations_own_orbits(trail025):
         assert abs(u.period - pts[k].period) < 1e-8
         assert np.max(np.abs(u.multipliers - pts[k].multipliers)) < 1e-8
     # 183 km/h lies between T1 and S1 on the yaw branch (stable and unstable cycle) and on the tramp branch.
-    at183 = [[p for p in b.user_points if abs(p.speed_kmh - 183) < 1e-9] for b in d2.branches]
+    at183 = [[p for p in b.user_points if abs(kmh(p.speed) - 183) < 1e-9] for b in d2.branches]
     assert [len(a) for a in at183] == [2, 1]
     assert sorted(p.stable for p in at183[0]) == [False, True] and at183[1][0].stable
 
@@ -118,7 +118,7 @@ def test_max_step_makes_the_output_denser_and_moves_no_special_point(trail025):
     b = d.branches[1]                       # the tramp branch, with S2 and T2
     others = tuple(h for h in d.hopf if h is not b.start)
     for bd in [branch_from_hopf(family, b.start, 0.0, 400 * KMH, others=others, max_step=5 * KMH)]:
-        speeds = np.array([p.speed_kmh for p in bd.points])
+        speeds = np.array([kmh(p.speed) for p in bd.points])
         assert len(bd.points) > len(b.points) and np.max(np.abs(np.diff(speeds))) <= 5.0 + 1e-9
         for s in b.special_points:
             (t,) = [x for x in bd.special_points if x.kind is s.kind]
@@ -132,7 +132,7 @@ def test_hard_case_at_walking_pace_meets_its_tolerance():
     d = cycle_diagram(family, 0.25e5, 0.0, 400 * KMH)
     assert d.complete
     low = min((b.points[-1] for b in d.branches), key=lambda p: p.speed)
-    assert low.speed_kmh == pytest.approx(0.5, abs=1e-9) and low.meets_tolerance
+    assert kmh(low.speed) == pytest.approx(0.5, abs=1e-9) and low.meets_tolerance
     assert low.orbit.intervals > 40
     x0 = low.orbit.nodes[0]
     sol = solve_ivp(lambda t, x: family.rhs(x, low.speed, low.value), (0, low.period), x0, method="DOP853",
@@ -187,10 +187,10 @@ def test_orbits_near_a_hopf_end_follow_the_square_root_law():
     speeds = (70.45 * KMH, 70.49 * KMH, 70.5 * KMH)
     d = cycle_diagram(family, 2.5e5, 0.0, 400 * KMH, at=speeds)
     (b,) = d.branches
-    assert b.end.speed_kmh == pytest.approx(70.5006, abs=1e-4)
-    assert b.points[-1].speed_kmh < 70.45
-    at = {round(p.speed_kmh, 6): p for p in b.user_points}
+    assert kmh(b.end.speed) == pytest.approx(70.5006, abs=1e-4)
+    assert kmh(b.points[-1].speed) < 70.45
+    at = {round(kmh(p.speed), 6): p for p in b.user_points}
     assert set(at) == {70.45, 70.49, 70.5}
     amp2 = {v: p.max_abs("theta1") ** 2 for v, p in at.items()}
     ratio = amp2[70.49] / amp2[70.5]
-    assert ratio == pytest.approx((b.end.speed_kmh - 70.49) / (b.end.speed_kmh - 70.5), rel=0.02)
+    assert ratio == pytest.approx((kmh(b.end.speed) - 70.49) / (kmh(b.end.speed) - 70.5), rel=0.02)

@@ -5,7 +5,7 @@ continuation (:func:`reduced_model.bifurcation.equilibria.hopf_curves.hopf_diagr
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from reduced_model.bifurcation.cycles.branches import cycle_diagram
 from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
@@ -28,7 +28,7 @@ def test_figure8_tramp_curves_end_at_the_located_hopf_hopf_and_bautin_points():
         curve = cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax)
         (end,) = [p for p in curve.end_points if p is not None]
         assert end.kind is target.kind and end.status is PointStatus.LOCATED
-        assert end.speed * 3.6 == pytest.approx(target.speed * 3.6, abs=1e-6)
+        assert kmh(end.speed) == pytest.approx(kmh(target.speed), abs=1e-6)
         assert end.value == pytest.approx(target.value, abs=1e-6 * target.value)
         assert (end.speed, end.value) in curve.ends and "located" in " ".join(curve.messages)
 
@@ -67,7 +67,7 @@ def test_figure18_torus_curves_do_not_meet_again_down_to_0_05_bar():
     (end0,), (end1,) = ([p for p in c.end_points if p is not None] for c in curves)
     assert end0.speed == pytest.approx(end1.speed, abs=1e-9) and end0.value == pytest.approx(end1.value, abs=1e-9)
     a, b = curves
-    hits = _crossings(a.speeds * 3.6, a.values, b.speeds * 3.6, b.values, BAR)
+    hits = _crossings(kmh(a.speeds), a.values, kmh(b.speeds), b.values, BAR)
     # The only common point is HH1, the shared end.
     assert all(abs(h[1] - 0.532) < 1e-3 for h in hits)
 
@@ -294,7 +294,7 @@ def test_codimension_two_points_of_cycles_in_figure_8():
                 PointKind.RESONANCE_1_4: (147.7994, 0.142204), PointKind.CHENCINER: (160.0095, 0.173143)}
     assert set(found) == set(expected)
     for kind, (V, t0) in expected.items():
-        assert found[kind].speed * 3.6 == pytest.approx(V, abs=1e-3) and found[kind].value == pytest.approx(t0, abs=1e-5)
+        assert kmh(found[kind].speed) == pytest.approx(V, abs=1e-3) and found[kind].value == pytest.approx(t0, abs=1e-5)
         on_branch = cycle_diagram(family, found[kind].value, vmin, vmax)
         base = PointKind.CYCLE_FOLD if kind is PointKind.FOLD_NEIMARK_SACKER else PointKind.TORUS
         p = min(on_branch.points_of(base), key=lambda p: abs(p.speed - found[kind].speed))

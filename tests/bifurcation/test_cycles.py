@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH
+from comparisons.axles.units import BAR, KMH, kmh
 from comparisons.verify.context import agrees_to_printed_digits
 from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_at, cycle_diagram
 from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
@@ -55,7 +55,7 @@ def test_figure3_nominal_branch(nominal):
     family, d = nominal
     (b,) = d.branches
     assert b.status is BranchStatus.COMPLETE
-    assert b.start.speed_kmh == pytest.approx(46.14, abs=0.005) and b.end.speed_kmh == pytest.approx(70.50, abs=0.005)
+    assert kmh(b.start.speed) == pytest.approx(46.14, abs=0.005) and kmh(b.end.speed) == pytest.approx(70.50, abs=0.005)
     assert all(p.stable for p in b.points) and not b.special_points
     theta = branch_peak(family, b, "theta1")
     psi = branch_peak(family, b, "psi")
@@ -65,8 +65,8 @@ def test_figure3_nominal_branch(nominal):
     assert agrees_to_printed_digits(paper.NOMINAL_PEAK["psi_deg"], deg(psi.max_abs("psi")))
     # Paper: both peak at 56.34 km/h.  Computed: theta1 at 56.64 km/h, psi at 57.01 km/h.  The peak is flat:
     # at the printed speed the amplitude is below the peak by less than the paper's last digit.
-    assert theta.speed_kmh == pytest.approx(56.641, abs=0.01)
-    assert psi.speed_kmh == pytest.approx(57.012, abs=0.01)
+    assert kmh(theta.speed) == pytest.approx(56.641, abs=0.01)
+    assert kmh(psi.speed) == pytest.approx(57.012, abs=0.01)
     at_printed = cycle_at(family, theta, paper.NOMINAL_PEAK["speed_kmh"] * KMH)
     assert 0 < deg(theta.max_abs("theta1") - at_printed.max_abs("theta1")) < 0.005
 
@@ -74,8 +74,8 @@ def test_figure3_nominal_branch(nominal):
 def test_figure4a_two_modes_at_1_5_bar(low):
     family, d = low
     yaw, tramp = d.branches
-    assert [round(b.start.speed_kmh, 2) for b in d.branches] == [26.63, 192.98]
-    assert [round(b.end.speed_kmh, 2) for b in d.branches] == [97.13, 345.89]
+    assert [round(kmh(b.start.speed), 2) for b in d.branches] == [26.63, 192.98]
+    assert [round(kmh(b.end.speed), 2) for b in d.branches] == [97.13, 345.89]
     assert all(p.stable for b in d.branches for p in b.points) and not d.special_points
     expected = {"yaw": (yaw, 9.85376, 0.410740, (5.26303, 6.65911)),
                 "tramp": (tramp, 3.18092, 0.922583, (10.5868, 13.1991))}
@@ -93,7 +93,7 @@ def test_figure4a_two_modes_at_1_5_bar(low):
             assert agrees_to_printed_digits(ref["frequency_hz"][0], lo)
     # Paper: the yaw mode starts at 5.28 Hz; computed 5.263 Hz at HB1 = 26.63 km/h (paper 27.63 km/h, see the
     # Hopf table).  On the computed branch 5.28 Hz is reached at 27.5 km/h, close to the printed HB1.
-    near_printed_hb1 = cycle_at(family, min(yaw.points, key=lambda p: abs(p.speed_kmh - 27.63)), 27.63 * KMH)
+    near_printed_hb1 = cycle_at(family, min(yaw.points, key=lambda p: abs(kmh(p.speed) - 27.63)), 27.63 * KMH)
     assert near_printed_hb1.frequency_hz == pytest.approx(5.29, abs=0.01)
 
 
@@ -111,7 +111,7 @@ def test_figure9a_folds_and_torus_points(trail025):
     yaw, tramp = d.branches
     s1, t1 = only(d, PointKind.CYCLE_FOLD, 0), only(d, PointKind.TORUS, 0)
     s2, t2 = only(d, PointKind.CYCLE_FOLD, 1), only(d, PointKind.TORUS, 1)
-    computed = {"S1": s1.speed * 3.6, "T1": t1.speed * 3.6, "T2": t2.speed * 3.6, "S2": s2.speed * 3.6}
+    computed = {"S1": kmh(s1.speed), "T1": kmh(t1.speed), "T2": kmh(t2.speed), "S2": kmh(s2.speed)}
     assert computed == {"S1": pytest.approx(184.7535, abs=2e-4), "T1": pytest.approx(181.6468, abs=2e-4),
                         "T2": pytest.approx(157.3849, abs=2e-4), "S2": pytest.approx(135.5559, abs=2e-4)}
     for name, value in computed.items():
@@ -120,8 +120,8 @@ def test_figure9a_folds_and_torus_points(trail025):
         assert agrees_to_printed_digits(paper.FIG9A[name], value) == (name != "T2"), name
     assert not d.points_of(PointKind.PERIOD_DOUBLING)
     # The yaw branch ends at the subcritical HB at 164.75 km/h, the tramp branch leaves the window.
-    assert yaw.end.speed_kmh == pytest.approx(164.753, abs=1e-3)
-    assert tramp.start.speed_kmh == pytest.approx(137.973, abs=1e-3) and "left the window" in tramp.message
+    assert kmh(yaw.end.speed) == pytest.approx(164.753, abs=1e-3)
+    assert kmh(tramp.start.speed) == pytest.approx(137.973, abs=1e-3) and "left the window" in tramp.message
     # At a fold one multiplier passes +1; at a torus point a complex pair is on the unit circle.
     for fold in (s1, s2):
         rest, _ = classify_multipliers(fold.data["multipliers"])
@@ -195,7 +195,7 @@ def test_asymmetric_trail_effect_branches():
     family = SpeedFamily(ShimmyModel(effects=Effects.parse("pt")))
     d = cycle_diagram(family, 1.5 * BAR, 0.0, VMAX)
     assert d.complete
-    assert [round(h.speed_kmh, 3) for h in d.hopf] == [20.551, 111.098, 176.077]
+    assert [round(kmh(h.speed), 3) for h in d.hopf] == [20.551, 111.098, 176.077]
     assert d.branches[0].end is d.hopf[1]
     _, x = max(d.branches[0].points, key=lambda p: p.max_abs("alpha1")).orbit.sample()
     assert abs(x[:, 6].max() + x[:, 6].min()) > 1e-5 * x[:, 6].max()

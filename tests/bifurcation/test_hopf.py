@@ -8,17 +8,13 @@ import numpy as np
 import pytest
 
 from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH
+from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.bifurcation.equilibria.hopf import bialternate, hopf_points
 from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
 from reduced_model.bifurcation.equilibria.normal_form import CauchyForms, DifferenceForms, first_lyapunov_coefficient
 from reduced_model.bifurcation.special_points import Criticality, PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-
-
-def kmh(points):
-    return [h.speed_kmh for h in points]
 
 
 def test_bialternate_eigenvalues_are_pair_sums():
@@ -63,9 +59,9 @@ def test_section3_hopf_speeds(section3, pressure):
         assert h.criticality is Criticality.SUPERCRITICAL
         if (pressure, ref) == (1.5, 27.63):
             # Paper prints 27.63; the printed equations give 26.630 (README, differences table).
-            assert h.speed_kmh == pytest.approx(26.630, abs=1e-3)
+            assert kmh(h.speed) == pytest.approx(26.630, abs=1e-3)
         else:
-            assert h.speed_kmh == pytest.approx(ref, abs=0.006)
+            assert kmh(h.speed) == pytest.approx(ref, abs=0.006)
 
 
 def test_hopf_points_solve_the_defining_system(section3):
@@ -98,9 +94,9 @@ def test_figure5_fold_F1_and_tramp_vanishing(section3):
     assert all(f.status is PointStatus.LOCATED for f in folds)
     assert len(folds) == 2
     tramp, f1 = folds
-    assert f1.speed * 3.6 == pytest.approx(paper.FIG5_F1["speed_kmh"], abs=0.01)
+    assert kmh(f1.speed) == pytest.approx(paper.FIG5_F1["speed_kmh"], abs=0.01)
     assert f1.value / BAR == pytest.approx(paper.FIG5_F1["pressure_bar"], abs=0.005)
-    assert tramp.speed * 3.6 == pytest.approx(paper.FIG5_TRAMP_VANISHES["speed_kmh"], abs=0.5)
+    assert kmh(tramp.speed) == pytest.approx(paper.FIG5_TRAMP_VANISHES["speed_kmh"], abs=0.5)
     assert tramp.value / BAR == pytest.approx(paper.FIG5_TRAMP_VANISHES["pressure_bar"], abs=0.005)
     # No interaction between the modes down to 0.05 bar: no Hopf-Hopf point (section 3).
     assert not d.points_of(PointKind.HOPF_HOPF)
@@ -115,7 +111,7 @@ def test_half_contact_length_fold_at_nominal_pressure():
     (fold,) = special(d, PointKind.HOPF_FOLD)
     # Paper: 0.186 m at about 58 km/h; computed 0.1872 m (README, differences table).
     assert fold.value == pytest.approx(0.18716, abs=5e-5)
-    assert fold.speed * 3.6 == pytest.approx(paper.SECTION4["a0_fold_speed_kmh"], abs=0.5)
+    assert kmh(fold.speed) == pytest.approx(paper.SECTION4["a0_fold_speed_kmh"], abs=0.5)
 
 
 def test_pneumatic_trail_figure8_codimension_two_points():
@@ -161,14 +157,14 @@ def test_figure17_cumulative_effects(effects):
     no_shimmy = max(f.value for f in folds) / BAR
     assert no_shimmy == pytest.approx(ref["no_shimmy_bar"], abs=0.005)
     # The tramp mode's speed window closes at a fold above 200 km/h and above 1 bar.
-    tramp = [f.value / BAR for f in folds if f.speed * 3.6 > 200 and f.value > 1.0 * BAR]
+    tramp = [f.value / BAR for f in folds if kmh(f.speed) > 200 and f.value > 1.0 * BAR]
     if ref.get("tramp_vanishes_bar") is None and "modes_meet_bar" not in ref:
         assert tramp == []  # RL: the tramp mode disappears
     elif "tramp_vanishes_bar" in ref:
         assert tramp == [pytest.approx(ref["tramp_vanishes_bar"], abs=0.005)]
     if "cusp_bar" in ref:  # HB2 and HB3 meet: a fold of the curve near 0.078 bar, 220.5 km/h
         low = [f for f in folds if f.value < 0.2 * BAR]
-        assert any(abs(f.value / BAR - ref["cusp_bar"]) < 0.001 and abs(f.speed * 3.6 - ref["cusp_kmh"]) < 0.5
+        assert any(abs(f.value / BAR - ref["cusp_bar"]) < 0.001 and abs(kmh(f.speed) - ref["cusp_kmh"]) < 0.5
                    for f in low)
     if "hopf_hopf_bar" in ref:
         assert any(abs(h.value / BAR - ref["hopf_hopf_bar"]) < 0.005 for h in d.points_of(PointKind.HOPF_HOPF))
@@ -187,4 +183,4 @@ def test_hopf_curve_passes_through_the_one_parameter_hopf_points(section3):
             for i in np.nonzero(np.diff(sign))[0]:
                 t = (2.2 * BAR - c.values[i]) / (c.values[i + 1] - c.values[i])
                 hits.append(c.speeds[i] + t * (c.speeds[i + 1] - c.speeds[i]))
-        assert min(abs(np.array(hits) - h.speed)) * 3.6 < 0.5
+        assert kmh(min(abs(np.array(hits) - h.speed))) < 0.5

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from comparisons.axles.axle import entries, paper_axle
 from comparisons.axles.limits import UsageError
+from comparisons.axles.units import from_kmh
 from comparisons.cli.main import main
 from comparisons.cli.options import parse_overrides
 from reduced_model.model import ShimmyModel
@@ -62,7 +63,7 @@ def test_any_set_value_is_refused_with_its_range_or_gives_a_finite_model(name, t
     assert lo <= value <= hi, f"{name}={text} accepted outside [{lo:g}, {hi:g}]"
     model = ShimmyModel(params=axle.params)
     try:
-        A = model.linear_matrix(speed / 3.6, 2.5e5)
+        A = model.linear_matrix(from_kmh(speed), 2.5e5)
     except ParameterError:
         return   # the tyre model refuses this combination with one line (e.g. a negative cornering stiffness)
     assert np.all(np.isfinite(A)) and np.all(np.isfinite(np.linalg.eigvals(A)))

@@ -10,7 +10,8 @@ import json
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from comparisons import assumption_shifts as shifts
+from comparisons.axles.units import BAR, KMH, kmh
 from comparisons.cli.main import main
 from mbs_shimmy import Fidelity, MbsFamily, MbsModel, assumption_study, match_hopf
 from mbs_shimmy.assumption_study import study_fidelities
@@ -58,7 +59,7 @@ COMPUTED = {
 @pytest.mark.parametrize("name,fidelity", study_fidelities())
 def test_hopf_speeds_without_each_assumption(pressure, name, fidelity):
     points = hopf_points(MbsFamily(MbsModel(fidelity=fidelity)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
-    assert [h.speed_kmh for h in points] == pytest.approx(COMPUTED[pressure][name], abs=1e-3)
+    assert [kmh(h.speed) for h in points] == pytest.approx(COMPUTED[pressure][name], abs=1e-3)
 
 
 @pytest.mark.parametrize("name", ["constant_load", "quasi_steady_speed", "parallel_steering_arms"])
@@ -77,7 +78,7 @@ def test_full_geometry_with_large_trail():
     up."""
     from reduced_model.parameters import YANG2024
     family = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
-    assert [h.speed_kmh for h in hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
+    assert [kmh(h.speed) for h in hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
         pytest.approx([3.8955, 187.3135, 219.9508], abs=1e-3)
 
 
@@ -90,11 +91,11 @@ def test_match_hopf_pairs_modes_and_leaves_vanished_ones_open():
     reduced = [_hopf(26.6, 5.3), _hopf(97.1, 6.6), _hopf(193.0, 10.6), _hopf(345.9, 13.2)]
     mbs = [_hopf(32.5, 5.4), _hopf(96.3, 6.5), _hopf(250.0, 30.0)]
     rows = match_hopf(reduced, mbs)
-    pairs = [(None if r.reduced_kmh is None else round(r.reduced_kmh, 6),
-              None if r.mbs_kmh is None else round(r.mbs_kmh, 6)) for r in rows]
+    pairs = [(None if r.reduced_speed is None else round(shifts.reduced_kmh(r), 6),
+              None if r.mbs_speed is None else round(shifts.mbs_kmh(r), 6)) for r in rows]
     assert pairs[:2] == [(26.6, 32.5), (97.1, 96.3)]
     assert (193.0, None) in pairs and (345.9, None) in pairs and (None, 250.0) in pairs
-    assert rows[0].shift_kmh == pytest.approx(5.9) and rows[2].shift_kmh is None
+    assert shifts.shift_kmh(rows[0]) == pytest.approx(5.9) and shifts.shift_kmh(rows[2]) is None
 
 
 def test_study_without_cycles():
@@ -102,13 +103,13 @@ def test_study_without_cycles():
     names = [r.assumption for r in study.rows]
     assert names == [n for n, _ in study_fidelities()]
     full = study.rows[names.index("full")]
-    assert [h.mbs_kmh for h in full.hopf] == [None, None] and full.peak_theta1_shift_deg is None
+    assert [h.mbs_speed for h in full.hopf] == [None, None] and shifts.peak_theta1_shift_deg(full) is None
     # an element's row: full geometry (mbs side) against full geometry without it (reference side)
     mounts = study.rows[names.index("rigid_axle_mounts")]
-    assert [(h.reduced_kmh, h.mbs_kmh) for h in mounts.hopf] == [(pytest.approx(43.1781, abs=1e-3), None),
+    assert [(shifts.reduced_kmh(h), h.mbs_speed) for h in mounts.hopf] == [(pytest.approx(43.1781, abs=1e-3), None),
                                                                (pytest.approx(64.0232, abs=1e-3), None)]
     uncoupled = study.rows[names.index("uncoupled_inertia")]
-    assert [h.shift_kmh for h in uncoupled.hopf] == pytest.approx([44.1379 - 46.1426, 74.0966 - 70.5006],
+    assert [shifts.shift_kmh(h) for h in uncoupled.hopf] == pytest.approx([44.1379 - 46.1426, 74.0966 - 70.5006],
                                                                   abs=1e-3)
 
 
@@ -144,9 +145,9 @@ def test_peak_amplitude_shifts_at_1_5_bar():
     model's largest cycle (48.15 km/h, 9.854 deg), each assumption dropped, each element taken out of the full
     geometry."""
     study = assumption_study(MbsModel().params, Effects(), 1.5 * BAR, cycles=True)
-    assert study.peak_speed_kmh == pytest.approx(48.15, abs=0.05)
-    assert study.peak_theta1_deg == pytest.approx(9.854, abs=0.002)
-    shifts = {r.assumption: r.peak_theta1_shift_deg for r in study.rows}
+    assert kmh(study.peak_speed) == pytest.approx(48.15, abs=0.05)
+    assert np.degrees(study.peak_theta1) == pytest.approx(9.854, abs=0.002)
+    peak_shifts = {r.assumption: shifts.peak_theta1_shift_deg(r) for r in study.rows}
     expected = {"small_angles": 0.191, "fixed_static_load_arms": 0.069, "uncoupled_inertia": 0.256,
                 "slip_heading_only": -1.078, "load_tramp_only": -0.232, "lateral_stiffness_tramp_only": -0.162,
                 "constant_load": -0.621, "quasi_steady_speed": 0.0, "separate_lateral_spring": 0.168,
@@ -155,7 +156,7 @@ def test_peak_amplitude_shifts_at_1_5_bar():
                 "no_kingpin_inclination": -1.285, "roll_axis_at_wheel_centre": -2.414, "rigid_axle_mounts": -4.024,
                 "parallel_steering_arms": 0.0, "rigid_steering_gear": 5.378}
     for name, value in expected.items():
-        assert shifts[name] == pytest.approx(value, abs=0.005), name
+        assert peak_shifts[name] == pytest.approx(value, abs=0.005), name
 
 
 @pytest.mark.slow
@@ -163,16 +164,16 @@ def test_peak_amplitude_shifts_at_2_5_bar():
     """As above at 2.5 bar: the reduced model's cycle peaks at 3.449 deg near 56.8 km/h (paper: 3.45 deg at
     56.34 km/h, a flat maximum); without the slip assumption, and in full, straight running attracts there."""
     study = assumption_study(MbsModel().params, Effects(), 2.5 * BAR, cycles=True)
-    assert study.peak_speed_kmh == pytest.approx(56.78, abs=0.05)
-    assert study.peak_theta1_deg == pytest.approx(3.4488, abs=0.001)
-    shifts = {r.assumption: r.peak_theta1_shift_deg for r in study.rows}
+    assert kmh(study.peak_speed) == pytest.approx(56.78, abs=0.05)
+    assert np.degrees(study.peak_theta1) == pytest.approx(3.4488, abs=0.001)
+    peak_shifts = {r.assumption: shifts.peak_theta1_shift_deg(r) for r in study.rows}
     expected = {"small_angles": -0.014, "fixed_static_load_arms": 0.185, "uncoupled_inertia": 0.723,
                 "slip_heading_only": -3.4485, "load_tramp_only": -0.937, "lateral_stiffness_tramp_only": -0.600,
                 "constant_load": -0.315, "quasi_steady_speed": 0.0, "separate_lateral_spring": 0.301,
                 "full": -3.4485, "no_kingpin_inclination": 0.0, "roll_axis_at_wheel_centre": 0.0,
                 "rigid_axle_mounts": -2.568, "parallel_steering_arms": 0.0, "rigid_steering_gear": 0.0}
     for name, value in expected.items():
-        assert shifts[name] == pytest.approx(value, abs=0.005), name
+        assert peak_shifts[name] == pytest.approx(value, abs=0.005), name
 
 
 @pytest.mark.parametrize("dims,expected", [
@@ -185,4 +186,4 @@ def test_steering_gear_row_split_into_compliance_and_roll_steer(dims, expected):
     from mbs_shimmy import DEFAULT_DIMENSIONS
     family = MbsFamily(MbsModel(fidelity=Fidelity.full(), dims=DEFAULT_DIMENSIONS.replace(**dims)))
     points = hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
-    assert [h.speed_kmh for h in points] == pytest.approx(expected, abs=1e-3)
+    assert [kmh(h.speed) for h in points] == pytest.approx(expected, abs=1e-3)

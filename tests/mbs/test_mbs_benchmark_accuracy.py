@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 
+from comparisons.axles.units import from_kmh
 from mbs_shimmy import Fidelity, simulate
 from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states
 from reduced_model.model import Effects
@@ -25,7 +26,7 @@ def test_benchmark_settings_keep_1e4_accuracy(fidelity):
     x0 = np.zeros(8)
     x0[0] = 0.01
     kwargs = dict(effects=Effects(), fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
-                  schedule=SpeedSchedule.constant(100 / 3.6), x0=x0, duration=10.0, poses=False)
+                  schedule=SpeedSchedule.constant(from_kmh(100)), x0=x0, duration=10.0, poses=False)
     ref = simulate(method="RK67", step=1 / 960, output_interval=1 / 960, **kwargs)
     states = extended_states(ref)
     spline, amplitude = CubicSpline(ref.t, states), np.max(np.abs(states), axis=0)

@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from comparisons.axles.units import from_kmh
 from comparisons.cli.main import main
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
@@ -36,12 +37,12 @@ def test_linear_oscillator_by_hand():
 def test_modes_at_the_first_hopf_point():
     """At HB1 the Hopf solver's frequency (an independent computation) is the undamped yaw mode's."""
     family = SpeedFamily(ShimmyModel(), pressure=1.5e5)
-    hb1 = hopf_points(family, 1.5e5, 0.0, 400 / 3.6, lyapunov=False)[0]
+    hb1 = hopf_points(family, 1.5e5, 0.0, from_kmh(400), lyapunov=False)[0]
     modes = mode_shapes(family.linear_matrix(hb1.speed, 1.5e5), 6.0, 160.0)
     critical = modes[0]
     assert abs(critical.eigenvalue.real) < 1e-6
     assert critical.frequency_hz == pytest.approx(hb1.frequency_hz, rel=1e-8)
-    assert critical.character == "yaw" and abs(critical.wheel_phase_deg) < 20    # wheels steer together
+    assert critical.character == "yaw" and abs(math.degrees(critical.wheel_phase)) < 20    # wheels steer together
     tramp = [m for m in modes if m.character == "tramp"]
     assert len(tramp) == 1 and tramp[0].tramp_share > 0.9 and 8.0 < tramp[0].frequency_hz < 12.0
     assert sum(m.character == "slip" for m in modes) == 2

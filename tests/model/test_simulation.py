@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH
+from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.bifurcation.cycles.branches import cycle_at, cycle_diagram
 from reduced_model.bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
@@ -101,21 +101,21 @@ def ramps():
 
 def test_figure10a_ramp_up_jumps_from_yaw_to_tramp_after_S1(fig9a, ramps):
     _, d = fig9a
-    s1 = special(d, PointKind.CYCLE_FOLD, 0) * 3.6
+    s1 = kmh(special(d, PointKind.CYCLE_FOLD, 0))
     history = ModeClassifier().classify(ramps[0])
     assert history.initial is Mode.YAW
     (switch,) = history.switches
     assert (switch.before, switch.after) == (Mode.YAW, Mode.TRAMP)
     # The yaw cycle disappears at S1 = 184.75 km/h; at 1 km/h/s the trajectory lingers near the vanished cycle
     # (slow passage through the fold) and the tramp mode is classified from 190.75 km/h.
-    assert s1 < switch.speed * 3.6 < s1 + 8.0
-    assert switch.speed * 3.6 == pytest.approx(190.75, abs=1.0)
+    assert s1 < kmh(switch.speed) < s1 + 8.0
+    assert kmh(switch.speed) == pytest.approx(190.75, abs=1.0)
 
 
 def test_figure10b_ramp_down_jumps_from_tramp_to_yaw_below_T2(fig9a, ramps):
     _, d = fig9a
-    t2 = special(d, PointKind.TORUS, 1) * 3.6
-    s2 = special(d, PointKind.CYCLE_FOLD, 1) * 3.6
+    t2 = kmh(special(d, PointKind.TORUS, 1))
+    s2 = kmh(special(d, PointKind.CYCLE_FOLD, 1))
     history = ModeClassifier().classify(ramps[1])
     assert history.initial is Mode.TRAMP
     (switch,) = history.switches
@@ -123,8 +123,8 @@ def test_figure10b_ramp_down_jumps_from_tramp_to_yaw_below_T2(fig9a, ramps):
     # The tramp cycle loses stability at T2 = 157.38 km/h, but the ramp keeps the trajectory on the now unstable
     # cycle (delayed loss of stability: the perturbation that decayed while the cycle was stable must grow back
     # from the integrator's error level) until just before S2 = 135.56 km/h, where that cycle ends.
-    assert s2 < switch.speed * 3.6 < t2
-    assert switch.speed * 3.6 == pytest.approx(138.5, abs=1.5)
+    assert s2 < kmh(switch.speed) < t2
+    assert kmh(switch.speed) == pytest.approx(138.5, abs=1.5)
 
 
 def test_tramp_cycle_below_T2_is_left_for_the_yaw_mode(fig9a):

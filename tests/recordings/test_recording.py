@@ -10,6 +10,7 @@ from rerun.chunk import RrdReader
 from rrd_helpers import blueprint_views, rows
 from scipy.integrate import solve_ivp
 
+from comparisons.axles.units import from_kmh, kmh
 from comparisons.recordings import writer as recording
 from comparisons.recordings.scene import (
     BODY_NAMES,
@@ -34,7 +35,7 @@ from reduced_model.model import STATE_NAMES, ShimmyModel
 from reduced_model.trajectory import SimulationStatus, Trajectory
 
 PRESSURE = 1.5e5
-SPEED = 60.0 / 3.6
+SPEED = from_kmh(60.0)
 SWITCHES = [(0.61234, "straight", "yaw"), (1.40007, "yaw", "tramp")]  # deliberately between samples
 
 
@@ -83,7 +84,7 @@ def test_entities_and_sample_counts(rrd, trajectory):
     """Series keep their min/max samples, the scene its 100-per-second poses; times are the trajectory's own."""
     t = trajectory.t
     series = dict(zip(STATE_ENTITIES.values(), np.degrees(trajectory.x.T)))
-    series[SPEED_ENTITY] = trajectory.speed * 3.6
+    series[SPEED_ENTITY] = kmh(trajectory.speed)
     for entity, values in series.items():
         table = rows(rrd, entity)
         kept = recording.series_indices(t, values)
@@ -108,7 +109,7 @@ def test_state_values_equal_the_trajectory(rrd, trajectory):
         np.testing.assert_array_equal(scalars(rows(rrd, STATE_ENTITIES[name])), values[kept])
         # ... but every 10 ms bin's extremes are there: the recorded envelope is the trajectory's.
         assert scalars(rows(rrd, STATE_ENTITIES[name])).max() == values.max()
-    speed = trajectory.speed * 3.6
+    speed = kmh(trajectory.speed)
     np.testing.assert_array_equal(scalars(rows(rrd, SPEED_ENTITY)), speed[recording.series_indices(t, speed)])
     assert STATE_ENTITIES["theta1"] == "/states/theta1_deg"
     assert STATE_ENTITIES["psi_dot"] == "/states/psi_dot_deg_per_s"

@@ -9,7 +9,7 @@ import pytest
 from rerun.chunk import RrdReader
 from rrd_helpers import blueprint_views, rows
 
-from comparisons.axles.units import BAR
+from comparisons.axles.units import BAR, from_kmh
 from comparisons.recordings import writer as recording
 from comparisons.recordings.decimation import envelope_indices, peak_loss, uniform_indices
 from comparisons.recordings.layout import RunPaths
@@ -46,7 +46,7 @@ def test_envelope_indices_per_bin():
 def ramp(tmp_path_factory):
     """The issue's example: t = 0.25 m, 1.5 bar, 120-200 km/h in 100 s, the tramp cycle in its last 30 s."""
     model = ShimmyModel().with_params(t0=0.25)
-    tr = simulate(model, 1.5 * BAR, SpeedSchedule.ramp(120 / 3.6, 200 / 3.6, 100.0), 100.0)
+    tr = simulate(model, 1.5 * BAR, SpeedSchedule.ramp(from_kmh(120), from_kmh(200), 100.0), 100.0)
     history = ModeClassifier().classify(tr)
     path = tmp_path_factory.mktemp("ramp") / "ramp.rrd"
     summary = write_recording(str(path), tr, history.segments(), history.switches, "ramp", model=model,
@@ -69,7 +69,8 @@ def test_100_s_run_is_small_and_keeps_its_peaks(ramp):
 
 def side_by_side_runs(n=401, seconds=2.0):
     model = ShimmyModel()
-    reduced = simulate(model, 1.5 * BAR, SpeedSchedule.constant(60 / 3.6), seconds, sample_interval=seconds / (n - 1))
+    reduced = simulate(model, 1.5 * BAR, SpeedSchedule.constant(from_kmh(60)), seconds,
+                       sample_interval=seconds / (n - 1))
     poses = reduced_model_poses(reduced, model, 1.5 * BAR).to_dict()
     # A stand-in for the MBS: the same motion, twice the yaw, its own poses.
     x = reduced.x.copy()

@@ -14,6 +14,7 @@ import pytest
 
 from comparisons.axles.axle import Axle
 from comparisons.axles.limits import UsageError
+from comparisons.axles.units import from_kmh
 from comparisons.cli.main import main
 from comparisons.sweeps.design import make_design, parse_vary
 from comparisons.sweeps.run import run_sweep
@@ -120,7 +121,7 @@ def test_unstable_intervals_agree_with_eigenvalues():
     assert row["n_hopf"] == 4 and row["hopf_mode"][2] == "tramp" and row["hopf_mode"][0] == "yaw"
     family = SpeedFamily(ShimmyModel(), pressure=1.5e5)
     for v in np.linspace(2.0, 399.0, 150):
-        unstable = eigenvalues(family, v / 3.6, 1.5e5)[0].real > 0
+        unstable = eigenvalues(family, from_kmh(v), 1.5e5)[0].real > 0
         inside = any(a <= v <= b for a, b in zip(row["unstable_from_kmh"], row["unstable_to_kmh"]))
         assert unstable == inside, v
 

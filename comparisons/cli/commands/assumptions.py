@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import math
 
-from comparisons.axles.units import KMH
+from comparisons import assumption_shifts as shifts
+from comparisons.axles.units import KMH, kmh
 from comparisons.cli.options import (
     add_model_options,
     add_output_options,
@@ -49,18 +51,18 @@ def run(args: argparse.Namespace) -> int:
                                  vmax=args.vmax * KMH,
                                  cycles=not args.no_cycles, progress=lambda k: bar.update(1))
     if args.json:
-        out = study.to_json()
+        out = shifts.study_json(study)
         del out["pressure_bar"], out["effects"]
         emit_json({**inputs_json(args), **out})
         return 0
     effects = ",".join(model.effects.names) or "none (section 3 model)"
     print(f"Assumptions of the reduced model at {pressure_label(args)}, pressure effects: {effects}")
     print(f"  {build_axle(args).label()}")
-    print("reduced-model Hopf speeds: " + (", ".join(f"{v:.2f}" for v in study.reduced_hopf_kmh) or "none")
+    print("reduced-model Hopf speeds: " + (", ".join(f"{kmh(v):.2f}" for v in study.reduced_hopf_speeds) or "none")
           + " km/h")
-    if study.peak_speed_kmh is not None:
-        print(f"largest limit cycle of the reduced model: theta1 = {study.peak_theta1_deg:.3f} deg at "
-              f"{study.peak_speed_kmh:.2f} km/h")
+    if study.peak_speed is not None:
+        print(f"largest limit cycle of the reduced model: theta1 = {math.degrees(study.peak_theta1):.3f} deg at "
+              f"{kmh(study.peak_speed):.2f} km/h")
     summary = {r.name: r.summary for r in assumptions_table().rows}
     elements = {r.name for r in assumptions_table().rows if r.element}
     for row in study.rows:
@@ -71,10 +73,12 @@ def run(args: argparse.Namespace) -> int:
             label = row.assumption if row.assumption == "full" else f"{row.assumption} off"
             print(f"\n{label}: {summary.get(row.assumption, 'all assumptions off')}")
         for h in row.hopf:
-            print(f"  Hopf {_fmt(h.reduced_kmh, '9.3f')} -> {_fmt(h.mbs_kmh, '9.3f')} km/h"
-                  f"   shift {_fmt(h.shift_kmh, '+9.3f')}")
-        if row.peak_theta1_shift_deg is not None or study.peak_speed_kmh is not None:
-            print(f"  peak theta1 {_fmt(row.peak_theta1_reduced_deg, '.3f')} -> {_fmt(row.peak_theta1_mbs_deg, '.3f')}"
-                  f" deg   shift {_fmt(row.peak_theta1_shift_deg, '+.3f')}"
+            print(f"  Hopf {_fmt(shifts.reduced_kmh(h), '9.3f')} -> {_fmt(shifts.mbs_kmh(h), '9.3f')} km/h"
+                  f"   shift {_fmt(shifts.shift_kmh(h), '+9.3f')}")
+        peak_shift = shifts.peak_theta1_shift_deg(row)
+        if peak_shift is not None or study.peak_speed is not None:
+            reduced_deg, mbs_deg = shifts.peak_theta1_deg(row)
+            print(f"  peak theta1 {_fmt(reduced_deg, '.3f')} -> {_fmt(mbs_deg, '.3f')}"
+                  f" deg   shift {_fmt(peak_shift, '+.3f')}"
                   + ("" if row.peak_settled in (None, True) else "   (not settled)"))
     return 0

@@ -10,7 +10,7 @@ import numpy as np
 
 from comparisons.axles.axle import interface_text, interface_unit
 from comparisons.axles.limits import UsageError
-from comparisons.axles.units import KMH, interface_of
+from comparisons.axles.units import KMH, interface_of, kmh
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
     add_model_choice,
@@ -52,8 +52,8 @@ def speed_list(text: str) -> tuple[float, ...]:
         except ValueError:
             raise argparse.ArgumentTypeError(f"--at expects speeds in km/h separated by commas, got '{text}'") \
                 from None
-        if not math.isfinite(v) or v < MIN_SPEED * 3.6 - 1e-12:
-            raise argparse.ArgumentTypeError(f"--at {item}: speeds must be at least {MIN_SPEED * 3.6:g} km/h")
+        if not math.isfinite(v) or v < kmh(MIN_SPEED) - 1e-12:
+            raise argparse.ArgumentTypeError(f"--at {item}: speeds must be at least {kmh(MIN_SPEED):g} km/h")
         out.append(v)
     return tuple(out)
 
@@ -109,7 +109,7 @@ def extra_amplitudes(p: CyclePoint, family) -> dict:
 
 def point_row(p: CyclePoint, family) -> dict:
     mu = largest(p.multipliers)
-    return {"kind": "cycle", "speed_kmh": p.speed_kmh, "period_s": p.period, "frequency_hz": p.frequency_hz,
+    return {"kind": "cycle", "speed_kmh": kmh(p.speed), "period_s": p.period, "frequency_hz": p.frequency_hz,
             "max_theta1_deg": degrees(p.max_abs("theta1")), "max_theta2_deg": degrees(p.max_abs("theta2")),
             "max_psi_deg": degrees(p.max_abs("psi")), **extra_amplitudes(p, family),
             "largest_multiplier": [mu.real, mu.imag],
@@ -125,7 +125,7 @@ def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
     big = largest(mu)
     extras = {f"max_{n}_{interface_of(u)[0]}": 0.0 for n, u in zip(family.state_names, family.state_units)
               if n not in STATE_NAMES and not u.endswith("/s")}
-    return {"kind": "hopf", "speed_kmh": h.speed_kmh, "period_s": period, "frequency_hz": h.frequency_hz,
+    return {"kind": "hopf", "speed_kmh": kmh(h.speed), "period_s": period, "frequency_hz": h.frequency_hz,
             "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0, **extras,
             "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,
             "error_estimate": 0.0, "meets_tolerance": True, "intervals": 0}
@@ -142,7 +142,7 @@ def at_json(diagram: CycleDiagram, speeds_kmh, family) -> list[dict]:
     out = []
     for v in speeds_kmh:
         orbits = [orbit_row(p, i, family) for i, b in enumerate(diagram.branches) for p in b.user_points
-                  if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
+                  if abs(kmh(p.speed) - v) <= 1e-9 * max(1.0, v)]
         out.append({"speed_kmh": v, "orbits": orbits})
     return out
 
@@ -155,13 +155,13 @@ def peaks(family: SpeedFamily, b: CycleBranch) -> dict:
             p = branch_peak(family, b, name)
         except ConvergenceError:
             p = b.peak(name)
-        out[name] = {"speed_kmh": p.speed_kmh, "max_deg": degrees(p.max_abs(name)), "frequency_hz": p.frequency_hz}
+        out[name] = {"speed_kmh": kmh(p.speed), "max_deg": degrees(p.max_abs(name)), "frequency_hz": p.frequency_hz}
     return out
 
 
 def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
-    return {"from_hopf_kmh": b.start.speed_kmh if b.start else None,
-            "to_hopf_kmh": b.end.speed_kmh if b.end else None,
+    return {"from_hopf_kmh": kmh(b.start.speed) if b.start else None,
+            "to_hopf_kmh": kmh(b.end.speed) if b.end else None,
             "complete": b.complete, "status": b.status.value, "message": interface_text(b.message),
             "peak": peaks(family, b) if b.points else None,
             "frequency_range_hz": list(b.frequency_range) if b.points else None,
@@ -177,7 +177,7 @@ def diagram_json(diagram: CycleDiagram, family: SpeedFamily, pressure_bar: float
     for i, b in enumerate(diagram.branches):
         for s in sorted(b.special_points, key=lambda s: s.bracket[0]):
             amp = s.data["amplitude"]
-            specials.append({"kind": s.kind.value, "label": labels[id(s)], "speed_kmh": s.speed * 3.6,
+            specials.append({"kind": s.kind.value, "label": labels[id(s)], "speed_kmh": kmh(s.speed),
                              "max_theta1_deg": degrees(amp[0]), "max_psi_deg": degrees(amp[4]),
                              "frequency_hz": 1.0 / s.data["period"], "status": s.status.value, "branch": i})
     return {"pressure_bar": pressure_bar, "effects": list(effects), "complete": diagram.complete,
@@ -200,7 +200,7 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
 
 def codim2_row(p, factor: float) -> dict:
     """A codimension-two point of a two-parameter curve: kind, place (km/h, interface unit), status."""
-    return {"kind": p.kind.value, "speed_kmh": p.speed * 3.6, "value": p.value / factor, "status": p.status.value}
+    return {"kind": p.kind.value, "speed_kmh": kmh(p.speed), "value": p.value / factor, "status": p.status.value}
 
 
 def curves_json(curves, labels, factor: float) -> list[dict]:
@@ -212,8 +212,8 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
             continue
         out.append({"label": label, "kind": curve.kind.value, "complete": curve.complete,
                     "status": [s.value for s in curve.status], "messages": [interface_text(m) for m in curve.messages],
-                    "points": [[v * 3.6, q / factor] for v, q in zip(curve.speeds, curve.values)],
-                    "ends_at_zero_amplitude": [None if e is None else [e[0] * 3.6, e[1] / factor]
+                    "points": [[kmh(v), q / factor] for v, q in zip(curve.speeds, curve.values)],
+                    "ends_at_zero_amplitude": [None if e is None else [kmh(e[0]), e[1] / factor]
                                                for e in curve.ends],
                     "end_points": [None if e is None else codim2_row(e, factor) for e in curve.end_points],
                     "special_points": [codim2_row(e, factor) for e in curve.special_points]})
@@ -228,9 +228,9 @@ def _speeds(args: argparse.Namespace) -> tuple[float, float, tuple[float, ...]]:
         if at and set(at) != {args.vmin}:
             raise UsageError(f"--vmin = --vmax = {args.vmin:g} km/h asks for that speed alone; --at "
                              f"{','.join(f'{v:g}' for v in at)} km/h differs")
-        if args.vmin < MIN_SPEED * 3.6 - 1e-12:
+        if args.vmin < kmh(MIN_SPEED) - 1e-12:
             raise UsageError(f"--vmin = --vmax = {args.vmin:g} km/h: cycles are computed from "
-                             f"{MIN_SPEED * 3.6:g} km/h on")
+                             f"{kmh(MIN_SPEED):g} km/h on")
         return DEFAULT_WINDOW_KMH[0], max(DEFAULT_WINDOW_KMH[1], args.vmax), (args.vmin,)
     if not args.vmin < args.vmax:
         raise UsageError(f"--vmin must be below --vmax, got {args.vmin:g} and {args.vmax:g} km/h")
@@ -320,7 +320,7 @@ def run(args: argparse.Namespace) -> int:
             print_kicks(found_kicks)
         if args.two_param:
             print_curves(curves, labels, args.two_param)
-    problems = [f"branch from {b.start.speed_kmh:.3f} km/h stopped: {interface_text(b.message)}"
+    problems = [f"branch from {kmh(b.start.speed):.3f} km/h stopped: {interface_text(b.message)}"
                 for b in diagram.branches if not b.complete]
     if unstable is not None:
         problems.append(unstable)
@@ -333,7 +333,7 @@ def run(args: argparse.Namespace) -> int:
     if missed:
         sys.stderr.write(f"shimmy: warning: {len(missed)} cycles miss the error tolerance {args.tolerance:g} even "
                          f"with {DEFAULT_SETTINGS.max_intervals} intervals (marked in the output), first at "
-                         f"{missed[0].speed_kmh:.3f} km/h\n")
+                         f"{kmh(missed[0].speed):.3f} km/h\n")
     if problems:
         sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
@@ -368,7 +368,7 @@ def print_at(diagram: CycleDiagram, speeds_kmh) -> None:
     print("  orbits at the requested speeds (located on the branches):")
     for v in speeds_kmh:
         rows = [(i, p) for i, b in enumerate(diagram.branches) for p in b.user_points
-                if abs(p.speed_kmh - v) <= 1e-9 * max(1.0, v)]
+                if abs(kmh(p.speed) - v) <= 1e-9 * max(1.0, v)]
         if not rows:
             print(f"    {v:g} km/h: no branch in the window passes this speed")
         for i, p in rows:
@@ -390,7 +390,7 @@ def unstable_without_hopf(diagram: CycleDiagram, family: SpeedFamily, q: float) 
     bad = [V for V in speeds if np.max(np.linalg.eigvals(family.linear_matrix(V, q)).real) > 1e-9]
     if not bad:
         return None
-    return (f"straight running is unstable at {min(bad) * 3.6:.1f}-{max(bad) * 3.6:.1f} km/h but no Hopf point lies "
+    return (f"straight running is unstable at {kmh(min(bad)):.1f}-{kmh(max(bad)):.1f} km/h but no Hopf point lies "
             f"in the window: the shimmy cycles there are born outside it (widen --vmin/--vmax)")
 
 
@@ -407,7 +407,7 @@ def print_curves(curves, labels, name: str) -> None:
         for message in curve.messages:
             print(f"         end: {message}")
         for p in curve.special_points:
-            print(f"         {p.kind.value} at {p.speed * 3.6:.4f} km/h, {name} {p.value / factor:.6g} {unit} "
+            print(f"         {p.kind.value} at {kmh(p.speed):.4f} km/h, {name} {p.value / factor:.6g} {unit} "
                   f"({p.status.value})")
 
 
@@ -425,7 +425,7 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
               "  no Hopf point in the window and straight running stable throughout: no shimmy")
     labels = {id(p): text for text, p in special_point_labels(diagram)}
     for b in diagram.branches:
-        head = f"  branch from HB at {b.start.speed_kmh:.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
+        head = f"  branch from HB at {kmh(b.start.speed):.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
                f"{b.start.criticality.value if b.start.criticality else 'criticality unknown'}): " \
                f"{len(b.points)} cycles"
         print(head + ("" if b.complete else "  [INCOMPLETE]"))
@@ -440,7 +440,7 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
         print(f"    frequency {lo:.3f}-{hi:.3f} Hz; {stable} of {len(b.points)} cycles stable")
         for s in sorted(b.special_points, key=lambda s: s.bracket[0]):
             amp = s.data["amplitude"]
-            print(f"    {labels[id(s)]:4s} {s.kind.value:16s} {s.speed * 3.6:10.3f} km/h  "
+            print(f"    {labels[id(s)]:4s} {s.kind.value:16s} {kmh(s.speed):10.3f} km/h  "
                   f"max|theta1| {degrees(amp[0]):7.3f} deg  max|psi| {degrees(amp[4]):6.3f} deg  "
                   f"({s.status.value})")
     if args.plot:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparisons.axles.units import KMH
+from comparisons.axles.units import KMH, kmh
 from comparisons.cli.options import (
     add_model_choice,
     add_model_options,
@@ -29,7 +29,7 @@ def add_parser(sub) -> None:
 
 
 def hopf_row(h: HopfPoint) -> dict:
-    return {"speed_kmh": h.speed_kmh, "frequency_hz": h.frequency_hz,
+    return {"speed_kmh": kmh(h.speed), "frequency_hz": h.frequency_hz,
             "first_lyapunov": None if h.criticality is None else h.first_lyapunov,
             "criticality": h.criticality.value if h.criticality else None}
 
@@ -54,5 +54,5 @@ def run(args: argparse.Namespace) -> int:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
         l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
-        print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
+        print(f"  HB{i}: {kmh(h.speed):10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
     return 0

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from comparisons.axles.limits import UsageError
+from comparisons.axles.limits import SPEED_RANGE_KMH, UsageError
 from comparisons.axles.units import KMH
 from comparisons.cli.options import (
     add_model_options,
@@ -20,7 +20,7 @@ from comparisons.cli.options import (
     positive_float,
     pressure_label,
 )
-from reduced_model.mode_shapes import mode_shapes
+from reduced_model.mode_shapes import ModeShape, mode_shapes
 
 
 def add_parser(sub) -> None:
@@ -51,15 +51,22 @@ def _models(args: argparse.Namespace):
             ("mbs", f"MBS, fidelity {fidelity.label}", mbs.linear_matrix(speed, mbs.nominal))], fidelity
 
 
+def mode_json(m: ModeShape) -> dict:
+    return {"real_per_s": m.eigenvalue.real, "imag_rad_per_s": m.eigenvalue.imag,
+            "frequency_hz": m.frequency_hz, "damping_ratio": m.damping_ratio, "stable": m.stable,
+            "character": m.character, "yaw_share": m.yaw_share, "tramp_share": m.tramp_share,
+            "slip_share": m.slip_share, "left_share": m.left_share, "wheel_phase_deg": math.degrees(m.wheel_phase)}
+
+
 def run(args: argparse.Namespace) -> int:
-    if args.speed > 1000.0:
-        raise UsageError(f"--speed must be at most 1000 km/h, got {args.speed:g}")
+    if args.speed > SPEED_RANGE_KMH[1]:
+        raise UsageError(f"--speed must be at most {SPEED_RANGE_KMH[1]:g} km/h, got {args.speed:g}")
     models, fidelity = _models(args)
     params = build_model(args).params
     results = [(key, title, mode_shapes(A, params.I1, params.I3)) for key, title, A in models]
     if args.json:
         emit_json({**inputs_json(args), "speed_kmh": args.speed, "fidelity": fidelity.label,
-                   "models": {key: [m.as_json() for m in modes] for key, _, modes in results}})
+                   "models": {key: [mode_json(m) for m in modes] for key, _, modes in results}})
         return 0
     print(f"Modes of straight running at {pressure_label(args)}, {args.speed:g} km/h")
     print(f"  {build_axle(args).label()}")
@@ -71,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
               f"{'yaw':>5s} {'tramp':>5s} {'slip':>5s} {'left':>5s} {'phase':>6s}")
         for m in modes:
             lam = m.eigenvalue
-            phase = "-" if math.isnan(m.wheel_phase_deg) else f"{round(m.wheel_phase_deg) or 0:d}"
+            phase = "-" if math.isnan(m.wheel_phase) else f"{round(math.degrees(m.wheel_phase)) or 0:d}"
             left = "-" if math.isnan(m.left_share) else f"{m.left_share:.2f}"
             flag = "" if m.stable else "  UNSTABLE"
             print(f"  {lam.real:+11.4f} {lam.imag:+11.4f}i  {m.frequency_hz:9.3f}  {m.damping_ratio:+8.4f}  "

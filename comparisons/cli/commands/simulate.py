@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 
+from comparisons.axles.axle import interface_text
 from comparisons.axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
@@ -16,7 +17,7 @@ from comparisons.axles.limits import (
     SPEED_RANGE_KMH,
     UsageError,
 )
-from comparisons.axles.units import KMH
+from comparisons.axles.units import KMH, kmh
 from comparisons.cli.options import (
     add_model_choice,
     add_model_options,
@@ -145,15 +146,15 @@ def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
         "integrator": trajectory.integrator,
         "complete": trajectory.complete,
         "status": trajectory.status.value,
-        "message": trajectory.message,
+        "message": interface_text(trajectory.message),
         "duration_s": float(trajectory.t[-1]),
         "initial_mode": history.initial.value,
-        "mode_switches": [{"time_s": s.time, "speed_kmh": s.speed * 3.6, "from": s.before.value,
+        "mode_switches": [{"time_s": s.time, "speed_kmh": kmh(s.speed), "from": s.before.value,
                            "to": s.after.value} for s in history.switches],
         "final": {"mode": history.final_mode.value, "max_theta1_deg": math.degrees(final.theta1),
                   "max_psi_deg": math.degrees(final.psi),
                   "frequency_hz": None if not np.isfinite(final.frequency_hz) else final.frequency_hz,
-                  "speed_kmh": final.speed * 3.6},
+                  "speed_kmh": kmh(final.speed)},
     }
 
 
@@ -221,7 +222,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  final: {f['mode']}, max|theta1| {f['max_theta1_deg']:.4f} deg, max|psi| {f['max_psi_deg']:.4f} deg,"
               f" {freq} (last {ModeClassifier().window:g} s)")
         if not trajectory.complete:
-            print(f"  INCOMPLETE: {trajectory.message}")
+            print(f"  INCOMPLETE: {interface_text(trajectory.message)}")
         if args.plot:
             print(f"  plot written to {args.plot}")
         if args.rerun:
@@ -229,6 +230,6 @@ def run(args: argparse.Namespace) -> int:
         if args.series:
             print(f"  time series written to {args.series}")
     if not trajectory.complete:
-        sys.stderr.write(f"shimmy: incomplete: {trajectory.message}\n")
+        sys.stderr.write(f"shimmy: incomplete: {interface_text(trajectory.message)}\n")
         return 3
     return 0

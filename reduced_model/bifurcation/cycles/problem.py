@@ -79,10 +79,6 @@ class CyclePoint:
     def frequency_hz(self) -> float:
         return 1.0 / self.period
 
-    @property
-    def speed_kmh(self) -> float:
-        return self.speed * 3.6
-
     def max_abs(self, name: str) -> float:
         """max |x_name| over the orbit; the names come from the problem."""
         if name not in self.names:

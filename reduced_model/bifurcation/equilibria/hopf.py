@@ -42,10 +42,6 @@ class HopfPoint:
         return self.omega / (2.0 * np.pi)
 
     @property
-    def speed_kmh(self) -> float:
-        return self.speed * 3.6
-
-    @property
     def criticality(self) -> Criticality | None:
         """None when l1 was not computed (a vector field that cannot be evaluated at complex states)."""
         if np.isnan(self.first_lyapunov):
