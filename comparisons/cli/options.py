@@ -234,7 +234,7 @@ def build_family(args: argparse.Namespace, param: str = "pressure"):
     if fidelity is None:
         from reduced_model.family import SpeedFamily
         return SpeedFamily(model, param, pressure=pressure)
-    from mbs_shimmy import MbsFamily
+    from mbs_shimmy.linearisation import MbsFamily
     return MbsFamily.of(model.params, model.effects, fidelity, dims=build_axle(args).dims, param=param,
                         pressure=pressure)
 

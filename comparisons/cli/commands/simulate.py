@@ -127,7 +127,7 @@ def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.nda
     model = build_model(args)
     fidelity = build_fidelity(args)
     if fidelity is not None:
-        from mbs_shimmy import simulate as simulate_mbs
+        from mbs_shimmy.simulation import simulate as simulate_mbs
         return simulate_mbs(model.params, model.effects, fidelity, operating_pressure(args), schedule, x0,
                             args.duration, dims=build_axle(args).dims, poses=bool(args.rerun))
     quiet = args.json or not sys.stderr.isatty()
