@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 
+from comparisons.api import name_and_text
 from comparisons.axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
@@ -34,6 +35,7 @@ from comparisons.cli.options import (
 from comparisons.cli.progress import progress
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.modes import ModeClassifier, ModeHistory
+from reduced_model.parameters import ParameterError
 from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
@@ -88,10 +90,10 @@ def parse_initial(items: list[str] | None) -> np.ndarray:
         return initial_state()
     values: dict[str, float] = {}
     for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name or not text.strip():
-            raise UsageError(f"--initial expects NAME=VALUE, got '{item}'")
+        try:
+            name, text = name_and_text(item, "--initial")
+        except ParameterError as exc:
+            raise UsageError(str(exc)) from None
         if name not in STATE_NAMES:
             raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
         rate = STATE_UNITS[STATE_NAMES.index(name)] == "rad/s"
