@@ -26,7 +26,7 @@ import math
 import os
 from dataclasses import dataclass
 from functools import cached_property
-from typing import ClassVar, Iterable, Mapping, Sequence
+from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -236,7 +236,6 @@ class ReducedModel:
 
     axle: Axle
     effects: Effects
-    lyapunov: ClassVar[bool] = True     # its vector field takes complex states: l1 is computed
 
     @cached_property
     def model(self) -> ShimmyModel:
@@ -267,7 +266,6 @@ class MultibodyModel:
     axle: Axle
     effects: Effects
     fidelity: Fidelity
-    lyapunov: ClassVar[bool] = False    # not evaluated at complex states: no first Lyapunov coefficient
 
     @cached_property
     def model(self):
@@ -332,7 +330,7 @@ def speed_window(vmin_kmh: float, vmax_kmh: float) -> tuple[float, float]:
 
 def hopf_points(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> HopfResult:
     """Every Hopf point of straight running (shimmy onset) in the speed window, at the family's own q, as
-    ``shimmy hopf``: speed, frequency and, for the reduced model, the first Lyapunov coefficient.
+    ``shimmy hopf``: speed, frequency and the first Lyapunov coefficient (criticality).
 
     >>> family = Axle.paper().reduced().family(TyrePressures.both(2.5))
     >>> [round(p.speed_kmh, 1) for p in hopf_points(family, vmax_kmh=100).points]
@@ -340,7 +338,7 @@ def hopf_points(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) 
     """
     from reduced_model.bifurcation.equilibria.hopf import hopf_points as find
     vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
-    found = find(family.problem, family.q, vmin, vmax, lyapunov=family.model.lyapunov)
+    found = find(family.problem, family.q, vmin, vmax)
     return HopfResult(family.label(), vmin, vmax, tuple(HopfPoint.of(p) for p in found))
 
 

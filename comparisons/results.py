@@ -95,7 +95,7 @@ class Shown:
 @dataclass(frozen=True)
 class HopfPoint:
     """A Hopf point of straight running: where shimmy sets in (SI).  ``first_lyapunov`` is NaN and
-    ``criticality`` None where l1 is not computed (the MBS).  ``point`` is the toolkit's, for further analysis."""
+    ``criticality`` None where l1 could not be computed.  ``point`` is the toolkit's, for further analysis."""
 
     speed: float                      # m/s
     omega: float                      # rad/s

@@ -183,6 +183,8 @@ def test_the_example_notebook_runs():
     assert reduced.points and all(r.status is BranchStatus.COMPLETE for r in (reduced, mbs, full))
     # At the reduced fidelity the MBS has the reduced model's Hopf points; at full fidelity they move.
     assert [p.speed_kmh for p in mbs.points] == pytest.approx([p.speed_kmh for p in reduced.points], abs=1e-3)
+    assert [p.first_lyapunov for p in mbs.points] == pytest.approx([p.first_lyapunov for p in reduced.points],
+                                                                   rel=1e-3)
     assert abs(full.points[0].speed_kmh - reduced.points[0].speed_kmh) > 1.0
     (branch,) = ns["cycles"].branches
     assert branch.start.speed == pytest.approx(reduced.points[0].speed, rel=1e-9) and branch.peak_theta1 > 0.0
