@@ -344,7 +344,7 @@ def hopf_points(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) 
 
 def cycle_branches(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> CycleBranches:
     """Every branch of limit cycles born at a Hopf point in the window, continued in speed (as ``shimmy
-    cycles``): stability, amplitude, cycle folds, torus and period-doubling points.
+    cycles``, for either model): stability, amplitude, cycle folds, torus and period-doubling points.
 
     >>> family = Axle.paper().reduced(effects="hcl,pt").family(TyrePressures.both(1.5))
     >>> result = cycle_branches(family, vmin_kmh=5, vmax_kmh=60)
