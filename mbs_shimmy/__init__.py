@@ -1,25 +1,24 @@
 """Geometrically full multibody model of the truck front axle in Exudyn (issues 4 and 9).
 
-Public API (SI inside; pressures in Pa, speeds in m/s):
+This package face is light: it names the switches and the dimensions, which reading an axle needs, and loads no
+Exudyn.  The models live in their modules (SI inside; pressures in Pa, speeds in m/s), imported from there:
 
 * :class:`Fidelity` (``Fidelity.parse("reduced" | "full" | "name,name")``), :class:`Assumption`,
-  :func:`assumptions_table` - the reduced model's assumptions as switches;
-* :class:`MbsModel` (parameters, pressure effects, fidelity, :class:`AxleDimensions`);
-* :class:`MbsFamily` - the model as a speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points`
-  (``lyapunov=False``);
-* :func:`simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
-* :func:`assumption_study` - Hopf-speed and limit-cycle shifts of each assumption.
+  :func:`assumptions_table` - the reduced model's assumptions as switches (here);
+* :class:`AxleDimensions`, :data:`DEFAULT_DIMENSIONS` - what the paper does not give (here);
+* :class:`mbs_shimmy.linearisation.MbsModel`, :class:`mbs_shimmy.linearisation.MbsFamily` - the model and its
+  speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` (``lyapunov=False``);
+* :func:`mbs_shimmy.simulation.simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
+* :func:`mbs_shimmy.assumption_study.assumption_study` - Hopf-speed and limit-cycle shifts of each assumption;
+  :mod:`mbs_shimmy.limit_cycle` - steady amplitudes of both models.
+
+Every module that imports Exudyn imports :mod:`mbs_shimmy.engine` first, which chooses Exudyn's compiled module.
 """
 
 from dataclasses import dataclass
 
-from mbs_shimmy import engine  # noqa: F401  (first: chooses Exudyn's compiled module before anything imports exudyn)
-from mbs_shimmy.assumption_study import AssumptionRow, AssumptionStudy, HopfShift, assumption_study, match_hopf
 from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity
-from mbs_shimmy.limit_cycle import SteadyAmplitude, mbs_steady_amplitude, reduced_peak, reduced_steady_amplitude
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
-from mbs_shimmy.simulation import DEFAULT_METHOD, DEFAULT_STEP, Convergence, convergence, extended_states, simulate
 
 
 @dataclass(frozen=True)
@@ -40,8 +39,5 @@ def assumptions_table() -> AssumptionsTable:
     return AssumptionsTable(ASSUMPTIONS)
 
 
-__all__ = ["Assumption", "AssumptionInfo", "AssumptionRow", "AssumptionStudy", "AssumptionsTable", "AxleDimensions",
-           "Convergence", "DEFAULT_DIMENSIONS", "DEFAULT_METHOD", "DEFAULT_STEP", "Fidelity", "HopfShift",
-           "MbsFamily", "MbsModel", "SteadyAmplitude", "assumption_study", "assumptions_table", "convergence",
-           "extended_states", "match_hopf", "mbs_steady_amplitude", "reduced_peak", "reduced_steady_amplitude",
-           "simulate"]
+__all__ = ["Assumption", "AssumptionInfo", "AssumptionsTable", "AxleDimensions", "DEFAULT_DIMENSIONS", "Fidelity",
+           "assumptions_table"]

@@ -29,6 +29,9 @@ import math
 from dataclasses import dataclass
 from typing import Callable
 
+from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
+
+# isort: split
 import exudyn as exu
 
 from mbs_shimmy.dimensions import AxleDimensions

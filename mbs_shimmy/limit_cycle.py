@@ -7,8 +7,8 @@ touching the callers.  Method: simulate from a state near the cycle for ``settle
 :data:`SETTLED_TOL` (relative) against the window before, or fell below :data:`DECAYED` (straight running
 attracts: no cycle there, amplitude 0 to that accuracy).  Otherwise the run is continued, ``settle`` seconds at a
 time, up to :data:`MAX_TIME`.  The reduced model is integrated by scipy's DOP853 (rtol 1e-9, atol 1e-12) on
-:meth:`reduced_model.model.ShimmyModel.rhs`; the MBS by :func:`mbs_shimmy.simulate` with the fixed-step setting
-(RK67 at 1/240 s, within 1e-4 of every state's amplitude), sampled at every step; the maxima are refined by a
+:meth:`reduced_model.model.ShimmyModel.rhs`; the MBS by :func:`mbs_shimmy.simulation.simulate` with the fixed-step
+setting (RK67 at 1/240 s, within 1e-4 of every state's amplitude), sampled at every step; the maxima are refined by a
 parabola through the largest sample and its neighbours (:func:`peak`).
 """
 

@@ -35,6 +35,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
+
+# isort: split
 import exudyn as exu
 import numpy as np
 

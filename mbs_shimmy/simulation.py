@@ -23,6 +23,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
+from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
+
+# isort: split
 import exudyn as exu
 import numpy as np
 

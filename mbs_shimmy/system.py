@@ -46,6 +46,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
+
+# isort: split
 import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import (

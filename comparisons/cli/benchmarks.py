@@ -129,8 +129,8 @@ def _mbs_simulation(fidelity: str):
     def setup():
         import numpy as np
 
-        from mbs_shimmy import Fidelity, simulate
-        from mbs_shimmy.simulation import BENCH_SETTINGS
+        from mbs_shimmy.fidelity import Fidelity
+        from mbs_shimmy.simulation import BENCH_SETTINGS, simulate
         from reduced_model.trajectory import SpeedSchedule
         x0 = np.zeros(8)
         x0[0] = 0.01
@@ -147,7 +147,8 @@ def _mbs_simulation(fidelity: str):
 
 def _mbs_cycle_branch():
     from comparisons.axles.units import BAR, KMH
-    from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.linearisation import MbsFamily, MbsModel
     from reduced_model.bifurcation.cycles.branches import branch_from_hopf
     from reduced_model.bifurcation.equilibria.hopf import hopf_points
 

@@ -8,7 +8,6 @@ import math
 import sys
 from typing import Any
 
-from comparisons.axles.units import BAR
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import ParameterError
 
@@ -84,25 +83,11 @@ def check_window(lo: float, hi: float, name: str, unit: str) -> None:
 
 def parse_overrides(items: list[str] | None) -> dict[str, float]:
     """``NAME=VALUE`` strings to overrides in interface units (degrees, bar; see 'shimmy params')."""
-    from comparisons.axles.axle import entries
-    overrides: dict[str, float] = {}
-    for item in items or []:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name or not text.strip():
-            raise UsageError(f"--set expects NAME=VALUE, got '{item}'")
-        if name not in entries():
-            from comparisons.axles.axle import entry
-            try:
-                entry(name, "parameter")
-            except ParameterError as exc:
-                raise UsageError(f"{exc} in --set") from None
-        try:
-            value = float(text)
-        except ValueError:
-            raise UsageError(f"--set {name}: '{text}' is not a number") from None
-        overrides[name] = value
-    return overrides
+    from comparisons.api import parse_settings
+    try:
+        return parse_settings(items or [])
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def add_axle_option(p: argparse.ArgumentParser) -> None:
@@ -152,11 +137,16 @@ def resolve_pressures(args: argparse.Namespace) -> None:
     args._pressures_resolved = True
 
 
+def tyre_pressures(args: argparse.Namespace):
+    """The tyre pressures of the options (:class:`comparisons.api.TyrePressures`)."""
+    from comparisons.api import TyrePressures
+    resolve_pressures(args)
+    return TyrePressures(args.pressure_right, args.pressure_left)
+
+
 def operating_pressure(args: argparse.Namespace) -> float | tuple[float, float]:
     """Tyre pressures for the models, Pa: one value when both tyres are alike, else (right, left)."""
-    resolve_pressures(args)
-    r, l = args.pressure_right * BAR, args.pressure_left * BAR
-    return r if args.pressure_right == args.pressure_left else (r, l)
+    return tyre_pressures(args).si
 
 
 def pressures_json(args: argparse.Namespace) -> dict:
@@ -176,20 +166,25 @@ def pressure_label(args: argparse.Namespace) -> str:
     return f"right {args.pressure_right:g} / left {args.pressure_left:g} bar"
 
 
-def build_axle(args: argparse.Namespace):
-    """The axle of the command: ``--axle`` (or the paper's) with ``--set`` on top; cached on ``args``."""
+def api_axle(args: argparse.Namespace):
+    """The axle of the command (:class:`comparisons.api.Axle`): ``--axle`` (or the paper's) with ``--set`` on
+    top; cached on ``args``."""
     cached = getattr(args, "_axle", None)
     if cached is not None:
         return cached
-    from comparisons.axles.axle_file import axle_from_path_or_paper
+    from comparisons.api import Axle
+    path, items = getattr(args, "axle", None), getattr(args, "overrides", None) or ()
     try:
-        axle = axle_from_path_or_paper(getattr(args, "axle", None))
-        overrides = parse_overrides(getattr(args, "overrides", None))
-        axle = axle.with_overrides(overrides) if overrides else axle
+        axle = (Axle.paper() if path is None else Axle.from_file(path)).with_set(*items)
     except ParameterError as exc:
         raise UsageError(str(exc)) from None
     args._axle = axle
     return axle
+
+
+def build_axle(args: argparse.Namespace):
+    """The axle's entries (:class:`comparisons.axles.axle.Axle`) of :func:`api_axle`."""
+    return api_axle(args).data
 
 
 def inputs_json(args: argparse.Namespace) -> dict:
@@ -220,24 +215,31 @@ def build_fidelity(args: argparse.Namespace):
         return None
     if args.fidelity is not None and args.assume is not None:
         raise UsageError("give either --fidelity or --assume, not both")
-    from mbs_shimmy import Fidelity
+    from comparisons.api import fidelity_of
     try:
-        return Fidelity.parse(args.assume if args.assume is not None else (args.fidelity or "reduced"))
+        return fidelity_of(args.fidelity, args.assume)
     except ParameterError as exc:
         raise UsageError(str(exc)) from None
 
 
-def build_family(args: argparse.Namespace, param: str = "pressure"):
-    """The speed family of the chosen model (reduced or MBS) over ``param``, at the operating pressures."""
-    model = build_model(args)
+def reduced_model(args: argparse.Namespace):
+    """The reduced model of the options (:class:`comparisons.api.ReducedModel`): the axle and ``--effects``."""
+    try:
+        return api_axle(args).reduced(effects=args.effects)
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def chosen_model(args: argparse.Namespace):
+    """The model of ``--model`` (:class:`comparisons.api.ReducedModel` or :class:`comparisons.api.MultibodyModel`)."""
+    reduced = reduced_model(args)      # --effects is checked before --fidelity/--assume, as always
     fidelity = build_fidelity(args)
-    pressure = operating_pressure(args)
-    if fidelity is None:
-        from reduced_model.family import SpeedFamily
-        return SpeedFamily(model, param, pressure=pressure)
-    from mbs_shimmy import MbsFamily
-    return MbsFamily.of(model.params, model.effects, fidelity, dims=build_axle(args).dims, param=param,
-                        pressure=pressure)
+    return reduced if fidelity is None else reduced.axle.mbs(fidelity, effects=reduced.effects)
+
+
+def build_family(args: argparse.Namespace, param: str = "pressure"):
+    """The toolkit's speed family of the chosen model (reduced or MBS) over ``param``, at the operating pressures."""
+    return chosen_model(args).family(tyre_pressures(args), param).problem
 
 
 def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:
@@ -248,12 +250,7 @@ def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:
 
 def build_model(args: argparse.Namespace) -> ShimmyModel:
     """The reduced model of the axle with the chosen pressure effects."""
-    axle = build_axle(args)
-    try:
-        effects = Effects.parse(args.effects)
-    except ParameterError as exc:
-        raise UsageError(str(exc)) from None
-    return ShimmyModel(params=axle.params, effects=effects)
+    return reduced_model(args).model
 
 
 def check_output_path(path: str, what: str = "output", recording: bool = False) -> None:

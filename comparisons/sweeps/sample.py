@@ -5,7 +5,7 @@ sent to each worker once.  :func:`evaluate_batch` evaluates consecutive samples 
 sample that fails (a meaningless value, a Newton iteration that does not converge) is a row with status
 ``failed`` and its error message, never a lost batch.  The numbers come from the same calls as the single-point
 commands: :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` on the same family as ``shimmy hopf``,
-:func:`mbs_shimmy.assumption_study` (without cycles) as ``shimmy assumptions --no-cycles``, and
+:func:`mbs_shimmy.assumption_study.assumption_study` (without cycles) as ``shimmy assumptions --no-cycles``, and
 :func:`reduced_model.bifurcation.cycles.problem.cycle_diagram` as ``shimmy cycles``.
 """
 
@@ -145,19 +145,20 @@ class SweepTask:
                 row["hopf_l1"] = [h.first_lyapunov for h in points]
             row["unstable_from_kmh"], row["unstable_to_kmh"] = _unstable_intervals(family, points, vmax)
             if self.mbs:
-                import mbs_shimmy
+                from mbs_shimmy.assumption_study import match_hopf
+                from mbs_shimmy.fidelity import Fidelity
+                from mbs_shimmy.linearisation import MbsFamily
                 for f in self.mbs:
-                    mf = mbs_shimmy.MbsFamily.of(axle.params, effects, mbs_shimmy.Fidelity.parse(f), dims=axle.dims,
-                                                 pressure=pressure)
+                    mf = MbsFamily.of(axle.params, effects, Fidelity.parse(f), dims=axle.dims, pressure=pressure)
                     mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.lyapunov)
                     row.update(_hopf_columns(f"mbs_{_column_safe(f)}_", mp))
                     if self.lyapunov:
                         row[f"mbs_{_column_safe(f)}_hopf_l1"] = [h.first_lyapunov for h in mp]
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
-                    shifts = {m.reduced_speed: shift_kmh(m) for m in mbs_shimmy.match_hopf(points, mp)}
+                    shifts = {m.reduced_speed: shift_kmh(m) for m in match_hopf(points, mp)}
                     row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed) for h in points]
         if "assumptions" in self.compute:
-            from mbs_shimmy import assumption_study
+            from mbs_shimmy.assumption_study import assumption_study
             study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
             for r in study.rows:
                 row[f"shift_{r.assumption}_kmh"] = [shift_kmh(h) for h in r.hopf if h.reduced_speed is not None]

@@ -30,11 +30,6 @@ class Context:
     progress: Callable[[str], None] = field(default=lambda message: None, compare=False)
 
 
-def mbs_package():
-    import mbs_shimmy
-    return mbs_shimmy
-
-
 def printed_decimals(value: float) -> int:
     text = repr(value)
     return len(text.split(".")[1]) if "." in text else 0

@@ -17,7 +17,7 @@ import numpy as np
 from comparisons.axles.axle import interface_text
 from comparisons.axles.paper_reference import FIG9A, KNOWN_DIFFERENCES
 from comparisons.axles.units import BAR, from_kmh, kmh
-from comparisons.verify.context import Context, agrees_to_printed_digits, mbs_package, shimmy_cases
+from comparisons.verify.context import Context, agrees_to_printed_digits, shimmy_cases
 from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row, Section
 from reduced_model.bifurcation.special_points import PointKind
@@ -52,10 +52,11 @@ class CycleCheck:
 def cycle_amplitude_check(model: ShimmyModel, point, pressure, dims, settle: float, x0=None) -> CycleCheck:
     """The MBS steady amplitude at the speed of ``point`` (a continuation cycle of ``model``) against the cycle's
     max|theta1|; the run starts on the cycle unless ``x0`` is given."""
-    mbs = mbs_package()
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.limit_cycle import mbs_steady_amplitude
     start = point.orbit.nodes[0] if x0 is None else x0
-    got = mbs.mbs_steady_amplitude(model.params, model.effects, mbs.Fidelity.reduced(), pressure, point.speed,
-                                   start, settle=settle, dims=dims)
+    got = mbs_steady_amplitude(model.params, model.effects, Fidelity.reduced(), pressure, point.speed, start,
+                               settle=settle, dims=dims)
     ref = point.max_abs("theta1")
     rel = abs(got.theta1 - ref) / ref if math.isfinite(got.theta1) else math.inf
     return CycleCheck(ref, got, rel)
@@ -63,8 +64,9 @@ def cycle_amplitude_check(model: ShimmyModel, point, pressure, dims, settle: flo
 
 def cycles_section(ctx: Context) -> Section:
     from comparisons.figures.cycle_plots import plot_cycle_overlay
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.limit_cycle import mbs_steady_amplitude
     from reduced_model.bifurcation.cycles.branches import cycle_diagram
-    mbs = mbs_package()
     settle = 6.0 if ctx.quick else 12.0
     rows, figures = [], []
     model = ShimmyModel(params=ctx.axle.params)
@@ -91,9 +93,9 @@ def cycles_section(ctx: Context) -> Section:
             for point in sample_stable(branch, per_branch):
                 ctx.progress(f"Limit cycles: MBS runs at {case.label}, {kmh(point.speed):.1f} km/h")
                 check = cycle_amplitude_check(model, point, case.pressure, ctx.axle.dims, settle)
-                full_run = mbs.mbs_steady_amplitude(model.params, model.effects, mbs.Fidelity.parse("full"),
-                                                    case.pressure, point.speed, point.orbit.nodes[0], settle=settle,
-                                                    dims=ctx.axle.dims)
+                full_run = mbs_steady_amplitude(model.params, model.effects, Fidelity.parse("full"),
+                                                case.pressure, point.speed, point.orbit.nodes[0], settle=settle,
+                                                dims=ctx.axle.dims)
                 full = full_run.theta1
                 overlay["reduced"].append((point.speed, check.mbs.theta1, check.mbs.psi))
                 overlay["full"].append((point.speed, full_run.theta1, full_run.psi))
@@ -191,11 +193,12 @@ def _classifier_for(cycles):
 
 def _run_both(case: BistableCase, schedule, x0, duration: float):
     """(reduced trajectory, MBS trajectory with every assumption on)."""
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.simulation import simulate as simulate_mbs
     from reduced_model.simulation import simulate
-    mbs = mbs_package()
     model = ShimmyModel(params=case.axle.params)
     reduced = simulate(model, case.pressure_bar * BAR, schedule, duration, x0)
-    multibody = mbs.simulate(model.params, model.effects, mbs.Fidelity.reduced(), case.pressure_bar * BAR, schedule,
+    multibody = simulate_mbs(model.params, model.effects, Fidelity.reduced(), case.pressure_bar * BAR, schedule,
                              x0, duration, dims=case.axle.dims, poses=True)
     return reduced, multibody
 

@@ -84,7 +84,8 @@ def label(pressure) -> str:
 
 def families(axle, pressure, effects=None):
     """(reduced model's family, MBS family at reduced fidelity) at one pressure."""
-    from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.linearisation import MbsFamily, MbsModel
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
     effects = effects or Effects()
@@ -301,7 +302,8 @@ def test_transient_equal(axle, pressure, quick):
     the reduced model (DOP853, rtol 1e-12), every state within 1e-4 of its amplitude."""
     from scipy.integrate import solve_ivp
 
-    from mbs_shimmy import Fidelity, simulate
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.simulation import simulate
     from reduced_model.model import Effects, ShimmyModel
     from reduced_model.trajectory import SpeedSchedule
     duration = 1.0 if quick else 2.0

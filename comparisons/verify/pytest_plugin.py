@@ -59,18 +59,15 @@ def checks_path() -> str:
 
 def load_axle(path: str, overrides: list[str] | None):
     """The axle of ``--axle`` with ``--axle-set`` on top; any problem is one usage line."""
-    from comparisons.axles.axle_file import AxleFileError, axle_from_path_or_paper
-    from comparisons.axles.limits import UsageError
-    from comparisons.cli.options import parse_overrides
+    from comparisons.api import Axle
     from reduced_model.parameters import ParameterError
     try:
-        axle = axle_from_path_or_paper(path)
-    except (AxleFileError, ParameterError) as exc:
+        axle = Axle.from_file(path)
+    except ParameterError as exc:                   # an AxleFileError among them
         raise pytest.UsageError(f"--axle: {exc}") from None
     try:
-        items = parse_overrides(overrides)
-        return axle.with_overrides(items) if items else axle
-    except (ParameterError, UsageError) as exc:     # the CLI's messages, naming this option instead of --set
+        return axle.with_set(*(overrides or ())).data
+    except ParameterError as exc:                   # the API's --set messages, naming this option instead
         text = str(exc).replace("--set", "--axle-set")
         raise pytest.UsageError(text if "--axle-set" in text else f"--axle-set: {text}") from None
 

@@ -24,7 +24,6 @@ from comparisons.verify.context import (
     MODEL_SETS,
     Context,
     agrees_to_printed_digits,
-    mbs_package,
     shimmy_cases,
 )
 from comparisons.verify.plan import VMAX, CaseKind
@@ -94,8 +93,8 @@ def paper_section(ctx: Context) -> Section:
 
 def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
     """Largest relative difference of the MBS's eigenvalues from the reduced model's at a few speeds."""
-    mbs = mbs_package()
-    family = mbs.MbsFamily.of(model.params, model.effects, fidelity, dims=dims, pressure=pressure)
+    from mbs_shimmy.linearisation import MbsFamily
+    family = MbsFamily.of(model.params, model.effects, fidelity, dims=dims, pressure=pressure)
     reduced = SpeedFamily(model, pressure=pressure)
     worst_rel = 0.0
     for v in EIGEN_SPEEDS_KMH:
@@ -106,7 +105,9 @@ def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
 
 
 def hopf_section(ctx: Context) -> Section:
-    mbs = mbs_package()
+    from mbs_shimmy.assumption_study import match_hopf
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.linearisation import MbsFamily
     rows = []
     dims = ctx.axle.dims
     speeds = {}     # figure: model set -> source -> [(pressure bar, km/h)] at the symmetric cases
@@ -118,11 +119,11 @@ def hopf_section(ctx: Context) -> Section:
             reduced = hopf_points(family, family.nominal, 0.0, VMAX)
             by_fidelity = {}
             for name in ("reduced", "full"):
-                mfam = mbs.MbsFamily.of(model.params, effects, mbs.Fidelity.parse(name), dims=dims,
-                                        pressure=case.pressure)
-                by_fidelity[name] = mbs.match_hopf(reduced, hopf_points(mfam, mfam.nominal, 0.0, VMAX,
-                                                                        lyapunov=False))
-            rel = _eigen_check(model, mbs.Fidelity.reduced(), case.pressure, dims)
+                mfam = MbsFamily.of(model.params, effects, Fidelity.parse(name), dims=dims,
+                                    pressure=case.pressure)
+                by_fidelity[name] = match_hopf(reduced, hopf_points(mfam, mfam.nominal, 0.0, VMAX,
+                                                                    lyapunov=False))
+            rel = _eigen_check(model, Fidelity.reduced(), case.pressure, dims)
             eig_ok = rel <= EIGEN_TOL
             base = {"model": label, "case": case.label}
             rows.append(Row({**base, "point": "eigenvalues", "relative_diff": rel},
@@ -194,14 +195,14 @@ def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
 
 def assumptions_section(ctx: Context) -> Section:
     from comparisons.verify.report_figures import AssumptionShift, plot_assumption_tornado
-    mbs = mbs_package()
+    from mbs_shimmy.assumption_study import assumption_study
     model = ShimmyModel(params=ctx.axle.params)
     rows, tornado = [], []
     cases = [c for c in shimmy_cases(ctx) if c.kind is not CaseKind.ASYMMETRIC][:2]
     for case in cases:
         ctx.progress(f"Assumptions at {case.label}")
-        study = mbs.assumption_study(model.params, model.effects, case.pressure, dims=ctx.axle.dims,
-                                     cycles=not ctx.quick)
+        study = assumption_study(model.params, model.effects, case.pressure, dims=ctx.axle.dims,
+                                 cycles=not ctx.quick)
         for r in study.rows:
             hopf = [shifts.shift_kmh(h) for h in r.hopf]
             text = ", ".join("-" if v is None else f"{v:+.2f}" for v in hopf)

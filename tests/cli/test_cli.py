@@ -78,7 +78,12 @@ def test_hopf_mbs_fidelities(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["model"] == "mbs" and out["fidelity"] == "reduced"
     assert [round(h["speed_kmh"], 2) for h in out["hopf"]] == [46.14, 70.5]
-    assert all(h["criticality"] is None for h in out["hopf"])  # no l1 for the MBS
+    # The MBS's l1 (from its family's difference derivatives) is the reduced model's with every assumption on.
+    assert main(["hopf", "--pressure", "2.5", "--json"]) == 0
+    reduced = json.loads(capsys.readouterr().out)["hopf"]
+    assert [h["criticality"] for h in out["hopf"]] == [h["criticality"] for h in reduced] != [None, None]
+    assert [h["first_lyapunov"] for h in out["hopf"]] == pytest.approx([h["first_lyapunov"] for h in reduced],
+                                                                      rel=1e-6)
     # The full geometry damps tramp through the sliding contact patch: no shimmy at 2.5 bar.
     assert main(["hopf", "--pressure", "2.5", "--model", "mbs", "--fidelity", "full", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["hopf"] == []

@@ -11,8 +11,6 @@ DOCS = ["README.md", "mbs_shimmy/README.md", *(p.relative_to(ROOT).as_posix() fo
 TOP = ("reduced_model", "mbs_shimmy", "comparisons", "tests", "tools", "docs")
 PATH = re.compile(r"`((?:%s)/[\w./-]*)`" % "|".join(TOP))
 MODULE = re.compile(r"`((?:reduced_model|mbs_shimmy|comparisons)(?:\.\w+)+)")
-# Named by the README's Python example, written on the API branch; it exists once that branch is merged.
-ELSEWHERE = {"comparisons/api.py"}
 LINK = re.compile(r"\]\(([^)#\s]*)(?:#([^)]*))?\)")
 
 
@@ -40,7 +38,7 @@ def _module_ok(dotted: str) -> bool:
 @pytest.mark.parametrize("doc", DOCS)
 def test_named_paths_exist(doc):
     text = (ROOT / doc).read_text()
-    missing = [p for p in PATH.findall(text) if not (ROOT / p.split("::")[0]).exists() and p not in ELSEWHERE]
+    missing = [p for p in PATH.findall(text) if not (ROOT / p.split("::")[0]).exists()]
     missing += [m for m in MODULE.findall(text) if not _module_ok(m)]
     here = (ROOT / doc).parent
     for link, anchor in LINK.findall(text):

@@ -4,8 +4,9 @@ coexist from about 159 to 185 km/h)."""
 import pytest
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+from mbs_shimmy import Fidelity
 from mbs_shimmy.kick import KickStatus, coexisting_states, kick_threshold, kicks, settle_function, settled_on
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 from reduced_model.bifurcation.cycles.branches import cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel

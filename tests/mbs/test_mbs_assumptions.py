@@ -13,8 +13,9 @@ import pytest
 from comparisons import assumption_shifts as shifts
 from comparisons.axles.units import BAR, KMH, kmh
 from comparisons.cli.main import main
-from mbs_shimmy import Fidelity, MbsFamily, MbsModel, assumption_study, match_hopf
-from mbs_shimmy.assumption_study import study_fidelities
+from mbs_shimmy import Fidelity
+from mbs_shimmy.assumption_study import assumption_study, match_hopf, study_fidelities
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points
 from reduced_model.model import Effects
 

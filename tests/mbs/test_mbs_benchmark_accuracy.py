@@ -11,8 +11,8 @@ import pytest
 from scipy.interpolate import CubicSpline
 
 from comparisons.axles.units import from_kmh
-from mbs_shimmy import Fidelity, simulate
-from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states
+from mbs_shimmy import Fidelity
+from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states, simulate
 from reduced_model.model import Effects
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule
 

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+from mbs_shimmy import Fidelity
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 from reduced_model.bifurcation.continuation import ContinuationSettings
 from reduced_model.bifurcation.cycles.branches import branch_from_hopf
 from reduced_model.bifurcation.cycles.problem import CycleSettings

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import Fidelity, MbsFamily, MbsModel
+from mbs_shimmy import Fidelity
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 from reduced_model.bifurcation.equilibria.hopf import eigenvalues
 from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
 from reduced_model.bifurcation.special_points import PointKind

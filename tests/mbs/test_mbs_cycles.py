@@ -15,7 +15,9 @@ import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import Fidelity, MbsFamily, MbsModel, mbs_steady_amplitude
+from mbs_shimmy import Fidelity
+from mbs_shimmy.limit_cycle import mbs_steady_amplitude
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 from reduced_model.bifurcation.cycles.branches import cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
@@ -59,7 +61,7 @@ def test_full_geometry_stable_orbit_is_where_its_simulation_settles():
     assert run.settled
     assert run.theta1 == pytest.approx(orbit.max_abs("theta1"), rel=5e-3)
     # The frequency from the zero crossings of theta1 over the last settled seconds of a continued run.
-    from mbs_shimmy import simulate
+    from mbs_shimmy.simulation import simulate
     from reduced_model.trajectory import SpeedSchedule
     tail = simulate(YANG2024, Effects(), Fidelity.full(), PRESSURE, SpeedSchedule.constant(speed),
                     x0=run.final_state, duration=3.0, poses=False)

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH, kmh
-from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity, MbsFamily, MbsModel, tyre_element
+from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity, tyre_element
 from mbs_shimmy.fidelity import Assumption
-from mbs_shimmy.linearisation import ConstantSpeed
+from mbs_shimmy.linearisation import ConstantSpeed, MbsFamily, MbsModel
 from reduced_model import tyre
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.model import Effects, ShimmyModel

@@ -10,15 +10,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from comparisons.axles.units import BAR, KMH, kmh
-from mbs_shimmy import (
-    AxleDimensions,
-    Fidelity,
-    MbsFamily,
-    MbsModel,
-    mbs_steady_amplitude,
-    reduced_steady_amplitude,
-    simulate,
-)
+from mbs_shimmy import AxleDimensions, Fidelity
+from mbs_shimmy.limit_cycle import mbs_steady_amplitude, reduced_steady_amplitude
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from mbs_shimmy.simulation import simulate
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel

@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import Fidelity, MbsFamily, MbsModel, simulate
-from mbs_shimmy.simulation import extended_states
+from mbs_shimmy import Fidelity
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from mbs_shimmy.simulation import extended_states, simulate
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.trajectory import SpeedSchedule
 

@@ -9,11 +9,11 @@ import pytest
 from exudyn.itemInterface import NodeGenericODE2, ObjectKinematicTree
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, MbsFamily, MbsModel, assumptions_table
+from mbs_shimmy import DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, assumptions_table
 from mbs_shimmy.assumption_study import study_fidelities
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS
 from mbs_shimmy.geometry import disc_contact
-from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator
+from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator, MbsFamily, MbsModel
 from mbs_shimmy.system import TreeInertia
 from reduced_model.model import Effects
 from reduced_model.parameters import YANG2024, ParameterError

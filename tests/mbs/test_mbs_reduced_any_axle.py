@@ -11,7 +11,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from comparisons.axles.units import BAR, KMH, kmh
-from mbs_shimmy import AxleDimensions, Fidelity, MbsFamily, MbsModel, simulate
+from mbs_shimmy import AxleDimensions, Fidelity
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from mbs_shimmy.simulation import simulate
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel

@@ -21,7 +21,7 @@ def test_every_multibody_entry_with_a_plausible_range_is_sampled():
 
 
 def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_path):
-    import mbs_shimmy
+    from mbs_shimmy.assumption_study import assumption_study
     from reduced_model.model import Effects
 
     axle = Axle()
@@ -34,7 +34,7 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     assert ok and study.failed == 0 and len(ok) + len(study.impossible) == 6
     r = ok[0]
     dims = axle.with_values({n: entries()[n].to_si(r[n]) for n in study.design.names}).dims
-    direct = mbs_shimmy.assumption_study(axle.params, Effects(), 1.5e5, dims=dims, cycles=False)
+    direct = assumption_study(axle.params, Effects(), 1.5e5, dims=dims, cycles=False)
     full = next(x for x in direct.rows if x.assumption == "full")
     want = [shift_kmh(h) for h in full.hopf if h.reduced_speed is not None]
     assert r["mbs_full_shift_kmh"] == want

@@ -19,8 +19,8 @@ from comparisons.cli.options import (
     pressure_label,
 )
 from comparisons.cli.progress import progress
-from mbs_shimmy import assumption_study, assumptions_table
-from mbs_shimmy.assumption_study import study_fidelities
+from mbs_shimmy import assumptions_table
+from mbs_shimmy.assumption_study import assumption_study, study_fidelities
 
 
 def add_parser(sub) -> None:

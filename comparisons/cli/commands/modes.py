@@ -38,7 +38,7 @@ def add_parser(sub) -> None:
 
 def _models(args: argparse.Namespace):
     """(key, title, Jacobian at straight running) for the reduced model and the MBS."""
-    from mbs_shimmy import MbsFamily
+    from mbs_shimmy.linearisation import MbsFamily
     from reduced_model.family import SpeedFamily
     model = build_model(args)
     pressure = operating_pressure(args)

@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 
+from comparisons.api import name_and_text
 from comparisons.axles.axle import interface_text
 from comparisons.axles.limits import (
     ANGLE_RANGE_DEG,
@@ -35,6 +36,7 @@ from comparisons.cli.options import (
 from comparisons.cli.progress import progress
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.modes import ModeClassifier, ModeHistory
+from reduced_model.parameters import ParameterError
 from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
@@ -89,10 +91,10 @@ def parse_initial(items: list[str] | None) -> np.ndarray:
         return initial_state()
     values: dict[str, float] = {}
     for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name or not text.strip():
-            raise UsageError(f"--initial expects NAME=VALUE, got '{item}'")
+        try:
+            name, text = name_and_text(item, "--initial")
+        except ParameterError as exc:
+            raise UsageError(str(exc)) from None
         if name not in STATE_NAMES:
             raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
         rate = STATE_UNITS[STATE_NAMES.index(name)] == "rad/s"
@@ -128,7 +130,7 @@ def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.nda
     model = build_model(args)
     fidelity = build_fidelity(args)
     if fidelity is not None:
-        from mbs_shimmy import simulate as simulate_mbs
+        from mbs_shimmy.simulation import simulate as simulate_mbs
         return simulate_mbs(model.params, model.effects, fidelity, operating_pressure(args), schedule, x0,
                             args.duration, dims=build_axle(args).dims, poses=bool(args.rerun))
     quiet = args.json or not sys.stderr.isatty()
