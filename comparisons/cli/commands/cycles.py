@@ -191,6 +191,10 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
         out.append({"label": label, "kind": curve.kind.value, "complete": curve.complete,
                     "status": [s.value for s in curve.status], "messages": [interface_text(m) for m in curve.messages],
                     "points": [[v * 3.6, q / factor] for v, q in zip(curve.speeds, curve.values)],
+                    # Per point, parallel to "points": past a 1:1 or 1:2 resonance a torus curve goes on as
+                    # neutral saddles; a curve keeps its start mesh, so its error estimate is marked, not enforced.
+                    "neutral_saddle": [bool(f) for f in curve.neutral_saddle],
+                    "meets_tolerance": [bool(f) for f in curve.meets_tolerance],
                     "ends_at_zero_amplitude": [None if e is None else [e[0] * 3.6, e[1] / factor]
                                                for e in curve.ends],
                     "end_points": [None if e is None else codim2_row(e, factor) for e in curve.end_points],
@@ -350,7 +354,7 @@ def print_curves(curves, labels, name: str) -> None:
         print(f"    {label:4s} {curve.kind.value:10s} {len(curve.speeds)} points, {name} "
               f"{curve.values.min() / factor:.6g}-{curve.values.max() / factor:.6g} {unit}{flag}")
         for message in curve.messages:
-            print(f"         end: {message}")
+            print(f"         end: {interface_text(message)}")
         for p in curve.special_points:
             print(f"         {p.kind.value} at {p.speed * 3.6:.4f} km/h, {name} {p.value / factor:.6g} {unit} "
                   f"({p.status.value})")
