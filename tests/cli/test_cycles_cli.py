@@ -207,3 +207,22 @@ def test_empty_window_with_unstable_straight_running_is_not_no_shimmy(capsys):
     assert out["complete"] is False and out["branches"] == [] and "unstable" in out["note"]
     assert main(["cycles", "--pressure", "2.7", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["complete"] is True
+
+
+def test_simulate_mbs_period_limit_uses_the_mbs_fastest_mode(monkeypatch, capsys):
+    """A light, stiff steering gear oscillates at kHz on the full geometry: the MBS run is refused from the MBS's
+    own linearisation (the reduced model, without a gear, oscillates below 20 Hz and would let it start)."""
+    from comparisons.cli.commands import simulate as simulate_command
+
+    def started(*args, **kwargs):
+        raise AssertionError("the run should have been refused before integrating")
+
+    monkeypatch.setattr(simulate_command, "simulate_model", started)
+    args = ["simulate", "--model", "mbs", "--fidelity", "full", "--pressure", "2.5", "--speed", "60", "--duration",
+            "40", "--set", "steering_gear_inertia=0.01", "--set", "steering_gear_compliance=1e-6", "--set",
+            "steering_gear_damping=0", "--json"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "the MBS's fastest oscillation" in err
+    hz = float(err.split("oscillation, ")[1].split(" Hz")[0])
+    assert hz * 40 > simulate_command.MAX_CYCLES and hz > 100.0
