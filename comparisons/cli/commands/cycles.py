@@ -29,6 +29,7 @@ from comparisons.cli.progress import progress, ticker
 from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from reduced_model.bifurcation.cycle_curves.result import CycleCurve
 from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_diagram
+from reduced_model.bifurcation.cycles.end_segments import hopf_multipliers
 from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
 from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint, CycleSettings
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint
@@ -101,8 +102,7 @@ def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
     """A Hopf end of a branch as a point of zero amplitude: multipliers exp(lambda T) of straight running, one
     of the critical pair's two unit multipliers being the trivial one."""
     period = 2.0 * np.pi / h.omega
-    mu = np.exp(np.linalg.eigvals(family.linear_matrix(h.speed, h.value)) * period)
-    big = largest(mu)
+    big = largest(hopf_multipliers(family, h))
     return {"kind": "hopf", "speed_kmh": h.speed_kmh, "period_s": period, "frequency_hz": h.frequency_hz,
             "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0,
             "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,

@@ -152,11 +152,16 @@ def end_segment_points(family: Family, near: CyclePoint, hopf: HopfPoint, settin
         if fa * fb < 0.0:
             events.append((PointKind.CYCLE_FOLD, seg.fold_test))
         for kind, test in events:
+            where, status = None, None
             try:
-                c = scipy.optimize.brentq(test, b, a, xtol=1e-12, rtol=1e-10)
-                where, status = (seg.point(c), PointStatus.LOCATED) if c > 0.0 else (None, None)
+                # A count that changes without a sign change of the test (a complex pair meeting on the real axis
+                # outside the circle) brackets nothing: only the bracket is reported.
+                if test(a) * test(b) < 0.0:
+                    c = scipy.optimize.brentq(test, b, a, xtol=1e-12, rtol=1e-10)
+                    if c > 0.0:
+                        where, status = seg.point(c), PointStatus.LOCATED
             except (RuntimeError, ValueError, ProblemError):
-                where, status = None, None
+                pass
             if where is None:
                 c, where, status = a, seg.point(a), PointStatus.NOT_CONVERGED
             found.append(SpecialPoint(
