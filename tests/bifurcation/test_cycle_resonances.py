@@ -219,3 +219,38 @@ def test_neimark_sacker_coefficient_and_chenciner_point():
     (ch,) = curve.special_points
     assert ch.kind is PointKind.CHENCINER and ch.status is PointStatus.LOCATED
     assert ch.value == pytest.approx(family.Q0 - family.GAMMA * family.RHO, abs=1e-8)
+
+
+def test_resonance_between_the_last_curve_point_and_the_hopf_hopf_end(monkeypatch):
+    """A torus curve's last computed point lies short of the Hopf-Hopf point where it ends; there kappa =
+    cos(2 pi omega_2 / omega_1) of straight running.  A resonance value in that last stretch is located on the
+    corrected curve, beyond the last point, like any other (issue 17).  The value is placed there on purpose (the
+    real 1:4 lies elsewhere): the table of resonances is patched, not the locating code."""
+    import reduced_model.bifurcation.cycle_curves.torus as torus
+    from comparisons.axles.units import BAR, KMH
+    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import Effects, ShimmyModel
+
+    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressure=0.5 * BAR)
+    diagram = cycle_diagram(family, 0.5 * BAR, 0.0, 400 * KMH)
+    start = next(p for p in diagram.points_of(PointKind.TORUS) if p.data.get("end_segment"))
+    window = (0.45 * BAR, 0.6 * BAR, 0.0, 400 * KMH)         # the stretch from 0.5 bar to the Hopf-Hopf end
+    curve = cycle_bifurcation_curve(family, start, *window)
+    side = next(i for i, e in enumerate(curve.end_points) if e is not None and e.kind is PointKind.HOPF_HOPF)
+    hh, last = curve.end_points[side], (0 if side == 0 else -1)
+    own = 2 * np.pi / curve.periods[last]
+    w_own, w_other = sorted((hh.data["omega"], hh.data["omega2"]), key=lambda w: abs(w - own))
+    kappa_end = np.cos(2 * np.pi * w_other / w_own)
+    assert abs(curve.kappas[last] - kappa_end) < 1e-4          # the curve runs into that value
+    target = 0.5 * (curve.kappas[last] + kappa_end)
+    monkeypatch.setattr(torus, "RESONANCE_KAPPA", ((PointKind.RESONANCE_1_4, target),))
+    again = cycle_bifurcation_curve(family, start, *window)
+    (found,) = again.points_of(PointKind.RESONANCE_1_4)
+    assert found.status is PointStatus.LOCATED and found.data["end_segment"]
+    rest, _ = classify_multipliers(found.data["multipliers"])
+    pair = rest[np.abs(rest.imag) > 1e-7]
+    mu = pair[np.argmin(np.abs(np.abs(pair) - 1.0))]
+    assert abs(abs(mu) - 1.0) < 1e-6 and abs(np.cos(np.angle(mu)) - target) < 1e-7
+    assert found.data["cycle"].amplitude.max() < again.amplitudes[last].max()      # beyond the last point

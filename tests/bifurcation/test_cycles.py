@@ -230,3 +230,28 @@ def test_figure15a_low_vertical_stiffness_two_modes_at_nominal_pressure():
     assert agrees_to_printed_digits(paper.FIG15A["psi_low_mode_deg"], psi_low)
     assert deg(branch_peak(family, high, "theta1").max_abs("theta1")) > 1.5 * deg(
         branch_peak(family, low, "theta1").max_abs("theta1"))
+
+
+def test_torus_point_between_the_last_cycle_and_the_hopf_end():
+    """Issue 17: with hcl,pt at 0.5 bar the yaw branch's torus point lies between its last computed cycle and
+    the Hopf point it returns to; it is located there on solved cycles like any other point."""
+    from reduced_model.bifurcation.cycles.end_segments import hopf_multipliers
+
+    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressure=0.5 * BAR)
+    d = cycle_diagram(family, 0.5 * BAR, 0.0, VMAX)
+    yaw = next(b for b in d.branches if b.end is not None)
+    (torus,) = yaw.points_of(PointKind.TORUS)
+    assert torus.status is PointStatus.LOCATED and torus.data["end_segment"]
+    last = yaw.points[-1]
+    assert min(last.speed, yaw.end.speed) < torus.speed < max(last.speed, yaw.end.speed)
+    # The torus test changes sign on that segment: inside the circle at the last cycle, outside at the Hopf end.
+    rest_last, _ = classify_multipliers(last.multipliers)
+    rest_hopf, _ = classify_multipliers(hopf_multipliers(family, yaw.end))
+    pair = lambda mu: mu[np.abs(mu.imag) > 1e-6]                   # noqa: E731
+    assert np.max(np.abs(pair(rest_last))) < 1.0 < np.max(np.abs(pair(rest_hopf)))
+    rest, _ = classify_multipliers(torus.data["multipliers"])
+    assert np.min(np.abs(np.abs(pair(rest)) - 1.0)) < 1e-8
+    assert torus.data["cycle"].meets_tolerance and torus.bracket[0] >= 0.0
+    # The located cycle is a cycle of the model at that speed: Newton from it at fixed speed stays there.
+    again = cycle_at(family, torus.data["cycle"], torus.speed)
+    assert abs(again.period - torus.data["period"]) < 1e-9 * torus.data["period"]

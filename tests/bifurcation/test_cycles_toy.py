@@ -185,3 +185,26 @@ def test_branch_failures_say_where_they_stopped():
     hopeless = CycleSettings(continuation=ContinuationSettings(newton_max_iter=1, newton_tol=1e-300))
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0, settings=hopeless)
     assert b.status is BranchStatus.NEWTON_FAILED and b.points == () and "branch switching" in b.message
+
+
+def test_torus_and_fold_between_the_hopf_start_and_the_first_cycle():
+    """Issue 17: bifurcations closer to the Hopf point than the first computed cycle are found and located there.
+    The attached oscillator of damping mu - C with C = 1e-5 gives the torus point at V = SHIFT + C (the first
+    cycle lies at mu = 4e-4); the Bautin normal form at beta = 2e-4 folds at mu = -beta^2 / 4 = -1e-8, r^2 = 1e-4,
+    inside the first cycle's r^2 = 4e-4."""
+    from test_cycle_curve_ends import Bautin, CycleWithOscillator
+
+    class CloseTorus(CycleWithOscillator):
+        C = 1e-5
+
+    for family, q, kind, expected in ((CloseTorus(), 0.8, PointKind.TORUS, CloseTorus.SHIFT + 1e-5),
+                                      (Bautin(), 2e-4, PointKind.CYCLE_FOLD, Bautin.SHIFT - 1e-8)):
+        (h,) = [h for h in hopf_points(family, q, family.SHIFT - 0.2, family.SHIFT + 0.2)
+                if abs(h.omega - family.W) < 1e-9]
+        branch = branch_from_hopf(family, h, family.SHIFT - 1.0, family.SHIFT + 1.0)
+        first = branch.points[0].speed
+        assert abs(first - family.SHIFT) > 5 * abs(expected - family.SHIFT)     # the point is short of it
+        (point,) = branch.points_of(kind)
+        assert point.status is PointStatus.LOCATED and point.data["end_segment"]
+        assert point.speed == pytest.approx(expected, abs=1e-12)
+        assert point.bracket[1] <= 0.0          # before the first cycle on the branch's arclength

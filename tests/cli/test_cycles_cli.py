@@ -122,6 +122,47 @@ def test_cycles_two_parameter_curves(tmp_path, capsys):
     assert png.stat().st_size > 20_000
 
 
+def test_cycles_two_torus_curves_at_half_a_bar_with_figure18_effects(capsys):
+    """Issue 17: at 0.5 bar with hcl,pt the yaw and the tramp branch each carry a torus point (the yaw branch's
+    between its last computed cycle and its Hopf end); both torus curves run into the same Hopf-Hopf point."""
+    assert main(["cycles", "--pressure", "0.5", "--effects", "hcl,pt", "--two-param", "pressure", "--range", "0.2",
+                 "0.6", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    torus = [s for s in out["special_points"] if s["kind"] == "torus"]
+    assert sorted(s["branch"] for s in torus) == [0, 1] and all(s["status"] == "located" for s in torus)
+    curves = [c for c in out["two_param"]["curves"] if c["kind"] == "torus"]
+    assert sorted(c["label"] for c in curves) == sorted(s["label"] for s in torus)
+    ends = [e for c in curves for e in c["end_points"] if e is not None and e["kind"] == "hopf_hopf"]
+    assert len(ends) == 2 and all(e["status"] == "located" for e in ends)
+    assert ends[0]["speed_kmh"] == pytest.approx(ends[1]["speed_kmh"], abs=1e-6)
+    assert ends[0]["value"] == pytest.approx(ends[1]["value"], abs=1e-8) and 0.2 < ends[0]["value"] < 0.6
+    for c in curves:
+        assert len(c["neutral_saddle"]) == len(c["meets_tolerance"]) == len(c["points"])
+        assert all(isinstance(f, bool) for f in c["neutral_saddle"] + c["meets_tolerance"])
+        assert all(" bar" in m and "km/h" in m for m in c["messages"])
+    # Every codimension-two point found along the curves is reported with its status.
+    assert all(p["status"] in ("located", "not_converged") for c in curves for p in c["special_points"])
+
+
+def test_curve_end_messages_print_in_interface_units(capsys):
+    """The toolkit writes curve ends in SI; the text output shows km/h and bar."""
+    import numpy as np
+
+    from reduced_model.bifurcation.cycle_curves.result import CycleCurve
+    from reduced_model.bifurcation.special_points import BranchStatus, PointKind
+
+    curve = CycleCurve(kind=PointKind.TORUS, param="pressure", speeds=np.array([45.0, 46.0]),
+                       values=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),
+                       status=(BranchStatus.COMPLETE,) * 2,
+                       messages=("ends at the Hopf-Hopf point located at speed = 45.30795, pressure = 53204.76",
+                                 "left the window at speed = 53.76107, pressure = 20000"),
+                       ends=(None, None))
+    cycles_command.print_curves([(curve, "")], ["T1"], "pressure")
+    text = capsys.readouterr().out
+    assert "speed = 163.109 km/h, pressure = 0.532048 bar" in text
+    assert "pressure = 0.2 bar" in text and "= 53204" not in text and "= 20000" not in text
+
+
 @pytest.mark.parametrize("args, fragment", [
     (["cycles", "--pressure", "1.5", "--vmin", "200", "--vmax", "100"], "--vmin must be below --vmax"),
     (["cycles", "--pressure", "1.5", "--vmin", "-1"], "must be within [0, 1000] km/h"),
@@ -166,3 +207,22 @@ def test_empty_window_with_unstable_straight_running_is_not_no_shimmy(capsys):
     assert out["complete"] is False and out["branches"] == [] and "unstable" in out["note"]
     assert main(["cycles", "--pressure", "2.7", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["complete"] is True
+
+
+def test_simulate_mbs_period_limit_uses_the_mbs_fastest_mode(monkeypatch, capsys):
+    """A light, stiff steering gear oscillates at kHz on the full geometry: the MBS run is refused from the MBS's
+    own linearisation (the reduced model, without a gear, oscillates below 20 Hz and would let it start)."""
+    from comparisons.cli.commands import simulate as simulate_command
+
+    def started(*args, **kwargs):
+        raise AssertionError("the run should have been refused before integrating")
+
+    monkeypatch.setattr(simulate_command, "simulate_model", started)
+    args = ["simulate", "--model", "mbs", "--fidelity", "full", "--pressure", "2.5", "--speed", "60", "--duration",
+            "40", "--set", "steering_gear_inertia=0.01", "--set", "steering_gear_compliance=1e-6", "--set",
+            "steering_gear_damping=0", "--json"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "the MBS's fastest oscillation" in err
+    hz = float(err.split("oscillation, ")[1].split(" Hz")[0])
+    assert hz * 40 > simulate_command.MAX_CYCLES and hz > 100.0

@@ -69,3 +69,44 @@ def test_cli_bad_speed(capsys):
     assert main(["modes", "--pressure", "1.5", "--speed", "2000"]) == 2
     err = capsys.readouterr().err
     assert "at most 1000 km/h" in err and len(err.splitlines()) == 1
+
+
+def test_an_oscillator_in_the_steering_gear_is_a_gear_mode():
+    """Twelve states, the full geometry's order: a lightly damped oscillation of phi_gear that drags the wheels
+    along by a tenth of its angle is named by its energy, which sits in the gear (inertia 30 kg m^2)."""
+    from mbs_shimmy.layout import EXTRA_COORDINATES
+
+    names = STATE_NAMES + tuple(x for c in EXTRA_COORDINATES for x in (c, c + "_dot"))
+    at = {n: k for k, n in enumerate(names)}
+    w = 2 * math.pi * 9.0
+    A = -np.eye(len(names)) * 80.0
+    g, gd = at["phi_gear"], at["phi_gear_dot"]
+    A[g, :], A[gd, :] = 0.0, 0.0
+    A[g, gd], A[gd, g], A[gd, gd] = 1.0, -w ** 2, -2 * 0.05 * w
+    for wheel in ("theta1", "theta2"):          # theta_i follows 0.1 phi_gear (a steady forced response)
+        A[at[wheel], :], A[at[wheel + "_dot"], :] = 0.0, 0.0
+        A[at[wheel], at[wheel + "_dot"]] = 1.0
+        A[at[wheel + "_dot"], at[wheel]] = -(3 * w) ** 2
+        A[at[wheel + "_dot"], g] = 0.1 * ((3 * w) ** 2 - w ** 2)
+    inertias = {"theta1": 6.0, "theta2": 6.0, "psi": 160.0, "y_axle": 400.0, "phi_gear": 30.0}
+    modes = mode_shapes(A, inertias=inertias, names=names)
+    (gear,) = [m for m in modes if abs(m.frequency_hz - 9.0) < 0.1]
+    assert set(gear.shares) == {"yaw", "tramp", "lateral", "gear"}
+    assert gear.shares["gear"] > 0.5 and gear.yaw_share > 0.0 and gear.character == "gear"
+    assert sum(gear.shares.values()) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_cli_full_geometry_names_modes_by_every_energy_share(capsys):
+    """With the full geometry the MBS has the axle's lateral travel and the steering gear: each oscillating mode
+    is named by the largest of all its energy shares, so the gear mode near 9 Hz is not 'yaw'."""
+    assert main(["modes", "--pressure", "2.5", "--speed", "60", "--fidelity", "full", "--json"]) == 0
+    mbs = json.loads(capsys.readouterr().out)["models"]["mbs"]
+    for m in mbs:
+        shares = m["energy_shares"]
+        assert set(shares) == {"yaw", "tramp", "lateral", "gear"}
+        assert sum(shares.values()) == pytest.approx(1.0, rel=1e-9)
+        if m["frequency_hz"] > 0:
+            assert m["character"] == max(shares, key=shares.get)
+    gear = [m for m in mbs if m["character"] == "gear"]
+    assert len(gear) == 1 and 5.0 < gear[0]["frequency_hz"] < 15.0
+    assert gear[0]["yaw_share"] < gear[0]["energy_shares"]["gear"]

@@ -31,6 +31,7 @@ from comparisons.cli.progress import progress, ticker
 from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from reduced_model.bifurcation.cycle_curves.result import CycleCurve
 from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_diagram
+from reduced_model.bifurcation.cycles.end_segments import hopf_multipliers
 from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
 from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint, CycleSettings
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint
@@ -121,8 +122,7 @@ def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
     """A Hopf end of a branch as a point of zero amplitude: multipliers exp(lambda T) of straight running, one
     of the critical pair's two unit multipliers being the trivial one."""
     period = 2.0 * np.pi / h.omega
-    mu = np.exp(np.linalg.eigvals(family.linear_matrix(h.speed, h.value)) * period)
-    big = largest(mu)
+    big = largest(hopf_multipliers(family, h))
     extras = {f"max_{n}_{interface_of(u)[0]}": 0.0 for n, u in zip(family.state_names, family.state_units)
               if n not in STATE_NAMES and not u.endswith("/s")}
     return {"kind": "hopf", "speed_kmh": kmh(h.speed), "period_s": period, "frequency_hz": h.frequency_hz,
@@ -213,6 +213,10 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
         out.append({"label": label, "kind": curve.kind.value, "complete": curve.complete,
                     "status": [s.value for s in curve.status], "messages": [interface_text(m) for m in curve.messages],
                     "points": [[kmh(v), q / factor] for v, q in zip(curve.speeds, curve.values)],
+                    # Per point, parallel to "points": past a 1:1 or 1:2 resonance a torus curve goes on as
+                    # neutral saddles; a curve keeps its start mesh, so its error estimate is marked, not enforced.
+                    "neutral_saddle": [bool(f) for f in curve.neutral_saddle],
+                    "meets_tolerance": [bool(f) for f in curve.meets_tolerance],
                     "ends_at_zero_amplitude": [None if e is None else [kmh(e[0]), e[1] / factor]
                                                for e in curve.ends],
                     "end_points": [None if e is None else codim2_row(e, factor) for e in curve.end_points],
@@ -405,7 +409,7 @@ def print_curves(curves, labels, name: str) -> None:
         print(f"    {label:4s} {curve.kind.value:10s} {len(curve.speeds)} points, {name} "
               f"{curve.values.min() / factor:.6g}-{curve.values.max() / factor:.6g} {unit}{flag}")
         for message in curve.messages:
-            print(f"         end: {message}")
+            print(f"         end: {interface_text(message)}")
         for p in curve.special_points:
             print(f"         {p.kind.value} at {kmh(p.speed):.4f} km/h, {name} {p.value / factor:.6g} {unit} "
                   f"({p.status.value})")

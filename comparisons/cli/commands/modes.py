@@ -1,10 +1,13 @@
 """``shimmy modes``: eigenvalues of straight running at one pressure and speed, with frequency, damping ratio
-and what moves (yaw, tramp, slip; left/right share), for the reduced model and the MBS."""
+and what moves (yaw, tramp, lateral travel, steering gear, slip; left/right share), for the reduced model and the
+MBS."""
 
 from __future__ import annotations
 
 import argparse
 import math
+
+import numpy as np
 
 from comparisons.axles.limits import SPEED_RANGE_KMH, UsageError
 from comparisons.axles.units import KMH
@@ -20,7 +23,7 @@ from comparisons.cli.options import (
     positive_float,
     pressure_label,
 )
-from reduced_model.mode_shapes import ModeShape, mode_shapes
+from reduced_model.mode_shapes import ModeShape, mode_shapes, reduced_inertias
 
 
 def add_parser(sub) -> None:
@@ -36,8 +39,17 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
+def mbs_inertias(mbs) -> dict[str, float]:
+    """The diagonal of the MBS's own mass matrix at straight running, by mechanical coordinate: with the full
+    geometry the axle's lateral travel and the steering gear carry energy too."""
+    from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator
+    evaluator = MbsEvaluator(mbs.model.system(mbs.pressure, ConstantSpeed(0.0)))
+    M = evaluator.mass_matrix(np.zeros(mbs.n))
+    return {name: float(M[k, k]) for k, name in enumerate(mbs.layout.coordinates)}
+
+
 def _models(args: argparse.Namespace):
-    """(key, title, Jacobian at straight running) for the reduced model and the MBS."""
+    """(key, title, modes) for the reduced model and the MBS."""
     from mbs_shimmy.linearisation import MbsFamily
     from reduced_model.family import SpeedFamily
     model = build_model(args)
@@ -47,8 +59,11 @@ def _models(args: argparse.Namespace):
     reduced = SpeedFamily(model, pressure=pressure)
     mbs = MbsFamily.of(model.params, model.effects, fidelity, dims=build_axle(args).dims, pressure=pressure)
     speed = args.speed * KMH
-    return [("reduced", "reduced model", reduced.linear_matrix(speed, reduced.nominal)),
-            ("mbs", f"MBS, fidelity {fidelity.label}", mbs.linear_matrix(speed, mbs.nominal))], fidelity
+    return [("reduced", "reduced model", mode_shapes(reduced.linear_matrix(speed, reduced.nominal),
+                                                     inertias=reduced_inertias(model.params.I1, model.params.I3))),
+            ("mbs", f"MBS, fidelity {fidelity.label}",
+             mode_shapes(mbs.linear_matrix(speed, mbs.nominal), inertias=mbs_inertias(mbs),
+                         names=mbs.state_names))], fidelity
 
 
 def mode_json(m: ModeShape) -> dict:
@@ -61,28 +76,27 @@ def mode_json(m: ModeShape) -> dict:
 def run(args: argparse.Namespace) -> int:
     if args.speed > SPEED_RANGE_KMH[1]:
         raise UsageError(f"--speed must be at most {SPEED_RANGE_KMH[1]:g} km/h, got {args.speed:g}")
-    models, fidelity = _models(args)
-    params = build_model(args).params
-    results = [(key, title, mode_shapes(A, params.I1, params.I3)) for key, title, A in models]
+    results, fidelity = _models(args)
     if args.json:
         emit_json({**inputs_json(args), "speed_kmh": args.speed, "fidelity": fidelity.label,
                    "models": {key: [mode_json(m) for m in modes] for key, _, modes in results}})
         return 0
     print(f"Modes of straight running at {pressure_label(args)}, {args.speed:g} km/h")
     print(f"  {build_axle(args).label()}")
-    print("  shares: yaw / tramp of the kinetic energy, slip of the squared angles; left: the left wheel's part "
-          "of the wheel yaw; phase: theta2 against theta1")
+    print("  shares: yaw / tramp (/ lateral / gear on the full geometry) of the kinetic energy, slip of the "
+          "squared angles; left: the left wheel's part of the wheel yaw; phase: theta2 against theta1")
     for _, title, modes in results:
+        groups = list(modes[0].shares) if modes else []
         print(f"\n{title}")
         print(f"  {'eigenvalue [1/s]':>24s}  {'freq [Hz]':>9s}  {'damping':>8s}  {'character':9s}  "
-              f"{'yaw':>5s} {'tramp':>5s} {'slip':>5s} {'left':>5s} {'phase':>6s}")
+              + "".join(f"{g:>7s} " for g in groups) + f"{'slip':>5s} {'left':>5s} {'phase':>6s}")
         for m in modes:
             lam = m.eigenvalue
             phase = "-" if math.isnan(m.wheel_phase) else f"{round(math.degrees(m.wheel_phase)) or 0:d}"
             left = "-" if math.isnan(m.left_share) else f"{m.left_share:.2f}"
             flag = "" if m.stable else "  UNSTABLE"
             print(f"  {lam.real:+11.4f} {lam.imag:+11.4f}i  {m.frequency_hz:9.3f}  {m.damping_ratio:+8.4f}  "
-                  f"{m.character:9s}  {m.yaw_share:5.2f} {m.tramp_share:5.2f} {m.slip_share:5.2f} {left:>5s} "
-                  f"{phase:>6s}{flag}")
+                  f"{m.character:9s}  " + "".join(f"{m.shares[g]:7.2f} " for g in groups)
+                  + f"{m.slip_share:5.2f} {left:>5s} {phase:>6s}{flag}")
     print("\n'-': the mode does not move that wheel (no share, no phase)")
     return 0

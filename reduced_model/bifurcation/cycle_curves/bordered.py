@@ -115,6 +115,17 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                 found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
                                    abs(q - U_old[iq]), vmin, vmax)
                 ends.append(found)
+                if found is not None:
+                    # The last step and the rest of the way to the end point: tested like every other step,
+                    # against the end point's own value of the test function.
+                    k, s_zero = len(branch.points) - 2, lam * branch.steps[-1]
+                    for kind, where, ok, bracket in system.end_events(branch, k, s_zero, found):
+                        special.append(SpecialPoint(
+                            kind=kind, speed=where.speed, value=where.value,
+                            bracket=(sign * (arclength[-1] + bracket[0]), sign * (arclength[-1] + bracket[1])),
+                            status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
+                            data={"cycle": where, "period": where.period, "multipliers": where.multipliers,
+                                  "end_segment": True}))
                 if found is None:
                     return (f"complete: the amplitude vanishes near {describe(family, *guess)} "
                             f"(extrapolated; no {what} point located there)")

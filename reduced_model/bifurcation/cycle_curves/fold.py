@@ -236,6 +236,11 @@ class FoldSystem:
         """kappa = cos theta of the critical pair (torus systems only; NaN here)."""
         return float("nan")
 
+    def end_events(self, branch, k: int, s_end: float, end: SpecialPoint) -> list:
+        """Codimension-two points between point k and the curve's end point ``end`` (reached at arclength
+        s_end beyond point k): (kind, cycle, located, bracket); none on fold and period-doubling curves."""
+        return []
+
 
 
 

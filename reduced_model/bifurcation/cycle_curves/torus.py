@@ -22,6 +22,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import scipy.optimize
 import scipy.sparse
 import scipy.sparse.linalg
 
@@ -221,6 +222,40 @@ class TorusSystem(FoldSystem):
             zero = locate_zero(branch, k, step, lyapunov, (previous[1], self._lyapunov[1]))
             if zero is not None:
                 found.append((PointKind.CHENCINER, self.point(zero[0]), zero[1]))
+        return found
+
+
+    def end_events(self, branch, k: int, s_end: float, end: SpecialPoint) -> list:
+        """The strong resonances between point k and the Hopf-Hopf point ``end`` where the curve's amplitude
+        vanishes.  There the cycle of frequency omega_1 has shrunk onto the equilibrium, whose other pair
+        +-i omega_2 gives the multipliers exp(+-i omega_2 T), T = 2 pi / omega_1 (Kuznetsov 2004, section 8.6):
+        kappa ends at cos(2 pi omega_2 / omega_1).  A resonance value between kappa at point k and that end is
+        located by Brent's method in the arclength on the corrected curve, short of the end itself (where the orbit
+        is the equilibrium); NOT_CONVERGED with its bracket when the corrector fails there."""
+        K = self.K
+        U = branch.points[k]
+        own = 2.0 * np.pi / float(U[K])
+        omegas = sorted((end.data.get("omega", np.nan), end.data.get("omega2", np.nan)), key=lambda w: abs(w - own))
+        if not np.all(np.isfinite(omegas)):
+            return []
+        kappa_end = float(np.cos(2.0 * np.pi * omegas[1] / omegas[0]))
+        before = float(U[K + 3])
+        found = []
+        for kind, kappa in RESONANCE_KAPPA:
+            if not (before - kappa) * (kappa_end - kappa) < 0.0:
+                continue
+
+            def offset(s, kappa=kappa):
+                if s >= s_end:
+                    return kappa_end - kappa
+                return float(branch.point_at(k, s)[0][K + 3]) - kappa
+            try:
+                s = scipy.optimize.brentq(offset, 0.0, s_end, xtol=1e-12, rtol=1e-10)
+                if s >= s_end:
+                    raise ValueError("the resonance is the end point itself")
+                found.append((kind, self.point(branch.point_at(k, s)[0]), True, (s, s_end)))
+            except (RuntimeError, ValueError):
+                found.append((kind, self.point(branch.points[-1]), False, (0.0, s_end)))
         return found
 
 

@@ -23,6 +23,7 @@ import scipy.optimize
 from reduced_model.bifurcation.continuation import Branch, continue_curve, correct, locate_on_step
 from reduced_model.bifurcation.cycles import collocation as col
 from reduced_model.bifurcation.cycles import mesh_adaptation
+from reduced_model.bifurcation.cycles.end_segments import end_segment_points
 from reduced_model.bifurcation.cycles.multipliers import (
     classify_multipliers,
     complex_outside,
@@ -272,6 +273,12 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                 except ConvergenceError:
                     continue
                 user.append((-1.0 if near is records[0] else arclength[-1] + 1.0, cyc))
+    # The segments between the Hopf ends and the nearest computed cycles, tested like the others.
+    if records and problem.free == problem.family.primary:
+        if start is not None:
+            special += end_segment_points(problem.family, records[0], start, settings, 0.0, -1.0)
+        if end:
+            special += end_segment_points(problem.family, records[-1], end[0], settings, arclength[-1], 1.0)
     message = branch.message
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
