@@ -159,7 +159,7 @@ def test_curve_end_messages_print_in_interface_units(capsys):
                        ends=(None, None))
     cycles_command.print_curves([(curve, "")], ["T1"], "pressure")
     text = capsys.readouterr().out
-    assert "speed = 163.109 km/h, pressure = 0.532048 bar" in text
+    assert "163.109 km/h, pressure = 0.532048 bar" in text
     assert "pressure = 0.2 bar" in text and "= 53204" not in text and "= 20000" not in text
 
 

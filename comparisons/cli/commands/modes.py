@@ -70,7 +70,8 @@ def mode_json(m: ModeShape) -> dict:
     return {"real_per_s": m.eigenvalue.real, "imag_rad_per_s": m.eigenvalue.imag,
             "frequency_hz": m.frequency_hz, "damping_ratio": m.damping_ratio, "stable": m.stable,
             "character": m.character, "yaw_share": m.yaw_share, "tramp_share": m.tramp_share,
-            "slip_share": m.slip_share, "left_share": m.left_share, "wheel_phase_deg": math.degrees(m.wheel_phase)}
+            "slip_share": m.slip_share, "left_share": m.left_share, "wheel_phase_deg": math.degrees(m.wheel_phase),
+            "energy_shares": dict(m.shares)}
 
 
 def run(args: argparse.Namespace) -> int:
