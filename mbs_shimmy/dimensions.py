@@ -42,7 +42,9 @@ class AxleDimensions:
                    range=(1.0, 200.0), plausible=(12.0, 35.0))
     knuckle_transverse_inertia: float = _d(0.3, "kg m^2", "knuckle about axes across the kingpin",
                    range=(0.01, 10.0), plausible=(0.15, 0.6))
-    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass on the roll axis, so it only adds roll inertia",
+    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass at wheel-centre height (on the line through the "
+                                       "wheel centres), so about a raised roll axis it adds m h^2 of roll inertia "
+                                       "and couples the roll with the lateral travel",
                    range=(10.0, 1000.0), plausible=(80.0, 200.0))
     tie_rod_arm: float = _d(0.2, "m", "steering arm length to the tie-rod joint, perpendicular to the kingpin, "
                                       "pointing rearward",

@@ -7,7 +7,8 @@ Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; it
   (:func:`~mbs_shimmy.geometry.disc_contact`); the loaded radius is |P - C|;
 * vertical force Fz = Fz_static + k5 (R - |P - C|) along the road normal (k5 from the reduced model's tyre,
   pressure effect ``vs``; Fz_static is Table 1's F_z, so at straight running the loaded radius is R), and the
-  rolling resistance -f Fz along the wheel heading x_w;
+  rolling resistance -f Fz along the wheel heading x_w, which reaches the knuckle at the wheel centre (the wheel
+  rolls freely: its bearing carries no moment about the spin axis);
 * lateral spring -k4 y along the wheel's lateral direction y_w, y = lateral displacement of P from its
   straight-running position (Table 1's k4), only with the assumption ``separate_lateral_spring``: otherwise the
   lateral compliance is the relaxation equation's carcass spring K/sigma alone (counted once);
@@ -261,13 +262,18 @@ class TyreElement:
         # The static load acts through the actual lever arms (its geometric stiffness included) or, as in
         # (2.1)-(2.3), through the straight-running ones, where it is a constant balanced by the alignment.
         vert = dFz if self.fixed_arms else Fz
-        Fx = -self.f * vert * xwx + lat * ywx
-        Fyv = -self.f * vert * xwy + lat * ywy
+        # The wheel rolls freely on its bearing, which carries no moment about the spin axis: the rolling
+        # resistance reaches the knuckle as the same force at the wheel centre C (at P it would brake the knuckle
+        # by f Fz |P - C| about s).  The lateral and vertical forces act at P.
+        Frx, Fry = -self.f * vert * xwx, -self.f * vert * xwy
+        Fx, Fy_lat = lat * ywx, lat * ywy
+        Fyv = Fry + Fy_lat
         # generalized forces: psi about x through O; theta about e through K (P_z = 0)
-        q_psi = (Py - Oy) * vert + Oz * Fyv
+        q_psi = (Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry
         rx, ry, rz = Px - Kx, Py - Ky, -Kz
-        q_theta = (ex * (ry * vert - rz * Fyv) + ey * (rz * Fx - rx * vert) + ez * (rx * Fyv - ry * Fx)
-                   - t * Fy * ez)
+        cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
+        q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)
+                   + ez * (rx * Fy_lat - ry * Fx + cx * Fry - cy * Frx) - t * Fy * ez)
         # slip: road-relative velocity of the leading contact point P + a x_w
         wz = w[2]          # only the yaw component of the wheel's angular velocity turns the contact line
         lx = speed - a * wz * xwy
@@ -329,8 +335,10 @@ class TyreElement:
         k = Cz / cphi2
         Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
         Fs = self.static_load
+        # the rolling resistance at the wheel centre (free-rolling wheel, as in :meth:`exact`)
         Fx, Fyv = -self.f * Fs * sy / cphi, self.f * Fs * sx / cphi
         rx, ry, rz = Px - K[0], Py - K[1], -K[2]
+        cx, cy, cz = hl * sx, hl * sy, hl * sz
         ex, ey, ez = e
-        return (Py * Fs + Oz * Fyv,
-                ex * (ry * Fs - rz * Fyv) + ey * (rz * Fx - rx * Fs) + ez * (rx * Fyv - ry * Fx))
+        return (Py * Fs - (Cz - Oz) * Fyv,
+                ex * (ry * Fs - cz * Fyv) + ey * (cz * Fx - rx * Fs) + ez * (cx * Fyv - cy * Fx))
