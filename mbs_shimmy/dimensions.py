@@ -20,12 +20,15 @@ from reduced_model.parameters import ParameterError, ShimmyParameters, check_ran
 
 
 def _d(value: float, unit: str, reason: str, *, range: tuple[float, float], plausible: tuple[float, float],
-       neutral: float | None = None) -> Any:
+       neutral: float | None = None, source: str | None = None) -> Any:
     """A chosen dimension (SI).  ``range``: where the model stays physically meaningful (inclusive);
     ``plausible``: where a real truck beam axle's value lies (for uncertainty studies); ``neutral``: the value at
-    which the element has no effect, if there is one."""
-    return field(default=value, metadata={"unit": unit, "reason": reason, "range": range, "plausible": plausible,
-                                          "neutral": neutral})
+    which the element has no effect, if there is one; ``source``: where the value comes from, if it is not an
+    estimate chosen for the multibody model (the axle registry then says "chosen")."""
+    meta = {"unit": unit, "reason": reason, "range": range, "plausible": plausible, "neutral": neutral}
+    if source is not None:
+        meta["source"] = source
+    return field(default=value, metadata=meta)
 
 
 @dataclass(frozen=True)
@@ -101,6 +104,18 @@ class AxleDimensions:
                                       "the left wheel (roll steer)",
                    range=(math.radians(-30.0), math.radians(30.0)), plausible=(0.0, math.radians(12.0)),
                    neutral=0.0)
+
+    # --- the freedoms of issue 18 ---------------------------------------------------------------------------
+    axle_roll_steer: float = _d(0.1, "rad/rad",
+                                "yaw of the axle about z per unit of its roll about x (roll steer), both right-handed "
+                                "in the vehicle frame: the spring eyes and shackles of the leaf springs make the "
+                                "axle roll about an axis sloped in side view by atan(coefficient); positive = the "
+                                "axle turns its nose left as its left side rises (roll understeer of a front axle "
+                                "in a right turn, where the frame rolls left over the axle); 0 = roll about x",
+                                source="typical leaf-sprung solid axles 0-0.2 rad/rad, the slope of the axle's roll "
+                                       "axis in side view (Gillespie, Fundamentals of Vehicle Dynamics, SAE 1992, "
+                                       "ch. 8, roll steer of solid axles); 0.1 is the middle, an estimate",
+                   range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
 
     def __post_init__(self) -> None:
         check_ranges(self, "dimension")

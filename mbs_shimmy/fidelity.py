@@ -32,6 +32,7 @@ class Assumption(enum.Enum):
     RIGID_AXLE_MOUNTS = "rigid_axle_mounts"
     PARALLEL_STEERING_ARMS = "parallel_steering_arms"
     RIGID_STEERING_GEAR = "rigid_steering_gear"
+    NO_AXLE_ROLL_STEER = "no_axle_roll_steer"
 
 
 @dataclass(frozen=True)
@@ -159,10 +160,21 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "torsional stiffness and damping to the frame: the gear's compliance in series with k2, and roll steer "
         "(the axle's roll moves the steering arm along the inclined drag link)",
         True, True),
+    AssumptionInfo(
+        Assumption.NO_AXLE_ROLL_STEER,
+        "the axle rolls about a horizontal axis: it does not yaw as it rolls",
+        "psi in (2.1)-(2.3) and (2.10)-(2.11) is a rotation about x only",
+        "the leaf springs' eyes and shackles slope the roll axis in side view: the axle yaws by the roll-steer "
+        "coefficient (axle_roll_steer) per unit of roll, so tramp steers both wheels and turns their contact "
+        "points; about the sloped axis the tyre forces, the trail moment and the rotor moments have the extra "
+        "lever of the yaw component",
+        True, True),
 )
 
 ELEMENT_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if info.element)
 PAPER_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if not info.element)
+# the freedoms added by issue 18: the checks of the earlier elements keep them out (their switches on)
+ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER})
 
 _BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
 ALL = frozenset(Assumption)

@@ -107,6 +107,8 @@ class AxleForces:
         self.i_psi, self.i_th1, self.i_th2 = L.index("psi"), L.index("theta1"), L.index("theta2")
         self.roll_height = self.g_exact.roll_height
         self.Oz = self.g_exact.origin[2]
+        # the roll axis u = (ux, 0, uz): x without roll steer, sloped in side view with it
+        self.ux, _, self.uz = self.g_exact.roll_axis
         self.alignment = [0.0] * (L.n_mech + 2)
         self.system = None
         self.markers = ()
@@ -134,8 +136,9 @@ class AxleForces:
     def knuckle_poses(self, q, qd) -> tuple:
         """(K, v_K, e, s, omega) of both knuckles at the tree state (q, q') written in Exudyn's current
         configuration: K and the knuckle's rotation (hence e and s) are Exudyn's marker outputs; the velocities are
-        J q' with the same joint axes and points (roll axis x through O, kingpin e through K, lateral travel y),
-        omega = psi' x + theta' e and v_K = y' y + psi' x (K - O) - the columns that also project the forces.
+        J q' with the same joint axes and points (roll axis u through O, kingpin e through K, lateral travel y),
+        omega = psi' u + theta' e and v_K = y' y + psi' u x (K - O) - the columns that also project the forces
+        (u = x without roll steer).
         (Exudyn's Velocity and AngularVelocity outputs give the same, ``tests/test_mbs_model.py``, at 10 us a call
         against 4-7 us for a pose: they would double the cost of a stage.)"""
         out = []
@@ -143,14 +146,16 @@ class AxleForces:
         psid = qd[self.i_psi]
         Oy, yd = (q[self.i_lat], qd[self.i_lat]) if self.i_lat >= 0 else (0.0, 0.0)
         Oz = self.Oz
+        wx, wz = psid * self.ux, psid * self.uz      # the axle's angular velocity psi' u
         for m, (a, b, c), thd in zip(self.markers, self.spin_local, (qd[self.i_th1], qd[self.i_th2])):
             Rm = get(m, _ROT).tolist()
             K = get(m, _POS).tolist()
             e = (Rm[2], Rm[5], Rm[8])
-            out.append((K, (0.0, yd - psid * (K[2] - Oz), psid * (K[1] - Oy)),
+            ry, rz = K[1] - Oy, K[2] - Oz
+            out.append((K, (-wz * ry, yd + wz * K[0] - wx * rz, wx * ry),
                         e, (Rm[0] * a + Rm[1] * b + Rm[2] * c, Rm[3] * a + Rm[4] * b + Rm[5] * c,
                             Rm[6] * a + Rm[7] * b + Rm[8] * c),
-                        (psid + thd * e[0], thd * e[1], thd * e[2])))
+                        (wx + thd * e[0], thd * e[1], wz + thd * e[2])))
         return tuple(out)
 
     # ------------------------------------------------------------------------------------------------------
@@ -187,8 +192,8 @@ class AxleForces:
         else:
             cpsi, spsi = math.cos(psi), math.sin(psi)
             Oy = q[self.i_lat] if self.i_lat >= 0 else 0.0
-            r1 = t1.exact(p1, Oy, self.Oz, self.roll_height, al1, V, cpsi, spsi, record)
-            r2 = t2.exact(p2, Oy, self.Oz, self.roll_height, al2, V, cpsi, spsi, record)
+            r1 = t1.exact(p1, Oy, self.Oz, self.roll_height, al1, V, cpsi, spsi, self.ux, self.uz, record)
+            r2 = t2.exact(p2, Oy, self.Oz, self.roll_height, al2, V, cpsi, spsi, self.ux, self.uz, record)
             gp, g1, g2 = self.rotor_moments(p1, p2, V)
             Qp, Q1, Q2 = r1[0] + r2[0] + gp, r1[1] + g1, r2[1] + g2
             Qy = r1[3] + r2[3]
@@ -218,7 +223,7 @@ class AxleForces:
 
     def rotor_moments(self, p1: tuple, p2: tuple, speed: float) -> tuple[float, float, float]:
         """(Q_psi, Q_theta1, Q_theta2) of the wheels' spin Omega = V/R: the moment -I2 Omega (omega x s) of each
-        wheel, its x component on psi and its component along the kingpin axis e on theta (poses as
+        wheel, its component along the roll axis u on psi and along the kingpin axis e on theta (poses as
         :meth:`knuckle_poses`)."""
         kg = self.I2 * speed / self.R
         out = [0.0, 0.0, 0.0]
@@ -227,7 +232,7 @@ class AxleForces:
             Mx = -kg * (w[1] * s[2] - w[2] * s[1])
             My = -kg * (w[2] * s[0] - w[0] * s[2])
             Mz = -kg * (w[0] * s[1] - w[1] * s[0])
-            out[0] += Mx
+            out[0] += self.ux * Mx + self.uz * Mz
             out[1 + k] = e[0] * Mx + e[1] * My + e[2] * Mz
         return out[0], out[1], out[2]
 
@@ -246,7 +251,8 @@ class AxleForces:
         Fx, Fy = fs * sy / cphi - self.wheel_mass * acc, -fs * sx / cphi
         ex, ey, ez = e
         rx, ry, rz = Cx - K[0], Cy - K[1], Cz - K[2]
-        q_psi = -(Cz - self.Oz) * Fy                   # F has no vertical component
+        # F has no vertical component; about the roll axis u = (ux, 0, uz) through O = (0, Oy, Oz)
+        q_psi = self.ux * (-(Cz - self.Oz) * Fy) + self.uz * (Cx * Fy - (Cy - Oy) * Fx)
         q_theta = ex * (-rz * Fy) + ey * (rz * Fx) + ez * (rx * Fy - ry * Fx)
         return q_psi, q_theta
 

@@ -207,11 +207,14 @@ def _tree_object(node: int, layout: Layout, g: AxleGeometry, inertia: TreeInerti
              1.0 / dims.axle_mount_lateral_compliance, dims.axle_mount_lateral_damping)
         roll_parent = 0
     iroll = len(types)
-    link(J.RevoluteX, roll_parent, np.eye(3), g.origin, inertia.masses[0], inertia.coms[0], inertia.inertias[0],
-         params.k3, params.c3)
+    # roll about the roll axis u (sloped by the roll steer): the roll link's frame is turned so that its x-axis is u,
+    # and what hangs on it (the axle's centre of mass, the kingpins) is given in that frame
+    Rr = _rows(g.roll_joint_rotation)
+    link(J.RevoluteX, roll_parent, Rr, g.origin, inertia.masses[0], Rr.T @ inertia.coms[0],
+         Rr.T @ inertia.inertias[0] @ Rr, params.k3, params.c3)
     for i, side in enumerate((-1.0, 1.0)):
         K = g.kingpin_point(side)
-        link(J.RevoluteZ, iroll, inertia.joint_rotations[i], (K[0], K[1], K[2] - g.roll_height),
+        link(J.RevoluteZ, iroll, Rr.T @ inertia.joint_rotations[i], Rr.T @ np.array((K[0], K[1], K[2] - g.roll_height)),
              inertia.masses[1 + i], inertia.coms[1 + i], inertia.inertias[1 + i], 0.0, params.c4)
     if layout.gear:
         link(J.RevoluteY, -1, np.eye(3), g.gear_shaft_point(), 1.0, (0.0, 0.0, 0.0),

@@ -221,12 +221,13 @@ class TyreElement:
 
     # --- exact kinematics ----------------------------------------------------------------------------------
     def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
-              cpsi: float, spsi: float, record: bool = False):
+              cpsi: float, spsi: float, ux: float = 1.0, uz: float = 0.0, record: bool = False):
         """(Q_psi, Q_theta, alpha_dot, Q_y[, ContactState]) from the knuckle's pose as Exudyn gives it.
 
         ``pose`` = (K, v_K, e, s, omega): kingpin point and its velocity, kingpin axis, spin axis and angular
-        velocity of the knuckle (vehicle frame); the roll axis runs along x through O = (0, Oy, Oz), h above the
-        wheel centres at straight running; Q_y is the force on the axle's lateral travel."""
+        velocity of the knuckle (vehicle frame); the roll axis runs along u = (ux, 0, uz) (x without roll steer)
+        through O = (0, Oy, Oz), h above the wheel centres at straight running; Q_y is the force on the axle's
+        lateral travel."""
         side, R = self.side, self.R
         K, vK, e, s, w = pose
         Kx, Ky, Kz = K
@@ -268,8 +269,11 @@ class TyreElement:
         Frx, Fry = -self.f * vert * xwx, -self.f * vert * xwy
         Fx, Fy_lat = lat * ywx, lat * ywy
         Fyv = Fry + Fy_lat
-        # generalized forces: psi about x through O; theta about e through K (P_z = 0)
-        q_psi = (Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry
+        # generalized forces: psi about u through O (x and z components of the moments about O, the trail moment's
+        # -t F_y about z included); theta about e through K (P_z = 0)
+        q_psi = ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
+        if uz != 0.0:
+            q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx - t * Fy)
         rx, ry, rz = Px - Kx, Py - Ky, -Kz
         cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
         q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)

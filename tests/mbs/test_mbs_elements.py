@@ -16,7 +16,7 @@ import pytest
 
 from comparisons.axles.units import BAR, KMH
 from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity, MbsFamily, MbsModel, tyre_element
-from mbs_shimmy.fidelity import Assumption
+from mbs_shimmy.fidelity import ISSUE_18, Assumption
 from mbs_shimmy.linearisation import ConstantSpeed
 from reduced_model import tyre
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
@@ -55,7 +55,7 @@ def test_tyre_terms_of_the_raised_roll_axis_lateral_mounts_and_kingpin_inclinati
     and at -R tan(g) theta' / N, the leading point a ahead turns at theta' / N: d alpha'/d(psi', y', theta') =
     ((R + h), 1, (a - R tan g) / N) / sigma.
     """
-    system = MbsModel(fidelity=Fidelity.full()).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=Fidelity(ISSUE_18)).system(1.5 * BAR, ConstantSpeed(0.0))
     L = system.layout
     m = L.n_mech
     h = D.roll_axis_above_wheel_centre
@@ -120,7 +120,7 @@ def test_static_load_moment_with_kingpin_inclination(kpi):
     term (the jacking stiffness) therefore too."""
     fidelity = Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS, Assumption.ROLL_AXIS_AT_WHEEL_CENTRE,
                                    Assumption.RIGID_STEERING_GEAR}
-                                  | ({Assumption.NO_KINGPIN_INCLINATION} if kpi == 0.0 else set())))
+                                  | ({Assumption.NO_KINGPIN_INCLINATION} if kpi == 0.0 else set())) | ISSUE_18)
     system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0))
     L = system.layout
     stiffness = {}
@@ -148,7 +148,7 @@ def test_free_rolling_wheel_rolling_resistance_at_the_wheel_centre():
     knuckle (invariant under roll and steer); so the old form added to dQ_theta/dpsi (roll to kingpin)
     f (e.s) d(rho F_z)/dpsi = -f tan(kpi) / N (L/2) (F_z0 - k5 R) per wheel (226 N m/rad with Table 1, 1.5 bar)."""
     system = MbsModel(fidelity=Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS,
-                                                   Assumption.RIGID_STEERING_GEAR}))).system(
+                                                   Assumption.RIGID_STEERING_GEAR}) | ISSUE_18)).system(
         1.5 * BAR, ConstantSpeed(0.0))
     L = system.layout
     h, kpi = D.roll_axis_above_wheel_centre, D.kingpin_inclination
