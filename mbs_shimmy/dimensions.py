@@ -31,6 +31,11 @@ def _d(value: float, unit: str, reason: str, *, range: tuple[float, float], plau
     return field(default=value, metadata=meta)
 
 
+_PACEJKA_205 = ("Pacejka, Tire and Vehicle Dynamics, 3rd ed., 2012, the 205/60R15 91V example tyre (MF-Tyre 6.1 "
+                "parameter table of the appendix), the tyre of the paper's Table 1; read from a transcription of that"
+                " table whose entries the paper uses (PDY2, PKY2, PKY4, PPY1-4, QBZ1-2, QEZ1-2, QEZ4) equal Table 1")
+
+
 @dataclass(frozen=True)
 class AxleDimensions:
     """Masses, inertias and arm lengths of the multibody axle not given by the paper (SI)."""
@@ -116,6 +121,29 @@ class AxleDimensions:
                                        "axis in side view (Gillespie, Fundamentals of Vehicle Dynamics, SAE 1992, "
                                        "ch. 8, roll steer of solid axles); 0.1 is the middle, an estimate",
                    range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
+
+    # --- the Magic Formula's camber terms (assumption no_camber_force off; mbs_shimmy/camber.py) -------------
+    # plausible: +-50 % of the example tyre's value (no measured truck-tyre set here); neutral 0: no camber term
+    camber_p_ky3: float = _d(0.3695, "1/rad", "MF 6.1 PKY3: fall of the cornering stiffness with |camber| (the "
+                                              "paper's p_ky3 is MF 6.1's PKY4)",
+                   source=_PACEJKA_205, range=(0.0, 2.0), plausible=(0.18, 0.55), neutral=0.0)
+    camber_p_ky6: float = _d(-0.8987, "1/rad", "MF 6.1 PKY6: camber stiffness K_ygamma / F_z at the nominal load (ISO"
+                                               " signs: a wheel leaning right pushes right)",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-1.35, -0.45), neutral=0.0)
+    camber_p_ky7: float = _d(-0.23303, "1/rad", "MF 6.1 PKY7: load dependence of the camber stiffness",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-0.35, -0.12), neutral=0.0)
+    camber_p_vy3: float = _d(-0.162, "1/rad", "MF 6.1 PVY3: camber part of the vertical shift S_Vy / F_z",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-0.24, -0.08), neutral=0.0)
+    camber_p_vy4: float = _d(-0.4864, "1/rad", "MF 6.1 PVY4: load dependence of that shift",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-0.73, -0.24), neutral=0.0)
+    camber_q_dz8: float = _d(-0.1428, "1/rad", "MF 6.1 QDZ8: camber moment, the residual torque's peak / (F_z R) per "
+                                               "rad of camber",
+                   source=_PACEJKA_205, range=(-2.0, 2.0), plausible=(-0.21, -0.07), neutral=0.0)
+    camber_q_dz9: float = _d(0.00915, "1/rad", "MF 6.1 QDZ9: load dependence of the camber moment",
+                   source=_PACEJKA_205, range=(-2.0, 2.0), plausible=(0.0046, 0.0137), neutral=0.0)
+    camber_q_bz9: float = _d(34.5, "1/rad", "MF 6.1 QBZ9: slope of the residual torque's fade with slip, "
+                                            "cos(arctan(QBZ9 alpha_r))",
+                   source=_PACEJKA_205, range=(0.0, 200.0), plausible=(17.0, 52.0), neutral=None)
 
     def __post_init__(self) -> None:
         check_ranges(self, "dimension")

@@ -33,6 +33,7 @@ class Assumption(enum.Enum):
     PARALLEL_STEERING_ARMS = "parallel_steering_arms"
     RIGID_STEERING_GEAR = "rigid_steering_gear"
     NO_AXLE_ROLL_STEER = "no_axle_roll_steer"
+    NO_CAMBER_FORCE = "no_camber_force"
 
 
 @dataclass(frozen=True)
@@ -169,12 +170,21 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "points; about the sloped axis the tyre forces, the trail moment and the rotor moments have the extra "
         "lever of the yaw component",
         True, True),
+    AssumptionInfo(
+        Assumption.NO_CAMBER_FORCE,
+        "the tyre makes no force or moment from its camber",
+        "F_y(alpha) of (2.4)-(2.9) and the trail moment t F_y: slip only",
+        "tramp and caster steer camber the wheels; the Magic Formula carries its camber terms (MF 6.1, Pacejka's "
+        "205/60R15 example tyre): camber stiffness F_z (p_Ky6 + p_Ky7 df_z) through the horizontal and vertical "
+        "shifts, the cornering stiffness falling with |camber|, and the camber moment of the residual torque "
+        "F_z R (q_Dz8 + q_Dz9 df_z) gamma",
+        True, True),
 )
 
 ELEMENT_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if info.element)
 PAPER_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if not info.element)
 # the freedoms added by issue 18: the checks of the earlier elements keep them out (their switches on)
-ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER})
+ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER, Assumption.NO_CAMBER_FORCE})
 
 _BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
 ALL = frozenset(Assumption)

@@ -31,6 +31,7 @@ from typing import Callable
 
 import exudyn as exu
 
+from mbs_shimmy.camber import CamberTerms
 from mbs_shimmy.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.geometry import SIDES, AxleGeometry
@@ -91,7 +92,11 @@ class AxleForces:
         self.need_exact = (not self.linear) or not self.flags.fixed_static_load_arms
         wheels = ShimmyModel(params, effects).tyres(pressure)   # raises ParameterError where meaningless
         load_dependent = Assumption.CONSTANT_LOAD not in fidelity
-        self.tyres = tuple(TyreElement(s, params, effects, w, load_dependent, self.g, self.flags)
+        camber = None
+        if Assumption.NO_CAMBER_FORCE not in fidelity:
+            camber = CamberTerms.of(dims, params)
+            camber = None if camber.neutral else camber
+        self.tyres = tuple(TyreElement(s, params, effects, w, load_dependent, self.g, self.flags, camber)
                            for s, w in zip(SIDES, wheels))
         self.quasi_steady = Assumption.QUASI_STEADY_SPEED in fidelity
         # The d'Alembert force of the decelerating frame acts on the wheel mass at the wheel centre when the

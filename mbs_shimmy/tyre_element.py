@@ -161,8 +161,9 @@ class TyreElement:
     """
 
     def __init__(self, side: float, params: ShimmyParameters, effects: Effects, wheel: WheelTyre,
-                 load_dependent: bool, geometry, flags):
+                 load_dependent: bool, geometry, flags, camber=None):
         self.side = side
+        self.camber = camber      # :class:`~mbs_shimmy.camber.CamberTerms`, or None: no camber terms
         self.flags = flags
         # the switches as plain attributes: read at every stage
         self.fixed_arms = flags.fixed_static_load_arms
@@ -254,6 +255,13 @@ class TyreElement:
         dFz = self.k5 * (R - (depth0 if load_tramp else depth))
         Fz = self.static_load + dFz
         Fy, t, a, sigma = self.lateral(alpha, Fz)
+        mz = -t * Fy          # the trail moment about the road normal (on the slip force alone)
+        if self.camber is not None:
+            # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels; lateral() has left
+            # the Magic-Formula factors at this load in self._mf
+            dFy, mzr = self.camber.terms(self._mf, alpha, Fz, math.asin(sz))
+            Fy += dFy
+            mz += mzr
         if not self.separate:
             lat = Fy          # the lateral compliance is the relaxation equation's carcass spring (K/sigma)
         elif k4_tramp:
@@ -273,11 +281,11 @@ class TyreElement:
         # -t F_y about z included); theta about e through K (P_z = 0)
         q_psi = ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
         if uz != 0.0:
-            q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx - t * Fy)
+            q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx + mz)
         rx, ry, rz = Px - Kx, Py - Ky, -Kz
         cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
         q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)
-                   + ez * (rx * Fy_lat - ry * Fx + cx * Fry - cy * Frx) - t * Fy * ez)
+                   + ez * (rx * Fy_lat - ry * Fx + cx * Fry - cy * Frx) + mz * ez)
         # slip: road-relative velocity of the leading contact point P + a x_w
         wz = w[2]          # only the yaw component of the wheel's angular velocity turns the contact line
         lx = speed - a * wz * xwy

@@ -114,3 +114,65 @@ def test_roll_steer_neutral_is_the_old_model():
     b = MbsFamily(MbsModel(fidelity=Fidelity(frozenset({Assumption.NO_AXLE_ROLL_STEER}))))
     A, B = a.direct_linear_matrix(70 * KMH, 1.5 * BAR), b.direct_linear_matrix(70 * KMH, 1.5 * BAR)
     assert np.max(np.abs(A - B)) <= 1e-12 * np.max(np.abs(B))
+
+
+# --- camber force ----------------------------------------------------------------------------------------------
+def _mf61_lateral(alpha, gamma, load, pressure=1.5 * BAR):
+    """Independent MF 6.1 pure side slip with camber (Pacejka 2012, sec. 4.3.2), ISO signs, on the paper's B, C, D,
+    E at this load: K_ya = -B C D (1 - p_Ky3 |g|), S_Vg = F_z (p_Vy3 + p_Vy4 df_z) g,
+    S_Hy = (F_z (p_Ky6 + p_Ky7 df_z) g - S_Vg) / K_ya, F_y = D sin(C atan(B_y a_y - E (B_y a_y - atan(B_y a_y))))
+    + S_Vg with B_y = K_ya / (C D), a_y = alpha + S_Hy; the camber moment F_z R (q_Dz8 + q_Dz9 df_z) g
+    cos(atan(q_Bz9 (a_y + S_Vg / K_ya)))."""
+    mf = tyre.magic_formula(P.replace(Fz=load), pressure)
+    dfz = (load - P.Fz0) / P.Fz0
+    Kya = -mf.B * mf.C * mf.D * (1 - D.camber_p_ky3 * abs(gamma))
+    Svg = load * (D.camber_p_vy3 + D.camber_p_vy4 * dfz) * gamma
+    Shy = (load * (D.camber_p_ky6 + D.camber_p_ky7 * dfz) * gamma - Svg) / Kya
+    By = Kya / (mf.C * mf.D)
+    ay = alpha + Shy
+    Fy = mf.D * math.sin(mf.C * math.atan(By * ay - mf.E * (By * ay - math.atan(By * ay)))) + Svg
+    Mz = (load * P.R * (D.camber_q_dz8 + D.camber_q_dz9 * dfz) * gamma
+          * math.cos(math.atan(D.camber_q_bz9 * (ay + Svg / Kya))))
+    return Fy, Mz
+
+
+def test_camber_terms_equal_an_independent_mf61():
+    """The element's camber force and moment at finite slip, camber and load against the independent MF 6.1 form;
+    at zero slip dF_y/dgamma is the camber stiffness F_z (p_Ky6 + p_Ky7 df_z) (-5.39 kN/rad at 6 kN)."""
+    from mbs_shimmy.camber import CamberTerms
+    terms = CamberTerms.of(D, P)
+    for alpha, gamma, load in ((0.0, 0.02, 6000.0), (0.03, -0.05, 7500.0), (-0.1, 0.08, 4000.0)):
+        mf = tyre.magic_formula(P.replace(Fz=load), 1.5 * BAR)
+        dFy, mz = terms.terms(mf, alpha, load, gamma)
+        Fy, Mz = _mf61_lateral(alpha, gamma, load)
+        assert mf.force(alpha) + dFy == pytest.approx(Fy, rel=1e-12, abs=1e-9)
+        assert mz == pytest.approx(Mz, rel=1e-12, abs=1e-12)
+    h = 1e-6
+    mf = tyre.magic_formula(P, 1.5 * BAR)
+    stiffness = (terms.terms(mf, 0.0, P.Fz, h)[0] - terms.terms(mf, 0.0, P.Fz, -h)[0]) / (2 * h)
+    assert stiffness == pytest.approx(P.Fz * D.camber_p_ky6, rel=1e-8)
+    assert stiffness == pytest.approx(-5392.2, abs=0.1)
+
+
+def test_camber_linear_terms():
+    """What the camber terms add to the stiffness at straight running (V = 0; the model with them less the model
+    without; every other element out).  Camber gamma = asin(s_z): a tramp psi cambers both wheels by psi, a steer
+    theta by -sin(g) theta (the caster tilts the spin axis).  Per unit of camber the camber force
+    K_g = F_z p_Ky6 acts at P = (0, s L/2, 0) along y: R K_g on psi (lever R about the roll axis through (0, 0, R))
+    and e.((P - K) x y) K_g = -R sin(g) K_g on the kingpin; the camber moment M_g = F_z R q_Dz8 about z gives
+    cos(g) M_g on the kingpin."""
+    with_c = MbsModel(fidelity=only(Assumption.NO_CAMBER_FORCE)).system(1.5 * BAR, ConstantSpeed(0.0))
+    without = MbsModel(fidelity=Fidelity(frozenset(ELEMENT_ASSUMPTIONS))).system(1.5 * BAR, ConstantSpeed(0.0))
+    L = with_c.layout
+    assert L == without.layout
+    g = P.gamma
+    Kg, Mg = P.Fz * D.camber_p_ky6, P.Fz * P.R * D.camber_q_dz8
+    on_kingpin = -P.R * math.sin(g) * Kg + math.cos(g) * Mg       # per unit of camber
+    dgamma = {"psi": 1.0, "theta1": -math.sin(g), "theta2": -math.sin(g)}
+    for name in ("psi", "theta1", "theta2"):
+        added = (_derivative(with_c, "q", L.index(name), 1e-6) - _derivative(without, "q", L.index(name), 1e-6))
+        wheels = (("theta1", "theta2") if name == "psi" else (name,))
+        assert added[L.index("psi")] == pytest.approx(len(wheels) * P.R * Kg * dgamma[name], rel=1e-6)
+        for th in ("theta1", "theta2"):
+            expected = on_kingpin * dgamma[name] if th in wheels else 0.0
+            assert added[L.index(th)] == pytest.approx(expected, rel=1e-6, abs=1e-6 * abs(on_kingpin))
