@@ -122,6 +122,16 @@ class AxleDimensions:
                                        "ch. 8, roll steer of solid axles); 0.1 is the middle, an estimate",
                    range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
 
+    axle_mount_vertical_compliance: float = _d(2.0e-6, "m/N",
+                                               "vertical compliance of both leaf springs at the axle seats together: "
+                                               "1 / (0.5 MN/m), 250 kN/m per spring, an order-of-magnitude value for "
+                                               "a truck front axle (axle hop near 11 Hz with the tyres); 0 = rigid",
+                   range=(0.0, 1e-4), plausible=(1.25e-6, 3.3e-6), neutral=0.0)
+    axle_mount_vertical_damping: float = _d(6.0e3, "N s/m", "vertical damping at the seats (shock absorbers, "
+                                                            "inter-leaf friction): about 20 % of critical for the "
+                                                            "axle's 240 kg on springs and tyres; no effect with "
+                                                            "rigid mounts",
+                   range=(0.0, 1e6), plausible=(3.0e3, 12.0e3))
     # --- the Magic Formula's camber terms (assumption no_camber_force off; mbs_shimmy/camber.py) -------------
     # plausible: +-50 % of the example tyre's value (no measured truck-tyre set here); neutral 0: no camber term
     camber_p_ky3: float = _d(0.3695, "1/rad", "MF 6.1 PKY3: fall of the cornering stiffness with |camber| (the "

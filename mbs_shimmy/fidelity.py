@@ -34,6 +34,7 @@ class Assumption(enum.Enum):
     RIGID_STEERING_GEAR = "rigid_steering_gear"
     NO_AXLE_ROLL_STEER = "no_axle_roll_steer"
     NO_CAMBER_FORCE = "no_camber_force"
+    RIGID_VERTICAL_MOUNTS = "rigid_vertical_mounts"
 
 
 @dataclass(frozen=True)
@@ -179,12 +180,22 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "shifts, the cornering stiffness falling with |camber|, and the camber moment of the residual torque "
         "F_z R (q_Dz8 + q_Dz9 df_z) gamma",
         True, True),
+    AssumptionInfo(
+        Assumption.RIGID_VERTICAL_MOUNTS,
+        "the axle cannot bounce against the frame",
+        "no vertical degree of freedom in (2.1)-(2.11)",
+        "a vertical degree of freedom of the axle on the leaf springs' vertical stiffness and damping: bounce changes "
+        "both wheel loads (k5), whose load at the scrub radius and rolling resistance at the hub offset toe the wheels "
+        "by l (sin gamma - f cos gamma) k5 per unit of bounce, and it steers the left wheel through the inclined drag "
+        "link (bump steer)",
+        True, True),
 )
 
 ELEMENT_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if info.element)
 PAPER_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if not info.element)
 # the freedoms added by issue 18: the checks of the earlier elements keep them out (their switches on)
-ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER, Assumption.NO_CAMBER_FORCE})
+ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER, Assumption.NO_CAMBER_FORCE,
+                      Assumption.RIGID_VERTICAL_MOUNTS})
 
 _BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
 ALL = frozenset(Assumption)

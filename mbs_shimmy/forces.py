@@ -59,7 +59,8 @@ def layout_of(fidelity: Fidelity, dims: AxleDimensions):
     from mbs_shimmy.layout import Layout
     lateral = Assumption.RIGID_AXLE_MOUNTS not in fidelity and dims.axle_mount_lateral_compliance > 0.0
     gear = Assumption.RIGID_STEERING_GEAR not in fidelity and dims.steering_gear_compliance > 0.0
-    return Layout(lateral, gear)
+    vertical = Assumption.RIGID_VERTICAL_MOUNTS not in fidelity and dims.axle_mount_vertical_compliance > 0.0
+    return Layout(lateral, gear, vertical)
 
 
 class AxleForces:
@@ -109,6 +110,7 @@ class AxleForces:
         L = self.layout
         self.n_mech = L.n_mech
         self.i_lat = L.index("y_axle") if L.lateral else -1
+        self.i_vert = L.index("z_axle") if L.vertical else -1
         self.i_psi, self.i_th1, self.i_th2 = L.index("psi"), L.index("theta1"), L.index("theta2")
         self.roll_height = self.g_exact.roll_height
         self.Oz = self.g_exact.origin[2]
@@ -142,22 +144,22 @@ class AxleForces:
         """(K, v_K, e, s, omega) of both knuckles at the tree state (q, q') written in Exudyn's current
         configuration: K and the knuckle's rotation (hence e and s) are Exudyn's marker outputs; the velocities are
         J q' with the same joint axes and points (roll axis u through O, kingpin e through K, lateral travel y),
-        omega = psi' u + theta' e and v_K = y' y + psi' u x (K - O) - the columns that also project the forces
-        (u = x without roll steer).
+        omega = psi' u + theta' e and v_K = y' y + z' z + psi' u x (K - O) - the columns that also project the
+        forces (u = x without roll steer; O moves with the lateral travel y and the bounce z).
         (Exudyn's Velocity and AngularVelocity outputs give the same, ``tests/test_mbs_model.py``, at 10 us a call
         against 4-7 us for a pose: they would double the cost of a stage.)"""
         out = []
         get = self.get
         psid = qd[self.i_psi]
         Oy, yd = (q[self.i_lat], qd[self.i_lat]) if self.i_lat >= 0 else (0.0, 0.0)
-        Oz = self.Oz
+        Oz, zd = (self.Oz + q[self.i_vert], qd[self.i_vert]) if self.i_vert >= 0 else (self.Oz, 0.0)
         wx, wz = psid * self.ux, psid * self.uz      # the axle's angular velocity psi' u
         for m, (a, b, c), thd in zip(self.markers, self.spin_local, (qd[self.i_th1], qd[self.i_th2])):
             Rm = get(m, _ROT).tolist()
             K = get(m, _POS).tolist()
             e = (Rm[2], Rm[5], Rm[8])
             ry, rz = K[1] - Oy, K[2] - Oz
-            out.append((K, (-wz * ry, yd + wz * K[0] - wx * rz, wx * ry),
+            out.append((K, (-wz * ry, yd + wz * K[0] - wx * rz, zd + wx * ry),
                         e, (Rm[0] * a + Rm[1] * b + Rm[2] * c, Rm[3] * a + Rm[4] * b + Rm[5] * c,
                             Rm[6] * a + Rm[7] * b + Rm[8] * c),
                         (wx + thd * e[0], thd * e[1], wz + thd * e[2])))
@@ -197,11 +199,13 @@ class AxleForces:
         else:
             cpsi, spsi = math.cos(psi), math.sin(psi)
             Oy = q[self.i_lat] if self.i_lat >= 0 else 0.0
-            r1 = t1.exact(p1, Oy, self.Oz, self.roll_height, al1, V, cpsi, spsi, self.ux, self.uz, record)
-            r2 = t2.exact(p2, Oy, self.Oz, self.roll_height, al2, V, cpsi, spsi, self.ux, self.uz, record)
+            Oz = self.Oz + q[self.i_vert] if self.i_vert >= 0 else self.Oz
+            r1 = t1.exact(p1, Oy, Oz, self.roll_height, al1, V, cpsi, spsi, self.ux, self.uz, record)
+            r2 = t2.exact(p2, Oy, Oz, self.roll_height, al2, V, cpsi, spsi, self.ux, self.uz, record)
             gp, g1, g2 = self.rotor_moments(p1, p2, V)
             Qp, Q1, Q2 = r1[0] + r2[0] + gp, r1[1] + g1, r2[1] + g2
             Qy = r1[3] + r2[3]
+            Qz = r1[4] + r2[4]
         if not self.steady:
             acc = self.acceleration(t)
             if acc != 0.0:
@@ -209,8 +213,8 @@ class AxleForces:
                     Q1 += self._ramp_linear(-1.0, acc)
                     Q2 += self._ramp_linear(1.0, acc)
                 else:
-                    a1 = self._ramp_exact(-1.0, p1, Oy, acc)
-                    a2 = self._ramp_exact(1.0, p2, Oy, acc)
+                    a1 = self._ramp_exact(-1.0, p1, Oy, Oz, acc)
+                    a2 = self._ramp_exact(1.0, p2, Oy, Oz, acc)
                     Qp += a1[0] + a2[0]
                     Q1 += a1[1]
                     Q2 += a2[1]
@@ -222,6 +226,8 @@ class AxleForces:
         out[i2] += Q2
         if self.i_lat >= 0:
             out[self.i_lat] += Qy
+        if self.i_vert >= 0:
+            out[self.i_vert] += Qz          # the tyres' vertical forces (nothing else applied has a z component)
         out[m] = r1[2]
         out[m + 1] = r2[2]
         return out
@@ -242,7 +248,7 @@ class AxleForces:
         return out[0], out[1], out[2]
 
     # --- speed changes (assumption quasi_steady_speed off) ------------------------------------------------
-    def _ramp_exact(self, side: float, pose: tuple, Oy: float, acc: float) -> tuple[float, float]:
+    def _ramp_exact(self, side: float, pose: tuple, Oy: float, Oz: float, acc: float) -> tuple[float, float]:
         """Wheel spin-up by the road: force -I2 Omega'/|P - C| along the heading at P with the reaction
         -I2 Omega' s on the knuckle, which together are that force moved to the wheel centre C; plus the
         d'Alembert force -m_w dV/dt at C.  Both act at C along the heading / x."""
@@ -257,7 +263,7 @@ class AxleForces:
         ex, ey, ez = e
         rx, ry, rz = Cx - K[0], Cy - K[1], Cz - K[2]
         # F has no vertical component; about the roll axis u = (ux, 0, uz) through O = (0, Oy, Oz)
-        q_psi = self.ux * (-(Cz - self.Oz) * Fy) + self.uz * (Cx * Fy - (Cy - Oy) * Fx)
+        q_psi = self.ux * (-(Cz - Oz) * Fy) + self.uz * (Cx * Fy - (Cy - Oy) * Fx)
         q_theta = ex * (-rz * Fy) + ey * (rz * Fx) + ez * (rx * Fy - ry * Fx)
         return q_psi, q_theta
 

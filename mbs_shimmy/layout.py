@@ -10,7 +10,7 @@ import numpy as np
 
 from reduced_model.model import STATE_NAMES
 
-EXTRA_COORDINATES = ("y_axle", "phi_gear")
+EXTRA_COORDINATES = ("y_axle", "z_axle", "phi_gear")
 
 
 @dataclass(frozen=True)
@@ -18,16 +18,19 @@ class Layout:
     """Which coordinates the tree has, and the maps between its states and the extended reduced-model order.
 
     MBS state ``y = (q, q', alpha1, alpha2)`` with q the mechanical coordinates in tree order; extended state
-    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [phi_gear, phi_gear'])``:
+    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [z_axle, z_axle'],
+    [phi_gear, phi_gear'])``:
     the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`) followed by the new coordinates.
     """
 
     lateral: bool
     gear: bool
+    vertical: bool = False
 
     @property
     def coordinates(self) -> tuple[str, ...]:
-        return (("y_axle",) if self.lateral else ()) + ("psi", "theta1", "theta2") + (
+        return (("y_axle",) if self.lateral else ()) + (("z_axle",) if self.vertical else ()) + (
+            "psi", "theta1", "theta2") + (
             ("phi_gear",) if self.gear else ())
 
     @property

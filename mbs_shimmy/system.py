@@ -9,6 +9,8 @@ Links, in the tree's coordinate order (bracketed ones only when their element is
 
 * [``y_axle``: the axle's lateral travel on its mounts, prismatic along y on the frame; the leaf springs' lateral
   stiffness and damping are the joint's P/D control; the link itself is massless, its children move with it];
+* [``z_axle``: the axle's bounce on its mounts, prismatic along z; the leaf springs' vertical stiffness and damping
+  are the joint's P/D control; massless like the lateral link];
 * ``psi``: the axle's roll, revolute about x through O = (0, y, R + h) (h: roll axis above the wheel centres); roll
   spring-damper k3, c3 as joint P/D control.  Its own roll inertia is I3 less the knuckles' and wheels' share
   about the wheel-centre line, and its centre of mass is on that line, so the assembly has Table 1's I3 about the
@@ -205,7 +207,13 @@ def _tree_object(node: int, layout: Layout, g: AxleGeometry, inertia: TreeInerti
     if layout.lateral:
         link(J.PrismaticY, -1, np.eye(3), (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0), none,
              1.0 / dims.axle_mount_lateral_compliance, dims.axle_mount_lateral_damping)
-        roll_parent = 0
+        roll_parent = len(types) - 1
+    if layout.vertical:
+        # bounce on the leaf springs' vertical stiffness and damping at the seats (massless link: the axle, knuckles
+        # and wheels hanging on it are its mass); the static load's preload is in the alignment
+        link(J.PrismaticZ, roll_parent, np.eye(3), (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0), none,
+             1.0 / dims.axle_mount_vertical_compliance, dims.axle_mount_vertical_damping)
+        roll_parent = len(types) - 1
     iroll = len(types)
     # roll about the roll axis u (sloped by the roll steer): the roll link's frame is turned so that its x-axis is u,
     # and what hangs on it (the axle's centre of mass, the kingpins) is given in that frame

@@ -223,12 +223,12 @@ class TyreElement:
     # --- exact kinematics ----------------------------------------------------------------------------------
     def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
               cpsi: float, spsi: float, ux: float = 1.0, uz: float = 0.0, record: bool = False):
-        """(Q_psi, Q_theta, alpha_dot, Q_y[, ContactState]) from the knuckle's pose as Exudyn gives it.
+        """(Q_psi, Q_theta, alpha_dot, Q_y, Q_z[, ContactState]) from the knuckle's pose as Exudyn gives it.
 
         ``pose`` = (K, v_K, e, s, omega): kingpin point and its velocity, kingpin axis, spin axis and angular
         velocity of the knuckle (vehicle frame); the roll axis runs along u = (ux, 0, uz) (x without roll steer)
-        through O = (0, Oy, Oz), h above the wheel centres at straight running; Q_y is the force on the axle's
-        lateral travel."""
+        through O = (0, Oy, Oz), h above the wheel centres at straight running; Q_y, Q_z are the forces on the axle's
+        lateral travel and bounce."""
         side, R = self.side, self.R
         K, vK, e, s, w = pose
         Kx, Ky, Kz = K
@@ -299,8 +299,8 @@ class TyreElement:
         alpha_d = (vy - abs(vx) * alpha) / sigma
         if record:
             total = (-self.f * Fz * xwx + lat * ywx, -self.f * Fz * xwy + lat * ywy, Fz)
-            return q_psi, q_theta, alpha_d, Fyv, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
-        return q_psi, q_theta, alpha_d, Fyv
+            return q_psi, q_theta, alpha_d, Fyv, vert, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
+        return q_psi, q_theta, alpha_d, Fyv, vert
 
     # --- first-order kinematics (the reduced model's) --------------------------------------------------------
     def linear(self, psi: float, theta: float, psi_d: float, theta_d: float, alpha: float, speed: float,

@@ -176,3 +176,78 @@ def test_camber_linear_terms():
         for th in ("theta1", "theta2"):
             expected = on_kingpin * dgamma[name] if th in wheels else 0.0
             assert added[L.index(th)] == pytest.approx(expected, rel=1e-6, abs=1e-6 * abs(on_kingpin))
+
+
+# --- bounce on the vertical mounts -----------------------------------------------------------------------------
+class _NoForces:
+    """Stands in for the Python force element: Exudyn's own elements (tree, joint springs, connectors) alone."""
+
+    def __init__(self, n):
+        self.n = n
+
+    def evaluate(self, t, q, qd, states=None):
+        return [0.0] * self.n
+
+
+def test_bounce_linear_terms():
+    """The axle's bounce z (only this element in, V = 0).  Hand derivation:
+
+    * mass: the whole axle moves with z, M_zz = m_axle + 2 (m_knuckle + m_wheel); steering moves the knuckle-wheel
+      centre of mass c = m_wheel (0, s l, 0) / m vertically by (e x c)_z = -sin(g) s l m_wheel / m per unit of steer,
+      so M_z,theta = -m_wheel s l sin(g); roll moves the symmetric masses in opposite vertical senses: M_z,psi = 0;
+    * springs: the mounts' own 1 / compliance (Exudyn's joint P control) and the two tyres, dF_z/dz = -k5 each;
+    * toe from the load change: the load change -k5 z at the contact point (lever about the kingpin -s l sin(g)) and
+      its rolling resistance f k5 z at the wheel centre (lever s l cos(g)): dQ_theta/dz = s l k5 (sin g - f cos g),
+      the paper's l (gamma - f) lever; on psi the two wheels' load changes cancel;
+    * bump steer: the drag link rises at eps towards the gear, so lifting its arm end by z shortens it by
+      z sin(eps): K[theta2, z] = k_d j (-sin eps) with j = -r_d cos(g - eps) its lever about the kingpin and
+      k_d = k2 / j^2 (as the roll steer of tests/mbs/test_mbs_model.py)."""
+    from mbs_shimmy.linearisation import MbsEvaluator
+    from reduced_model.model import Effects, ShimmyModel
+    system = MbsModel(fidelity=only(Assumption.RIGID_VERTICAL_MOUNTS)).system(1.5 * BAR, ConstantSpeed(0.0))
+    L = system.layout
+    assert L.coordinates == ("z_axle", "psi", "theta1", "theta2")
+    m = L.n_mech
+    iz, ip = L.index("z_axle"), L.index("psi")
+    g = P.gamma
+    k5 = ShimmyModel(P, Effects()).tyres(1.5 * BAR)[0].k5
+    M = MbsEvaluator(system).mass_matrix(np.zeros(2 * m + 2))
+    m_total = D.axle_mass + 2 * (D.knuckle_mass + D.wheel_mass)
+    assert M[iz, iz] == pytest.approx(m_total, rel=1e-13)
+    assert abs(M[iz, ip]) < 1e-12 * m_total
+    for th, side in (("theta1", -1.0), ("theta2", 1.0)):
+        assert M[iz, L.index(th)] == pytest.approx(-D.wheel_mass * side * P.l * math.sin(g), rel=1e-10)
+    dz = _derivative(system, "q", iz, 1e-6)
+    assert dz[iz] == pytest.approx(-2 * k5, rel=1e-7)
+    assert abs(dz[ip]) < 1e-6 * k5
+    for th, side in (("theta1", -1.0), ("theta2", 1.0)):
+        assert dz[L.index(th)] == pytest.approx(side * P.l * k5 * (math.sin(g) - P.f * math.cos(g)), rel=1e-6)
+    # Exudyn's own elements: the mounts' spring; with the rigid gear the drag link is level (no bump steer), with
+    # the gear in it rises at eps to the Pitman arm and bounce steers the left wheel
+    for fidelity, eps in ((only(Assumption.RIGID_VERTICAL_MOUNTS), 0.0),
+                          (Fidelity(only(Assumption.RIGID_VERTICAL_MOUNTS).assumed - {Assumption.RIGID_STEERING_GEAR}),
+                           D.drag_link_inclination)):
+        K = _connector_stiffness(fidelity, "z_axle")
+        layout = MbsModel(fidelity=fidelity).forces(1.5 * BAR, ConstantSpeed(0.0)).layout
+        j = -D.drag_link_arm * math.cos(g - eps)
+        assert K[layout.index("z_axle")] == pytest.approx(
+            1.0 / D.axle_mount_vertical_compliance + P.k2 / j ** 2 * math.sin(eps) ** 2, rel=1e-6)
+        assert K[layout.index("theta2")] == pytest.approx(P.k2 / j * (-math.sin(eps)), rel=1e-6, abs=1e-6 * P.k2)
+        assert abs(K[layout.index("theta1")]) < 1e-6 * P.k2
+
+
+def _connector_stiffness(fidelity, name):
+    """-dQ/d(name) of Exudyn's own elements (tree, joint springs, connectors) without the Python force element."""
+    from mbs_shimmy.linearisation import MbsEvaluator
+    system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0))
+    m = system.layout.n_mech
+    system.forces = _NoForces(m + 2)
+    ev = MbsEvaluator(system)
+
+    def Q(q):
+        system.set_state(np.concatenate([q, np.zeros(m + 2)]))
+        ev.solver.ComputeODE2RHS(system.mbs)
+        return np.array(ev.solver.GetSystemResidual())[:m]
+    h = 1e-6
+    e = np.eye(m)[system.layout.index(name)]
+    return -(Q(h * e) - Q(-h * e)) / (2 * h)
