@@ -132,6 +132,12 @@ class AxleDimensions:
                                                             "axle's 240 kg on springs and tyres; no effect with "
                                                             "rigid mounts",
                    range=(0.0, 1e6), plausible=(3.0e3, 12.0e3))
+    tie_rod_mass: float = _d(10.0, "kg", "tie rod with its ball joints: a steel tube of about 1.4 m, an "
+                                         "order-of-magnitude value for a truck front axle; 0 = massless",
+                   range=(0.0, 100.0), plausible=(6.0, 15.0), neutral=0.0)
+    drag_link_mass: float = _d(6.0, "kg", "drag link with its ball joints (0.8 m), an order-of-magnitude value; "
+                                          "0 = massless",
+                   range=(0.0, 100.0), plausible=(3.0, 10.0), neutral=0.0)
     # --- the Magic Formula's camber terms (assumption no_camber_force off; mbs_shimmy/camber.py) -------------
     # plausible: +-50 % of the example tyre's value (no measured truck-tyre set here); neutral 0: no camber term
     camber_p_ky3: float = _d(0.3695, "1/rad", "MF 6.1 PKY3: fall of the cornering stiffness with |camber| (the "

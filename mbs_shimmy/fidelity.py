@@ -35,6 +35,7 @@ class Assumption(enum.Enum):
     NO_AXLE_ROLL_STEER = "no_axle_roll_steer"
     NO_CAMBER_FORCE = "no_camber_force"
     RIGID_VERTICAL_MOUNTS = "rigid_vertical_mounts"
+    MASSLESS_LINKS = "massless_links"
 
 
 @dataclass(frozen=True)
@@ -152,8 +153,9 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "the tie-rod arms are parallel (no Ackermann)",
         "k1 (theta1 - theta2) in (2.1)-(2.2)",
         "tie-rod arms angled inward (Ackermann); the tie-rod between their ends: the same k1 at straight running, "
-        "unequal steer of the two wheels at large angles (nonlinear only)",
-        False, True),
+        "unequal steer of the two wheels at large angles (nonlinear only with massless links; with the tie rod's "
+        "mass the angled arms also turn its ball masses' velocities, a small linear change)",
+        True, True),
     AssumptionInfo(
         Assumption.RIGID_STEERING_GEAR,
         "the drag link runs level from the left steering arm to a fixed frame point",
@@ -189,13 +191,21 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "by l (sin gamma - f cos gamma) k5 per unit of bounce, and it steers the left wheel through the inclined drag "
         "link (bump steer)",
         True, True),
+    AssumptionInfo(
+        Assumption.MASSLESS_LINKS,
+        "the tie rod and the drag link have no mass",
+        "I1 theta'' in (2.1)-(2.2): the wheels' inertia about the kingpins only",
+        "each rod is two point masses, half at each ball joint, on the steering arms' ends (and the Pitman arm's): "
+        "the steering inertia grows by m r^2 / 2 per arm, steer couples with roll through the arm ends' masses; the "
+        "whole axle keeps Table 1's I3",
+        True, True),
 )
 
 ELEMENT_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if info.element)
 PAPER_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if not info.element)
 # the freedoms added by issue 18: the checks of the earlier elements keep them out (their switches on)
 ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER, Assumption.NO_CAMBER_FORCE,
-                      Assumption.RIGID_VERTICAL_MOUNTS})
+                      Assumption.RIGID_VERTICAL_MOUNTS, Assumption.MASSLESS_LINKS})
 
 _BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
 ALL = frozenset(Assumption)

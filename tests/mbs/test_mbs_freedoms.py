@@ -251,3 +251,54 @@ def _connector_stiffness(fidelity, name):
     h = 1e-6
     e = np.eye(m)[system.layout.index(name)]
     return -(Q(h * e) - Q(-h * e)) / (2 * h)
+
+
+# --- link masses -----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("with_mounts_and_gear", [False, True])
+def test_link_masses_in_the_mass_matrix(with_mounts_and_gear):
+    """Each rod as two point masses, half at each ball joint: the change of Exudyn's mass matrix against an
+    independent sum over the joints' velocities.  A ball at p on knuckle i moves at
+    v = y' y + psi' x x (p - O) + theta_i' e x (p - K) (roll axis x through O = (0, 0, R), kingpin e through K),
+    the Pitman ball at -r_p phi' x on the gear; so each mass m_b adds m_b (J_a . J_b) to M[a, b].  The arms (no
+    Ackermann, no inclination): tie-rod a_t = -r_t (cos g, 0, sin g) rearward, drag-link a_d = (0, -r_d, 0) inboard
+    on the left knuckle.  The axle keeps Table 1's I3 about the wheel-centre line (the axle's own share shrinks)."""
+    from mbs_shimmy.linearisation import MbsEvaluator
+    off = {Assumption.RIGID_AXLE_MOUNTS, Assumption.RIGID_STEERING_GEAR} if with_mounts_and_gear else set()
+    fid = Fidelity(only(Assumption.MASSLESS_LINKS).assumed - off)
+    ref = Fidelity(fid.assumed | {Assumption.MASSLESS_LINKS})
+    systems = [MbsModel(fidelity=f).system(1.5 * BAR, ConstantSpeed(0.0)) for f in (fid, ref)]
+    L = systems[0].layout
+    assert L == systems[1].layout
+    M, M0 = (MbsEvaluator(s).mass_matrix(np.zeros(L.n)) for s in systems)
+    g = P.gamma
+    e = np.array([-math.sin(g), 0.0, math.cos(g)])
+    x, y = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    O = np.array([0.0, 0.0, P.R])
+    n = L.n_mech
+    expected = np.zeros((n, n))
+    balls = []
+    for name, side in (("theta1", -1.0), ("theta2", 1.0)):
+        K = np.array([0.0, side * (0.5 * P.L - P.l), P.R])
+        arms = [(0.5 * D.tie_rod_mass, -D.tie_rod_arm * np.array([math.cos(g), 0.0, math.sin(g)]))]
+        if side > 0:
+            arms.append((0.5 * D.drag_link_mass, np.array([0.0, -D.drag_link_arm, 0.0])))
+        for mb, a in arms:
+            J = np.zeros((n, 3))
+            J[L.index("psi")] = np.cross(x, K + a - O)
+            J[L.index(name)] = np.cross(e, a)
+            if L.lateral:
+                J[L.index("y_axle")] = y
+            balls.append((mb, J))
+    if L.gear:
+        J = np.zeros((n, 3))
+        J[L.index("phi_gear")] = -D.pitman_arm * x
+        balls.append((0.5 * D.drag_link_mass, J))
+    for mb, J in balls:
+        expected += mb * J @ J.T
+    ip = L.index("psi")
+    roll_share = expected[ip, ip]     # the balls' roll inertia is taken from the axle's own share: I3 stays
+    assert roll_share == pytest.approx(6.2437, abs=1e-4)
+    expected[ip, ip] = 0.0
+    assert M - M0 == pytest.approx(expected, abs=1e-12 * np.max(np.abs(M0)))
+    assert M[ip, ip] == pytest.approx(P.I3, rel=1e-12)           # Table 1's roll inertia kept
+    assert expected[L.index("theta1"), L.index("theta1")] == pytest.approx(0.5 * D.tie_rod_mass * D.tie_rod_arm ** 2)
