@@ -64,9 +64,10 @@ class CamberTerms:
     def neutral(self) -> bool:
         return not any((self.p_ky3, self.p_ky6, self.p_ky7, self.p_vy3, self.p_vy4, self.q_dz8, self.q_dz9))
 
-    def terms(self, mf, alpha: float, load: float, gamma: float) -> tuple[float, float]:
+    def terms(self, mf, alpha: float, load: float, gamma: float, plain: float) -> tuple[float, float]:
         """(F_y with camber less F_y without, camber moment M_zr) at slip alpha, vertical load and camber gamma;
-        ``mf`` has the paper's B, C, D, E at that load."""
+        ``mf`` has the paper's B, C, D, E at that load and ``plain`` is its F_y(alpha) (already computed by the
+        tyre element: one Magic-Formula evaluation less per stage)."""
         if load <= 0.0:
             return 0.0, 0.0
         dfz = (load - self.Fz0) / self.Fz0
@@ -76,12 +77,12 @@ class CamberTerms:
         s_v = load * (self.p_vy3 + self.p_vy4 * dfz) * gamma
         k_gamma = load * (self.p_ky6 + self.p_ky7 * dfz)
         s_h = -(k_gamma * gamma - s_v) / K
-        plain = _force(mf, alpha)
         work = self._work
         work.B, work.C, work.D, work.E = B * reduction, C, D, E
         shifted = _force(work, alpha + s_h) + s_v
         alpha_r = alpha + s_h - s_v / K
-        mzr = load * self.R * (self.q_dz8 + self.q_dz9 * dfz) * gamma * math.cos(math.atan(self.q_bz9 * alpha_r))
+        fade = self.q_bz9 * alpha_r          # cos(arctan(x)) = 1 / sqrt(1 + x^2)
+        mzr = load * self.R * (self.q_dz8 + self.q_dz9 * dfz) * gamma / math.sqrt(1.0 + fade * fade)
         return shifted - plain, mzr
 
 

@@ -259,7 +259,7 @@ class TyreElement:
         if self.camber is not None:
             # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels; lateral() has left
             # the Magic-Formula factors at this load in self._mf
-            dFy, mzr = self.camber.terms(self._mf, alpha, Fz, math.asin(sz))
+            dFy, mzr = self.camber.terms(self._mf, alpha, Fz, math.asin(sz), Fy)
             Fy += dFy
             mz += mzr
         if not self.separate:

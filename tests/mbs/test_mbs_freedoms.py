@@ -143,13 +143,13 @@ def test_camber_terms_equal_an_independent_mf61():
     terms = CamberTerms.of(D, P)
     for alpha, gamma, load in ((0.0, 0.02, 6000.0), (0.03, -0.05, 7500.0), (-0.1, 0.08, 4000.0)):
         mf = tyre.magic_formula(P.replace(Fz=load), 1.5 * BAR)
-        dFy, mz = terms.terms(mf, alpha, load, gamma)
+        dFy, mz = terms.terms(mf, alpha, load, gamma, mf.force(alpha))
         Fy, Mz = _mf61_lateral(alpha, gamma, load)
         assert mf.force(alpha) + dFy == pytest.approx(Fy, rel=1e-12, abs=1e-9)
         assert mz == pytest.approx(Mz, rel=1e-12, abs=1e-12)
     h = 1e-6
     mf = tyre.magic_formula(P, 1.5 * BAR)
-    stiffness = (terms.terms(mf, 0.0, P.Fz, h)[0] - terms.terms(mf, 0.0, P.Fz, -h)[0]) / (2 * h)
+    stiffness = (terms.terms(mf, 0.0, P.Fz, h, 0.0)[0] - terms.terms(mf, 0.0, P.Fz, -h, 0.0)[0]) / (2 * h)
     assert stiffness == pytest.approx(P.Fz * D.camber_p_ky6, rel=1e-8)
     assert stiffness == pytest.approx(-5392.2, abs=0.1)
 
