@@ -125,10 +125,10 @@ class AxleDimensions:
     axle_mount_vertical_compliance: float = _d(2.0e-6, "m/N",
                                                "vertical compliance of both leaf springs at the axle seats together: "
                                                "1 / (0.5 MN/m), 250 kN/m per spring, an order-of-magnitude value for "
-                                               "a truck front axle (axle hop near 11 Hz with the tyres); 0 = rigid",
+                                               "a truck front axle (axle hop near 12 Hz with the tyres); 0 = rigid",
                    range=(0.0, 1e-4), plausible=(1.25e-6, 3.3e-6), neutral=0.0)
     axle_mount_vertical_damping: float = _d(6.0e3, "N s/m", "vertical damping at the seats (shock absorbers, "
-                                                            "inter-leaf friction): about 20 % of critical for the "
+                                                            "inter-leaf friction): about 17 % of critical for the "
                                                             "axle's 240 kg on springs and tyres; no effect with "
                                                             "rigid mounts",
                    range=(0.0, 1e6), plausible=(3.0e3, 12.0e3))

@@ -18,8 +18,9 @@ because Exudyn has no element for it:
 Poses come from Exudyn: each knuckle's kingpin point K, its velocity, rotation and angular velocity are read from
 ``MarkerKinematicTreeRigid`` markers at the stage's state (:attr:`AxleForces.system`).  From them: the spin axis
 s = R_k s_0 and the wheel centre C = K + (side l) s, the kingpin axis e (the joint frame's z).  Generalized forces
-are virtual work on the tree's joints: a force F at P on a knuckle gives x.((P - O) x F) on psi (roll axis along x
-through O), e.((P - K) x F) on its theta and y.F on the lateral travel.  With the first-order kinematics
+are virtual work on the tree's joints: a force F at P on a knuckle gives u.((P - O) x F) on psi (roll axis u
+through O: x, or sloped in side view with the roll steer), e.((P - K) x F) on its theta, y.F on the lateral travel
+and z.F on the bounce.  With the first-order kinematics
 (``small_angles``) the lever arms are the constant straight-running ones (:meth:`TyreElement.linear`).
 """
 

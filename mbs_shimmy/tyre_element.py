@@ -14,7 +14,8 @@ Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; it
   lateral compliance is the relaxation equation's carcass spring K/sigma alone (counted once);
 * Magic-Formula lateral force F_y(alpha) of :mod:`reduced_model.tyre` (eqs. 2.4-2.9) along y_w, acting at the
   pneumatic trail t(alpha) behind P, i.e. with the moment -t F_y about the road normal; ``pt`` makes the trail
-  slip-dependent (4.2-4.8);
+  slip-dependent (4.2-4.8); with ``no_camber_force`` off the Magic Formula's camber terms add a force and a moment
+  at P from the wheel's camber (:mod:`mbs_shimmy.camber`);
 * slip-angle state alpha (Pacejka's tan-slip, the Magic Formula's input) with the relaxation equation
   sigma alpha' + |v_x| alpha = v_y, v the road-relative velocity of the leading contact point P + a x_w
   (von Schlippe's straight-tangent approximation; Pacejka, Tire and Vehicle Dynamics, 3rd ed., 2012, sections 5.4
