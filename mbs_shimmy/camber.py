@@ -72,7 +72,9 @@ class CamberTerms:
             return 0.0, 0.0
         dfz = (load - self.Fz0) / self.Fz0
         B, C, D, E = mf.B, mf.C, mf.D, mf.E
-        reduction = 1.0 - self.p_ky3 * abs(gamma)
+        # MF 6.1's factor would reach zero at |gamma| = 1 / p_Ky3 (2.7 rad for this tyre, beyond the model's 1 rad
+        # divergence limit); it is kept positive so that the cornering stiffness never changes sign
+        reduction = max(1.0 - self.p_ky3 * abs(gamma), 0.05)
         K = B * C * D * reduction
         s_v = load * (self.p_vy3 + self.p_vy4 * dfz) * gamma
         k_gamma = load * (self.p_ky6 + self.p_ky7 * dfz)

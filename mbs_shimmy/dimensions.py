@@ -142,7 +142,7 @@ class AxleDimensions:
     # plausible: +-50 % of the example tyre's value (no measured truck-tyre set here); neutral 0: no camber term
     camber_p_ky3: float = _d(0.3695, "1/rad", "MF 6.1 PKY3: fall of the cornering stiffness with |camber| (the "
                                               "paper's p_ky3 is MF 6.1's PKY4)",
-                   source=_PACEJKA_205, range=(0.0, 2.0), plausible=(0.18, 0.55), neutral=0.0)
+                   source=_PACEJKA_205, range=(0.0, 0.95), plausible=(0.18, 0.55), neutral=0.0)
     camber_p_ky6: float = _d(-0.8987, "1/rad", "MF 6.1 PKY6: camber stiffness K_ygamma / F_z at the nominal load (ISO"
                                                " signs: a wheel leaning right pushes right)",
                    source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-1.35, -0.45), neutral=0.0)
