@@ -11,7 +11,8 @@ Links, in the tree's coordinate order (bracketed ones only when their element is
   stiffness and damping are the joint's P/D control; the link itself is massless, its children move with it];
 * [``z_axle``: the axle's bounce on its mounts, prismatic along z; the leaf springs' vertical stiffness and damping
   are the joint's P/D control; massless like the lateral link];
-* ``psi``: the axle's roll, revolute about x through O = (0, y, R + h) (h: roll axis above the wheel centres); roll
+* ``psi``: the axle's roll, revolute about x through O = (0, y, R + h + z) (h: roll axis above the wheel centres;
+  with roll steer the joint frame is turned so that the axis slopes in side view by atan(axle_roll_steer)); roll
   spring-damper k3, c3 as joint P/D control.  Its own roll inertia is I3 less the knuckles' and wheels' share
   about the wheel-centre line, and its centre of mass is on that line, so the assembly has Table 1's I3 about the
   wheel-centre line and I3 + m h^2 about a raised roll axis;
