@@ -20,12 +20,20 @@ from reduced_model.parameters import ParameterError, ShimmyParameters, check_ran
 
 
 def _d(value: float, unit: str, reason: str, *, range: tuple[float, float], plausible: tuple[float, float],
-       neutral: float | None = None) -> Any:
+       neutral: float | None = None, source: str | None = None) -> Any:
     """A chosen dimension (SI).  ``range``: where the model stays physically meaningful (inclusive);
     ``plausible``: where a real truck beam axle's value lies (for uncertainty studies); ``neutral``: the value at
-    which the element has no effect, if there is one."""
-    return field(default=value, metadata={"unit": unit, "reason": reason, "range": range, "plausible": plausible,
-                                          "neutral": neutral})
+    which the element has no effect, if there is one; ``source``: where the value comes from, if it is not an
+    estimate chosen for the multibody model (the axle registry then says "chosen")."""
+    meta = {"unit": unit, "reason": reason, "range": range, "plausible": plausible, "neutral": neutral}
+    if source is not None:
+        meta["source"] = source
+    return field(default=value, metadata=meta)
+
+
+_PACEJKA_205 = ("Pacejka, Tire and Vehicle Dynamics, 3rd ed., 2012, the 205/60R15 91V example tyre (MF-Tyre 6.1 "
+                "parameter table of the appendix), the tyre of the paper's Table 1; read from a transcription of that"
+                " table whose entries the paper uses (PDY2, PKY2, PKY4, PPY1-4, QBZ1-2, QEZ1-2, QEZ4) equal Table 1")
 
 
 @dataclass(frozen=True)
@@ -42,7 +50,9 @@ class AxleDimensions:
                    range=(1.0, 200.0), plausible=(12.0, 35.0))
     knuckle_transverse_inertia: float = _d(0.3, "kg m^2", "knuckle about axes across the kingpin",
                    range=(0.01, 10.0), plausible=(0.15, 0.6))
-    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass on the roll axis, so it only adds roll inertia",
+    axle_mass: float = _d(120.0, "kg", "beam axle; centre of mass at wheel-centre height (on the line through the "
+                                       "wheel centres), so about a raised roll axis it adds m h^2 of roll inertia "
+                                       "and couples the roll with the lateral travel",
                    range=(10.0, 1000.0), plausible=(80.0, 200.0))
     tie_rod_arm: float = _d(0.2, "m", "steering arm length to the tie-rod joint, perpendicular to the kingpin, "
                                       "pointing rearward",
@@ -99,6 +109,57 @@ class AxleDimensions:
                                       "the left wheel (roll steer)",
                    range=(math.radians(-30.0), math.radians(30.0)), plausible=(0.0, math.radians(12.0)),
                    neutral=0.0)
+
+    # --- the freedoms of issue 18 ---------------------------------------------------------------------------
+    axle_roll_steer: float = _d(0.1, "rad/rad",
+                                "yaw of the axle about z per unit of its roll about x (roll steer), both right-handed "
+                                "in the vehicle frame: the spring eyes and shackles of the leaf springs make the "
+                                "axle roll about an axis sloped in side view by atan(coefficient); positive = the "
+                                "axle turns its nose left as its left side rises (roll understeer of a front axle "
+                                "in a right turn, where the frame rolls left over the axle); 0 = roll about x",
+                                source="typical leaf-sprung solid axles 0-0.2 rad/rad, the slope of the axle's roll "
+                                       "axis in side view (Gillespie, Fundamentals of Vehicle Dynamics, SAE 1992, "
+                                       "ch. 8, roll steer of solid axles); 0.1 is the middle, an estimate",
+                   range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
+
+    axle_mount_vertical_compliance: float = _d(2.0e-6, "m/N",
+                                               "vertical compliance of both leaf springs at the axle seats together: "
+                                               "1 / (0.5 MN/m), 250 kN/m per spring, an order-of-magnitude value for "
+                                               "a truck front axle (axle hop near 12 Hz with the tyres); 0 = rigid",
+                   range=(0.0, 1e-4), plausible=(1.25e-6, 3.3e-6), neutral=0.0)
+    axle_mount_vertical_damping: float = _d(6.0e3, "N s/m", "vertical damping at the seats (shock absorbers, "
+                                                            "inter-leaf friction): about 17 % of critical for the "
+                                                            "axle's 240 kg on springs and tyres; no effect with "
+                                                            "rigid mounts",
+                   range=(0.0, 1e6), plausible=(3.0e3, 12.0e3))
+    tie_rod_mass: float = _d(10.0, "kg", "tie rod with its ball joints: a steel tube of about 1.4 m, an "
+                                         "order-of-magnitude value for a truck front axle; 0 = massless",
+                   range=(0.0, 100.0), plausible=(6.0, 15.0), neutral=0.0)
+    drag_link_mass: float = _d(6.0, "kg", "drag link with its ball joints (0.8 m), an order-of-magnitude value; "
+                                          "0 = massless",
+                   range=(0.0, 100.0), plausible=(3.0, 10.0), neutral=0.0)
+    # --- the Magic Formula's camber terms (assumption no_camber_force off; mbs_shimmy/camber.py) -------------
+    # plausible: +-50 % of the example tyre's value (no measured truck-tyre set here); neutral 0: no camber term
+    camber_p_ky3: float = _d(0.3695, "1/rad", "MF 6.1 PKY3: fall of the cornering stiffness with |camber| (the "
+                                              "paper's p_ky3 is MF 6.1's PKY4)",
+                   source=_PACEJKA_205, range=(0.0, 0.95), plausible=(0.18, 0.55), neutral=0.0)
+    camber_p_ky6: float = _d(-0.8987, "1/rad", "MF 6.1 PKY6: camber stiffness K_ygamma / F_z at the nominal load (ISO"
+                                               " signs: a wheel leaning right pushes right)",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-1.35, -0.45), neutral=0.0)
+    camber_p_ky7: float = _d(-0.23303, "1/rad", "MF 6.1 PKY7: load dependence of the camber stiffness",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-0.35, -0.12), neutral=0.0)
+    camber_p_vy3: float = _d(-0.162, "1/rad", "MF 6.1 PVY3: camber part of the vertical shift S_Vy / F_z",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-0.24, -0.08), neutral=0.0)
+    camber_p_vy4: float = _d(-0.4864, "1/rad", "MF 6.1 PVY4: load dependence of that shift",
+                   source=_PACEJKA_205, range=(-5.0, 5.0), plausible=(-0.73, -0.24), neutral=0.0)
+    camber_q_dz8: float = _d(-0.1428, "1/rad", "MF 6.1 QDZ8: camber moment, the residual torque's peak / (F_z R) per "
+                                               "rad of camber",
+                   source=_PACEJKA_205, range=(-2.0, 2.0), plausible=(-0.21, -0.07), neutral=0.0)
+    camber_q_dz9: float = _d(0.00915, "1/rad", "MF 6.1 QDZ9: load dependence of the camber moment",
+                   source=_PACEJKA_205, range=(-2.0, 2.0), plausible=(0.0046, 0.0137), neutral=0.0)
+    camber_q_bz9: float = _d(34.5, "1/rad", "MF 6.1 QBZ9: slope of the residual torque's fade with slip, "
+                                            "cos(arctan(QBZ9 alpha_r))",
+                   source=_PACEJKA_205, range=(0.0, 200.0), plausible=(17.0, 52.0), neutral=None)
 
     def __post_init__(self) -> None:
         check_ranges(self, "dimension")

@@ -32,6 +32,10 @@ class Assumption(enum.Enum):
     RIGID_AXLE_MOUNTS = "rigid_axle_mounts"
     PARALLEL_STEERING_ARMS = "parallel_steering_arms"
     RIGID_STEERING_GEAR = "rigid_steering_gear"
+    NO_AXLE_ROLL_STEER = "no_axle_roll_steer"
+    NO_CAMBER_FORCE = "no_camber_force"
+    RIGID_VERTICAL_MOUNTS = "rigid_vertical_mounts"
+    MASSLESS_LINKS = "massless_links"
 
 
 @dataclass(frozen=True)
@@ -149,8 +153,9 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "the tie-rod arms are parallel (no Ackermann)",
         "k1 (theta1 - theta2) in (2.1)-(2.2)",
         "tie-rod arms angled inward (Ackermann); the tie-rod between their ends: the same k1 at straight running, "
-        "unequal steer of the two wheels at large angles (nonlinear only)",
-        False, True),
+        "unequal steer of the two wheels at large angles (nonlinear only with massless links; with the tie rod's "
+        "mass the angled arms also turn its ball masses' velocities, a small linear change)",
+        True, True),
     AssumptionInfo(
         Assumption.RIGID_STEERING_GEAR,
         "the drag link runs level from the left steering arm to a fixed frame point",
@@ -159,10 +164,48 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         "torsional stiffness and damping to the frame: the gear's compliance in series with k2, and roll steer "
         "(the axle's roll moves the steering arm along the inclined drag link)",
         True, True),
+    AssumptionInfo(
+        Assumption.NO_AXLE_ROLL_STEER,
+        "the axle rolls about a horizontal axis: it does not yaw as it rolls",
+        "psi in (2.1)-(2.3) and (2.10)-(2.11) is a rotation about x only",
+        "the leaf springs' eyes and shackles slope the roll axis in side view: the axle yaws by the roll-steer "
+        "coefficient (axle_roll_steer) per unit of roll, so tramp steers both wheels and turns their contact "
+        "points; about the sloped axis the tyre forces, the trail moment and the rotor moments have the extra "
+        "lever of the yaw component",
+        True, True),
+    AssumptionInfo(
+        Assumption.NO_CAMBER_FORCE,
+        "the tyre makes no force or moment from its camber",
+        "F_y(alpha) of (2.4)-(2.9) and the trail moment t F_y: slip only",
+        "tramp and caster steer camber the wheels; the Magic Formula carries its camber terms (MF 6.1, Pacejka's "
+        "205/60R15 example tyre): camber stiffness F_z (p_Ky6 + p_Ky7 df_z) through the horizontal and vertical "
+        "shifts, the cornering stiffness falling with |camber|, and the camber moment of the residual torque "
+        "F_z R (q_Dz8 + q_Dz9 df_z) gamma",
+        True, True),
+    AssumptionInfo(
+        Assumption.RIGID_VERTICAL_MOUNTS,
+        "the axle cannot bounce against the frame",
+        "no vertical degree of freedom in (2.1)-(2.11)",
+        "a vertical degree of freedom of the axle on the leaf springs' vertical stiffness and damping: bounce changes "
+        "both wheel loads (k5), whose load at the scrub radius and rolling resistance at the hub offset toe the wheels "
+        "by l (sin gamma - f cos gamma) k5 per unit of bounce, and it steers the left wheel through the inclined drag "
+        "link (bump steer)",
+        True, True),
+    AssumptionInfo(
+        Assumption.MASSLESS_LINKS,
+        "the tie rod and the drag link have no mass",
+        "I1 theta'' in (2.1)-(2.2): the wheels' inertia about the kingpins only",
+        "each rod is two point masses, half at each ball joint, on the steering arms' ends (and the Pitman arm's): "
+        "the steering inertia grows by m r^2 / 2 per arm, steer couples with roll through the arm ends' masses; the "
+        "whole axle keeps Table 1's I3",
+        True, True),
 )
 
 ELEMENT_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if info.element)
 PAPER_ASSUMPTIONS = tuple(info.assumption for info in ASSUMPTIONS if not info.element)
+# the freedoms added by issue 18: the checks of the earlier elements keep them out (their switches on)
+ISSUE_18 = frozenset({Assumption.NO_AXLE_ROLL_STEER, Assumption.NO_CAMBER_FORCE,
+                      Assumption.RIGID_VERTICAL_MOUNTS, Assumption.MASSLESS_LINKS})
 
 _BY_NAME = {info.name: info.assumption for info in ASSUMPTIONS}
 ALL = frozenset(Assumption)

@@ -18,8 +18,9 @@ because Exudyn has no element for it:
 Poses come from Exudyn: each knuckle's kingpin point K, its velocity, rotation and angular velocity are read from
 ``MarkerKinematicTreeRigid`` markers at the stage's state (:attr:`AxleForces.system`).  From them: the spin axis
 s = R_k s_0 and the wheel centre C = K + (side l) s, the kingpin axis e (the joint frame's z).  Generalized forces
-are virtual work on the tree's joints: a force F at P on a knuckle gives x.((P - O) x F) on psi (roll axis along x
-through O), e.((P - K) x F) on its theta and y.F on the lateral travel.  With the first-order kinematics
+are virtual work on the tree's joints: a force F at P on a knuckle gives u.((P - O) x F) on psi (roll axis u
+through O: x, or sloped in side view with the roll steer), e.((P - K) x F) on its theta, y.F on the lateral travel
+and z.F on the bounce.  With the first-order kinematics
 (``small_angles``) the lever arms are the constant straight-running ones (:meth:`TyreElement.linear`).
 """
 
@@ -34,6 +35,7 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 # isort: split
 import exudyn as exu
 
+from mbs_shimmy.camber import CamberTerms
 from mbs_shimmy.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.geometry import SIDES, AxleGeometry
@@ -61,7 +63,8 @@ def layout_of(fidelity: Fidelity, dims: AxleDimensions):
     from mbs_shimmy.layout import Layout
     lateral = Assumption.RIGID_AXLE_MOUNTS not in fidelity and dims.axle_mount_lateral_compliance > 0.0
     gear = Assumption.RIGID_STEERING_GEAR not in fidelity and dims.steering_gear_compliance > 0.0
-    return Layout(lateral, gear)
+    vertical = Assumption.RIGID_VERTICAL_MOUNTS not in fidelity and dims.axle_mount_vertical_compliance > 0.0
+    return Layout(lateral, gear, vertical)
 
 
 class AxleForces:
@@ -94,7 +97,11 @@ class AxleForces:
         self.need_exact = (not self.linear) or not self.flags.fixed_static_load_arms
         wheels = ShimmyModel(params, effects).tyres(pressure)   # raises ParameterError where meaningless
         load_dependent = Assumption.CONSTANT_LOAD not in fidelity
-        self.tyres = tuple(TyreElement(s, params, effects, w, load_dependent, self.g, self.flags)
+        camber = None
+        if Assumption.NO_CAMBER_FORCE not in fidelity:
+            camber = CamberTerms.of(dims, params)
+            camber = None if camber.neutral else camber
+        self.tyres = tuple(TyreElement(s, params, effects, w, load_dependent, self.g, self.flags, camber)
                            for s, w in zip(SIDES, wheels))
         self.quasi_steady = Assumption.QUASI_STEADY_SPEED in fidelity
         # The d'Alembert force of the decelerating frame acts on the wheel mass at the wheel centre when the
@@ -107,9 +114,12 @@ class AxleForces:
         L = self.layout
         self.n_mech = L.n_mech
         self.i_lat = L.index("y_axle") if L.lateral else -1
+        self.i_vert = L.index("z_axle") if L.vertical else -1
         self.i_psi, self.i_th1, self.i_th2 = L.index("psi"), L.index("theta1"), L.index("theta2")
         self.roll_height = self.g_exact.roll_height
         self.Oz = self.g_exact.origin[2]
+        # the roll axis u = (ux, 0, uz): x without roll steer, sloped in side view with it
+        self.ux, _, self.uz = self.g_exact.roll_axis
         self.alignment = [0.0] * (L.n_mech + 2)
         self.system = None
         self.markers = ()
@@ -137,23 +147,26 @@ class AxleForces:
     def knuckle_poses(self, q, qd) -> tuple:
         """(K, v_K, e, s, omega) of both knuckles at the tree state (q, q') written in Exudyn's current
         configuration: K and the knuckle's rotation (hence e and s) are Exudyn's marker outputs; the velocities are
-        J q' with the same joint axes and points (roll axis x through O, kingpin e through K, lateral travel y),
-        omega = psi' x + theta' e and v_K = y' y + psi' x (K - O) - the columns that also project the forces.
+        J q' with the same joint axes and points (roll axis u through O, kingpin e through K, lateral travel y),
+        omega = psi' u + theta' e and v_K = y' y + z' z + psi' u x (K - O) - the columns that also project the
+        forces (u = x without roll steer; O moves with the lateral travel y and the bounce z).
         (Exudyn's Velocity and AngularVelocity outputs give the same, ``tests/test_mbs_model.py``, at 10 us a call
         against 4-7 us for a pose: they would double the cost of a stage.)"""
         out = []
         get = self.get
         psid = qd[self.i_psi]
         Oy, yd = (q[self.i_lat], qd[self.i_lat]) if self.i_lat >= 0 else (0.0, 0.0)
-        Oz = self.Oz
+        Oz, zd = (self.Oz + q[self.i_vert], qd[self.i_vert]) if self.i_vert >= 0 else (self.Oz, 0.0)
+        wx, wz = psid * self.ux, psid * self.uz      # the axle's angular velocity psi' u
         for m, (a, b, c), thd in zip(self.markers, self.spin_local, (qd[self.i_th1], qd[self.i_th2])):
             Rm = get(m, _ROT).tolist()
             K = get(m, _POS).tolist()
             e = (Rm[2], Rm[5], Rm[8])
-            out.append((K, (0.0, yd - psid * (K[2] - Oz), psid * (K[1] - Oy)),
+            ry, rz = K[1] - Oy, K[2] - Oz
+            out.append((K, (-wz * ry, yd + wz * K[0] - wx * rz, zd + wx * ry),
                         e, (Rm[0] * a + Rm[1] * b + Rm[2] * c, Rm[3] * a + Rm[4] * b + Rm[5] * c,
                             Rm[6] * a + Rm[7] * b + Rm[8] * c),
-                        (psid + thd * e[0], thd * e[1], thd * e[2])))
+                        (wx + thd * e[0], thd * e[1], wz + thd * e[2])))
         return tuple(out)
 
     # ------------------------------------------------------------------------------------------------------
@@ -190,11 +203,13 @@ class AxleForces:
         else:
             cpsi, spsi = math.cos(psi), math.sin(psi)
             Oy = q[self.i_lat] if self.i_lat >= 0 else 0.0
-            r1 = t1.exact(p1, Oy, self.Oz, self.roll_height, al1, V, cpsi, spsi, record)
-            r2 = t2.exact(p2, Oy, self.Oz, self.roll_height, al2, V, cpsi, spsi, record)
+            Oz = self.Oz + q[self.i_vert] if self.i_vert >= 0 else self.Oz
+            r1 = t1.exact(p1, Oy, Oz, self.roll_height, al1, V, cpsi, spsi, self.ux, self.uz, record)
+            r2 = t2.exact(p2, Oy, Oz, self.roll_height, al2, V, cpsi, spsi, self.ux, self.uz, record)
             gp, g1, g2 = self.rotor_moments(p1, p2, V)
             Qp, Q1, Q2 = r1[0] + r2[0] + gp, r1[1] + g1, r2[1] + g2
             Qy = r1[3] + r2[3]
+            Qz = r1[4] + r2[4]
         if not self.steady:
             acc = self.acceleration(t)
             if acc != 0.0:
@@ -202,8 +217,8 @@ class AxleForces:
                     Q1 += self._ramp_linear(-1.0, acc)
                     Q2 += self._ramp_linear(1.0, acc)
                 else:
-                    a1 = self._ramp_exact(-1.0, p1, Oy, acc)
-                    a2 = self._ramp_exact(1.0, p2, Oy, acc)
+                    a1 = self._ramp_exact(-1.0, p1, Oy, Oz, acc)
+                    a2 = self._ramp_exact(1.0, p2, Oy, Oz, acc)
                     Qp += a1[0] + a2[0]
                     Q1 += a1[1]
                     Q2 += a2[1]
@@ -215,13 +230,15 @@ class AxleForces:
         out[i2] += Q2
         if self.i_lat >= 0:
             out[self.i_lat] += Qy
+        if self.i_vert >= 0:
+            out[self.i_vert] += Qz          # the tyres' vertical forces (nothing else applied has a z component)
         out[m] = r1[2]
         out[m + 1] = r2[2]
         return out
 
     def rotor_moments(self, p1: tuple, p2: tuple, speed: float) -> tuple[float, float, float]:
         """(Q_psi, Q_theta1, Q_theta2) of the wheels' spin Omega = V/R: the moment -I2 Omega (omega x s) of each
-        wheel, its x component on psi and its component along the kingpin axis e on theta (poses as
+        wheel, its component along the roll axis u on psi and along the kingpin axis e on theta (poses as
         :meth:`knuckle_poses`)."""
         kg = self.I2 * speed / self.R
         out = [0.0, 0.0, 0.0]
@@ -230,12 +247,12 @@ class AxleForces:
             Mx = -kg * (w[1] * s[2] - w[2] * s[1])
             My = -kg * (w[2] * s[0] - w[0] * s[2])
             Mz = -kg * (w[0] * s[1] - w[1] * s[0])
-            out[0] += Mx
+            out[0] += self.ux * Mx + self.uz * Mz
             out[1 + k] = e[0] * Mx + e[1] * My + e[2] * Mz
         return out[0], out[1], out[2]
 
     # --- speed changes (assumption quasi_steady_speed off) ------------------------------------------------
-    def _ramp_exact(self, side: float, pose: tuple, Oy: float, acc: float) -> tuple[float, float]:
+    def _ramp_exact(self, side: float, pose: tuple, Oy: float, Oz: float, acc: float) -> tuple[float, float]:
         """Wheel spin-up by the road: force -I2 Omega'/|P - C| along the heading at P with the reaction
         -I2 Omega' s on the knuckle, which together are that force moved to the wheel centre C; plus the
         d'Alembert force -m_w dV/dt at C.  Both act at C along the heading / x."""
@@ -249,7 +266,8 @@ class AxleForces:
         Fx, Fy = fs * sy / cphi - self.wheel_mass * acc, -fs * sx / cphi
         ex, ey, ez = e
         rx, ry, rz = Cx - K[0], Cy - K[1], Cz - K[2]
-        q_psi = -(Cz - self.Oz) * Fy                   # F has no vertical component
+        # F has no vertical component; about the roll axis u = (ux, 0, uz) through O = (0, Oy, Oz)
+        q_psi = self.ux * (-(Cz - Oz) * Fy) + self.uz * (Cx * Fy - (Cy - Oy) * Fx)
         q_theta = ex * (-rz * Fy) + ey * (rz * Fx) + ez * (rx * Fy - ry * Fx)
         return q_psi, q_theta
 

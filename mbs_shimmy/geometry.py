@@ -75,6 +75,7 @@ class AxleGeometry:
     roll_height: float = 0.0           # roll axis above the wheel centres
     drag_link_inclination: float = 0.0
     pitman_arm: float = 0.0            # 0: the drag link ends on a frame point (rigid gear)
+    roll_steer: float = 0.0            # axle yaw per unit of roll: the roll axis slopes by atan(roll_steer)
 
     @classmethod
     def build(cls, params: ShimmyParameters, dims: AxleDimensions, exact: bool,
@@ -88,7 +89,8 @@ class AxleGeometry:
                    steering_arm_angle=0.0 if on(Assumption.PARALLEL_STEERING_ARMS) else dims.steering_arm_angle,
                    roll_height=0.0 if on(Assumption.ROLL_AXIS_AT_WHEEL_CENTRE) else dims.roll_axis_above_wheel_centre,
                    drag_link_inclination=dims.drag_link_inclination if gear else 0.0,
-                   pitman_arm=dims.pitman_arm if gear else 0.0)
+                   pitman_arm=dims.pitman_arm if gear else 0.0,
+                   roll_steer=0.0 if on(Assumption.NO_AXLE_ROLL_STEER) else dims.axle_roll_steer)
 
     @cached_property
     def sin_gamma(self) -> float:
@@ -102,6 +104,21 @@ class AxleGeometry:
     def origin(self) -> Vec:
         """O: the roll axis passes through it along x."""
         return (0.0, 0.0, self.R + self.roll_height)
+
+    @cached_property
+    def roll_axis(self) -> Vec:
+        """u: the axle's roll axis through O, sloped up at the front by atan(roll_steer) in side view, so that a
+        roll psi about it is a roll psi cos(beta) about x and a yaw psi sin(beta) about z (exactly (1, 0, 0)
+        without roll steer)."""
+        if self.roll_steer == 0.0:
+            return (1.0, 0.0, 0.0)
+        return unit((1.0, 0.0, self.roll_steer))
+
+    @cached_property
+    def roll_joint_rotation(self) -> tuple[Vec, Vec, Vec]:
+        """Rows of the roll joint's frame -> vehicle frame: its x-axis is :attr:`roll_axis` (Ry(-beta))."""
+        ux, _, uz = self.roll_axis
+        return ((ux, 0.0, -uz), (0.0, 1.0, 0.0), (uz, 0.0, ux))
 
     def kingpin_axis_of(self, side: float) -> Vec:
         """Kingpin direction (axle frame): tilted rearward at the top by the caster angle and inward by the

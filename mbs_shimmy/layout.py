@@ -10,8 +10,8 @@ import numpy as np
 
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 
-EXTRA_COORDINATES = ("y_axle", "phi_gear")
-EXTRA_UNITS = {"y_axle": "m", "phi_gear": "rad"}
+EXTRA_COORDINATES = ("y_axle", "z_axle", "phi_gear")
+EXTRA_UNITS = {"y_axle": "m", "z_axle": "m", "phi_gear": "rad"}
 
 
 @dataclass(frozen=True)
@@ -19,16 +19,19 @@ class Layout:
     """Which coordinates the tree has, and the maps between its states and the extended reduced-model order.
 
     MBS state ``y = (q, q', alpha1, alpha2)`` with q the mechanical coordinates in tree order; extended state
-    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [phi_gear, phi_gear'])``:
+    ``x = (theta1, theta1', theta2, theta2', psi, psi', alpha1, alpha2, [y_axle, y_axle'], [z_axle, z_axle'],
+    [phi_gear, phi_gear'])``:
     the reduced model's state order (:data:`reduced_model.model.STATE_NAMES`) followed by the new coordinates.
     """
 
     lateral: bool
     gear: bool
+    vertical: bool = False
 
     @property
     def coordinates(self) -> tuple[str, ...]:
-        return (("y_axle",) if self.lateral else ()) + ("psi", "theta1", "theta2") + (
+        return (("y_axle",) if self.lateral else ()) + (("z_axle",) if self.vertical else ()) + (
+            "psi", "theta1", "theta2") + (
             ("phi_gear",) if self.gear else ())
 
     @property

@@ -4,7 +4,7 @@ The built-in ``ComputeODE2Eigenvalues`` / ``ComputeLinearizedSystem`` ignore fir
 angles) and are wrong for spinning wheels on redundant coordinates (``shared/notes/exudyn.md``).  Instead the
 Jacobian of the complete first-order system
 
-    y = (q, q', alpha1, alpha2),  q = ([y_axle], psi, theta1, theta2, [phi_gear])  (tree order),
+    y = (q, q', alpha1, alpha2),  q = ([y_axle], [z_axle], psi, theta1, theta2, [phi_gear])  (tree order),
     y' = (q', M(q)^-1 f(q, q', alpha, t), g(q, q', alpha, t))
 
 is formed from what Exudyn's solver itself evaluates at states written into the ``Current`` configuration: the
@@ -157,7 +157,7 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as
     in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in the extended state order
     :attr:`state_names` (the reduced model's :data:`reduced_model.model.STATE_NAMES`, then ``y_axle``,
-    ``y_axle_dot``, ``phi_gear``, ``phi_gear_dot`` where the full axle has them).
+    ``y_axle_dot``, ``z_axle``, ``z_axle_dot``, ``phi_gear``, ``phi_gear_dot`` where the full axle has them).
     """
 
     model: MbsModel = field(default_factory=MbsModel)

@@ -258,10 +258,13 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     drag = np.zeros((n, 2, 3))
     cpoint = {k: np.zeros((n, 3)) for k in ("right", "left")}
     cforce = {k: np.zeros((n, 3)) for k in ("right", "left")}
+    roll_frame = np.array(forces.g_exact.roll_joint_rotation)
     for k in range(n):
         system.set_state(y[k])
         pos["axle"][k] = get(mk.axle, OV.Position)
-        quat["axle"][k] = quaternion_xyzw(tuple(map(tuple, np.reshape(get(mk.axle, OV.RotationMatrix), (3, 3)))))
+        # the roll link's frame is turned onto the (sloped) roll axis: undo that for the axle's own frame
+        axle_rot = np.reshape(get(mk.axle, OV.RotationMatrix), (3, 3)) @ roll_frame.T
+        quat["axle"][k] = quaternion_xyzw(tuple(map(tuple, axle_rot)))
         states: list = []
         forces.evaluate(float(t[k]), list(y[k, 0:m]) + [0.0, 0.0], list(y[k, m:2 * m + 2]), states=states)
         c, s = math.cos(spin_angle[k]), math.sin(spin_angle[k])

@@ -9,7 +9,10 @@ Links, in the tree's coordinate order (bracketed ones only when their element is
 
 * [``y_axle``: the axle's lateral travel on its mounts, prismatic along y on the frame; the leaf springs' lateral
   stiffness and damping are the joint's P/D control; the link itself is massless, its children move with it];
-* ``psi``: the axle's roll, revolute about x through O = (0, y, R + h) (h: roll axis above the wheel centres); roll
+* [``z_axle``: the axle's bounce on its mounts, prismatic along z; the leaf springs' vertical stiffness and damping
+  are the joint's P/D control; massless like the lateral link];
+* ``psi``: the axle's roll, revolute about x through O = (0, y, R + h + z) (h: roll axis above the wheel centres;
+  with roll steer the joint frame is turned so that the axis slopes in side view by atan(axle_roll_steer)); roll
   spring-damper k3, c3 as joint P/D control.  Its own roll inertia is I3 less the knuckles' and wheels' share
   about the wheel-centre line, and its centre of mass is on that line, so the assembly has Table 1's I3 about the
   wheel-centre line and I3 + m h^2 about a raised roll axis;
@@ -98,19 +101,31 @@ class TreeInertia:
     masses: tuple[float, float, float]               # axle, knuckle 1, knuckle 2
     coms: tuple[np.ndarray, np.ndarray, np.ndarray]  # in each link's joint frame
     inertias: tuple[np.ndarray, np.ndarray, np.ndarray]  # about the centre of mass, joint frame
+    gear_extra: float = 0.0          # the drag link's half on the Pitman-arm ball, about the gear shaft (kg m^2)
 
     @classmethod
     def build(cls, params: ShimmyParameters, dims: AxleDimensions, uncoupled: bool,
-              geometry: AxleGeometry | None = None, roll_height: float = 0.0) -> "TreeInertia":
+              geometry: AxleGeometry | None = None, roll_height: float = 0.0,
+              links_mass: tuple[float, float] = (0.0, 0.0)) -> "TreeInertia":
         """``geometry`` gives the kingpin axes (default: caster only); the axle's centre of mass lies
-        ``roll_height`` below the roll joint (the roll axis above the wheel centres)."""
+        ``roll_height`` below the roll joint (the roll axis above the wheel centres).
+
+        ``links_mass`` = (tie rod, drag link) masses (assumption ``massless_links`` off): each rod is two point
+        masses, half at each ball joint, carried by the link the joint sits on (the steering arms' ends on the
+        knuckles, the Pitman ball on the gear; with a rigid gear that half is on the frame).  That is exact for the
+        rods' translation; their inertia about their own centres is m L^2 / 4 instead of m L^2 / 12 (a kinematic
+        tree cannot carry a body between two of its links without a closing constraint).  The whole axle keeps
+        Table 1's I3 about the wheel-centre line (the axle's own share is what is left), I1 grows by the arm ends'
+        m r^2."""
         dims.check(params)
         P = params
         g = geometry or AxleGeometry.build(P, dims, exact=True)
-        m = dims.knuckle_mass + dims.wheel_mass
+        m0 = dims.knuckle_mass + dims.wheel_mass
         links = []
+        masses = []
         roll_share = 0.0
         for side in (-1.0, 1.0):
+            m = m0
             K = np.array([0.0, side * (0.5 * P.L - P.l), 0.0])
             if uncoupled:
                 T = np.eye(3)
@@ -129,15 +144,26 @@ class TreeInertia:
                 Jk = dims.knuckle_transverse_inertia * (np.eye(3) - np.outer(e, e)) + Jk_e * np.outer(e, e)
                 com = dims.wheel_mass * c / m
                 J = Jk + _shift(dims.knuckle_mass, -com) + Jw + _shift(dims.wheel_mass, c - com)
+                ends = [(0.5 * links_mass[0], np.array(g.tie_rod_arm_vector_of(side)))]
+                if side > 0.0:
+                    ends.append((0.5 * links_mass[1], np.array(g.drag_link_arm_vector)))
+                for me, a in ends:           # a ball joint's point mass at the arm end a (relative to K)
+                    if me > 0.0:
+                        moved = (m * com + me * a) / (m + me)
+                        J = J + _shift(m, com - moved) + _shift(me, a - moved)
+                        m, com = m + me, moved
             roll_share += (J + _shift(m, K + com))[0, 0]
             links.append((T, T.T @ com, T.T @ J @ T))
+            masses.append(m)
         axle_roll = P.I3 - roll_share
         if not axle_roll > 0.0:
             raise ParameterError(f"I3 = {P.I3:g} kg m^2 is less than the wheels' and knuckles' share of the roll "
                                  f"inertia ({roll_share:.4g} kg m^2): choose lighter wheels or knuckles")
         axle = np.diag([axle_roll, axle_roll, axle_roll])  # only the roll component is ever used
-        return cls((links[0][0], links[1][0]), (dims.axle_mass, m, m),
-                   (np.array([0.0, 0.0, -roll_height]), links[0][1], links[1][1]), (axle, links[0][2], links[1][2]))
+        gear_extra = 0.5 * links_mass[1] * g.pitman_arm ** 2      # the ball at the Pitman arm's end
+        return cls((links[0][0], links[1][0]), (dims.axle_mass, masses[0], masses[1]),
+                   (np.array([0.0, 0.0, -roll_height]), links[0][1], links[1][1]), (axle, links[0][2], links[1][2]),
+                   gear_extra)
 
 
 @dataclass
@@ -208,17 +234,26 @@ def _tree_object(node: int, layout: Layout, g: AxleGeometry, inertia: TreeInerti
     if layout.lateral:
         link(J.PrismaticY, -1, np.eye(3), (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0), none,
              1.0 / dims.axle_mount_lateral_compliance, dims.axle_mount_lateral_damping)
-        roll_parent = 0
+        roll_parent = len(types) - 1
+    if layout.vertical:
+        # bounce on the leaf springs' vertical stiffness and damping at the seats (massless link: the axle, knuckles
+        # and wheels hanging on it are its mass); the static load's preload is in the alignment
+        link(J.PrismaticZ, roll_parent, np.eye(3), (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0), none,
+             1.0 / dims.axle_mount_vertical_compliance, dims.axle_mount_vertical_damping)
+        roll_parent = len(types) - 1
     iroll = len(types)
-    link(J.RevoluteX, roll_parent, np.eye(3), g.origin, inertia.masses[0], inertia.coms[0], inertia.inertias[0],
-         params.k3, params.c3)
+    # roll about the roll axis u (sloped by the roll steer): the roll link's frame is turned so that its x-axis is u,
+    # and what hangs on it (the axle's centre of mass, the kingpins) is given in that frame
+    Rr = _rows(g.roll_joint_rotation)
+    link(J.RevoluteX, roll_parent, Rr, g.origin, inertia.masses[0], Rr.T @ inertia.coms[0],
+         Rr.T @ inertia.inertias[0] @ Rr, params.k3, params.c3)
     for i, side in enumerate((-1.0, 1.0)):
         K = g.kingpin_point(side)
-        link(J.RevoluteZ, iroll, inertia.joint_rotations[i], (K[0], K[1], K[2] - g.roll_height),
+        link(J.RevoluteZ, iroll, Rr.T @ inertia.joint_rotations[i], Rr.T @ np.array((K[0], K[1], K[2] - g.roll_height)),
              inertia.masses[1 + i], inertia.coms[1 + i], inertia.inertias[1 + i], 0.0, params.c4)
     if layout.gear:
         link(J.RevoluteY, -1, np.eye(3), g.gear_shaft_point(), 1.0, (0.0, 0.0, 0.0),
-             np.diag([1.0, dims.steering_gear_inertia, 1.0]), 1.0 / dims.steering_gear_compliance,
+             np.diag([1.0, dims.steering_gear_inertia + inertia.gear_extra, 1.0]), 1.0 / dims.steering_gear_compliance,
              dims.steering_gear_damping)
     for _ in range(2):
         link(J.PrismaticX, -1, np.eye(3), (0.0, 0.0, 0.0), 1.0, (0.0, 0.0, 0.0), none, 0.0, 0.0)
@@ -258,7 +293,9 @@ def build_system(params: ShimmyParameters, effects: Effects, fidelity: Fidelity,
                                        initialCoordinates=list(y0[0:m]) + [0.0, 0.0],
                                        initialCoordinates_t=list(y0[m:2 * m]) + [y0[2 * m], y0[2 * m + 1]],
                                        numberOfODE2Coordinates=m + 2))
-    coupled = TreeInertia.build(P, dims, False, g, g.roll_height)
+    links_mass = ((0.0, 0.0) if Assumption.MASSLESS_LINKS in fidelity
+                  else (dims.tie_rod_mass, dims.drag_link_mass))
+    coupled = TreeInertia.build(P, dims, False, g, g.roll_height, links_mass)
     if uncoupled:
         lumped = TreeInertia.build(P, dims, True, g, 0.0)
         flat = AxleGeometry.build(P, dims, exact=True)     # roll axis at the wheel centres: no m h^2, no coupling

@@ -7,13 +7,15 @@ Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; it
   (:func:`~mbs_shimmy.geometry.disc_contact`); the loaded radius is |P - C|;
 * vertical force Fz = Fz_static + k5 (R - |P - C|) along the road normal (k5 from the reduced model's tyre,
   pressure effect ``vs``; Fz_static is Table 1's F_z, so at straight running the loaded radius is R), and the
-  rolling resistance -f Fz along the wheel heading x_w;
+  rolling resistance -f Fz along the wheel heading x_w, which reaches the knuckle at the wheel centre (the wheel
+  rolls freely: its bearing carries no moment about the spin axis);
 * lateral spring -k4 y along the wheel's lateral direction y_w, y = lateral displacement of P from its
   straight-running position (Table 1's k4), only with the assumption ``separate_lateral_spring``: otherwise the
   lateral compliance is the relaxation equation's carcass spring K/sigma alone (counted once);
 * Magic-Formula lateral force F_y(alpha) of :mod:`reduced_model.tyre` (eqs. 2.4-2.9) along y_w, acting at the
   pneumatic trail t(alpha) behind P, i.e. with the moment -t F_y about the road normal; ``pt`` makes the trail
-  slip-dependent (4.2-4.8);
+  slip-dependent (4.2-4.8); with ``no_camber_force`` off the Magic Formula's camber terms add a force and a moment
+  at P from the wheel's camber (:mod:`mbs_shimmy.camber`);
 * slip-angle state alpha (Pacejka's tan-slip, the Magic Formula's input) with the relaxation equation
   sigma alpha' + |v_x| alpha = v_y, v the road-relative velocity of the leading contact point P + a x_w
   (von Schlippe's straight-tangent approximation; Pacejka, Tire and Vehicle Dynamics, 3rd ed., 2012, sections 5.4
@@ -159,8 +161,9 @@ class TyreElement:
     """
 
     def __init__(self, side: float, params: ShimmyParameters, effects: Effects, wheel: WheelTyre,
-                 load_dependent: bool, geometry, flags):
+                 load_dependent: bool, geometry, flags, camber=None):
         self.side = side
+        self.camber = camber      # :class:`~mbs_shimmy.camber.CamberTerms`, or None: no camber terms
         self.flags = flags
         # the switches as plain attributes: read at every stage
         self.fixed_arms = flags.fixed_static_load_arms
@@ -219,12 +222,13 @@ class TyreElement:
 
     # --- exact kinematics ----------------------------------------------------------------------------------
     def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
-              cpsi: float, spsi: float, record: bool = False):
-        """(Q_psi, Q_theta, alpha_dot, Q_y[, ContactState]) from the knuckle's pose as Exudyn gives it.
+              cpsi: float, spsi: float, ux: float = 1.0, uz: float = 0.0, record: bool = False):
+        """(Q_psi, Q_theta, alpha_dot, Q_y, Q_z[, ContactState]) from the knuckle's pose as Exudyn gives it.
 
         ``pose`` = (K, v_K, e, s, omega): kingpin point and its velocity, kingpin axis, spin axis and angular
-        velocity of the knuckle (vehicle frame); the roll axis runs along x through O = (0, Oy, Oz), h above the
-        wheel centres at straight running; Q_y is the force on the axle's lateral travel."""
+        velocity of the knuckle (vehicle frame); the roll axis runs along u = (ux, 0, uz) (x without roll steer)
+        through O = (0, Oy, Oz), h above the wheel centres at straight running; Q_y, Q_z are the forces on the axle's
+        lateral travel and bounce."""
         side, R = self.side, self.R
         K, vK, e, s, w = pose
         Kx, Ky, Kz = K
@@ -251,6 +255,13 @@ class TyreElement:
         dFz = self.k5 * (R - (depth0 if load_tramp else depth))
         Fz = self.static_load + dFz
         Fy, t, a, sigma = self.lateral(alpha, Fz)
+        mz = -t * Fy          # the trail moment about the road normal (on the slip force alone)
+        if self.camber is not None:
+            # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels; lateral() has left
+            # the Magic-Formula factors at this load in self._mf
+            dFy, mzr = self.camber.terms(self._mf, alpha, Fz, math.asin(sz), Fy)
+            Fy += dFy
+            mz += mzr
         if not self.separate:
             lat = Fy          # the lateral compliance is the relaxation equation's carcass spring (K/sigma)
         elif k4_tramp:
@@ -260,13 +271,21 @@ class TyreElement:
         # The static load acts through the actual lever arms (its geometric stiffness included) or, as in
         # (2.1)-(2.3), through the straight-running ones, where it is a constant balanced by the alignment.
         vert = dFz if self.fixed_arms else Fz
-        Fx = -self.f * vert * xwx + lat * ywx
-        Fyv = -self.f * vert * xwy + lat * ywy
-        # generalized forces: psi about x through O; theta about e through K (P_z = 0)
-        q_psi = (Py - Oy) * vert + Oz * Fyv
+        # The wheel rolls freely on its bearing, which carries no moment about the spin axis: the rolling
+        # resistance reaches the knuckle as the same force at the wheel centre C (at P it would brake the knuckle
+        # by f Fz |P - C| about s).  The lateral and vertical forces act at P.
+        Frx, Fry = -self.f * vert * xwx, -self.f * vert * xwy
+        Fx, Fy_lat = lat * ywx, lat * ywy
+        Fyv = Fry + Fy_lat
+        # generalized forces: psi about u through O (x and z components of the moments about O, the trail moment's
+        # -t F_y about z included); theta about e through K (P_z = 0)
+        q_psi = ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
+        if uz != 0.0:
+            q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx + mz)
         rx, ry, rz = Px - Kx, Py - Ky, -Kz
-        q_theta = (ex * (ry * vert - rz * Fyv) + ey * (rz * Fx - rx * vert) + ez * (rx * Fyv - ry * Fx)
-                   - t * Fy * ez)
+        cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
+        q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)
+                   + ez * (rx * Fy_lat - ry * Fx + cx * Fry - cy * Frx) + mz * ez)
         # slip: road-relative velocity of the leading contact point P + a x_w
         wz = w[2]          # only the yaw component of the wheel's angular velocity turns the contact line
         lx = speed - a * wz * xwy
@@ -280,8 +299,8 @@ class TyreElement:
         alpha_d = (vy - abs(vx) * alpha) / sigma
         if record:
             total = (-self.f * Fz * xwx + lat * ywx, -self.f * Fz * xwy + lat * ywy, Fz)
-            return q_psi, q_theta, alpha_d, Fyv, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
-        return q_psi, q_theta, alpha_d, Fyv
+            return q_psi, q_theta, alpha_d, Fyv, vert, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
+        return q_psi, q_theta, alpha_d, Fyv, vert
 
     # --- first-order kinematics (the reduced model's) --------------------------------------------------------
     def linear(self, psi: float, theta: float, psi_d: float, theta_d: float, alpha: float, speed: float,
@@ -328,8 +347,10 @@ class TyreElement:
         k = Cz / cphi2
         Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
         Fs = self.static_load
+        # the rolling resistance at the wheel centre (free-rolling wheel, as in :meth:`exact`)
         Fx, Fyv = -self.f * Fs * sy / cphi, self.f * Fs * sx / cphi
         rx, ry, rz = Px - K[0], Py - K[1], -K[2]
+        cx, cy, cz = hl * sx, hl * sy, hl * sz
         ex, ey, ez = e
-        return (Py * Fs + Oz * Fyv,
-                ex * (ry * Fs - rz * Fyv) + ey * (rz * Fx - rx * Fs) + ez * (rx * Fyv - ry * Fx))
+        return (Py * Fs - (Cz - Oz) * Fyv,
+                ex * (ry * Fs - cz * Fyv) + ey * (cz * Fx - rx * Fs) + ez * (cx * Fyv - cy * Fx))

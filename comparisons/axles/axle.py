@@ -40,6 +40,7 @@ class Entry:
     range_si: tuple[float, float]
     plausible_si: tuple[float, float] | None
     printed: str = ""       # the symbol as Table 1 prints it, where the OCR garbled it
+    neutral_si: float | None = None   # a dimension's value at which its element has no effect (None: no such value)
 
     @property
     def unit(self) -> str:
@@ -55,6 +56,11 @@ class Entry:
     @property
     def range(self) -> tuple[float, float]:
         return tuple(self.to_interface(v) for v in self.range_si)
+
+    @property
+    def neutral(self) -> float | None:
+        """The neutral value in interface units (None: the entry has none)."""
+        return None if self.neutral_si is None else self.to_interface(self.neutral_si)
 
     def check(self, value_si: float, where: str = "") -> None:
         """Raise :class:`ParameterError` naming the range in interface units."""
@@ -79,7 +85,7 @@ def entries() -> dict[str, Entry]:
         if f_.name in out:
             raise RuntimeError(f"entry name {f_.name} is both a Table 1 entry and a dimension")
         out[f_.name] = Entry(f_.name, "multibody", m["unit"], m["reason"], m.get("source", CHOSEN),
-                             tuple(m["range"]), tuple(m["plausible"]))
+                             tuple(m["range"]), tuple(m["plausible"]), neutral_si=m.get("neutral"))
     return out
 
 

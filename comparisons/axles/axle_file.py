@@ -207,8 +207,9 @@ def format_axle(axle: Axle) -> str:
                 continue
             lo, hi = e.range
             value = _toml_float(e.to_interface(axle.value(name)))
+            neutral = "" if e.neutral is None else f" | neutral {e.neutral:g}"
             lines.append(f"{name} = {value}".ljust(34) + f" # {e.unit} | {_comment(e.description)} | "
-                         f"{_comment(e.source)} | range [{lo:g}, {hi:g}]")
+                         f"{_comment(e.source)} | range [{lo:g}, {hi:g}]{neutral}")
     lines += ["", "[plausible]   # where each chosen dimension plausibly lies on a real truck beam axle ([LO, HI])"]
     for name, e in entries().items():
         if e.section != "multibody":

@@ -39,6 +39,10 @@ def test_written_paper_axle_reads_back_bit_for_bit(paper_file):
     for name, e in entries().items():
         assert any(line.startswith(f"{name} = ") and f"# {e.unit} |" in line for line in text.splitlines()), name
     assert "gamma = 2.29183118052329" in text and "pi0 = 2.5 " in text
+    # the elements' dimensions carry their neutral value and, where they are not estimates, their source
+    line = next(x for x in text.splitlines() if x.startswith("camber_p_ky6 = "))
+    assert "neutral 0" in line and "Pacejka" in line and "# 1/rad |" in line
+    assert entries()["axle_roll_steer"].neutral_si == 0.0 and entries()["wheel_mass"].neutral_si is None
 
 
 def test_round_trip_of_awkward_values_is_exact():

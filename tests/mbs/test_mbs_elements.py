@@ -16,7 +16,7 @@ import pytest
 
 from comparisons.axles.units import BAR, KMH, kmh
 from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity, tyre_element
-from mbs_shimmy.fidelity import Assumption
+from mbs_shimmy.fidelity import ISSUE_18, Assumption
 from mbs_shimmy.linearisation import ConstantSpeed, MbsFamily, MbsModel
 from reduced_model import tyre
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
@@ -55,7 +55,7 @@ def test_tyre_terms_of_the_raised_roll_axis_lateral_mounts_and_kingpin_inclinati
     and at -R tan(g) theta' / N, the leading point a ahead turns at theta' / N: d alpha'/d(psi', y', theta') =
     ((R + h), 1, (a - R tan g) / N) / sigma.
     """
-    system = MbsModel(fidelity=Fidelity.full()).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=Fidelity(ISSUE_18)).system(1.5 * BAR, ConstantSpeed(0.0))
     L = system.layout
     m = L.n_mech
     h = D.roll_axis_above_wheel_centre
@@ -80,17 +80,22 @@ def test_tyre_terms_of_the_raised_roll_axis_lateral_mounts_and_kingpin_inclinati
             assert rate == pytest.approx(expected / P.sigma0, rel=1e-12), name
 
 
-def _static_load_moment(side, theta, kpi):
-    """Independent: moment about the kingpin of the vertical load F_z = F_z0 + k5 (R - rho) and the rolling
-    resistance f F_z, both at the contact point, for the knuckle steered by theta (no roll, no lateral travel).
+def _static_load_moment(side, theta, kpi, psi=0.0, h=0.0):
+    """Independent: moment about the kingpin and about the roll axis of the vertical load F_z = F_z0 + k5 (R - rho)
+    at the contact point and of the rolling resistance f F_z at the wheel centre (a free-rolling wheel: its bearing
+    carries no moment about the spin axis), for the axle rolled by psi about x through O = (0, 0, R + h) and the
+    knuckle steered by theta (no lateral travel).
 
-    The kingpin through K = (0, s (L/2 - l), R) along e; the wheel centre C = K + R_k (0, s l, 0), spin axis
-    s = R_k (0, 1, 0), R_k the rotation by theta about e; the contact point is the wheel plane's lowest point
-    P = C + rho d, d = (-z + (z.s) s) / |...|, rho = C_z / |d_z| (the loaded radius)."""
+    The kingpin through K = (0, s (L/2 - l), R) along e (axle frame, then rolled); the wheel centre
+    C = K + R_k (0, s l, 0), spin axis s = R_k (0, 1, 0), R_k the rotation by theta about e; the contact point is the
+    wheel plane's lowest point P = C + rho d, d = (-z + (z.s) s) / |...|, rho = C_z / |d_z| (the loaded radius).
+    Returns (moment about the kingpin, moment about the roll axis)."""
+    O = np.array([0.0, 0.0, P.R + h])
+    Rx = _rot([1.0, 0.0, 0.0], psi)
     e = np.array([-math.tan(P.gamma), -side * math.tan(kpi), 1.0])
-    e /= np.linalg.norm(e)
-    K = np.array([0.0, side * (0.5 * P.L - P.l), P.R])
-    Rk = _rot(e, theta)
+    e = Rx @ (e / np.linalg.norm(e))
+    K = O + Rx @ (np.array([0.0, side * (0.5 * P.L - P.l), P.R]) - O)
+    Rk = _rot(e, theta) @ Rx
     C = K + Rk @ np.array([0.0, side * P.l, 0.0])
     s = Rk @ np.array([0.0, 1.0, 0.0])
     d = -np.array([0.0, 0.0, 1.0]) + s[2] * s
@@ -101,8 +106,10 @@ def _static_load_moment(side, theta, kpi):
     Fz = P.Fz + k5 * (P.R - rho)
     heading = np.cross(s, [0.0, 0.0, 1.0])
     heading /= np.linalg.norm(heading)
-    F = np.array([0.0, 0.0, Fz]) - P.f * Fz * heading
-    return float(e @ np.cross(Pc - K, F))
+    vertical, rolling = np.array([0.0, 0.0, Fz]), -P.f * Fz * heading
+    about_kingpin = e @ (np.cross(Pc - K, vertical) + np.cross(C - K, rolling))
+    about_roll = np.cross(Pc - O, vertical)[0] + np.cross(C - O, rolling)[0]
+    return float(about_kingpin), float(about_roll)
 
 
 @pytest.mark.parametrize("kpi", [0.0, D.kingpin_inclination])
@@ -113,7 +120,7 @@ def test_static_load_moment_with_kingpin_inclination(kpi):
     term (the jacking stiffness) therefore too."""
     fidelity = Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS, Assumption.ROLL_AXIS_AT_WHEEL_CENTRE,
                                    Assumption.RIGID_STEERING_GEAR}
-                                  | ({Assumption.NO_KINGPIN_INCLINATION} if kpi == 0.0 else set())))
+                                  | ({Assumption.NO_KINGPIN_INCLINATION} if kpi == 0.0 else set())) | ISSUE_18)
     system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0))
     L = system.layout
     stiffness = {}
@@ -122,14 +129,59 @@ def test_static_load_moment_with_kingpin_inclination(kpi):
             q = np.zeros(L.n_mech)
             q[L.index(name)] = theta
             ours = _forces_at(system, q, np.zeros(L.n_mech + 2))[L.index(name)]
-            expected = _static_load_moment(side, theta, kpi) - _static_load_moment(side, 0.0, kpi)
+            expected = _static_load_moment(side, theta, kpi)[0] - _static_load_moment(side, 0.0, kpi)[0]
             assert ours == pytest.approx(expected, rel=1e-9, abs=1e-9)
         h = 1e-5
-        stiffness[name] = -(_static_load_moment(side, h, kpi) - _static_load_moment(side, -h, kpi)) / (2 * h)
+        stiffness[name] = -(_static_load_moment(side, h, kpi)[0] - _static_load_moment(side, -h, kpi)[0]) / (2 * h)
     # the numbers behind the README's reading (N m/rad): jacking stiffness about each kingpin
     if kpi:
         assert stiffness["theta1"] == pytest.approx(stiffness["theta2"], rel=1e-6)
         assert stiffness["theta1"] > 0.0
+
+
+def test_free_rolling_wheel_rolling_resistance_at_the_wheel_centre():
+    """Issue 18, item 1: the rolling resistance reaches the knuckle at the wheel centre.  Full geometry with roll
+    about the raised axis and steer (no tyre slip, V = 0): the model's moments about both kingpins and the roll axis
+    equal the independent ones at rolled and steered poses.  Hand derivation of what moving the force from P to C
+    changes: at P it adds (P - C) x (-f F_z x_w) = rho f F_z s (the loaded radius along the wheel plane's downward
+    d, d x x_w = -s), whose component about the kingpin f rho F_z (e.s) has e.s = -side tan(kpi) / N fixed by the
+    knuckle (invariant under roll and steer); so the old form added to dQ_theta/dpsi (roll to kingpin)
+    f (e.s) d(rho F_z)/dpsi = -f tan(kpi) / N (L/2) (F_z0 - k5 R) per wheel (226 N m/rad with Table 1, 1.5 bar)."""
+    system = MbsModel(fidelity=Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS,
+                                                   Assumption.RIGID_STEERING_GEAR}) | ISSUE_18)).system(
+        1.5 * BAR, ConstantSpeed(0.0))
+    L = system.layout
+    h, kpi = D.roll_axis_above_wheel_centre, D.kingpin_inclination
+    ref = [_static_load_moment(side, 0.0, kpi, 0.0, h) for side in (-1.0, 1.0)]
+    for psi, th1, th2 in ((0.05, 0.0, 0.0), (-0.03, 0.1, -0.2), (0.08, -0.15, 0.05)):
+        q = np.zeros(L.n_mech)
+        q[L.index("psi")], q[L.index("theta1")], q[L.index("theta2")] = psi, th1, th2
+        Q = _forces_at(system, q, np.zeros(L.n_mech + 2))
+        m1 = _static_load_moment(-1.0, th1, kpi, psi, h)
+        m2 = _static_load_moment(1.0, th2, kpi, psi, h)
+        assert Q[L.index("theta1")] == pytest.approx(m1[0] - ref[0][0], rel=1e-9, abs=1e-8)
+        assert Q[L.index("theta2")] == pytest.approx(m2[0] - ref[1][0], rel=1e-9, abs=1e-8)
+        assert Q[L.index("psi")] == pytest.approx(m1[1] + m2[1] - ref[0][1] - ref[1][1], rel=1e-9, abs=1e-8)
+    # the hand formula of the brake-like term the old form added (difference of the two forms, independent side)
+    k5 = ShimmyModel(P, Effects()).tyres(1.5 * BAR)[0].k5
+    N = math.sqrt(1 + math.tan(P.gamma) ** 2 + math.tan(kpi) ** 2)
+    hand = -P.f * math.tan(kpi) / N * 0.5 * P.L * (P.Fz - k5 * P.R)
+    assert hand == pytest.approx(226.16, abs=0.01)
+
+    def brake_term(side, psi):
+        """f rho F_z (e.s) about the kingpin: the moment of the force at P less the same force at C."""
+        O = np.array([0.0, 0.0, P.R + h])
+        Rx = _rot([1.0, 0.0, 0.0], psi)
+        C = O + Rx @ (np.array([0.0, side * 0.5 * P.L, P.R]) - O)
+        s = Rx @ np.array([0.0, 1.0, 0.0])
+        e = np.array([-math.tan(P.gamma), -side * math.tan(kpi), 1.0])
+        e = Rx @ (e / np.linalg.norm(e))
+        rho = C[2] / math.sqrt(1 - s[2] ** 2)
+        return P.f * rho * (P.Fz + k5 * (P.R - rho)) * (e @ s)
+    dpsi = 1e-6
+    for side in (-1.0, 1.0):
+        numeric = -(brake_term(side, dpsi) - brake_term(side, -dpsi)) / (2 * dpsi)
+        assert -numeric == pytest.approx(hand, rel=1e-6)
 
 
 def _slip_with_one_term(keep):

@@ -50,7 +50,7 @@ def full_hopf_speeds(pressure):
 def test_growth_rate_equals_critical_eigenvalue_at_1_5_bar(index, side):
     pressure = 1.5 * BAR
     family, speeds = full_hopf_speeds(pressure)
-    assert len(speeds) == 2            # 41.32 and 87.83 km/h (tests/test_mbs_assumptions.py)
+    assert len(speeds) == 2            # 39.23 and 91.79 km/h (tests/mbs/test_mbs_assumptions.py)
     speed = speeds[index] + side * OFFSET_KMH * KMH
     rate, real = envelope_rate(family, pressure, speed)
     assert abs(real) > 0.02            # away from the Hopf point: a rate that means something

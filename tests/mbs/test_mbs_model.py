@@ -11,7 +11,7 @@ from exudyn.itemInterface import NodeGenericODE2, ObjectKinematicTree
 from comparisons.axles.units import BAR, KMH
 from mbs_shimmy import DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, assumptions_table
 from mbs_shimmy.assumption_study import study_fidelities
-from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS
+from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, ISSUE_18
 from mbs_shimmy.geometry import disc_contact
 from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator, MbsFamily, MbsModel
 from mbs_shimmy.system import TreeInertia
@@ -59,7 +59,7 @@ def test_knuckle_poses_are_exudyns_and_right():
     kingpin inclination) against an independent hand computation: roll about x through O = (0, y, R + h), then
     the knuckle about its kingpin axis e0 = (-tan(gamma), -side tan(KPI), 1) / |...|."""
     P, d = YANG2024, DEFAULT_DIMENSIONS
-    model = MbsModel(fidelity=Fidelity.full())
+    model = MbsModel(fidelity=Fidelity(ISSUE_18))   # the issue-9 elements (issue 18's: tests/mbs/test_mbs_freedoms.py)
     system = model.system(1.5 * BAR, ConstantSpeed(20.0))
     L = system.layout
     assert L.coordinates == ("y_axle", "psi", "theta1", "theta2", "phi_gear")
@@ -132,14 +132,14 @@ def test_inertia_of_the_new_coordinates():
     P, d = YANG2024, DEFAULT_DIMENSIONS
     m_total = d.axle_mass + 2 * (d.knuckle_mass + d.wheel_mass)
     h = d.roll_axis_above_wheel_centre
-    full = MbsEvaluator(MbsModel(fidelity=Fidelity.full()).system(1.5 * BAR, ConstantSpeed(0.0)))
+    full = MbsEvaluator(MbsModel(fidelity=Fidelity(ISSUE_18)).system(1.5 * BAR, ConstantSpeed(0.0)))
     M = full.mass_matrix(np.zeros(12))        # (y, psi, theta1, theta2, phi)
     assert M[0, 0] == pytest.approx(m_total, rel=1e-13)
     assert M[1, 1] == pytest.approx(P.I3 + m_total * h ** 2, rel=1e-12)
     assert M[0, 1] == pytest.approx(m_total * h, rel=1e-12)       # rolling moves the centres of mass by +h psi
     assert M[2, 2] == pytest.approx(P.I1, rel=1e-12) and M[3, 3] == pytest.approx(P.I1, rel=1e-12)
     assert M[4, 4] == pytest.approx(d.steering_gear_inertia, rel=1e-13) and np.allclose(M[4, :4], 0.0)
-    lumped_model = MbsModel(fidelity=Fidelity(frozenset({Assumption.UNCOUPLED_INERTIA})))
+    lumped_model = MbsModel(fidelity=Fidelity(frozenset({Assumption.UNCOUPLED_INERTIA}) | ISSUE_18))
     lumped = MbsEvaluator(lumped_model.system(1.5 * BAR, ConstantSpeed(0.0)))
     assert np.allclose(lumped.mass_matrix(np.zeros(12)),
                        np.diag([m_total, P.I3, P.I1, P.I1, d.steering_gear_inertia]), rtol=1e-12, atol=1e-12)
@@ -252,7 +252,7 @@ def test_linkage_stiffness_about_kingpins_is_k1_k2():
     k2, c2 about the kingpins, with kingpin inclination and Ackermann arms; with the rigid gear no roll steer."""
     P = YANG2024
     fidelity = Fidelity(frozenset({Assumption.RIGID_STEERING_GEAR, Assumption.RIGID_AXLE_MOUNTS,
-                                   Assumption.ROLL_AXIS_AT_WHEEL_CENTRE}))
+                                   Assumption.ROLL_AXIS_AT_WHEEL_CENTRE}) | ISSUE_18)
     for fid in (fidelity, Fidelity.reduced()):
         layout, K, C = _linkage_matrices(fid)
         i = [layout.index(n) for n in ("theta1", "theta2")]
@@ -270,7 +270,7 @@ def test_steering_gear_in_series_and_roll_steer():
     axis, j its lever about the kingpin (hand derivation, level kingpin terms to first order)."""
     P, d = YANG2024, DEFAULT_DIMENSIONS
     fidelity = Fidelity(frozenset({Assumption.NO_KINGPIN_INCLINATION, Assumption.RIGID_AXLE_MOUNTS,
-                                   Assumption.ROLL_AXIS_AT_WHEEL_CENTRE, Assumption.PARALLEL_STEERING_ARMS}))
+                                   Assumption.ROLL_AXIS_AT_WHEEL_CENTRE, Assumption.PARALLEL_STEERING_ARMS}) | ISSUE_18)
     layout, K, C = _linkage_matrices(fidelity)
     it, ig, ip = layout.index("theta2"), layout.index("phi_gear"), layout.index("psi")
     eps, rp = d.drag_link_inclination, d.pitman_arm

@@ -45,7 +45,8 @@ def test_full_simulation_matches_independent_integrator():
     x0 = _x0(theta1=0.05, theta2_dot=1.0, psi=0.01)
     family = MbsFamily(MbsModel(fidelity=Fidelity.full()))
     L = family.layout
-    x0 = np.concatenate([x0, [0.001, 0.0, 0.002, -0.1]])     # the axle's lateral travel and the gear, too
+    # the axle's lateral travel, its bounce and the gear, too
+    x0 = np.concatenate([x0, [0.001, 0.0, -0.002, 0.05, 0.002, -0.1]])
     ref = solve_ivp(lambda t, y: family.rhs_mbs(y, V, p), (0.0, 0.6), x0[L.x_to_y], method="DOP853",
                     rtol=1e-10, atol=1e-12, dense_output=True)
     traj = simulate(fidelity=Fidelity.full(), pressure=p, schedule=SpeedSchedule.constant(V), x0=x0, duration=0.6,

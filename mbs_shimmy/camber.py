@@ -1,0 +1,90 @@
+"""The Magic Formula's camber terms for the tyre element (assumption ``no_camber_force`` off).
+
+The paper's tyre (eqs. 2.4-2.9) is Pacejka's 205/60R15 91V example tyre without its camber terms.  With the switch
+off the lateral force and the aligning moment carry them, in the form of MF-Tyre 6.1 (Pacejka, Tire and Vehicle
+Dynamics, 3rd ed., 2012, section 4.3.2, pure side slip), in the ISO/TYDEX W-axis signs the multibody model uses
+(slip angle positive for a contact point sliding to the left, camber gamma positive with the top of the wheel to
+the right, both wheels alike):
+
+* cornering stiffness K(gamma) = K (1 - p_Ky3 |gamma|), K = B C D of the paper's formula at the actual load;
+* camber stiffness K_ygamma0 = F_z (p_Ky6 + p_Ky7 df_z) and vertical shift S_Vgamma = F_z (p_Vy3 + p_Vy4 df_z) gamma;
+* horizontal shift S_Hy = (K_ygamma0 gamma - S_Vgamma) / K_ya with K_ya = -K(gamma) (the ISO sign), so that
+  F_y = F_y,paper(alpha + S_Hy) + S_Vgamma has dF_y/dgamma = K_ygamma0 at zero slip;
+* the camber moment as MF 6.1's residual torque, M_zr = F_z R (q_Dz8 + q_Dz9 df_z) gamma cos(arctan(q_Bz9 alpha_r)),
+  alpha_r = alpha + S_Hy + S_Vgamma / K_ya; the pneumatic trail acts on the slip force alone (MF 6.1 applies the
+  trail to the force at gamma = 0), so the camber thrust itself has no trail.
+
+df_z = (F_z - F_z0) / F_z0 (MF 6.1's definition).  R is Table 1's radius, which also scales the paper's trail.  What
+is left out, and why: the curvature's camber factor p_Ey4 (the paper's E_y is Hopping's pressure polynomial, which
+has no place for it; curvature acts at third order in slip), the trail's camber shifts q_Hz3, q_Hz4, q_Bz5, q_Dz3 (no
+linear effect: the trail multiplies the slip force, which is zero at zero slip), the pressure factor p_py5 (0 for
+this tyre).  The camber force follows the camber without lag (no relaxation of its own).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from reduced_model import tyre
+
+
+class _Factors:
+    """Mutable stand-in for :class:`reduced_model.tyre.MagicFormula` (its ``force_scalar`` reads B, C, D, E)."""
+
+    __slots__ = ("B", "C", "D", "E")
+
+
+# the paper's F_y = -D sin(C arctan(B a - E (B a - arctan(B a)))) of one float: the one copy in reduced_model.tyre
+_force = tyre.MagicFormula.force_scalar
+
+
+@dataclass(frozen=True)
+class CamberTerms:
+    """MF 6.1 camber coefficients (1/rad) and the scales they need."""
+
+    p_ky3: float
+    p_ky6: float
+    p_ky7: float
+    p_vy3: float
+    p_vy4: float
+    q_dz8: float
+    q_dz9: float
+    q_bz9: float
+    Fz0: float
+    R: float
+    _work: _Factors = field(default_factory=lambda: _Factors(), compare=False, repr=False)
+
+    @classmethod
+    def of(cls, dims, params) -> "CamberTerms":
+        return cls(dims.camber_p_ky3, dims.camber_p_ky6, dims.camber_p_ky7, dims.camber_p_vy3, dims.camber_p_vy4,
+                   dims.camber_q_dz8, dims.camber_q_dz9, dims.camber_q_bz9, params.Fz0, params.R)
+
+    @property
+    def neutral(self) -> bool:
+        return not any((self.p_ky3, self.p_ky6, self.p_ky7, self.p_vy3, self.p_vy4, self.q_dz8, self.q_dz9))
+
+    def terms(self, mf, alpha: float, load: float, gamma: float, plain: float) -> tuple[float, float]:
+        """(F_y with camber less F_y without, camber moment M_zr) at slip alpha, vertical load and camber gamma;
+        ``mf`` has the paper's B, C, D, E at that load and ``plain`` is its F_y(alpha) (already computed by the
+        tyre element: one Magic-Formula evaluation less per stage)."""
+        if load <= 0.0:
+            return 0.0, 0.0
+        dfz = (load - self.Fz0) / self.Fz0
+        B, C, D, E = mf.B, mf.C, mf.D, mf.E
+        # MF 6.1's factor would reach zero at |gamma| = 1 / p_Ky3 (2.7 rad for this tyre, beyond the model's 1 rad
+        # divergence limit); it is kept positive so that the cornering stiffness never changes sign
+        reduction = max(1.0 - self.p_ky3 * abs(gamma), 0.05)
+        K = B * C * D * reduction
+        s_v = load * (self.p_vy3 + self.p_vy4 * dfz) * gamma
+        k_gamma = load * (self.p_ky6 + self.p_ky7 * dfz)
+        s_h = -(k_gamma * gamma - s_v) / K
+        work = self._work
+        work.B, work.C, work.D, work.E = B * reduction, C, D, E
+        shifted = _force(work, alpha + s_h) + s_v
+        alpha_r = alpha + s_h - s_v / K
+        fade = self.q_bz9 * alpha_r          # cos(arctan(x)) = 1 / sqrt(1 + x^2)
+        mzr = load * self.R * (self.q_dz8 + self.q_dz9 * dfz) * gamma / math.sqrt(1.0 + fade * fade)
+        return shifted - plain, mzr
+
+
