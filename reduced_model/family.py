@@ -23,7 +23,7 @@ from reduced_model.parameters import ParameterError, ShimmyParameters
 # the frequency).  The lateral travel of the multibody axle moves millimetres where the angles move degrees.
 SPEED_SCALE = 10.0     # m/s
 COORDINATE_SCALES = {"theta1": 0.1, "theta2": 0.1, "psi": 0.1, "alpha1": 0.1, "alpha2": 0.1,   # rad
-                     "phi_gear": 0.1, "y_axle": 0.005}                                          # rad, m
+                     "phi_gear": 0.1, "y_axle": 0.005, "z_axle": 0.005}                         # rad, m, m
 # Lower end of every speed window (m/s).  At V = 0 the relaxation equations lose their speed terms, two
 # eigenvalues are zero and the Hopf defining system is singular: a Hopf curve that runs down to V -> 0 turns back
 # on itself there instead of ending, and Newton near V = 0 is ill-conditioned.  Shimmy below walking pace is moot.

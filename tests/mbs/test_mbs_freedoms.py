@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity, MbsModel
+from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption
-from mbs_shimmy.linearisation import ConstantSpeed
+from mbs_shimmy.linearisation import ConstantSpeed, MbsModel
 from reduced_model import tyre
 from reduced_model.parameters import YANG2024
 
@@ -109,7 +109,7 @@ def test_roll_steer_linear_terms():
 
 def test_roll_steer_neutral_is_the_old_model():
     """axle_roll_steer = 0 gives the model without the element to rounding (the same eigenvalues)."""
-    from mbs_shimmy import MbsFamily
+    from mbs_shimmy.linearisation import MbsFamily
     a = MbsFamily(MbsModel(fidelity=Fidelity.full(), dims=D.replace(axle_roll_steer=0.0)))
     b = MbsFamily(MbsModel(fidelity=Fidelity(frozenset({Assumption.NO_AXLE_ROLL_STEER}))))
     A, B = a.direct_linear_matrix(70 * KMH, 1.5 * BAR), b.direct_linear_matrix(70 * KMH, 1.5 * BAR)
