@@ -142,7 +142,7 @@ def test_interrupted_sweep_resumes_without_recomputing_finished_batches(tmp_path
     with pytest.raises(KeyboardInterrupt):
         run_sweep(task, design, out, workers=1, size=2, progress=_interrupt_after(2))
     parts = out + ".parts"
-    finished = sorted(f for f in os.listdir(parts) if f.startswith("batch-"))
+    finished = sorted(f for f in os.listdir(parts) if f.startswith("batch-") and f.endswith(".parquet"))
     assert 2 <= len(finished) < 4 and not os.path.exists(out)
     stamps = {f: os.stat(os.path.join(parts, f)).st_mtime_ns for f in finished}
     time.sleep(0.01)
