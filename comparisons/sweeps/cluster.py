@@ -12,6 +12,7 @@ tracebacks from the client's reconnect loop, and what happened is said in one li
 from __future__ import annotations
 
 import enum
+import importlib
 import logging
 import os
 import signal
@@ -48,6 +49,9 @@ def _main_thread() -> bool:
 def quiet_distributed() -> dict[str, int]:
     """Silence distributed's loggers (each one: they carry their own levels, so the parent's would not do);
     returns the levels to restore."""
+    # Importing distributed configures its loggers (levels, a stderr handler): it must come first, or the
+    # levels set here would be overwritten.
+    importlib.import_module("distributed")
     levels = {}
     for name, logger in list(logging.root.manager.loggerDict.items()):
         if isinstance(logger, logging.Logger) and name.split(".")[0] in _QUIET:

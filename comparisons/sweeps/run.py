@@ -2,7 +2,8 @@
 
 Samples go to the workers in batches (:func:`batch_size`) sized so that each batch takes about a second: Dask's
 per-task cost (about a millisecond) then stays far below the work.  The :class:`~comparisons.sweeps.sample.SweepTask`
-is scattered to every worker once, not sent with each batch.  The cluster is :mod:`comparisons.sweeps.cluster`.
+is sent to the workers once (as the output of one task), not with each batch.  The cluster is
+:mod:`comparisons.sweeps.cluster`.
 
 Each finished batch is written at once, atomically and with its checksum, to ``OUT.parts/batch-NNNNNN.parquet``
 beside ``OUT`` with a manifest (:mod:`comparisons.sweeps.parts`).  When all batches are there they are joined,
@@ -213,6 +214,10 @@ def run_sweep(task: SweepTask, design: Design, out: str, *, scheduler: str | Non
                     cluster.address, time.perf_counter() - t0, tuple(damaged), tuple(killed))
 
 
+def _the_task(task: SweepTask) -> SweepTask:
+    return task
+
+
 def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, manifest: dict, kept: set[int],
              progress: Callable[[int, int], None] | None) -> tuple[list[int], list[int]]:
     """Compute and write every batch not in ``kept``; (batches computed, batches whose workers all died)."""
@@ -226,8 +231,10 @@ def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, 
     if not todo:
         return todo, killed
     from distributed import as_completed
-    shared = cluster.client.scatter(task, broadcast=True)
     tag = manifest["fingerprint"][:12]
+    # The task as the output of a task, not scattered: when every worker holding it dies, Dask computes it again
+    # (a scattered value lost with its last worker cancels every batch that needs it).
+    shared = cluster.client.submit(_the_task, task, pure=False, key=f"shimmy-sweep-{tag}-task")
     futures = [cluster.client.submit(evaluate_batch, shared, b, b * size, design.values[b * size:(b + 1) * size],
                                      pure=False, key=f"shimmy-sweep-{tag}-batch-{b}") for b in todo]
     batch_of = {fut.key: b for fut, b in zip(futures, todo)}
