@@ -73,8 +73,10 @@ def _local_cluster(n: int, processes: bool):
     from distributed import LocalCluster
 
     def start():
+        # CRITICAL: the worker processes log an ERROR traceback when the cluster closes under them (after a
+        # Ctrl-C, a lost batch); what happened is said in one line, and a failed sample carries its own error.
         return LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
-                            silence_logs=logging.ERROR)
+                            silence_logs=logging.CRITICAL)
     if not processes or not _main_thread():
         return start()
     # Started from a thread that blocks SIGINT: the cluster's threads inherit the mask and the worker processes
