@@ -1,8 +1,8 @@
 """The Dask cluster of a sweep: connecting to a scheduler or starting a local cluster, and telling a lost scheduler
 from a batch that failed.
 
-Without a scheduler address a :class:`distributed.LocalCluster` is started with one single-threaded worker
-process per core: one Hopf computation is a few milliseconds of small numpy calls that hold the GIL, so threads
+Without a scheduler address a scheduler is started in this process with one single-threaded ``dask worker``
+process per core, each in a session of its own (so that a terminal's Ctrl-C reaches shimmy only): one Hopf computation is a few milliseconds of small numpy calls that hold the GIL, so threads
 would not run in parallel.
 
 Distributed's own loggers are silenced while a sweep runs: when the scheduler goes away they log several
@@ -16,8 +16,10 @@ import importlib
 import logging
 import os
 import signal
-import threading
+import subprocess
+import sys
 import time
+import warnings
 
 from comparisons.axles.limits import UsageError
 
@@ -40,10 +42,6 @@ class SweepStopped(Exception):
     def __init__(self, reason: StopReason, message: str):
         super().__init__(message)
         self.reason, self.message = reason, message
-
-
-def _main_thread() -> bool:
-    return threading.current_thread() is threading.main_thread()
 
 
 def quiet_distributed() -> dict[str, int]:
@@ -70,40 +68,49 @@ def restore_logging(levels: dict[str, int]) -> None:
 
 
 def _local_cluster(n: int, processes: bool):
+    """(the cluster, its worker processes).  With processes, the scheduler runs here and each worker is a
+    ``dask worker`` (with its nanny) in a session of its own: a Ctrl-C at the terminal reaches the terminal's
+    process group, so only this process sees it and answers it at once, even while the workers still import."""
     from distributed import LocalCluster
-
-    def start():
-        # CRITICAL: the worker processes log an ERROR traceback when the cluster closes under them (after a
-        # Ctrl-C, a lost batch); what happened is said in one line, and a failed sample carries its own error.
-        return LocalCluster(n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
-                            silence_logs=logging.CRITICAL)
-    if not processes or not _main_thread():
-        return start()
-    # Started from a thread that blocks SIGINT: the cluster's threads inherit the mask and the worker processes
-    # they spawn keep it through exec, so a Ctrl-C at the terminal (sent to the whole process group) reaches only
-    # this process, whose main thread stays free to answer it within a second.
-    box: dict = {}
-    given_up = threading.Event()
-
-    def target() -> None:
-        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-        try:
-            box["cluster"] = start()
-        except BaseException as exc:  # handed to the main thread below
-            box["error"] = exc
-        if given_up.is_set() and "cluster" in box:
-            box["cluster"].close()
-    thread = threading.Thread(target=target, name="shimmy-cluster-start", daemon=True)
-    thread.start()
+    if not processes:
+        return LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+                            silence_logs=logging.CRITICAL), []
+    with warnings.catch_warnings():
+        # the scheduler's HTTP server (metrics) warns on stderr when its default port is taken: it moves to another
+        warnings.simplefilter("ignore", UserWarning)
+        cluster = LocalCluster(n_workers=0, processes=False, protocol="tcp", host="127.0.0.1",
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
+    address = cluster.scheduler_address
+    argv = [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-dashboard"]
+    procs = []
     try:
-        while thread.is_alive():
-            thread.join(0.05)
+        for _ in range(n):
+            # their logs are dropped: what happens to the sweep is said in one line, a failed sample has its error
+            procs.append(subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                          stderr=subprocess.DEVNULL, start_new_session=True))
     except BaseException:
-        given_up.set()
+        stop_workers(procs)
+        cluster.close()
         raise
-    if "error" in box:
-        raise box["error"]
-    return box["cluster"]
+    return cluster, procs
+
+
+def stop_workers(procs: list[subprocess.Popen], grace_s: float = 2.0) -> None:
+    """SIGTERM to each worker's session (its nanny and worker process), SIGKILL after ``grace_s``."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        for p in procs:
+            try:
+                os.killpg(p.pid, sig)
+            except ProcessLookupError:
+                pass
+        deadline = time.monotonic() + grace_s
+        for p in procs:
+            try:
+                p.wait(max(0.0, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                pass
+        if all(p.poll() is not None for p in procs):
+            return
 
 
 class DaskCluster:
@@ -114,6 +121,7 @@ class DaskCluster:
     def __init__(self, scheduler: str | None, workers: int | None, processes: bool = True):
         from distributed import Client
         self.cluster = None
+        self.procs: list[subprocess.Popen] = []
         self.lost = False
         if scheduler:
             try:
@@ -127,8 +135,19 @@ class DaskCluster:
                 raise UsageError(f"--scheduler {scheduler}: no worker joined within {WAIT_FOR_WORKERS_S:g} s "
                                  f"(start one with 'dask worker {scheduler}')") from None
         else:
-            self.cluster = _local_cluster(local_workers(workers, processes), processes)
-            self.client = Client(self.cluster)
+            n = local_workers(workers, processes)
+            self.cluster, self.procs = _local_cluster(n, processes)
+            try:
+                self.client = Client(self.cluster)
+                try:
+                    self.client.wait_for_workers(n, timeout=WAIT_FOR_WORKERS_S)
+                except (OSError, TimeoutError):
+                    raise SweepStopped(StopReason.CLUSTER_ERROR, f"the {n} local Dask workers did not start "
+                                                                f"within {WAIT_FOR_WORKERS_S:g} s") from None
+            except BaseException:   # a Ctrl-C while the workers start, or workers that never come
+                stop_workers(self.procs, grace_s=0.2)
+                self.cluster.close()
+                raise
         self.address = self.client.scheduler.address
         self.workers = max(1, sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values()))
 
@@ -152,6 +171,7 @@ class DaskCluster:
                 self.client.close()
         except (OSError, TimeoutError):
             pass
+        stop_workers(self.procs)
         if self.cluster is not None:
             self.cluster.close()
 

@@ -209,13 +209,13 @@ def test_ctrl_c_at_the_terminal_keeps_finished_batches_and_resume_completes(tmp_
                             start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     parts = tmp_path / "k.parquet.parts"
     deadline = time.time() + 120
-    while len(list(parts.glob("batch-*"))) < 3 and time.time() < deadline:
+    while len(list(parts.glob("batch-*.parquet"))) < 3 and time.time() < deadline:
         time.sleep(0.2)
     os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=120)
     lines = [line for line in err.splitlines() if not line.startswith("sweep:")]
     assert proc.returncode == 130 and len(lines) == 1 and lines[0].endswith(" --resume"), err
-    kept = len(list(parts.glob("batch-*")))
+    kept = len(list(parts.glob("batch-*.parquet")))
     assert 3 <= kept < 30
     done = subprocess.run(argv + ["--resume", "--json"], capture_output=True, text=True, cwd=tmp_path, timeout=300)
     run = json.loads(done.stdout)["run"]
