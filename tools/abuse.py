@@ -13,7 +13,9 @@ The catalogue: ``--set`` with absurd, tiny, huge and non-numbers for every axle 
 windows, durations, ramps, initial states and parameter windows at and beyond their ranges; output paths (empty,
 a folder, a missing folder, too long, a temporary name too long, non-UTF-8, the same file twice, devices, a
 read-only and a full file system when a small tmpfs can be mounted, i.e. as root); stdout full, closed and a
-broken pipe; SIGINT and SIGTERM during a run.  Usage: ``python tools/abuse.py [--quick] [--jobs N] [--json]``;
+broken pipe; SIGINT and SIGTERM during a run; and ``shimmy sweep`` against real Dask processes started here, with
+its scheduler or a worker killed, parts damaged or foreign, its ``--out`` busy or its lock stale, a batch that kills
+its workers, a full disk and Ctrl-C while the local cluster starts (:mod:`abuse_sweeps`).  Usage: ``python tools/abuse.py [--quick] [--jobs N] [--json]``;
 exit 0 when no case is a traceback, a hang or nonsense.
 """
 
@@ -34,9 +36,11 @@ import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
+from abuse_sweeps import Lab, sweep_cases  # noqa: E402  (beside this file; it needs ROOT on the path)
 
 SHIMMY = [sys.executable, "-m", "comparisons.cli"]
 FAST = ["hopf", "--pressure", "2.5", "--vmax", "200", "--json"]          # about a second
@@ -57,6 +61,14 @@ class Case:
     needs: str = ""                         # "tmpfs" when the case needs the mounted file systems
     timeout: float | None = None            # a longer time limit than --timeout (verify)
     makedirs: tuple[str, ...] = ()          # folders to create just before the run (inside the mounts)
+    # Sweep faults (tools/abuse_sweeps.py): cases run one after the other, in order, each prepared by ``before``;
+    # ``during(proc)`` injects the fault into the running command and returns when it did (time.monotonic());
+    # ``within``: seconds the command may take after that; ``check(stdout, stderr)`` says what is wrong, or "".
+    serial: bool = False
+    before: Callable[[], None] | None = None
+    during: Callable[[subprocess.Popen], float] | None = None
+    within: float | None = None
+    check: Callable[[bytes, str], str] | None = None
 
 
 @dataclass
@@ -82,6 +94,11 @@ def run_case(case: Case, timeout: float = TIMEOUT_S) -> Outcome:
     for folder in case.makedirs:
         os.makedirs(folder, exist_ok=True)
     start = time.monotonic()
+    if case.before is not None:
+        try:
+            case.before()
+        except Exception as exc:  # noqa: BLE001 - a case that cannot be prepared is reported, the rest go on
+            return _finish(case, "other", None, start, b"", f"preparation failed: {type(exc).__name__}: {exc}")
     preexec = None
     stdout = subprocess.PIPE
     opened = None
@@ -97,7 +114,10 @@ def run_case(case: Case, timeout: float = TIMEOUT_S) -> Outcome:
         proc.stdout = None
     out = b""
     hang = False
+    injected = None
     try:
+        if case.during is not None:
+            injected = case.during(proc)
         if case.signal_after is not None:
             time.sleep(case.signal_after)
             sent = time.monotonic()
@@ -140,6 +160,12 @@ def run_case(case: Case, timeout: float = TIMEOUT_S) -> Outcome:
         problems.append(f"{len(lines)} lines on stderr")
     if code != 0 and not lines:
         problems.append("no line on stderr")
+    if injected is not None and case.within is not None and time.monotonic() - injected > case.within:
+        problems.append(f"took {time.monotonic() - injected:.2f} s after the fault, more than {case.within:g} s")
+    if case.check is not None:
+        problem = case.check(out, text)
+        if problem:
+            problems.append(problem)
     for folder in case.watch:
         left = [n for n in os.listdir(folder) if n.endswith(".tmp")] if os.path.isdir(folder) else []
         if left:
@@ -338,7 +364,8 @@ def mounts(scratch: str):
     made = []
     reason = ""
     try:
-        for name, opts in (("ro", "ro,size=64k"), ("full", "size=256k"), ("tiny", "size=64k")):
+        for name, opts in (("ro", "ro,size=64k"), ("full", "size=256k"), ("tiny", "size=64k"),
+                           ("sweepdisk", "size=64k")):
             path = os.path.join(scratch, name)
             os.makedirs(path)
             r = subprocess.run(["mount", "-t", "tmpfs", "-o", opts, "tmpfs", path], capture_output=True, text=True)
@@ -366,19 +393,27 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))   # unmount and clean up when stopped
     scratch = tempfile.mkdtemp(prefix="shimmy-abuse-")
+    lab = Lab(scratch)
     try:
         with mounts(scratch) as no_tmpfs:
             cases = (set_cases(a.quick) + input_cases() + output_cases(scratch, a.quick)
                      + signal_cases(scratch, a.quick))
+            sweeps = sweep_cases(scratch, Case, lab, None if no_tmpfs else os.path.join(scratch, "sweepdisk"))
+            if no_tmpfs:
+                sweeps.append(Case("sweep onto a full disk", [], (74,), needs="tmpfs"))
+            cases += sweeps
             skipped = [c for c in cases if c.needs == "tmpfs" and no_tmpfs]
             cases = [c for c in cases if c not in skipped and a.only in c.name]
-            # Signal cases are timed: run them alone, after the rest.
+            # Signal cases are timed: run them alone, after the rest; sweep faults are a story, told in order.
             timed = [c for c in cases if c.signal_after is not None]
-            rest = [c for c in cases if c.signal_after is None]
+            serial = [c for c in cases if c.serial]
+            rest = [c for c in cases if c.signal_after is None and not c.serial]
             with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
                 outcomes = list(pool.map(lambda c: run_case(c, a.timeout), rest))
             outcomes += [run_case(c, a.timeout) for c in timed]
+            outcomes += [run_case(c, a.timeout) for c in serial]
     finally:
+        lab.stop()
         shutil.rmtree(scratch, ignore_errors=True)
     counts = {v: sum(o.verdict == v for o in outcomes) for v in ("clean", "traceback", "hang", "nonsense", "other")}
     codes: dict[str, int] = {}

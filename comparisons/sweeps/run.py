@@ -1,26 +1,27 @@
 """Running a sweep on Dask distributed, writing Parquet as batches finish, and resuming an interrupted sweep.
 
-Without a scheduler address a :class:`distributed.LocalCluster` is started with one single-threaded worker
-process per core: one Hopf computation is a few milliseconds of small numpy calls that hold the GIL, so threads
-would not run in parallel.  Samples go to the workers in batches (:func:`batch_size`) sized so that each batch
-takes about a second: Dask's per-task cost (about a millisecond) then stays far below the work.  The
-:class:`~comparisons.sweeps.sample.SweepTask` is scattered to every worker once, not sent with each batch.
+Samples go to the workers in batches (:func:`batch_size`) sized so that each batch takes about a second: Dask's
+per-task cost (about a millisecond) then stays far below the work.  The :class:`~comparisons.sweeps.sample.SweepTask`
+is sent to the workers once (as the output of one task), not with each batch.  The cluster is
+:mod:`comparisons.sweeps.cluster`.
 
-Each finished batch is written at once, atomically, to ``OUT.parts/batch-NNNNNN.parquet`` beside ``OUT`` with a
-manifest (design fingerprint, task, batch size).  When all batches are there they are joined, sorted by sample,
-into ``OUT`` (the manifest in its schema metadata) and the parts folder is removed.  ``resume=True`` reads the
-manifest, refuses a different sweep, and computes only the batches whose part files are missing.
+Each finished batch is written at once, atomically and with its checksum, to ``OUT.parts/batch-NNNNNN.parquet``
+beside ``OUT`` with a manifest (:mod:`comparisons.sweeps.parts`).  When all batches are there they are joined,
+sorted by sample, into ``OUT`` (the manifest in its schema metadata) and the parts folder is removed.
+``resume=True`` reads the manifest, refuses a different sweep or a changed axle file, checks every kept part and
+computes only the batches that are missing or damaged.  ``OUT.lock`` keeps a second sweep out meanwhile.
+
+What the cluster does to a batch: a worker that dies is replaced and the batch retried by Dask itself; a batch
+that kills every worker that tries it (``KilledWorker``) becomes failed rows; a lost scheduler stops the sweep with
+:class:`~comparisons.sweeps.cluster.SweepStopped`, the finished batches kept for ``--resume``.
 """
 
 from __future__ import annotations
 
 import json
-import logging
 import math
 import os
 import shutil
-import signal
-import threading
 import time
 from dataclasses import dataclass
 from typing import Callable
@@ -29,15 +30,35 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from comparisons.axles.limits import UsageError
-from comparisons.files import atomic_path
+from comparisons.sweeps.cluster import (
+    DaskCluster,
+    StopReason,
+    SweepStopped,
+    local_workers,
+    quiet_distributed,
+    restore_logging,
+)
 from comparisons.sweeps.design import Design
-from comparisons.sweeps.sample import SweepTask, evaluate_batch
+from comparisons.sweeps.parts import (
+    MANIFEST,
+    MANIFEST_VERSION,
+    DamagedPart,
+    SweepLock,
+    check_parts,
+    part_path,
+    parts_folder,
+    read_manifest,
+    write_manifest,
+    write_part,
+    write_table,
+)
+from comparisons.sweeps.sample import SweepTask, evaluate_batch, failed_batch
+
+__all__ = ["DaskCluster", "SweepRun", "batch_size", "run_sweep"]
 
 TARGET_BATCH_S = 1.0
 BATCHES_PER_WORKER = 4       # at least, so that the last batches do not leave a worker idle for long
-MANIFEST = "manifest.json"
 METADATA_KEY = b"shimmy_sweep"
-WAIT_FOR_WORKERS_S = 60.0
 
 
 @dataclass(frozen=True)
@@ -52,6 +73,8 @@ class SweepRun:
     workers: int
     scheduler: str
     elapsed_s: float
+    damaged: tuple[DamagedPart, ...] = ()
+    killed_batches: tuple[int, ...] = ()     # batches whose every worker died: failed rows
 
     @property
     def samples(self) -> int:
@@ -65,6 +88,7 @@ class SweepRun:
         computed = self.computed_batches
         return {"out": self.out, "samples": self.samples, "failed": self.failed, "batches": self.batches,
                 "computed_batches": computed, "resumed_batches": self.batches - computed,
+                "damaged_batches": [d.to_json() for d in self.damaged], "killed_batches": list(self.killed_batches),
                 "batch_size": self.batch_size, "workers": self.workers, "scheduler": self.scheduler,
                 "elapsed_s": self.elapsed_s,
                 "samples_per_s": (self.samples * computed / self.batches) / self.elapsed_s if self.elapsed_s > 0
@@ -78,9 +102,10 @@ def batch_size(task: SweepTask, samples: int, workers: int) -> int:
     return min(by_time, by_balance)
 
 
-def _manifest(task: SweepTask, design: Design, size: int) -> dict:
-    return {"version": 1, "design": design.to_json(), "fingerprint": design.fingerprint(), "task": task.to_json(),
-            "batch_size": size}
+def _manifest(task: SweepTask, design: Design, size: int | None) -> dict:
+    axle = task.axle
+    return {"version": MANIFEST_VERSION, "design": design.to_json(), "fingerprint": design.fingerprint(),
+            "task": task.to_json(), "batch_size": size, "axle_file": axle.file, "axle_sha256": axle.sha256}
 
 
 def _same_sweep(a: dict, b: dict) -> bool:
@@ -88,81 +113,31 @@ def _same_sweep(a: dict, b: dict) -> bool:
     return all(json.dumps(a.get(k), sort_keys=True) == json.dumps(b.get(k), sort_keys=True) for k in keys)
 
 
-def _part(parts: str, batch: int) -> str:
-    return os.path.join(parts, f"batch-{batch:06d}.parquet")
-
-
-def _write_table(path: str, table: pa.Table) -> None:
-    with atomic_path(path) as tmp:
-        pq.write_table(table, tmp)
-
-
-def _main_thread() -> bool:
-    return threading.current_thread() is threading.main_thread()
-
-
-class DaskCluster:
-    """A Dask client on ``scheduler`` or on a fresh local cluster (closed on exit).  ``processes=False``: one
-    single-threaded worker inside this process, for small sweeps where starting worker processes (each importing
-    numpy, scipy and Exudyn) would cost more than the work."""
-
-    def __init__(self, scheduler: str | None, workers: int | None, processes: bool = True):
-        from distributed import Client, LocalCluster
-        self.cluster = None
-        if scheduler:
-            try:
-                self.client = Client(scheduler, timeout="10s")
-            except (OSError, TimeoutError) as exc:
-                raise UsageError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-            try:   # a scheduler without workers would hold the sweep forever
-                self.client.wait_for_workers(1, timeout=WAIT_FOR_WORKERS_S)
-            except TimeoutError:
-                self.client.close()
-                raise UsageError(f"--scheduler {scheduler}: no worker joined within {WAIT_FOR_WORKERS_S:g} s "
-                                 f"(start one with 'dask worker {scheduler}')") from None
-        else:
-            n = (workers or os.cpu_count() or 1) if processes else 1
-            # Worker processes are started with Ctrl-C ignored (inherited across spawn, and Python then installs no
-            # KeyboardInterrupt handler): a Ctrl-C at the terminal reaches the whole process group, and only this
-            # process should answer it, by closing the cluster and keeping the finished batches.  So a Ctrl-C in
-            # the few seconds the cluster takes to start is ignored here too.
-            previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if processes and _main_thread() else None
-            try:
-                self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
-                                            dashboard_address=None, silence_logs=logging.ERROR)
-            finally:
-                if previous is not None:
-                    signal.signal(signal.SIGINT, previous)
-            self.client = Client(self.cluster)
-        self.address = self.client.scheduler.address
-        self.workers = max(1, sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values()))
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
+def _check_axle_file(found: dict, manifest: dict, parts: str) -> None:
+    """Refuse to continue with an axle file that changed since the sweep began (its kept batches used the old one)."""
+    then, now = found.get("axle_sha256"), manifest["axle_sha256"]
+    if found.get("axle_file") and found.get("axle_file") == manifest["axle_file"] and then != now:
+        raise UsageError(f"--resume: the axle file {manifest['axle_file']} changed since the sweep began (SHA-256 "
+                         f"{str(then)[:16]}... then, {str(now)[:16]}... now): restore it, or delete "
+                         f"{parts} to start again")
 
 
 def _existing(out: str, manifest: dict, resume: bool) -> tuple[dict | None, bool]:
     """(manifest of the sweep to continue or None for a new one, whether ``out`` already holds it complete);
     checked before any cluster is started and without touching a file."""
-    parts = out + ".parts"
-    mpath = os.path.join(parts, MANIFEST)
-    if os.path.exists(mpath):
+    parts = parts_folder(out)
+    if os.path.exists(os.path.join(parts, MANIFEST)):
         if not resume:
             raise UsageError(f"{parts} holds an interrupted sweep: --resume continues it (or delete the folder)")
-        with open(mpath, encoding="utf-8") as fh:
-            found = json.load(fh)
+        found = read_manifest(parts)
+        _check_axle_file(found, manifest, parts)
         if not _same_sweep(found, manifest):
             raise UsageError(f"--resume: {parts} holds a different sweep (other inputs, samples, seed or outputs)")
         return found, False
     if resume and os.path.exists(out):
         try:
             found = json.loads((pq.read_schema(out).metadata or {}).get(METADATA_KEY, b"{}"))
-        except (OSError, pa.ArrowInvalid, ValueError):
+        except (OSError, pa.ArrowException, ValueError):
             raise UsageError(f"--resume: {out} is not a sweep's Parquet file") from None
         if not _same_sweep(found, manifest):
             raise UsageError(f"--resume: {out} holds a different sweep (other inputs, samples, seed or outputs)")
@@ -172,53 +147,105 @@ def _existing(out: str, manifest: dict, resume: bool) -> tuple[dict | None, bool
     return None, False
 
 
-def _start(parts: str, manifest: dict) -> None:
-    os.makedirs(parts, exist_ok=True)
-    with atomic_path(os.path.join(parts, MANIFEST)) as tmp, open(tmp, "w", encoding="utf-8") as fh:
-        json.dump(manifest, fh, indent=1)
+def _batch_result(fut, cluster: DaskCluster, task: SweepTask, design: Design, batch: int,
+                  size: int) -> tuple[pa.Table, bool]:
+    """(the table of one finished future, whether every worker that ran it died): its rows, or failed rows for a
+    batch that killed its workers; :class:`SweepStopped` when the cluster itself failed."""
+    from distributed.scheduler import KilledWorker
+    start = batch * size
+    try:
+        return fut.result(), False
+    except KilledWorker as exc:
+        return failed_batch(task, batch, start, design.values[start:start + size], f"KilledWorker: {exc}"), True
+    except Exception as exc:  # Dask's and the network's errors alike: is the scheduler gone, or this batch?
+        if cluster.scheduler_lost():
+            raise SweepStopped(StopReason.SCHEDULER_LOST, f"lost the Dask scheduler {cluster.address}") from None
+        raise SweepStopped(StopReason.CLUSTER_ERROR, f"batch {batch} failed on the cluster "
+                                                     f"({type(exc).__name__}: {exc})") from None
 
 
 def run_sweep(task: SweepTask, design: Design, out: str, *, scheduler: str | None = None, workers: int | None = None,
               size: int | None = None, resume: bool = False,
-              progress: Callable[[int, int], None] | None = None) -> SweepRun:
-    """Evaluate every sample of ``design`` on Dask, batches written to Parquet as they finish; see module docs."""
+              progress: Callable[[int, int], None] | None = None,
+              notice: Callable[[str], None] | None = None) -> SweepRun:
+    """Evaluate every sample of ``design`` on Dask, batches written to Parquet as they finish; see module docs.
+
+    ``notice`` is told, one line each, what the run found and did about it (damaged parts, a stale lock)."""
     t0 = time.perf_counter()
     n = len(design)
+    say = notice or (lambda text: None)
     manifest = _manifest(task, design, size)
-    found, complete = _existing(out, manifest, resume)
-    if complete:
-        return SweepRun(pq.read_table(out), out, math.ceil(n / found["batch_size"]), 0, found["batch_size"], 0, "",
-                        time.perf_counter() - t0)
-    parts = out + ".parts"
-    with DaskCluster(scheduler, workers) as cluster:
-        if found is None:
-            manifest["batch_size"] = size or batch_size(task, n, cluster.workers)
-            _start(parts, manifest)
-        else:
+    parts = parts_folder(out)
+    with SweepLock(out) as lock:
+        if lock.stale:
+            say(f"took over the stale lock {lock.path} ({lock.stale}): that sweep is no longer running")
+        found, complete = _existing(out, manifest, resume)
+        if complete:
+            return SweepRun(pq.read_table(out), out, math.ceil(n / found["batch_size"]), 0, found["batch_size"], 0,
+                            "", time.perf_counter() - t0)
+        kept, damaged = set(), []
+        new = found is None
+        if not new:
             manifest = found
+            kept, damaged = check_parts(parts, n, manifest["batch_size"], task.schema(), manifest["fingerprint"])
+            for d in damaged:
+                say(f"{d.name} is damaged ({d.damage.value}): computed again")
+        elif scheduler is None:   # written before the cluster starts, so that an interrupt then can be resumed
+            manifest["batch_size"] = size or batch_size(task, n, local_workers(workers))
+            write_manifest(parts, manifest)
+        levels = quiet_distributed()
+        cluster = None
+        try:
+            with DaskCluster(scheduler, workers) as cluster:
+                if new and scheduler is not None:
+                    manifest["batch_size"] = size or batch_size(task, n, cluster.workers)
+                    write_manifest(parts, manifest)
+                todo, killed = _compute(cluster, task, design, parts, manifest, kept, progress)
+        finally:
+            if cluster is None or not cluster.lost:   # a lost scheduler's client goes on logging until exit
+                restore_logging(levels)
         size = manifest["batch_size"]
         batches = math.ceil(n / size)
-        todo = [b for b in range(batches) if not os.path.exists(_part(parts, b))]
-        done = n - sum(min(size, n - b * size) for b in todo)
+        table = pa.concat_tables([pq.read_table(part_path(parts, b)).replace_schema_metadata(None)
+                                 for b in range(batches)]).sort_by("sample")
+        write_table(out, table.replace_schema_metadata({METADATA_KEY: json.dumps(manifest).encode()}))
+        shutil.rmtree(parts)
+    return SweepRun(table, out, batches, len(todo), size, cluster.workers,
+                    cluster.address, time.perf_counter() - t0, tuple(damaged), tuple(killed))
+
+
+def _the_task(task: SweepTask) -> SweepTask:
+    return task
+
+
+def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, manifest: dict, kept: set[int],
+             progress: Callable[[int, int], None] | None) -> tuple[list[int], list[int]]:
+    """Compute and write every batch not in ``kept``; (batches computed, batches whose workers all died)."""
+    n, size = len(design), manifest["batch_size"]
+    batches = math.ceil(n / size)
+    todo = [b for b in range(batches) if b not in kept]
+    done = n - sum(min(size, n - b * size) for b in todo)
+    if progress is not None:
+        progress(done, n)
+    killed = []
+    if not todo:
+        return todo, killed
+    from distributed import as_completed
+    tag = manifest["fingerprint"][:12]
+    # The task as the output of a task, not scattered: when every worker holding it dies, Dask computes it again
+    # (a scattered value lost with its last worker cancels every batch that needs it).
+    shared = cluster.client.submit(_the_task, task, pure=False, key=f"shimmy-sweep-{tag}-task")
+    futures = [cluster.client.submit(evaluate_batch, shared, b, b * size, design.values[b * size:(b + 1) * size],
+                                     pure=False, key=f"shimmy-sweep-{tag}-batch-{b}") for b in todo]
+    batch_of = {fut.key: b for fut, b in zip(futures, todo)}
+    for fut in as_completed(futures):
+        b = batch_of[fut.key]
+        table, died = _batch_result(fut, cluster, task, design, b, size)
+        if died:
+            killed.append(b)
+        write_part(parts, b, table, manifest["fingerprint"])
+        done += table.num_rows
+        fut.release()
         if progress is not None:
             progress(done, n)
-        if todo:
-            from distributed import as_completed
-            shared = cluster.client.scatter(task, broadcast=True)
-            tag = manifest["fingerprint"][:12]
-            futures = [cluster.client.submit(evaluate_batch, shared, b, b * size,
-                                             design.values[b * size:(b + 1) * size], pure=False,
-                                             key=f"shimmy-sweep-{tag}-batch-{b}") for b in todo]
-            for fut in as_completed(futures):
-                table = fut.result()
-                _write_table(_part(parts, int(table.column("batch")[0].as_py())), table)
-                done += table.num_rows
-                fut.release()
-                if progress is not None:
-                    progress(done, n)
-    tables = [pq.read_table(_part(parts, b)) for b in range(batches)]
-    table = pa.concat_tables(tables).sort_by("sample")
-    meta = {METADATA_KEY: json.dumps(manifest).encode()}
-    _write_table(out, table.replace_schema_metadata(meta))
-    shutil.rmtree(parts)
-    return SweepRun(table, out, batches, len(todo), size, cluster.workers, cluster.address, time.perf_counter() - t0)
+    return todo, sorted(killed)

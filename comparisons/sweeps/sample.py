@@ -213,15 +213,25 @@ def _cycle_columns(family, vmax: float) -> dict:
             "peak_tramp_theta1_deg": peak["tramp"]}
 
 
+def _inputs(task: SweepTask, batch: int, start: int, values: np.ndarray) -> list[dict]:
+    return [{"sample": start + i, "batch": batch, **{n: float(x) for n, x in zip(task.names, v)}}
+            for i, v in enumerate(values)]
+
+
 def evaluate_batch(task: SweepTask, batch: int, start: int, values: np.ndarray) -> pa.Table:
     """Rows ``start .. start + len(values) - 1`` of the sweep as one Arrow table (the unit of work on Dask)."""
-    rows = []
-    for i, v in enumerate(values):
-        row = {"sample": start + i, "batch": batch, **{n: float(x) for n, x in zip(task.names, v)}}
+    rows = _inputs(task, batch, start, values)
+    for row, v in zip(rows, values):
         try:
             row.update(task.evaluate(v))
             row["status"] = "ok"
         except Exception as exc:  # recorded in the row: one bad sample never loses its batch
             row["status"], row["error"] = "failed", f"{type(exc).__name__}: {interface_text(str(exc))}"
-        rows.append(row)
+    return pa.Table.from_pylist(rows, schema=task.schema())
+
+
+def failed_batch(task: SweepTask, batch: int, start: int, values: np.ndarray, error: str) -> pa.Table:
+    """A batch none of whose samples could be evaluated (every worker that ran it died): failed rows with
+    ``error``, so that the sweep completes and says which samples are missing and why."""
+    rows = [{**row, "status": "failed", "error": error} for row in _inputs(task, batch, start, values)]
     return pa.Table.from_pylist(rows, schema=task.schema())

@@ -143,7 +143,7 @@ def test_interrupted_sweep_resumes_without_recomputing_finished_batches(tmp_path
     with pytest.raises(KeyboardInterrupt):
         run_sweep(task, design, out, workers=1, size=2, progress=_interrupt_after(2))
     parts = out + ".parts"
-    finished = sorted(f for f in os.listdir(parts) if f.startswith("batch-"))
+    finished = sorted(f for f in os.listdir(parts) if f.startswith("batch-") and f.endswith(".parquet"))
     assert 2 <= len(finished) < 4 and not os.path.exists(out)
     stamps = {f: os.stat(os.path.join(parts, f)).st_mtime_ns for f in finished}
     time.sleep(0.01)
@@ -210,13 +210,13 @@ def test_ctrl_c_at_the_terminal_keeps_finished_batches_and_resume_completes(tmp_
                             start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     parts = tmp_path / "k.parquet.parts"
     deadline = time.time() + 120
-    while len(list(parts.glob("batch-*"))) < 3 and time.time() < deadline:
+    while len(list(parts.glob("batch-*.parquet"))) < 3 and time.time() < deadline:
         time.sleep(0.2)
     os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=120)
     lines = [line for line in err.splitlines() if not line.startswith("sweep:")]
-    assert proc.returncode == 130 and len(lines) == 1 and "--resume continues" in lines[0], err
-    kept = len(list(parts.glob("batch-*")))
+    assert proc.returncode == 130 and len(lines) == 1 and lines[0].endswith(" --resume"), err
+    kept = len(list(parts.glob("batch-*.parquet")))
     assert 3 <= kept < 30
     done = subprocess.run(argv + ["--resume", "--json"], capture_output=True, text=True, cwd=tmp_path, timeout=300)
     run = json.loads(done.stdout)["run"]

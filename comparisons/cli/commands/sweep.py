@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import sys
 import time
 
@@ -128,9 +129,18 @@ class _Progress:
             left = f", about {elapsed * (total - done) / done:.0f} s left" if 0 < done < total else ""
             sys.stderr.write(f"sweep: {done}/{total} samples, {elapsed:.0f} s{left}\n")
 
+    def note(self, text: str) -> None:
+        """What the run found and did about it (a damaged part, a stale lock): shown even under --json."""
+        line = f"sweep: {text}"
+        if self.bar is not None:
+            self.bar.write(line, file=sys.stderr)
+        else:
+            sys.stderr.write(line + "\n")
+
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
+            self.bar = None
 
 
 def _quiet_shutdown() -> None:
@@ -144,8 +154,23 @@ def _quiet_shutdown() -> None:
     threading.excepthook = lambda hook_args: None
 
 
+def kept_line(what: str, out: str, argv: list[str], when: str = "") -> str:
+    """One line for a sweep that stopped: ``what`` happened, which batches are kept and the exact command that
+    continues (the same for Ctrl-C in the cluster's start-up as later, and for a lost scheduler or a full disk)."""
+    from comparisons.sweeps.parts import MANIFEST, kept_batches, parts_folder
+    parts = parts_folder(out)
+    if not os.path.exists(os.path.join(parts, MANIFEST)):
+        return f"{what}; nothing was kept; the same command starts again"
+    resume = argv if "--resume" in argv else [*argv, "--resume"]
+    return (f"{what}; {kept_batches(parts)} finished batches kept in {parts}; {when}this continues: "
+            f"{shlex.join(['shimmy', *resume])}")
+
+
 def run(args: argparse.Namespace) -> int:
+    from comparisons.cli.main import EXIT_INCOMPLETE, EXIT_INTERRUPTED
+    from comparisons.files import OutputFault
     from comparisons.sweeps.analysis import OutputChoice, sensitivity, write_plot
+    from comparisons.sweeps.cluster import SweepStopped
     from comparisons.sweeps.design import make_design, parse_vary
     from comparisons.sweeps.run import run_sweep
     variations = [parse_vary(v) for v in args.vary]
@@ -158,15 +183,21 @@ def run(args: argparse.Namespace) -> int:
     bar = _Progress(len(design), args.json)
     try:
         result = run_sweep(task, design, args.out, scheduler=args.scheduler, workers=args.workers,
-                           size=args.batch_size, resume=args.resume, progress=bar)
+                           size=args.batch_size, resume=args.resume, progress=bar, notice=bar.note)
     except KeyboardInterrupt:
         bar.close()
         _quiet_shutdown()
-        parts = args.out + ".parts"
-        kept = len([f for f in os.listdir(parts) if f.startswith("batch-")]) if os.path.isdir(parts) else 0
-        sys.stderr.write(f"shimmy: interrupted; {kept} finished batches kept in {parts}: the same command with "
-                         f"--resume continues\n")
-        return 130
+        sys.stderr.write(kept_line("shimmy: interrupted", args.out, args.argv) + "\n")
+        return EXIT_INTERRUPTED
+    except SweepStopped as exc:
+        bar.close()
+        _quiet_shutdown()
+        sys.stderr.write(kept_line(f"shimmy: failed: {exc.message}", args.out, args.argv) + "\n")
+        return EXIT_INCOMPLETE
+    except OutputFault as exc:
+        bar.close()
+        _quiet_shutdown()
+        raise OutputFault(kept_line(exc.message, args.out, args.argv, "once there is space, ")) from None
     finally:
         bar.close()
     sens = sensitivity(result.table, design, output)
@@ -183,6 +214,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"  {run_['computed_batches']} of {run_['batches']} batches of {run_['batch_size']} computed on "
           f"{run_['workers']} workers ({run_['scheduler']}) in {run_['elapsed_s']:.1f} s; "
           f"{result.failed} failed samples; written to {args.out}")
+    if result.damaged:
+        print(f"  {len(result.damaged)} damaged batches computed again: {', '.join(d.name for d in result.damaged)}")
+    if result.killed_batches:
+        print(f"  {len(result.killed_batches)} batches killed every worker that ran them (failed rows): "
+              f"{', '.join(map(str, result.killed_batches))}")
     for line in sens.lines():
         print(f"  {line}")
     if args.plot:
