@@ -52,7 +52,8 @@ class ModeShape:
         return self.eigenvalue.real < 0.0
 
 
-GROUPS = {"yaw": ("theta1", "theta2"), "tramp": ("psi",), "lateral": ("y_axle",), "gear": ("phi_gear",)}
+GROUPS = {"yaw": ("theta1", "theta2"), "tramp": ("psi",), "lateral": ("y_axle",), "bounce": ("z_axle",),
+          "gear": ("phi_gear",)}
 
 
 def reduced_inertias(I1: float, I3: float) -> dict[str, float]:

@@ -219,7 +219,7 @@ def test_simulate_mbs_period_limit_uses_the_mbs_fastest_mode(monkeypatch, capsys
 
     monkeypatch.setattr(simulate_command, "simulate_model", started)
     args = ["simulate", "--model", "mbs", "--fidelity", "full", "--pressure", "2.5", "--speed", "60", "--duration",
-            "40", "--set", "steering_gear_inertia=0.01", "--set", "steering_gear_compliance=1e-6", "--set",
+            "40", "--set", "steering_gear_inertia=0.01", "--set", "steering_gear_compliance=1e-8", "--set",
             "steering_gear_damping=0", "--json"]
     assert main(args) == 2
     err = capsys.readouterr().err

@@ -3,7 +3,8 @@
 The first Lyapunov coefficient of the MBS comes from multilinear forms by finite differences (the MBS is known at
 real states only); the reduced model's from Cauchy integrals on complex circles.  Two independent checks: with
 every assumption on the two models are the same equations, so the coefficients must agree; with the full
-geometry, the sign must say on which side of the Hopf point the continued branch of cycles leaves it.
+geometry, the sign must say on which side of the Hopf point the continued branch of cycles leaves it (about half
+a minute per case on 2 cores: slow suite).
 """
 
 import numpy as np
@@ -43,6 +44,7 @@ def _short_branch(family, hopf, others):
     return branch_from_hopf(family, hopf, 0.0, VMAX, others=others, settings=settings)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pressure_bar, kept", [(1.5, ""), (2.5, "rigid_axle_mounts")])
 def test_full_geometry_criticality_agrees_with_the_side_the_branch_leaves(pressure_bar, kept):
     """Supercritical: the small cycles exist where straight running is unstable and are stable; subcritical: the

@@ -103,7 +103,7 @@ def test_cli_full_geometry_names_modes_by_every_energy_share(capsys):
     mbs = json.loads(capsys.readouterr().out)["models"]["mbs"]
     for m in mbs:
         shares = m["energy_shares"]
-        assert set(shares) == {"yaw", "tramp", "lateral", "gear"}
+        assert set(shares) == {"yaw", "tramp", "lateral", "bounce", "gear"}
         assert sum(shares.values()) == pytest.approx(1.0, rel=1e-9)
         if m["frequency_hz"] > 0:
             assert m["character"] == max(shares, key=shares.get)
