@@ -4,7 +4,8 @@ Checks against two independent sides: with every assumption on, the reduced mode
 are then the same equations, evaluated by different code and differentiated by different methods); with the
 full geometry, the MBS's own long simulation, which must settle on the stable orbit the continuation found.
 The full-geometry tests take about a minute each on 2 cores (Exudyn's right-hand side, ~120 us a call, at every
-collocation point): they run in the slow suite.
+collocation point), and the reduced-fidelity branch about half a minute: all run in the slow suite, so that
+CI stays within its 10 minutes; the equivalence of Hopf points, l1 and folds runs in CI.
 """
 
 import json
@@ -34,6 +35,7 @@ def both_yaw_branches():
     return [cycle_diagram(f, PRESSURE, 0.0, 120.0 * KMH, at=AT) for f in (reduced, mbs)]
 
 
+@pytest.mark.slow
 def test_mbs_with_every_assumption_on_continues_the_reduced_models_branch(both_yaw_branches):
     reduced, mbs = both_yaw_branches
     assert len(mbs.branches) == len(reduced.branches) == 1
