@@ -96,16 +96,20 @@ def largest(mu: np.ndarray) -> complex:
     return complex(rest[np.argmax(np.abs(rest))])
 
 
-def extra_amplitudes(p: CyclePoint, family) -> dict:
-    """max |x| of the coordinates beyond the reduced model's (the multibody axle's lateral travel and steering
-    gear), each in its interface unit: ``max_y_axle_m``, ``max_phi_gear_deg``."""
-    out = {}
+def extra_coordinates(family) -> list[tuple[str, str, float]]:
+    """(state name, JSON key, SI per interface unit) of the coordinates beyond the reduced model's (the multibody
+    axle's lateral travel, bounce and steering gear): keys ``max_y_axle_m``, ``max_phi_gear_deg``, ..."""
+    out = []
     for name, unit in zip(family.state_names, family.state_units):
-        if name in STATE_NAMES or unit.endswith("/s"):
-            continue
-        label, factor = interface_of(unit)
-        out[f"max_{name}_{label}"] = p.max_abs(name) / factor
+        if name not in STATE_NAMES and not unit.endswith("/s"):
+            label, factor = interface_of(unit)
+            out.append((name, f"max_{name}_{label}", factor))
     return out
+
+
+def extra_amplitudes(p: CyclePoint, family) -> dict:
+    """max |x| of those coordinates over the orbit, each in its interface unit."""
+    return {key: p.max_abs(name) / factor for name, key, factor in extra_coordinates(family)}
 
 
 def point_row(p: CyclePoint, family) -> dict:
@@ -123,8 +127,7 @@ def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
     of the critical pair's two unit multipliers being the trivial one."""
     period = 2.0 * np.pi / h.omega
     big = largest(hopf_multipliers(family, h))
-    extras = {f"max_{n}_{interface_of(u)[0]}": 0.0 for n, u in zip(family.state_names, family.state_units)
-              if n not in STATE_NAMES and not u.endswith("/s")}
+    extras = {key: 0.0 for _, key, _ in extra_coordinates(family)}
     return {"kind": "hopf", "speed_kmh": kmh(h.speed), "period_s": period, "frequency_hz": h.frequency_hz,
             "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0, **extras,
             "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,
