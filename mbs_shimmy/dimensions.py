@@ -117,9 +117,10 @@ class AxleDimensions:
                                 "axle roll about an axis sloped in side view by atan(coefficient); positive = the "
                                 "axle turns its nose left as its left side rises (roll understeer of a front axle "
                                 "in a right turn, where the frame rolls left over the axle); 0 = roll about x",
-                                source="typical leaf-sprung solid axles 0-0.2 rad/rad, the slope of the axle's roll "
-                                       "axis in side view (Gillespie, Fundamentals of Vehicle Dynamics, SAE 1992, "
-                                       "ch. 8, roll steer of solid axles); 0.1 is the middle, an estimate",
+                                source="leaf-sprung solid axles 0-0.2 rad/rad, the slope of the axle's roll axis in "
+                                       "side view: the range as remembered from Gillespie, Fundamentals of Vehicle "
+                                       "Dynamics, SAE 1992 (roll steer of solid axles), not checked against the book; "
+                                       "0.1 is the middle, an estimate",
                    range=(-0.5, 0.5), plausible=(0.0, 0.2), neutral=0.0)
 
     axle_mount_vertical_compliance: float = _d(2.0e-6, "m/N",
