@@ -24,19 +24,12 @@ this tyre).  The camber force follows the camber without lag (no relaxation of i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from reduced_model import tyre
 
-
-class _Factors:
-    """Mutable stand-in for :class:`reduced_model.tyre.MagicFormula` (its ``force_scalar`` reads B, C, D, E)."""
-
-    __slots__ = ("B", "C", "D", "E")
-
-
-# the paper's F_y = -D sin(C arctan(B a - E (B a - arctan(B a)))) of one float: the one copy in reduced_model.tyre
-_force = tyre.MagicFormula.force_scalar
+# the paper's F_y = -D sin(C arctan(B a - E (B a - arctan(B a)))): the one copy in reduced_model.tyre
+_force = tyre.mf_force
 
 
 @dataclass(frozen=True)
@@ -53,7 +46,6 @@ class CamberTerms:
     q_bz9: float
     Fz0: float
     R: float
-    _work: _Factors = field(default_factory=lambda: _Factors(), compare=False, repr=False)
 
     @classmethod
     def of(cls, dims, params) -> "CamberTerms":
@@ -74,17 +66,14 @@ class CamberTerms:
         B, C, D, E = mf.B, mf.C, mf.D, mf.E
         # MF 6.1's factor would reach zero at |gamma| = 1 / p_Ky3 (2.7 rad for this tyre, beyond the model's 1 rad
         # divergence limit); it is kept positive so that the cornering stiffness never changes sign
-        reduction = max(1.0 - self.p_ky3 * abs(gamma), 0.05)
-        K = B * C * D * reduction
+        reduction = 1.0 - self.p_ky3 * (gamma if gamma >= 0.0 else -gamma)
+        if reduction < 0.05:
+            reduction = 0.05
+        Br = B * reduction
+        K = Br * C * D
         s_v = load * (self.p_vy3 + self.p_vy4 * dfz) * gamma
-        k_gamma = load * (self.p_ky6 + self.p_ky7 * dfz)
-        s_h = -(k_gamma * gamma - s_v) / K
-        work = self._work
-        work.B, work.C, work.D, work.E = B * reduction, C, D, E
-        shifted = _force(work, alpha + s_h) + s_v
-        alpha_r = alpha + s_h - s_v / K
-        fade = self.q_bz9 * alpha_r          # cos(arctan(x)) = 1 / sqrt(1 + x^2)
+        s_h = (s_v - load * (self.p_ky6 + self.p_ky7 * dfz) * gamma) / K
+        shifted = _force(Br, C, D, E, alpha + s_h, math.sin, math.atan) + s_v
+        fade = self.q_bz9 * (alpha + s_h - s_v / K)         # cos(arctan(x)) = 1 / sqrt(1 + x^2)
         mzr = load * self.R * (self.q_dz8 + self.q_dz9 * dfz) * gamma / math.sqrt(1.0 + fade * fade)
         return shifted - plain, mzr
-
-

@@ -29,7 +29,8 @@ def load_increment(params: ShimmyParameters) -> float:
     return (params.Fz - params.Fz0) / params.Fz
 
 
-def _mf_force(B, C, D, E, alpha, sin, atan):
+def mf_force(B, C, D, E, alpha, sin, atan):
+    """F_y of eqs. (2.4)-(2.5) with the given sin and atan (numpy's for arrays, math's for one float)."""
     ba = B * alpha
     return -D * sin(C * atan(ba - E * (ba - atan(ba))))
 
@@ -55,12 +56,12 @@ class MagicFormula:
 
     def force(self, alpha):
         """Lateral force, eqs. (2.4)-(2.5): F_y = -D sin(C arctan(B a - E (B a - arctan(B a))))."""
-        return _mf_force(self.B, self.C, self.D, self.E, alpha, np.sin, np.arctan)
+        return mf_force(self.B, self.C, self.D, self.E, alpha, np.sin, np.arctan)
 
     def force_scalar(self, alpha: float) -> float:
         """:meth:`force` of one real float with :mod:`math` (no numpy scalars; the MBS calls it at every solver
         stage, where numpy's per-call overhead was a tenth of the run)."""
-        return _mf_force(self.B, self.C, self.D, self.E, alpha, math.sin, math.atan)
+        return mf_force(self.B, self.C, self.D, self.E, alpha, math.sin, math.atan)
 
 
 def cornering_stiffness(params: ShimmyParameters, pressure: float) -> float:
