@@ -26,14 +26,24 @@ class BenchResult:
     baseline_s: float
     target_s: float | None
     counts: dict | None = None      # what the benchmark counts besides time (e.g. Exudyn calls per cycle)
+    target_ratio: float | None = None
 
     @property
     def ratio(self) -> float:
         return self.median_s / self.baseline_s
 
     @property
-    def meets_target(self) -> bool | None:
+    def meets_time_target(self) -> bool | None:
         return None if self.target_s is None else self.median_s <= self.target_s
+
+    @property
+    def meets_ratio_target(self) -> bool | None:
+        return None if self.target_ratio is None else self.ratio <= self.target_ratio
+
+    @property
+    def meets_target(self) -> bool | None:
+        """The ratio target where one is set (it travels between machines and loads), else the time target."""
+        return self.meets_time_target if self.target_ratio is None else self.meets_ratio_target
 
 
 @dataclass(frozen=True)
@@ -44,6 +54,9 @@ class Benchmark:
     setup: Callable[[], Callable[[], object]]  # returns the timed callable (setup work is not timed)
     repeats: int = 7
     count: Callable[[object], dict] | None = None   # counts from the timed callable's last result
+    # the most the median may be as a multiple of the in-process baseline: unlike target_s it holds on a slower or
+    # busier machine, where the baseline slows down with the benchmark
+    target_ratio: float | None = None
 
 
 def baseline_workload() -> None:
@@ -207,8 +220,9 @@ BENCHMARKS: list[Benchmark] = [
     Benchmark("mbs_simulation_full", "10 s MBS simulation, full geometry with the tyre elements and every element of "
               "issue 9 (kingpin inclination, raised roll axis, lateral axle mounts, Ackermann arms, steering gear "
               "with inclined drag link), 1.5 bar, 100 km/h, DOPRI5 with automatic step (h <= 10 ms, rtol 2e-5, "
-              "atol 2e-7: within 4.0e-5 of every state's amplitude of RK67 at 1/960 s); target 50x real time",
-              0.2, _mbs_simulation("full"), repeats=5),
+              "atol 2e-7: within 4.0e-5 of every state's amplitude of RK67 at 1/960 s); target 50x real time, and "
+              "the ratio 13.7 to the baseline that the issue-9 model had (mbs_shimmy/README.md)",
+              0.2, _mbs_simulation("full"), repeats=5, target_ratio=13.7),
     Benchmark("mbs_simulation_reduced", "the same with every reduced-model assumption on (--fidelity reduced), RK67 "
               "h = 1/240 s (DOPRI5 needs more evaluations there for 1e-4)", 0.5,
               _mbs_simulation("reduced"), repeats=5),
@@ -233,7 +247,8 @@ def run_benchmarks(names: list[str] | None = None, progress=None) -> list[BenchR
     for i, b in enumerate(chosen):
         median, runs, last = median_time(b.setup(), b.repeats)
         counts = b.count(last) if b.count is not None else None
-        results.append(BenchResult(b.name, b.description, median, runs, baseline, b.target_s, counts))
+        results.append(BenchResult(b.name, b.description, median, runs, baseline, b.target_s, counts,
+                                   b.target_ratio))
         if progress is not None:
             progress(i + 1, len(chosen))
     return results

@@ -97,3 +97,15 @@ def test_simulate_mbs_with_recording(tmp_path):
     result = json.loads(out)
     assert result["model"] == "mbs" and result["final"]["mode"] == "yaw"
     assert rrd.stat().st_size > 100_000
+
+
+def test_a_ratio_target_judges_the_ratio_not_the_time():
+    """A benchmark with a ratio target is met by its ratio to the in-process baseline, so that a busy machine (slow
+    baseline, slow run) does not fail it and a fast machine does not pass a slower program."""
+    from comparisons.cli.benchmarks import BenchResult
+    busy = BenchResult("x", "d", median_s=0.25, runs=(0.25,), baseline_s=0.02, target_s=0.2, target_ratio=13.7)
+    assert busy.ratio == 12.5 and busy.meets_target and not busy.meets_time_target
+    slower_program = BenchResult("x", "d", median_s=0.15, runs=(0.15,), baseline_s=0.01, target_s=0.2,
+                                 target_ratio=13.7)
+    assert slower_program.meets_time_target and not slower_program.meets_target
+    assert BenchResult("x", "d", median_s=0.15, runs=(0.15,), baseline_s=0.01, target_s=0.2).meets_target
