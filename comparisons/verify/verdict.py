@@ -11,6 +11,7 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass
+from typing import Protocol
 
 from comparisons.verify.plan import Plan
 from comparisons.verify.scan import Boundary, BoundaryKind, Model, Window
@@ -89,13 +90,21 @@ class Disagreement:
                 "case": self.case, "text": self.text}
 
 
+class MarginFact(Protocol):
+    """What a stability margin adds to the verdict (issue 21, part 3, built elsewhere): a sentence and its data."""
+
+    def text(self) -> str: ...
+
+    def to_json(self) -> dict: ...
+
+
 @dataclass(frozen=True)
 class Verdict:
     models: tuple[ModelVerdict, ...]
     disagreements: tuple[Disagreement, ...]
-    # Stability margins (issue 21, part 3): the least damping ratio of straight running over the operating window,
-    # per model, as sentences; empty until that is computed.
-    margins: tuple[str, ...] = ()
+    # Stability margins (issue 21, part 3): per model, the least damping ratio of straight running over the
+    # operating window; empty until that is computed.
+    margins: tuple[MarginFact, ...] = ()
 
     def of(self, model: Model) -> ModelVerdict | None:
         return next((m for m in self.models if m.model is model), None)
@@ -128,12 +137,12 @@ class Verdict:
             out += [_sentence("the models disagree: " + d.text) for d in self.disagreements]
             if not self.disagreements:
                 out.append("The models agree at every planned case on whether and in which modes the axle shimmies.")
-        out += list(self.margins)
+        out += [m.text() for m in self.margins]
         return out
 
     def to_json(self) -> dict:
         return {"headline": self.headline(), "models": [m.to_json() for m in self.models],
-                "disagreements": [d.to_json() for d in self.disagreements], "margins": list(self.margins),
+                "disagreements": [d.to_json() for d in self.disagreements], "margins": [m.to_json() for m in self.margins],
                 "lines": self.lines()}
 
 
