@@ -36,7 +36,8 @@ from reduced_model.model import ShimmyModel
 
 def plan_section(ctx: Context) -> Section:
     rows = [Row({"case": f"C{i}", "pressure_right_bar": c.pressure_right_bar, "pressure_left_bar": c.pressure_left_bar,
-                 "kind": c.kind.value, "reason": c.reason}, CheckStatus.INFO)
+                 "kind": c.kind.value + ("" if c.chosen_by is None else f" ({c.chosen_by.label})"),
+                 "reason": c.reason}, CheckStatus.INFO)
             for i, c in enumerate(ctx.plan.cases, 1)]
     for b in ctx.plan.bistable:
         window = "" if math.isnan(b.low_kmh) else f" ({b.low_kmh:.1f}-{b.high_kmh:.1f} km/h)"
