@@ -79,6 +79,9 @@ def cycles_section(ctx: Context) -> Section:
     stable_branches = sum(any(p.stable for p in b.points) for _, _, d in diagrams for b in d.branches)
     budget, most = (6, 2) if ctx.quick else (28, 8)
     per_branch = max(1, min(most, budget // max(1, stable_branches)))
+    if not diagrams:
+        rows.append(Row({}, CheckStatus.NOTHING, "no planned case where the reduced model shimmies: no limit cycle "
+                                                 "to compare"))
     for case, family, diagram in diagrams:
         overlay = {"reduced": [], "full": []}
         for b, branch in enumerate(diagram.branches, 1):

@@ -30,7 +30,6 @@ from reduced_model.family import MIN_SPEED
 
 FREQUENCY_TOL = 1e-6        # relative, Hopf frequencies of the two models
 LYAPUNOV_TOL = 1e-4        # relative, MBS (reduced fidelity) l1 against the reduced model's
-TRANSIENT_TOL = 1e-4        # of the amplitude of each state (the MBS's fixed-step RK67 against DOP853 at rtol 1e-12)
 SIDE_KMH = 0.5              # how far beside a Hopf point the crossing direction is sampled
 GROWTH_MIN = 0.5            # 1/s: a cycle whose straight running grows this fast settles within the MBS run's
                             # checks (the attraction to a cycle born at a Hopf point is about twice the growth rate)
@@ -299,30 +298,15 @@ def test_criticality(axle, pressure, quick, cycle_diagrams):
 
 def test_transient_equal(axle, pressure, quick):
     """From the same small yaw angle at 60 km/h (and 150 km/h in the full run), the MBS (fixed-step RK67) against
-    the reduced model (DOP853, rtol 1e-12), every state within 1e-4 of its amplitude."""
-    from scipy.integrate import solve_ivp
-
-    from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.simulation import simulate
-    from reduced_model.model import Effects, ShimmyModel
-    from reduced_model.trajectory import SpeedSchedule
+    the reduced model (DOP853, rtol 1e-12), every state within 1e-4 of its amplitude
+    (:func:`comparisons.verify.transient.transient_check`)."""
+    from comparisons.verify.transient import transient_check
     duration = 1.0 if quick else 2.0
-    model = ShimmyModel(axle.params)
-    x0 = np.zeros(8)
-    x0[0] = 0.01
     for kmh in (60.0,) if quick else (60.0, 150.0):
-        V = kmh * KMH
-        traj = simulate(axle.params, Effects(), Fidelity.reduced(), pressure, SpeedSchedule.constant(V), x0,
-                        duration, dims=axle.dims, poses=False)
-        assert traj.complete, f"MBS run stopped at {kmh:g} km/h, {label(pressure)}: {traj.message}"
-        ref = solve_ivp(lambda t, x: model.rhs(x, V, pressure), (0.0, duration), x0, method="DOP853", rtol=1e-12,
-                        atol=1e-14, dense_output=True)
-        xr = ref.sol(traj.t).T
-        amplitude = np.max(np.abs(xr), axis=0)
-        worst = np.max(np.abs(traj.x - xr), axis=0)
-        assert np.all(worst <= TRANSIENT_TOL * amplitude + 1e-12), \
-            f"{kmh:g} km/h, {label(pressure)}: largest difference {np.max(worst / (amplitude + 1e-300)):.3g} " \
-            f"of a state's amplitude"
+        check = transient_check(axle, pressure, kmh, duration)
+        assert check.complete, f"MBS run stopped at {kmh:g} km/h, {label(pressure)}: {check.message}"
+        assert check.ok, (f"{kmh:g} km/h, {label(pressure)}: largest difference {check.worst_relative:.3g} of a "
+                          f"state's amplitude")
 
 
 def test_limit_cycle_amplitude(axle, pressure, quick, cycle_diagrams):
@@ -349,7 +333,9 @@ def jump_setup_of_axle(axle, quick):
     a file, a window searched by the plan for an axle file) and the jump experiments' setup."""
     from comparisons.verify.cycles import jump_setup
     from comparisons.verify.run import make_plan
-    plan = make_plan(axle, quick, None, from_file=axle.file is not None, progress=lambda message: None)
+    from comparisons.verify.scan import Model
+    plan = make_plan(axle, quick, None, from_file=axle.file is not None, progress=lambda message: None,
+                     models=(Model.REDUCED,))
     if not plan.bistable:
         lo, hi = axle.pressure_range_bar
         notes = "; ".join(n for n in plan.notes if "bistable" in n) or "none found"

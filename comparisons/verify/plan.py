@@ -1,51 +1,71 @@
 """Which cases ``shimmy verify`` runs: the paper's for the paper's truck, a plan of its own for any other axle.
 
-For an axle file the plan is made from the reduced model (section 3, the base model of every other check):
+Both models are scanned over the axle's pressure window (``[operating] pressure_range_bar``) by
+:mod:`comparisons.verify.scan`: the reduced model (section 3, the base model of every other check) and the MBS with
+the full geometry, each with its unstable speed windows on a grid of pressures, its Hopf curves and its own
+shimmy-free boundary.  For an axle file the cases are:
 
-1. the pressure window of the axle (``[operating] pressure_range_bar``) is scanned for Hopf points of straight
-   running on a grid of pressures; each unstable speed window is given a mode by its critical eigenvector (the
-   tramp share |psi| / max(|theta1|, |theta2|) against :data:`TRAMP_SHARE`),
-2. the Hopf curves in (V, p) are continued over the window (:func:`reduced_model.bifurcation.equilibria.hopf_curves.hopf_diagram`); their
-   folds are where a mode is born or vanishes, the highest one is the shimmy-free boundary,
-3. cases: for each mode, the pressure where its speed window is widest (all its Hopf points inside the speed
-   window); just below the shimmy-free boundary (the last mode's narrow window); just above it (no shimmy: both
-   models must find none); the asymmetric case when left and right pressures are given,
-4. bistable windows: at grid pressures where two unstable pairs overlap in speed or a Hopf point is subcritical (the
-   only ways for two stable cycles to coexist near straight running), the cycle branches are continued and speed
-   intervals where two stable cycles of different branches or branch parts coexist are collected; the widest is
-   run through by speed ramps and the two-start experiment.
+1. for each model and each mode, the pressure where that model's window of the mode is widest (closed windows
+   first);
+2. for each model with a shimmy-free boundary inside the window, 0.1 bar below it (the last mode's narrow window)
+   and 0.1 bar above it (no shimmy in that model);
+3. where the scan finds a pressure at which only one model shimmies and no case so far shows that, the grid
+   pressure where that model's windows are widest;
+4. the asymmetric case when left and right pressures are given;
+5. bistable windows (the reduced model): at grid pressures where two unstable pairs overlap in speed or a Hopf point
+   is subcritical (the only ways for two stable cycles to coexist near straight running), the cycle branches are
+   continued and speed intervals where two stable cycles of different branches or branch parts coexist are
+   collected; the widest is run through by speed ramps and the two-start experiment;
+6. when neither model shimmies anywhere in the window, its ends and middle (straight running is still compared).
+
+Every case carries both models' unstable windows at its pressures (what the verdict reports) and a reason that
+says why it was chosen and which model shimmies there.  The paper's truck without an axle file keeps the paper's
+cases (1.5, 2.5, 2.7 bar: both models shimmy, only the reduced model does, neither does), with rule 3 on top.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
 from comparisons.axles.axle import Axle
 from comparisons.axles.units import BAR, from_kmh, kmh
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from comparisons.verify.scan import (
+    TRAMP_SHARE,
+    VMAX,
+    BoundaryKind,
+    Model,
+    ModelScan,
+    Window,
+    family_of,
+    scan_model,
+    tramp_share,
+    unstable_windows,
+)
 from reduced_model.family import MIN_SPEED, SpeedFamily
-from reduced_model.model import STATE_NAMES, ShimmyModel
-from reduced_model.modes import ModeClassifier
 
-VMAX = from_kmh(400)
-# |psi| / max|theta| of the critical eigenvector above which a window is the tramp mode: the split the simulation's
-# mode classifier uses for cycles, so that a planned mode and a simulated one carry the same name.
-TRAMP_SHARE = ModeClassifier().ratio_split
-EDGE_BAR = 0.1        # how far beside the shimmy-free boundary the two boundary cases lie
-_I_TH1, _I_TH2, _I_PSI = (STATE_NAMES.index(n) for n in ("theta1", "theta2", "psi"))
+__all__ = ["TRAMP_SHARE", "VMAX", "Window", "tramp_share", "unstable_windows", "CaseKind", "Case", "BistableCase",
+           "Plan", "paper_plan", "axle_plan", "stable_segments", "bistable_windows"]
+
+EDGE_BAR = 0.1        # how far beside a shimmy-free boundary the two boundary cases lie
+MERGE_BAR = 0.01      # cases closer than this in both pressures are one case
+BOTH = (Model.REDUCED, Model.FULL)
 
 
 class CaseKind(enum.Enum):
     PAPER = "paper"                       # a case the paper prints numbers for
     MODE = "mode"                         # a shimmy mode at its widest
-    BELOW_BOUNDARY = "below boundary"     # just below the shimmy-free boundary
-    SHIMMY_FREE = "shimmy-free"           # just above it: no Hopf point in either model
+    BELOW_BOUNDARY = "below boundary"     # just below a shimmy-free boundary
+    SHIMMY_FREE = "shimmy-free"           # just above it: no Hopf point in that model
+    ONE_MODEL = "one model shimmies"      # only one of the two models shimmies here
     ASYMMETRIC = "asymmetric"             # left and right pressures as asked
     BISTABLE = "bistable"                 # where two stable cycles coexist (the jumps are run there)
+    STABLE = "no shimmy"                  # neither model shimmies anywhere: straight running is still compared
 
 
 @dataclass(frozen=True)
@@ -54,6 +74,8 @@ class Case:
     pressure_left_bar: float
     kind: CaseKind
     reason: str
+    chosen_by: Model | None = None        # the model whose scan chose the case (None: the paper, the user)
+    windows: tuple[tuple[Model, tuple[Window, ...]], ...] = ()   # each model's unstable windows here
 
     @property
     def pressure(self) -> float | tuple[float, float]:
@@ -62,14 +84,27 @@ class Case:
         return r if r == l else (r, l)
 
     @property
+    def symmetric(self) -> bool:
+        return self.pressure_right_bar == self.pressure_left_bar
+
+    @property
     def label(self) -> str:
-        if self.pressure_right_bar == self.pressure_left_bar:
+        if self.symmetric:
             return f"{self.pressure_right_bar:g} bar"
         return f"R {self.pressure_right_bar:g} / L {self.pressure_left_bar:g} bar"
 
+    def windows_of(self, model: Model) -> tuple[Window, ...] | None:
+        """That model's unstable windows here, None when not computed."""
+        return next((w for m, w in self.windows if m is model), None)
+
+    def shimmies(self, model: Model) -> bool:
+        return bool(self.windows_of(model))
+
     def to_json(self) -> dict:
         return {"pressure_left_bar": self.pressure_left_bar, "pressure_right_bar": self.pressure_right_bar,
-                "kind": self.kind.value, "reason": self.reason}
+                "kind": self.kind.value, "reason": self.reason,
+                "chosen_by": None if self.chosen_by is None else self.chosen_by.value,
+                "windows": {m.value: [x.to_json() for x in w] for m, w in self.windows}}
 
 
 @dataclass(frozen=True)
@@ -94,16 +129,88 @@ class Plan:
     cases: tuple[Case, ...]
     bistable: tuple[BistableCase, ...]
     notes: tuple[str, ...] = ()
-    boundary_bar: float | None = None     # shimmy-free boundary (highest fold of the Hopf curves), if in the window
+    boundary_bar: float | None = None     # the reduced model's shimmy-free boundary, if in the window
+    scans: tuple[ModelScan, ...] = ()     # what each model says over the pressure window
+
+    def scan_of(self, model: Model) -> ModelScan | None:
+        return next((s for s in self.scans if s.model is model), None)
 
     def to_json(self) -> list[dict]:
         return [c.to_json() for c in self.cases] + [b.to_json() for b in self.bistable]
 
 
+# --- what the cases share -----------------------------------------------------------------------------------
+
+def case_windows(axle: Axle, case: Case, models=BOTH, vmax: float = VMAX) -> Case:
+    """``case`` with each model's unstable windows at its pressures and, in its reason, which model shimmies."""
+    found = []
+    for model in models:
+        family = family_of(axle, model, pressure=case.pressure)
+        windows, _ = unstable_windows(family, family.nominal, vmax, lyapunov=False)
+        found.append((model, tuple(windows)))
+    case = dataclasses.replace(case, windows=tuple(found))
+    return dataclasses.replace(case, reason=f"{case.reason}; {shimmy_text(case, models)}")
+
+
+def shimmy_text(case: Case, models=BOTH) -> str:
+    who = [m for m in models if case.shimmies(m)]
+    if len(models) == 1:
+        return f"{models[0].label} shimmies here" if who else f"{models[0].label} does not shimmy here"
+    if len(who) == 2:
+        return "both models shimmy here"
+    if who:
+        return f"only {who[0].label} shimmies here"
+    return "neither model shimmies here"
+
+
+def _add(cases: list[Case], case: Case) -> None:
+    """Add a case, or merge its reason into a case at the same pressures to :data:`MERGE_BAR` (the first one keeps
+    its pressures and kind)."""
+    same = next((c for c in cases if abs(c.pressure_right_bar - case.pressure_right_bar) < MERGE_BAR and
+                 abs(c.pressure_left_bar - case.pressure_left_bar) < MERGE_BAR), None)
+    if same is None:
+        cases.append(case)
+    else:
+        cases[cases.index(same)] = dataclasses.replace(same, reason=same.reason + "; " + case.reason)
+
+
+def scans_of(axle: Axle, quick: bool, models=BOTH, vmax: float = VMAX, progress=None) -> tuple[ModelScan, ...]:
+    """Both models over the axle's pressure window: 7 grid pressures with ``quick``, 13 without; the full
+    geometry's Hopf curves only without ``quick`` (its boundary then comes from the growth rate's root)."""
+    lo, hi = axle.pressure_range_bar
+    grid = np.linspace(lo, hi, 7 if quick else 13)
+    return tuple(scan_model(axle, m, grid, vmax, curves=m is Model.REDUCED or not quick,
+                            n_seeds=5 if quick or m is Model.FULL else 9, progress=progress) for m in models)
+
+
+def one_model_cases(axle: Axle, scans: tuple[ModelScan, ...], cases: list[Case], vmax: float = VMAX) -> list[Case]:
+    """Rule 3: for each model, the grid pressure where only it shimmies (its windows widest there), unless a case
+    already shows that."""
+    if len(scans) < 2:
+        return []
+    added = []
+    by_model = {s.model: s for s in scans}
+    for model, other in ((Model.FULL, Model.REDUCED), (Model.REDUCED, Model.FULL)):
+        if any(c.shimmies(model) and not c.shimmies(other) for c in cases + added):
+            continue
+        only = [(sum(w.high - w.low for w in g.windows), g) for g, h in zip(by_model[model].grid, by_model[other].grid)
+                if g.windows and not h.windows]
+        if not only:
+            continue
+        width, g = max(only, key=lambda x: x[0])
+        text = (f"only {model.label} shimmies at this grid pressure ({', '.join(w.text() for w in g.windows)}); "
+                f"{other.label} runs straight")
+        added.append(case_windows(axle, Case(g.pressure_bar, g.pressure_bar, CaseKind.ONE_MODEL, text, model),
+                                  vmax=vmax))
+    return added
+
+
 # --- the paper's plan ---------------------------------------------------------------------------------------
 
-def paper_plan(axle: Axle, asymmetric: tuple[float, float] | None = None) -> Plan:
-    """The cases the paper prints numbers for: section 3 at 1.5, 2.5 and 2.7 bar, figures 9a-11 at t0 = 0.25 m."""
+def paper_plan(axle: Axle, asymmetric: tuple[float, float] | None = None, quick: bool = True, models=BOTH,
+               progress: Callable[[str], None] | None = None) -> Plan:
+    """The cases the paper prints numbers for: section 3 at 1.5, 2.5 and 2.7 bar, figures 9a-11 at t0 = 0.25 m;
+    both models scanned over the window for the verdict, with rule 3 of the module docstring on top."""
     cases = [Case(1.5, 1.5, CaseKind.PAPER, "figure 4a: both modes (HB1-HB4 printed)"),
              Case(2.5, 2.5, CaseKind.PAPER, "figure 3: nominal pressure, yaw mode only (HB1, HB2 printed)"),
              Case(2.7, 2.7, CaseKind.PAPER, "figure 4b: above the shimmy-free boundary F1, no Hopf point")]
@@ -113,7 +220,12 @@ def paper_plan(axle: Axle, asymmetric: tuple[float, float] | None = None) -> Pla
     bistable = (BistableCase(t0_axle, 1.5, math.nan, math.nan,
                              "figures 9a, 10 and 11: t0 = 0.25 m at 1.5 bar, stable yaw and tramp cycles coexist "
                              "between T2 and S1"),)
-    return Plan(tuple(cases), bistable, ("the paper's truck: the paper's own cases",))
+    scans = scans_of(axle, quick, models, progress=progress)
+    cases = [case_windows(axle, c, models) for c in cases]
+    cases += one_model_cases(axle, scans, cases)
+    reduced = next((s for s in scans if s.model is Model.REDUCED), None)
+    boundary = reduced.boundary.pressure_bar if reduced is not None else None
+    return Plan(tuple(cases), bistable, ("the paper's truck: the paper's own cases",), boundary, scans)
 
 
 def _asymmetric_case(right: float, left: float) -> Case:
@@ -121,40 +233,6 @@ def _asymmetric_case(right: float, left: float) -> Case:
 
 
 # --- a plan for any axle -------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class Window:
-    """An unstable speed window of straight running at one pressure (m/s), with its mode."""
-
-    low: float
-    high: float
-    mode: str
-    frequency_hz: float
-    closed: bool        # both ends are Hopf points inside the speed window
-
-
-def tramp_share(vector: np.ndarray) -> float:
-    v = np.abs(vector)
-    return float(v[_I_PSI] / max(v[_I_TH1], v[_I_TH2], 1e-300))
-
-
-def unstable_windows(family: SpeedFamily, q: float, vmax: float = VMAX) -> tuple[list[Window], tuple]:
-    """Unstable speed windows of straight running at q, each with the mode of its critical eigenvector."""
-    points = hopf_points(family, q, 0.0, vmax)
-    edges = [MIN_SPEED] + [h.speed for h in points] + [vmax]
-    windows = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        if b - a < 1e-6:
-            continue
-        values, vectors = np.linalg.eig(family.linear_matrix(0.5 * (a + b), q))
-        k = int(np.argmax(values.real))
-        if values[k].real <= 0.0:
-            continue
-        mode = "tramp" if tramp_share(vectors[:, k]) > TRAMP_SHARE else "yaw"
-        windows.append(Window(a, b, mode, abs(values[k].imag) / (2 * math.pi),
-                              closed=a > MIN_SPEED and b < vmax))
-    return windows, points
-
 
 def _overlapping_pairs(family: SpeedFamily, q: float, windows: list[Window]) -> bool:
     """Two eigenvalue pairs unstable at one speed somewhere in the windows (modes overlap: tori can appear)."""
@@ -193,90 +271,91 @@ def bistable_windows(diagram) -> list[tuple[float, float]]:
     return found
 
 
-def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = None,
-              vmax: float = VMAX, progress=None) -> Plan:
-    """The cases to verify for any axle (see the module docstring for the rules)."""
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
-    from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
-    from reduced_model.bifurcation.special_points import PointKind
-
-    lo, hi = axle.pressure_range_bar
-    model = ShimmyModel(params=axle.params)
-    family = SpeedFamily(model, "pressure")
-    n_grid = 7 if quick else 13
-    grid = np.linspace(lo, hi, n_grid)
-    scan = []
-    for i, p in enumerate(grid):
-        windows, points = unstable_windows(family, p * BAR, vmax)
-        scan.append((float(p), windows, points))
-        if progress is not None:
-            progress(f"plan: Hopf points at {p:.3g} bar ({i + 1}/{n_grid})")
-    notes = []
-    cases: list[Case] = []
-
-    # Mode cases: where each mode's window is widest (closed windows first).
+def _mode_cases(scan: ModelScan, cases: list[Case], notes: list[str]) -> None:
+    """Rule 1: for each mode, the pressure where this model's window of it is widest (closed windows first)."""
+    lo, hi = scan.window_bar
     for mode in ("yaw", "tramp"):
         best = None
-        for p, windows, _ in scan:
-            for w in windows:
-                if w.mode != mode:
-                    continue
+        for g in scan.grid:
+            for w in g.windows:
                 key = (w.closed, w.high - w.low)
-                if best is None or key > best[0]:
-                    best = (key, p, w)
+                if w.mode == mode and (best is None or key > best[0]):
+                    best = (key, g.pressure_bar, w)
         if best is None:
-            notes.append(f"no {mode} mode anywhere in {lo:g}-{hi:g} bar")
+            notes.append(f"{scan.model.label}: no {mode} mode anywhere in {lo:g}-{hi:g} bar")
             continue
-        (_, width), p, w = best
-        same = next((c for c in cases if c.pressure_right_bar == p), None)
-        text = (f"{mode} mode widest here: unstable {kmh(w.low):.1f}-{kmh(w.high):.1f} km/h at "
-                f"{w.frequency_hz:.1f} Hz" + ("" if w.closed else " (reaches the edge of the speed window)"))
-        if same is not None:
-            cases[cases.index(same)] = Case(p, p, CaseKind.MODE, same.reason + "; " + text)
-        else:
-            cases.append(Case(p, p, CaseKind.MODE, text))
+        _, p, w = best
+        text = (f"{mode} mode of {scan.model.label} widest here: unstable {kmh(w.low):.1f}-{kmh(w.high):.1f} km/h "
+                f"at {w.frequency_hz:.1f} Hz" + ("" if w.closed else " (reaches the edge of the speed window)"))
+        _add(cases, Case(p, p, CaseKind.MODE, text, scan.model))
 
-    # The shimmy-free boundary from the folds of the Hopf curves.
-    if progress is not None:
-        progress("plan: Hopf curves over the pressure window")
-    diagram = hopf_diagram(family, lo * BAR, hi * BAR, MIN_SPEED, vmax, n_seeds=5 if quick else 9)
-    folds = sorted(s.value / BAR for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD)
-    shimmy_at_top = any(w for w in scan[-1][1])
-    boundary = None
-    if folds and not shimmy_at_top:
-        boundary = folds[-1]
-        fold = max((s for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD), key=lambda s: s.value)
-        below = max(lo, boundary - EDGE_BAR)
-        above = min(hi, boundary + EDGE_BAR)
-        cases.append(Case(round(below, 4), round(below, 4), CaseKind.BELOW_BOUNDARY,
-                          f"{EDGE_BAR:g} bar below the shimmy-free boundary at {boundary:.4f} bar (fold of the Hopf "
-                          f"curves at {kmh(fold.speed):.1f} km/h): the last mode's narrow window"))
-        cases.append(Case(round(above, 4), round(above, 4), CaseKind.SHIMMY_FREE,
-                          f"{EDGE_BAR:g} bar above the shimmy-free boundary: no Hopf point in either model"))
-    elif shimmy_at_top:
-        notes.append(f"shimmy at the top of the pressure window ({hi:g} bar): no shimmy-free boundary inside it")
+
+def _boundary_cases(scan: ModelScan, cases: list[Case], notes: list[str]) -> None:
+    """Rule 2: 0.1 bar below and above this model's shimmy-free boundary."""
+    lo, hi = scan.window_bar
+    b = scan.boundary
+    name = scan.model.label
+    if b.kind is BoundaryKind.SHIMMY_FREE_ABOVE:
+        below, above = round(max(lo, b.pressure_bar - EDGE_BAR), 4), round(min(hi, b.pressure_bar + EDGE_BAR), 4)
+        where = (f"fold of the Hopf curves at {b.speed_kmh:.1f} km/h" if b.speed_kmh is not None
+                 else b.method.value)
+        _add(cases, Case(below, below, CaseKind.BELOW_BOUNDARY,
+                         f"{EDGE_BAR:g} bar below the shimmy-free boundary of {name} at {b.pressure_bar:.4f} bar "
+                         f"({where}): its last mode's narrow window", scan.model))
+        _add(cases, Case(above, above, CaseKind.SHIMMY_FREE,
+                         f"{EDGE_BAR:g} bar above the shimmy-free boundary of {name}: no Hopf point in it",
+                         scan.model))
+    elif b.kind is BoundaryKind.SHIMMY_AT_TOP:
+        notes.append(f"{name} shimmies at the top of the pressure window ({hi:g} bar): no shimmy-free boundary "
+                     f"inside it")
     else:
-        notes.append("no fold of the Hopf curves in the pressure window")
-    for s in diagram.special_points:
-        if s.kind is PointKind.HOPF_FOLD and (boundary is None or s.value / BAR != boundary):
-            notes.append(f"a mode is born or vanishes at {s.value / BAR:.4f} bar, {kmh(s.speed):.1f} km/h "
-                         f"(fold of the Hopf curves)")
+        notes.append(f"{name}: no shimmy anywhere in {lo:g}-{hi:g} bar")
+    for p, v in scan.folds:
+        if b.method is None or b.speed_kmh is None or (p, v) != (b.pressure_bar, b.speed_kmh):
+            notes.append(f"{name}: a mode is born or vanishes at {p:.4f} bar, {v:.1f} km/h (fold of the Hopf "
+                         f"curves)")
+
+
+def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = None,
+              vmax: float = VMAX, progress=None, models=BOTH) -> Plan:
+    """The cases to verify for any axle (see the module docstring for the rules)."""
+    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+
+    lo, hi = axle.pressure_range_bar
+    scans = scans_of(axle, quick, models, vmax, progress)
+    reduced = next(s for s in scans if s.model is Model.REDUCED)
+    notes: list[str] = []
+    cases: list[Case] = []
+    for scan in scans:
+        _mode_cases(scan, cases, notes)
+    for scan in scans:
+        _boundary_cases(scan, cases, notes)
     if asymmetric is not None:
         cases.append(_asymmetric_case(*asymmetric))
+    if not any(s.shimmies_somewhere() for s in scans):
+        for p, where in ((lo, "low end"), (0.5 * (lo + hi), "middle"), (hi, "high end")):
+            p = round(p, 4)
+            _add(cases, Case(p, p, CaseKind.STABLE, f"no shimmy anywhere in {lo:g}-{hi:g} bar in either model: "
+                                                   f"straight running compared at the window's {where}"))
+    if progress is not None:
+        progress("plan: both models' windows at the planned cases")
+    cases = [case_windows(axle, c, models, vmax) for c in cases]
+    cases += one_model_cases(axle, scans, cases, vmax)
 
-    # Bistable windows where cycles can coexist.
+    # Bistable windows where cycles can coexist (the reduced model: the jumps compare it with the MBS).
     # Subcritical points first (cycle folds bound a bistable window), then overlapping modes (tori).
+    family = family_of(axle, Model.REDUCED)
     scored = []
-    for p, windows, points in scan:
-        if not windows:
+    for g in reduced.grid:
+        if not g.windows:
             continue
-        sub = sum(h.first_lyapunov > 0.0 for h in points)
-        if sub or _overlapping_pairs(family, p * BAR, windows):
-            scored.append((-sub, abs(p - 0.5 * (lo + hi)), p, windows, points))
+        sub = sum(h.first_lyapunov > 0.0 for h in g.points)
+        if sub or _overlapping_pairs(family, g.pressure_bar * BAR, list(g.windows)):
+            scored.append((-sub, abs(g.pressure_bar - 0.5 * (lo + hi)), g.pressure_bar))
     limit = 2 if quick else 4
-    candidates = [(p, w, pts) for _, _, p, w, pts in sorted(scored, key=lambda s: s[:2])[:limit]]
+    candidates = [p for _, _, p in sorted(scored)[:limit]]
     best = None
-    for p, _, _ in candidates:
+    for p in candidates:
         if progress is not None:
             progress(f"plan: cycle branches at {p:.3g} bar (bistability)")
         cd = cycle_diagram(family, p * BAR, MIN_SPEED, vmax)
@@ -290,10 +369,10 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
                   f"pressures where modes overlap or a Hopf point is subcritical)")
         bistable = (BistableCase(axle, p, kmh(a), kmh(b), reason, cd),)
         if not any(c.pressure_right_bar == p == c.pressure_left_bar for c in cases):
-            cases.append(Case(p, p, CaseKind.BISTABLE, reason))
+            cases.append(case_windows(axle, Case(p, p, CaseKind.BISTABLE, reason, Model.REDUCED), models, vmax))
     elif candidates:
         notes.append("no bistable window at the pressures where modes overlap or a Hopf point is subcritical")
     else:
         notes.append("no pressure with overlapping modes or a subcritical Hopf point: no bistable window near "
                      "straight running")
-    return Plan(tuple(cases), bistable, tuple(notes), boundary)
+    return Plan(tuple(cases), bistable, tuple(notes), reduced.boundary.pressure_bar, scans)

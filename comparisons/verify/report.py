@@ -35,6 +35,7 @@ class CheckStatus(enum.Enum):
     FAIL = "FAIL"
     KNOWN_DIFFERENCE = "known difference"  # differs from the paper; listed with its reason in docs/results.md
     INFO = "info"                          # a measured number with nothing to check against
+    NOTHING = "nothing to check"           # the section had nothing to compare here (the row says why): no pass
 
 
 @dataclass(frozen=True)
@@ -97,12 +98,13 @@ COLUMN_LABELS: dict[str, Column] = {
     "error": Column("error"),
 }
 GENERIC_DASH = "does not apply to that kind of row (the table holds rows of several kinds)"
-SUMMARY_COLUMNS = ("section", "checks", "pass", "known differences", "fail", "info")
+SUMMARY_COLUMNS = ("section", "checks", "pass", "known differences", "fail", "info", "nothing to check")
 STATUS_TEXT = {
     CheckStatus.PASS: "the check passed",
     CheckStatus.FAIL: "the check failed (verify exits 1)",
     CheckStatus.KNOWN_DIFFERENCE: "differs from the paper for a reason listed in docs/results.md",
     CheckStatus.INFO: "a measured number with nothing to check it against",
+    CheckStatus.NOTHING: "the section found nothing to compare there (the note says why); never counted as passed",
 }
 
 
@@ -182,15 +184,36 @@ class Report:
     metadata: RunMetadata | None = None
     plan: object = None          # comparisons.verify.plan.Plan
     axle: object = None          # comparisons.axles.axle.Axle
+    verdict: object = None       # comparisons.verify.verdict.Verdict
 
     @property
     def failed(self) -> bool:
         return any(s.failed for s in self.sections)
 
+    def count(self, status: CheckStatus) -> int:
+        return sum(s.count(status) for s in self.sections)
+
+    def nothing_to_check(self) -> list[Section]:
+        """Sections that compared nothing: every row says "nothing to check", or there is no row at all."""
+        return [s for s in self.sections if all(r.status is CheckStatus.NOTHING for r in s.rows)]
+
+    def overall(self) -> str:
+        """FAILED, or how many equivalence checks passed, naming the sections with nothing to check: a run in
+        which nothing was compared never reads as passed."""
+        if self.failed:
+            return "FAILED"
+        passed = self.count(CheckStatus.PASS)
+        text = f"all {passed} equivalence checks passed" if passed else "nothing was checked"
+        empty = self.nothing_to_check()
+        if empty:
+            text += "; nothing to check in " + ", ".join(s.title for s in empty)
+        return text
+
     def summary_rows(self) -> list[dict]:
         return [{"section": s.title, "checks": len(s.rows), "pass": s.count(CheckStatus.PASS),
                  "known differences": s.count(CheckStatus.KNOWN_DIFFERENCE), "fail": s.count(CheckStatus.FAIL),
-                 "info": s.count(CheckStatus.INFO)} for s in self.sections]
+                 "info": s.count(CheckStatus.INFO), "nothing to check": s.count(CheckStatus.NOTHING)}
+                for s in self.sections]
 
 
 # --- metadata --------------------------------------------------------------------------------------------------
@@ -296,12 +319,22 @@ def _axle_lines(report: Report) -> list[str]:
     return out
 
 
+def _verdict_lines(report: Report) -> list[str]:
+    return [] if report.verdict is None else report.verdict.lines()
+
+
+VERDICT_TEXT = ("From the plan's scan of the pressure window with both models (the reduced model and the MBS with "
+                "the full geometry) and both models' unstable speed windows at every planned case.")
+
+
 def render_markdown(report: Report) -> str:
     out = ["# shimmy verification report", ""]
     for line in _axle_lines(report):
         out += [line, ""]
-    out += [f"Mode: {'quick' if report.quick else 'full'}. Overall: "
-            f"{'FAILED' if report.failed else 'all equivalence checks passed'}.", ""]
+    lines = _verdict_lines(report)
+    if lines:
+        out += ["## Verdict", "", f"**{lines[0]}**", ""] + [f"- {x}" for x in lines[1:]] + ["", VERDICT_TEXT, ""]
+    out += [f"Mode: {'quick' if report.quick else 'full'}. Overall: {report.overall()}.", ""]
     if report.metadata is not None:
         out += ["## Run", "", markdown_table(["what", "value"], [{"what": a, "value": b}
                                                                    for a, b in report.metadata.rows()]), ""]
@@ -335,7 +368,7 @@ th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
 th { background: #f2f2f2; text-align: left; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 td.pass { background: #e5f5e0; } td.FAIL { background: #fcbba1; font-weight: bold; }
-td.known { background: #fff3cd; } td.info { background: #eef3fb; }
+td.known { background: #fff3cd; } td.info { background: #eef3fb; } td.nothing { background: #eeeeee; }
 figure { margin: 1em 0; } figure img { max-width: 100%; border: 1px solid #ddd; }
 .dash { font-size: 0.88em; color: #444; } code { background: #f4f4f4; padding: 0 0.2em; }
 .overall-pass { color: #1a7f37; } .overall-fail { color: #b00020; }
@@ -352,7 +385,7 @@ def _html_table(keys, headers, rows, factors, status_key: str | None = "status")
             text = html.escape(_cell(v, factors.get(k, 1.0)))
             cls = "num" if isinstance(v, (int, float)) and not isinstance(v, bool) else ""
             if k == status_key:
-                cls = {"known difference": "known"}.get(str(v), str(v))
+                cls = {"known difference": "known", "nothing to check": "nothing"}.get(str(v), str(v))
             cells.append(f'<td class="{cls}">{text}</td>' if cls else f"<td>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
@@ -371,11 +404,16 @@ def _inline_code(text: str) -> str:
 
 def render_html(report: Report, folder: str) -> str:
     """One self-contained page: figures are read from ``folder`` and embedded as data URIs."""
-    overall = "FAILED" if report.failed else "all equivalence checks passed"
+    overall = report.overall()
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
            "<title>shimmy verification report</title>", f"<style>{_CSS}</style></head><body>",
-           "<h1>shimmy verification report</h1>", *(f"<p>{html.escape(x)}</p>" for x in _axle_lines(report)),
-           f"<p>Mode: {'quick' if report.quick else 'full'}. Overall: <strong class="
+           "<h1>shimmy verification report</h1>", *(f"<p>{html.escape(x)}</p>" for x in _axle_lines(report))]
+    lines = _verdict_lines(report)
+    if lines:
+        out += ['<h2 id="verdict">Verdict</h2>', f"<p><strong>{html.escape(lines[0])}</strong></p>",
+                "<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in lines[1:]) + "</ul>",
+                f"<p>{html.escape(VERDICT_TEXT)}</p>"]
+    out += [f"<p>Mode: {'quick' if report.quick else 'full'}. Overall: <strong class="
            f"\"{'overall-fail' if report.failed else 'overall-pass'}\">{overall}</strong>.</p>"]
     if report.metadata is not None:
         rows = [{"what": a, "value": b} for a, b in report.metadata.rows()]

@@ -4,13 +4,20 @@ a crash), the report written at the end.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Callable
 
 from comparisons.axles.axle import Axle, interface_text
 from comparisons.verify.context import Context
-from comparisons.verify.plan import Plan
+from comparisons.verify.plan import BOTH, Plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section
-from comparisons.verify.sections import assumptions_section, hopf_section, paper_section, plan_section
+from comparisons.verify.sections import (
+    assumptions_section,
+    hopf_section,
+    paper_section,
+    plan_section,
+    transient_section,
+)
 
 
 def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]:
@@ -18,7 +25,7 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     steps = [("Plan", plan_section)]
     if ctx.axle.is_paper:
         steps.append(("Paper", paper_section))
-    steps += [("Hopf speeds", hopf_section), ("Limit cycles", cycles_section)]
+    steps += [("Hopf speeds", hopf_section), ("Transient", transient_section), ("Limit cycles", cycles_section)]
     if ctx.plan.bistable:
         steps.append(("Bistable jumps", jumps_section))
     steps.append(("Assumptions", assumptions_section))
@@ -28,12 +35,13 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
 
 
 def make_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None, from_file: bool,
-              progress: Callable[[str], None]) -> Plan:
-    """The paper's cases for the paper's truck (no axle file), a plan of its own otherwise."""
+              progress: Callable[[str], None], models=BOTH) -> Plan:
+    """The paper's cases for the paper's truck (no axle file), a plan of its own otherwise; ``models``: which
+    models are scanned (the reduced model alone where only its cases are needed)."""
     from comparisons.verify.plan import axle_plan, paper_plan
     if not from_file and axle.is_paper:
-        return paper_plan(axle, asymmetric)
-    return axle_plan(axle, quick, asymmetric, progress=progress)
+        return paper_plan(axle, asymmetric, quick, models, progress=progress)
+    return axle_plan(axle, quick, asymmetric, progress=progress, models=models)
 
 
 def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric: tuple[float, float] | None = None,
@@ -42,9 +50,11 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
     """Plan, then run every section; a section that raises is reported as a FAIL row with its error.
 
     ``progress(message)`` is called as each step starts (and with "done: ..." as it ends)."""
+    from comparisons.verify.verdict import verdict_of
     progress = progress or (lambda message: None)
     axle = axle or Axle()
     plan = make_plan(axle, quick, asymmetric, from_file, progress)
+    verdict = verdict_of(plan)
     ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress)
     sections = []
     steps = sections_for(ctx)
@@ -52,11 +62,15 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
     for title, make in steps:
         progress(f"{title}")
         try:
-            sections.append(make(ctx))
+            section = make(ctx)
+            if not section.rows:       # never an empty table that reads as passed
+                section = dataclasses.replace(section, rows=(Row({}, CheckStatus.NOTHING,
+                                                                 "the section found nothing to compare"),))
+            sections.append(section)
         except Exception as exc:  # a failed sub-check is reported in the table, never swallowed
             error = f"{type(exc).__name__}: {interface_text(str(exc))}"
             sections.append(Section(key=title.lower().replace(" ", "_"), title=title, columns=("error",),
                                     rows=(Row({"error": error}, CheckStatus.FAIL),),
                                     text="This part of the verification could not be completed."))
         progress(f"done: {title}")
-    return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle)
+    return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle, verdict=verdict)

@@ -36,7 +36,8 @@ from reduced_model.model import ShimmyModel
 
 def plan_section(ctx: Context) -> Section:
     rows = [Row({"case": f"C{i}", "pressure_right_bar": c.pressure_right_bar, "pressure_left_bar": c.pressure_left_bar,
-                 "kind": c.kind.value, "reason": c.reason}, CheckStatus.INFO)
+                 "kind": c.kind.value + ("" if c.chosen_by is None else f" ({c.chosen_by.label})"),
+                 "reason": c.reason}, CheckStatus.INFO)
             for i, c in enumerate(ctx.plan.cases, 1)]
     for b in ctx.plan.bistable:
         window = "" if math.isnan(b.low_kmh) else f" ({b.low_kmh:.1f}-{b.high_kmh:.1f} km/h)"
@@ -199,6 +200,9 @@ def assumptions_section(ctx: Context) -> Section:
     model = ShimmyModel(params=ctx.axle.params)
     rows, tornado = [], []
     cases = [c for c in shimmy_cases(ctx) if c.kind is not CaseKind.ASYMMETRIC][:2]
+    if not cases:
+        rows.append(Row({}, CheckStatus.NOTHING, "no planned case where the reduced model shimmies: no Hopf speed "
+                                                 "to shift"))
     for case in cases:
         ctx.progress(f"Assumptions at {case.label}")
         study = assumption_study(model.params, model.effects, case.pressure, dims=ctx.axle.dims,
@@ -226,7 +230,42 @@ def assumptions_section(ctx: Context) -> Section:
               "element." + (" Quick mode skips the amplitudes." if ctx.quick else "")))
 
 
+# --- a transient ------------------------------------------------------------------------------------------
+
+def transient_cases(ctx: Context) -> list:
+    """Where the transient is compared: the plan's no-shimmy cases when it has them (the only time check of a
+    stable axle), else its first case; quick: one case."""
+    stable = [c for c in ctx.plan.cases if c.kind is CaseKind.STABLE]
+    cases = stable or list(ctx.plan.cases[:1])
+    return cases[:1] if ctx.quick else cases[:3]
 
 
-
+def transient_section(ctx: Context) -> Section:
+    from comparisons.verify.transient import KICK_RAD, TRANSIENT_TOL, transient_check
+    duration = 1.0 if ctx.quick else 2.0
+    speeds = (60.0,) if ctx.quick else (60.0, 150.0)
+    rows = []
+    for case in transient_cases(ctx):
+        for v in speeds:
+            ctx.progress(f"Transient: both models at {case.label}, {v:g} km/h")
+            check = transient_check(ctx.axle, case.pressure, v, duration)
+            motion = (f"the kick {'decays' if check.decays else 'does not decay'} in both models "
+                      f"(|angles| at {duration:g} s / at the start: reduced {check.decay_reduced:.3g}, "
+                      f"MBS {check.decay_mbs:.3g})" if check.complete else f"MBS run stopped: {check.message}")
+            rows.append(Row({"case": case.label, "speed_kmh": v,
+                             "relative_diff": check.worst_relative if check.complete else None},
+                            CheckStatus.PASS if check.ok else CheckStatus.FAIL,
+                            motion if check.ok else f"{motion}; differs by more than {TRANSIENT_TOL:g} of a state's "
+                                                    f"amplitude"))
+    if not rows:
+        rows.append(Row({}, CheckStatus.NOTHING, "no planned case"))
+    return Section(
+        key="transient", title="Transient: a kick in both models", columns=("case", "speed_kmh", "relative_diff"),
+        rows=tuple(rows),
+        labels={"relative_diff": "largest difference of a state, MBS against the reduced model, over its amplitude "
+                                 "[%]"},
+        text=(f"From a yaw angle of {KICK_RAD:g} rad of wheel 1 at constant speed, {duration:g} s of the MBS with "
+              f"every assumption of the reduced model on (Exudyn, RK67) against the reduced model (DOP853, rtol "
+              f"1e-12). Check: every state within {TRANSIENT_TOL:g} of its amplitude. At the plan's no-shimmy cases "
+              f"when it has them, else at its first case."))
 

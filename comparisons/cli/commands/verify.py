@@ -12,7 +12,7 @@ import time
 from comparisons.axles.limits import UsageError
 from comparisons.cli.options import add_axle_option, add_output_options, build_axle, emit_json, positive_float
 from comparisons.cli.progress import StepProgress
-from comparisons.verify.report import markdown_table, run_metadata, section_table, write_report
+from comparisons.verify.report import SUMMARY_COLUMNS, markdown_table, run_metadata, section_table, write_report
 from comparisons.verify.run import run_verification
 
 
@@ -65,20 +65,24 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit_json({"report": path, "html": page, "failed": report.failed, "axle": axle.describe(),
                    "metadata": dataclasses.asdict(report.metadata),
+                   "verdict": report.verdict.to_json(),
                    "plan": report.plan.to_json(), "plan_notes": list(report.plan.notes),
+                   "scans": [scan.to_json() for scan in report.plan.scans],
                    "summary": report.summary_rows(),
                    "sections": [{"key": s.key, "title": s.title,
                                  "rows": [{**r.cells, "status": r.status.value, "note": r.note} for r in s.rows]}
                                 for s in report.sections]})
     else:
         print(axle.label())
+        print("\nVerdict")
+        print("\n".join(report.verdict.lines()))
         for s in report.sections:
             print(f"\n{s.title}")
             keys, headers, rows, factors = section_table(s, with_note=False)
             print(markdown_table(keys, rows, headers, factors))
         print("\nSummary")
-        print(markdown_table(["section", "checks", "pass", "known differences", "fail", "info"],
-                             report.summary_rows()))
+        print(markdown_table(list(SUMMARY_COLUMNS), report.summary_rows()))
+        print(f"\nOverall: {report.overall()}")
         print(f"\nreport written to {path} and {page}")
     if report.failed:
         sys.stderr.write("shimmy: verification failed: see the FAIL rows in the report\n")
