@@ -1,0 +1,256 @@
+"""``shimmy verify``: the full geometry's own shimmy (issue 16, item 5), at every planned case where either model
+has a Hopf point.
+
+The MBS with every assumption off is continued on Exudyn by the toolkit code the reduced model uses
+(:class:`mbs_shimmy.linearisation.MbsFamily`), and what continuation finds is checked against the same model's
+simulations: each Hopf point (with its first Lyapunov coefficient) is bracketed by a small oscillation that decays
+on one side and grows on the other at the critical eigenvalue's real part (:mod:`mbs_shimmy.growth`); stable orbits
+are what long runs settle on, unstable ones are left, special points are bracketed by runs on either side
+(:mod:`comparisons.verify.orbit_checks`).  The full geometry's bistable windows come from its own branches as the
+plan finds the reduced model's (:func:`mbs_shimmy.kick.bistable_windows`, straight running counted); in each, the
+kick threshold (:mod:`mbs_shimmy.kick`) is bracketed by two runs from straight running that end on the two
+coexisting states.  Where there is none, the row says so with its evidence: criticality and folds.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from comparisons.axles.axle import interface_text
+from comparisons.axles.units import from_kmh, kmh
+from comparisons.verify.context import Context
+from comparisons.verify.orbit_checks import (
+    LEFT_TOL,
+    ORBIT_TOL,
+    bracket_special_point,
+    check_orbit,
+    sample_orbits,
+)
+from comparisons.verify.plan import VMAX
+from comparisons.verify.report import CheckStatus, Column, Row, Section
+from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from reduced_model.bifurcation.special_points import PointKind
+from reduced_model.family import SpeedFamily
+from reduced_model.model import ShimmyModel
+
+HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two Hopf points are closer)
+STABLE_BUDGET = 12        # stable-orbit runs over all branches of a case (at most STABLE_PER_BRANCH each)
+STABLE_PER_BRANCH = 6
+UNSTABLE_PER_BRANCH = 2
+
+COLUMNS = ("case", "what", "speed_kmh", "criticality", "first_lyapunov", "eigenvalue_real", "envelope_rate",
+           "continuation_theta1_deg", "simulation_theta1_deg", "theta1_diff", "continuation_hz", "simulation_hz",
+           "frequency_diff", "kick_deg")
+LABELS = {
+    "what": Column("what (full geometry: Hopf point, branch, orbit, special point, bistable window, kick)"),
+    "criticality": Column("criticality (supercritical: small stable cycles)", dash="not a Hopf point"),
+    "first_lyapunov": Column("first Lyapunov coefficient l1", dash="not a Hopf point"),
+    "continuation_theta1_deg": Column("continuation: max |theta1| [deg]", dash="no orbit in that row"),
+    "eigenvalue_real": Column("Re of the critical eigenvalue [1/s]", dash="not a linear check"),
+    "envelope_rate": Column("simulation: envelope rate of a small oscillation [1/s]",
+                            dash="not a linear check, or the run stopped"),
+    "simulation_theta1_deg": Column("simulation: max |theta1| [deg]",
+                                    dash="no simulation in that row, or the run stopped"),
+    "kick_deg": Column("kick threshold: initial theta1 [deg]", dash="not a kick row"),
+    "theta1_diff": Column("max |theta1|, simulation against continuation [%]", factor=100.0,
+                          dash="no orbit compared in that row"),
+    "continuation_hz": Column("continuation: frequency [Hz]", dash="no orbit in that row"),
+    "simulation_hz": Column("simulation: frequency [Hz]",
+                            dash="no simulation in that row, or no oscillation left to measure"),
+    "frequency_diff": Column("frequency, simulation against continuation [%]", factor=100.0,
+                             dash="no orbit compared in that row"),
+}
+
+
+def _family(ctx: Context, case):
+    from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.linearisation import MbsFamily
+    model = ShimmyModel(params=ctx.axle.params)
+    return MbsFamily.of(model.params, model.effects, Fidelity.full(), dims=ctx.axle.dims, pressure=case.pressure)
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if x is not None and math.isfinite(x) else None
+
+
+def _deg(x: float) -> float | None:
+    return _finite(math.degrees(x)) if x is not None and math.isfinite(x) else None
+
+
+def hopf_offsets(speeds: list[float]) -> list[float]:
+    """How far (m/s) beside each Hopf point it is bracketed: HOPF_OFFSET_KMH, or less than half the gap to the
+    next one."""
+    out = []
+    for i, v in enumerate(speeds):
+        gaps = [abs(v - w) for j, w in enumerate(speeds) if j != i]
+        out.append(min([from_kmh(HOPF_OFFSET_KMH)] + [0.4 * g for g in gaps]))
+    return out
+
+
+def hopf_rows(family, case, points) -> list[Row]:
+    """Each Hopf point with l1, and the two simulations that bracket it: one decays, the other grows, each at the
+    real part of the critical eigenvalue."""
+    from mbs_shimmy.growth import RATE_TOL, envelope_rate
+    rows = []
+    for i, (h, off) in enumerate(zip(points, hopf_offsets([h.speed for h in points])), 1):
+        rows.append(Row({"case": case.label, "what": f"HB{i}", "speed_kmh": kmh(h.speed),
+                         "criticality": h.criticality.value if h.criticality else None,
+                         "first_lyapunov": _finite(h.first_lyapunov), "continuation_hz": h.frequency_hz},
+                        CheckStatus.INFO, f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"))
+        sides = [envelope_rate(family, max(from_kmh(1.0), h.speed + s * off)) for s in (-1.0, 1.0)]
+        apart = sides[0].rate * sides[1].rate < 0.0
+        for side, rate in zip(("below", "above"), sides):
+            ok = rate.agrees and apart
+            rows.append(Row({"case": case.label, "what": f"HB{i}, {kmh(off):.1f} km/h {side}",
+                             "speed_kmh": kmh(rate.speed), "eigenvalue_real": rate.real,
+                             "envelope_rate": _finite(rate.rate)},
+                            CheckStatus.PASS if ok else CheckStatus.FAIL,
+                            ("decays" if rate.rate < 0 else "grows") + f" at Re of the critical eigenvalue "
+                            f"(to {RATE_TOL:g} 1/s)" if ok else
+                            "the simulation's envelope rate does not follow the eigenvalue, or does not change "
+                            "sign across the Hopf point"))
+    return rows
+
+
+def no_hopf_rows(family, case) -> list[Row]:
+    """No Hopf point of the full geometry: the least-damped mode at its weakest speed decays, at its rate."""
+    from mbs_shimmy.growth import envelope_rate
+    speeds = np.linspace(from_kmh(5.0), VMAX, 80)
+    weakest = max(speeds, key=lambda v: max(np.linalg.eigvals(family.linear_matrix(v, family.nominal)).real))
+    rate = envelope_rate(family, float(weakest))
+    ok = rate.agrees and rate.real < 0.0
+    return [Row({"case": case.label, "what": "no Hopf point (0-400 km/h); weakest mode",
+                 "speed_kmh": kmh(rate.speed), "eigenvalue_real": rate.real, "envelope_rate": _finite(rate.rate)},
+                CheckStatus.PASS if ok else CheckStatus.FAIL,
+                "straight running is stable at every speed: at the least-damped speed a small oscillation decays "
+                "at Re of the eigenvalue" if ok else "the least-damped mode does not decay at its eigenvalue")]
+
+
+def _orbit_row(case, what: str, check) -> Row:
+    stays = check.expect_stays
+    cells = {"case": case.label, "what": what, "speed_kmh": kmh(check.speed),
+             "continuation_theta1_deg": math.degrees(check.cycle.max_abs("theta1")),
+             "simulation_theta1_deg": _deg(check.run.theta1), "theta1_diff": _finite(check.theta1_diff),
+             "continuation_hz": check.cycle.frequency_hz, "simulation_hz": _finite(check.run.frequency_hz)}
+    if stays:
+        cells["frequency_diff"] = _finite(check.frequency_diff)
+    return Row(cells, CheckStatus.PASS if check.ok else CheckStatus.FAIL, check.verdict)
+
+
+def branch_rows(family, case, diagram, settle) -> list[Row]:
+    rows = []
+    stable_branches = sum(any(p.stable for p in b.points) for b in diagram.branches)
+    per_branch = max(1, min(STABLE_PER_BRANCH, STABLE_BUDGET // max(1, stable_branches)))
+    for b, branch in enumerate(diagram.branches, 1):
+        where = f"branch {b} from {kmh(branch.start.speed):.2f} km/h"
+        stable = sum(p.stable for p in branch.points)
+        peak = branch.peak("theta1") if branch.points else None
+        rows.append(Row({"case": case.label, "what": where,
+                         "speed_kmh": kmh(peak.speed) if peak else None,
+                         "continuation_theta1_deg": math.degrees(peak.max_abs("theta1")) if peak else None,
+                         "continuation_hz": peak.frequency_hz if peak else None},
+                        CheckStatus.INFO if branch.complete else CheckStatus.FAIL,
+                        f"{len(branch.points)} cycles, {stable} stable; peak shown; "
+                        f"{interface_text(branch.message)}" if branch.complete else
+                        f"continuation stopped: {interface_text(branch.message)}"))
+        for point in sample_orbits(branch, per_branch, stable=True):
+            rows.append(_orbit_row(case, f"{where}: stable orbit", check_orbit(settle, point)))
+        for point in sample_orbits(branch, UNSTABLE_PER_BRANCH, stable=False):
+            rows.append(_orbit_row(case, f"{where}: unstable orbit", check_orbit(settle, point)))
+        for s in sorted(branch.special_points, key=lambda s: s.speed):
+            name = s.kind.value
+            rows.append(Row({"case": case.label, "what": f"{where}: {name}", "speed_kmh": kmh(s.speed),
+                             "continuation_theta1_deg": math.degrees(s.data["amplitude"][0])},
+                            CheckStatus.INFO, f"{name} of the cycles ({s.status.value})"))
+            for side, check in bracket_special_point(settle, branch, s):
+                rows.append(_orbit_row(case, f"{where}: {name}, {side}", check))
+    return rows
+
+
+def window_rows(family, case, diagram) -> list[Row]:
+    """The full geometry's bistable windows with their kick thresholds, or why there is none."""
+    from mbs_shimmy.kick import KickStatus, bistable_windows, kicks
+    windows = bistable_windows(diagram, family)
+    if not windows:
+        crit = ", ".join(f"{kmh(h.speed):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"
+                         for h in diagram.hopf) or "none"
+        folds = diagram.points_of(PointKind.CYCLE_FOLD)
+        fold_text = ", ".join(f"{kmh(s.speed):.2f} km/h" for s in folds) or "none"
+        return [Row({"case": case.label, "what": "bistable window: none"}, CheckStatus.INFO,
+                    f"no two stable states coexist at any speed: Hopf points {crit}; cycle folds {fold_text}; "
+                    f"no two stable stretches of the branches overlap")]
+    rows = [Row({"case": case.label, "what": f"bistable window {kmh(a):.2f}-{kmh(b):.2f} km/h",
+                 "speed_kmh": kmh(0.5 * (a + b))}, CheckStatus.INFO,
+                "two stable states coexist (from the full geometry's own branches)") for a, b in windows]
+    for kick in kicks(family, diagram):
+        found = kick.status is KickStatus.FOUND
+        rows.append(Row({"case": case.label, "what": f"kick threshold: {kick.lower.label} -> {kick.upper.label}",
+                         "speed_kmh": kmh(kick.speed), "continuation_theta1_deg": math.degrees(kick.unstable_theta1),
+                         "kick_deg": math.degrees(kick.kick)},
+                        CheckStatus.PASS if found else CheckStatus.INFO if kick.status is KickStatus.NOT_LEFT
+                        else CheckStatus.FAIL,
+                        (f"an initial theta1 of {math.degrees(kick.stays):.3f} deg stays on {kick.lower.label}, "
+                         f"{math.degrees(kick.leaves):.3f} deg leaves for {kick.upper.label} ({kick.runs} runs; "
+                         f"continuation column: the unstable cycle between them)") if found else
+                        f"kick not bracketed: {kick.status.value}"))
+    return rows
+
+
+def _figure(ctx: Context, case, reduced, full) -> str:
+    from comparisons.figures.cycle_plots import plot_model_branches
+    tag = case.label.replace(" ", "").replace("/", "_").replace(".", "p")
+    name = f"full_geometry_{tag}.png"
+    plot_model_branches([("reduced model", reduced, "C0"), ("full geometry, MBS", full, "C3")],
+                        os.path.join(ctx.out, name),
+                        title=f"Limit cycles at {case.label}: reduced model and full geometry")
+    return name
+
+
+def full_geometry_section(ctx: Context) -> Section:
+    from mbs_shimmy.kick import settle_function
+    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    rows, figures = [], []
+    model = ShimmyModel(params=ctx.axle.params)
+    cases = []
+    for case in ctx.plan.cases:
+        family = _family(ctx, case)
+        points = hopf_points(family, family.nominal, 0.0, VMAX)
+        reduced = SpeedFamily(model, pressure=case.pressure)
+        if points or hopf_points(reduced, reduced.nominal, 0.0, VMAX, lyapunov=False):
+            cases.append((case, family, points, reduced))
+    if ctx.quick:   # one case, Hopf points only: the branches cost minutes
+        cases = [c for c in cases if c[2]][:1] or cases[:1]
+    for case, family, points, reduced in cases:
+        ctx.progress(f"Full geometry: Hopf points at {case.label}")
+        rows += hopf_rows(family, case, points) if points else no_hopf_rows(family, case)
+        if ctx.quick:
+            rows.append(Row({"case": case.label, "what": "cycle branches"}, CheckStatus.INFO,
+                            "skipped in quick mode (a branch of the full geometry costs minutes)"))
+            continue
+        ctx.progress(f"Full geometry: cycle branches at {case.label} (minutes)")
+        full = cycle_diagram(family, family.nominal, 0.0, VMAX)
+        rows += branch_rows(family, case, full, lambda v, f=family: settle_function(f, v))
+        ctx.progress(f"Full geometry: bistable windows at {case.label}")
+        rows += window_rows(family, case, full)
+        figures.append(_figure(ctx, case, cycle_diagram(reduced, reduced.nominal, 0.0, VMAX), full))
+    if not cases:
+        rows.append(Row({"what": "no Hopf point"}, CheckStatus.INFO,
+                        "no planned case has a Hopf point in either model: nothing to continue"))
+    return Section(
+        key="full_geometry", title="The full geometry's own shimmy: continuation on the MBS against its simulations",
+        columns=COLUMNS, rows=tuple(rows), figures=tuple(figures), labels=LABELS,
+        text=(f"The MBS with every assumption off, continued on Exudyn, at every planned case where either model has "
+              f"a Hopf point{' (quick mode: the first such case, Hopf points only)' if ctx.quick else ''}. Checks "
+              f"against its own simulations: each Hopf point is bracketed by a small oscillation along the critical "
+              f"mode that decays on one side and grows on the other at Re of the critical eigenvalue; stable orbits "
+              f"(up to {STABLE_PER_BRANCH} per branch, among those a 12 s run can decide by their Floquet multipliers: not next to a Hopf point or fold) are what runs started 2 % inside them settle on (max "
+              f"|theta1| and frequency to {ORBIT_TOL:.1%}); runs leave unstable orbits (end more than "
+              f"{LEFT_TOL:.0%} away); cycle folds, torus and period-doubling points are bracketed by the nearest "
+              f"cycles on either side (past a fold, a run on the fold's orbit must leave it). Bistable windows "
+              f"come from the full geometry's own branches (straight running counted), each with its kick "
+              f"threshold bracketed by two runs; where there is none, the row gives the criticality and the "
+              f"folds. Figures: both models' branches, max |theta1| against speed (stable solid, unstable "
+              f"dashed)."))

@@ -1,0 +1,147 @@
+"""The `full_geometry` verify section's logic on small inputs (the section itself, on the paper's axle at 1.5 bar,
+runs in the slow suite: a branch of the full geometry costs minutes).
+
+The diagrams here are built by hand from the toolkit's own result types: a branch of stable and unstable cycles
+with a cycle fold, Hopf points at its ends, so that every rule can be checked against an answer read off the
+construction.
+"""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from comparisons.axles.units import KMH
+from comparisons.verify.orbit_checks import (
+    LEFT_TOL,
+    ORBIT_TOL,
+    OrbitCheck,
+    beyond_fold,
+    bracket_special_point,
+    check_orbit,
+    decides_within,
+    sample_orbits,
+)
+from comparisons.verify.plan import bistable_windows as plan_windows
+from mbs_shimmy.kick import bistable_speeds, bistable_windows, stable_straight_running, stable_stretches
+from mbs_shimmy.limit_cycle import SteadyAmplitude
+from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint
+from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
+from reduced_model.model import STATE_NAMES
+
+
+def cycle(speed_kmh: float, theta1: float, stable: bool, hz: float = 6.0) -> CyclePoint:
+    amplitude = np.zeros(len(STATE_NAMES))
+    amplitude[0] = theta1
+    orbit = SimpleNamespace(nodes=np.tile(amplitude, (4, 1)))
+    multipliers = np.array([1.0] + [0.3 if stable else 3.0] + [0.1] * 6, complex)
+    return CyclePoint(speed_kmh * KMH, 1.5e5, 1.0 / hz, amplitude, multipliers, stable=stable, orbit=orbit,
+                      names=STATE_NAMES)
+
+
+def hopf(speed_kmh: float, l1: float) -> HopfPoint:
+    return HopfPoint(speed_kmh * KMH, 1.5e5, 2 * math.pi * 6.0, l1, np.zeros(8))
+
+
+def subcritical_diagram() -> CycleDiagram:
+    """Straight running unstable above 40 km/h (subcritical Hopf point there); the unstable cycles born at it
+    run down to a fold at 30 km/h and turn back stable up to 80 km/h."""
+    unstable = [cycle(v, 0.01 + 0.001 * (40 - v), False) for v in (39.0, 36.0, 33.0, 30.5)]
+    stable = [cycle(v, 0.03 + 0.001 * (v - 30), True) for v in (30.5, 35.0, 45.0, 60.0, 80.0)]
+    fold = SpecialPoint(PointKind.CYCLE_FOLD, 30.0 * KMH, 1.5e5, (0.0, 1.0), PointStatus.LOCATED,
+                        {"amplitude": stable[0].amplitude, "cycle": cycle(30.0, 0.02, False)})
+    branch = CycleBranch("speed", tuple(unstable + stable), (fold,), BranchStatus.COMPLETE, "left the window",
+                         start=hopf(40.0, +1e-3))
+    return CycleDiagram(1.5e5, 0.0, 100.0 * KMH, (hopf(40.0, +1e-3),), (branch,))
+
+
+class StraightRunning:
+    """A family whose straight running is stable below 40 km/h and unstable above (linear_matrix only)."""
+
+    def linear_matrix(self, speed, q):
+        return np.diag([speed - 40.0 * KMH, -1.0])
+
+
+def test_bistable_window_of_a_subcritical_onset_counts_straight_running():
+    d = subcritical_diagram()
+    assert stable_stretches(d) == [(30.5 * KMH, 80.0 * KMH)]
+    assert stable_straight_running(StraightRunning(), d) == [(0.0, 40.0 * KMH)]
+    # Stable straight running and the stable cycles coexist from the fold's last computed cycle to the Hopf point.
+    assert bistable_windows(d, StraightRunning()) == [(30.5 * KMH, 40.0 * KMH)]
+    assert bistable_speeds(StraightRunning(), d) == [pytest.approx(35.25 * KMH)]
+    # The plan asks for two stable cycles: one stretch alone is no window.
+    assert bistable_windows(d) == [] and plan_windows(d) == []
+
+
+def test_two_overlapping_stable_stretches_make_one_window():
+    a = CycleBranch("speed", tuple(cycle(v, 0.02, True) for v in (50.0, 60.0, 70.0)), (), BranchStatus.COMPLETE, "")
+    b = CycleBranch("speed", tuple(cycle(v, 0.05, s) for v, s in ((55.0, False), (65.0, True), (90.0, True))), (),
+                    BranchStatus.COMPLETE, "")
+    d = CycleDiagram(1.5e5, 0.0, 100.0 * KMH, (), (a, b))
+    assert bistable_windows(d) == [(65.0 * KMH, 70.0 * KMH)]
+    assert plan_windows(d) == [(65.0 * KMH, 70.0 * KMH)]
+    assert bistable_windows(d, min_width=6.0 * KMH) == []
+
+
+def run(theta1: float, hz: float = 6.0, settled: bool = True) -> SteadyAmplitude:
+    return SteadyAmplitude(0.0, theta1, 0.0, settled, np.zeros(8), "", hz)
+
+
+def test_stable_orbit_passes_only_within_its_tolerance_in_amplitude_and_frequency():
+    c = cycle(50.0, 0.1, True)
+    assert OrbitCheck(c, run(0.1 * (1 + 0.9 * ORBIT_TOL)), c.speed).ok
+    assert not OrbitCheck(c, run(0.1 * (1 + 1.1 * ORBIT_TOL)), c.speed).ok
+    assert not OrbitCheck(c, run(0.1, hz=6.0 * (1 + 1.1 * ORBIT_TOL)), c.speed).ok
+    assert not OrbitCheck(c, run(0.1, settled=False), c.speed).ok
+    assert not OrbitCheck(c, run(math.nan), c.speed).ok
+
+
+def test_unstable_orbit_passes_only_when_the_run_leaves_it():
+    c = cycle(50.0, 0.1, False)
+    assert OrbitCheck(c, run(0.0), c.speed).ok                     # decayed to straight running
+    assert OrbitCheck(c, run(0.3), c.speed).ok                     # went to a larger cycle
+    assert not OrbitCheck(c, run(0.1 * (1 + 0.5 * LEFT_TOL)), c.speed).ok
+
+
+def test_fold_is_bracketed_by_a_stable_cycle_and_a_run_past_it():
+    d = subcritical_diagram()
+    branch = d.branches[0]
+    (fold,) = branch.special_points
+    assert beyond_fold(branch, fold) < fold.speed           # the branch's cycles lie above 30 km/h
+    starts = []
+
+    def settle(speed):
+        def go(x0):
+            starts.append((speed, x0[0]))
+            return run(0.0 if speed < 30.0 * KMH else 0.03 + 0.001 * (speed / KMH - 30))
+        return go
+
+    checks = dict(bracket_special_point(settle, branch, fold))
+    assert set(checks) == {"stable side", "past the fold"}
+    assert checks["stable side"].cycle.speed == pytest.approx(30.5 * KMH) and checks["stable side"].ok
+    assert checks["past the fold"].speed < fold.speed and checks["past the fold"].ok
+    # Every run starts 2 % inside the orbit it checks.
+    assert starts[0][1] == pytest.approx(0.98 * checks["stable side"].cycle.max_abs("theta1"))
+    assert check_orbit(settle, branch.points[5]).ok
+
+
+def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
+    branch = subcritical_diagram().branches[0]
+    stable = sample_orbits(branch, 3, stable=True)
+    assert [p.speed / KMH for p in stable] == pytest.approx([30.5, 45.0, 80.0])
+    assert len(sample_orbits(branch, 10, stable=False)) == 4
+    # Next to a Hopf point (|mu| near 1) a 12 s run cannot tell: such an orbit is not sampled.
+    slow = cycle(40.5, 0.001, True)
+    slow = CyclePoint(slow.speed, slow.value, slow.period, slow.amplitude, np.array([1.0, 0.999] + [0.1] * 6),
+                      stable=True, orbit=slow.orbit, names=STATE_NAMES)
+    assert not decides_within(slow, 12.0) and decides_within(branch.points[5], 12.0)
+
+
+def test_figure_of_both_models_branches(tmp_path):
+    from comparisons.figures.cycle_plots import plot_model_branches
+    path = tmp_path / "both.png"
+    d = subcritical_diagram()
+    plot_model_branches([("reduced model", d, "C0"), ("full geometry, MBS", d, "C3")], str(path), title="test")
+    assert path.stat().st_size > 10_000
