@@ -37,12 +37,14 @@ class EnvelopeRate:
         return self.complete and abs(self.rate - self.real) <= RATE_TOL
 
 
-def envelope_rate(family: MbsFamily, speed: float, duration: float = DURATION) -> EnvelopeRate:
-    """The envelope rate of a small oscillation started along the critical mode at ``speed`` (m/s), at the
-    family's own operating point, against Re of the critical eigenvalue of its Jacobian there."""
+def envelope_rate(family: MbsFamily, speed: float, duration: float = DURATION,
+                  near: complex | None = None) -> EnvelopeRate:
+    """The envelope rate of a small oscillation started along a mode at ``speed`` (m/s), at the family's own
+    operating point, against Re of its eigenvalue: the critical one (largest real part), or with ``near`` the
+    eigenvalue closest to it (e.g. i omega of a Hopf point, whose mode another unstable one must not hide)."""
     A = family.linear_matrix(speed, family.nominal)
     lam, right = np.linalg.eig(A)
-    k = int(np.argmax(lam.real))
+    k = int(np.argmax(lam.real)) if near is None else int(np.argmin(np.abs(lam - near)))
     lam_left, left = np.linalg.eig(A.T)
     w = left[:, int(np.argmin(np.abs(lam_left - lam[k])))]
     v = right[:, k] / np.max(np.abs(right[:, k]))

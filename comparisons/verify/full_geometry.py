@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import dataclass
 
 import numpy as np
 
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import from_kmh, kmh
+from comparisons.axles.axle import Axle, interface_text
+from comparisons.axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.orbit_checks import (
     LEFT_TOL,
@@ -29,13 +30,15 @@ from comparisons.verify.orbit_checks import (
     check_orbit,
     sample_orbits,
 )
-from comparisons.verify.plan import VMAX
-from comparisons.verify.report import CheckStatus, Column, Row, Section
+from comparisons.verify.plan import VMAX, BistableCase
+from comparisons.verify.report import CheckStatus, Row, Section
+from mbs_shimmy.growth import DURATION
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 
+QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: mbs_shimmy.growth.DURATION)
 HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two Hopf points are closer)
 STABLE_BUDGET = 12        # stable-orbit runs over all branches of a case (at most STABLE_PER_BRANCH each)
 STABLE_PER_BRANCH = 6
@@ -43,33 +46,40 @@ UNSTABLE_PER_BRANCH = 2
 
 COLUMNS = ("case", "what", "speed_kmh", "criticality", "first_lyapunov", "eigenvalue_real", "envelope_rate",
            "continuation_theta1_deg", "simulation_theta1_deg", "theta1_diff", "continuation_hz", "simulation_hz",
-           "frequency_diff", "kick_deg")
-LABELS = {
-    "what": Column("what (full geometry: Hopf point, branch, orbit, special point, bistable window, kick)"),
-    "criticality": Column("criticality (supercritical: small stable cycles)", dash="not a Hopf point"),
-    "first_lyapunov": Column("first Lyapunov coefficient l1", dash="not a Hopf point"),
-    "continuation_theta1_deg": Column("continuation: max |theta1| [deg]", dash="no orbit in that row"),
-    "eigenvalue_real": Column("Re of the critical eigenvalue [1/s]", dash="not a linear check"),
-    "envelope_rate": Column("simulation: envelope rate of a small oscillation [1/s]",
-                            dash="not a linear check, or the run stopped"),
-    "simulation_theta1_deg": Column("simulation: max |theta1| [deg]",
-                                    dash="no simulation in that row, or the run stopped"),
-    "kick_deg": Column("kick threshold: initial theta1 [deg]", dash="not a kick row"),
-    "theta1_diff": Column("max |theta1|, simulation against continuation [%]", factor=100.0,
-                          dash="no orbit compared in that row"),
-    "continuation_hz": Column("continuation: frequency [Hz]", dash="no orbit in that row"),
-    "simulation_hz": Column("simulation: frequency [Hz]",
-                            dash="no simulation in that row, or no oscillation left to measure"),
-    "frequency_diff": Column("frequency, simulation against continuation [%]", factor=100.0,
-                             dash="no orbit compared in that row"),
-}
+           "frequency_diff", "kick_deg", "window_end_kmh", "reduced_jump_kmh")
 
 
-def _family(ctx: Context, case):
-    from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily
-    model = ShimmyModel(params=ctx.axle.params)
-    return MbsFamily.of(model.params, model.effects, Fidelity.full(), dims=ctx.axle.dims, pressure=case.pressure)
+@dataclass(frozen=True)
+class Where:
+    """One case of the section: an axle at tyre pressure(s), with its label in the report."""
+
+    label: str
+    axle: Axle
+    pressure: float | tuple[float, float]    # Pa
+    pressure_bar: float | None               # both tyres alike: the pressure in bar (the ramps need it)
+
+    @classmethod
+    def of_case(cls, axle: Axle, case) -> "Where":
+        alike = case.pressure_right_bar == case.pressure_left_bar
+        return cls(case.label, axle, case.pressure, case.pressure_right_bar if alike else None)
+
+    @classmethod
+    def of_bistable(cls, case: BistableCase) -> "Where":
+        changed = ", ".join(f"{k} = {v:g}" for k, v in case.axle.overrides)
+        return cls(f"{case.pressure_bar:g} bar" + (f", {changed}" if changed else ""), case.axle,
+                   case.pressure_bar * BAR, case.pressure_bar)
+
+    @property
+    def family(self):
+        from mbs_shimmy.fidelity import Fidelity
+        from mbs_shimmy.linearisation import MbsFamily
+        model = ShimmyModel(params=self.axle.params)
+        return MbsFamily.of(model.params, model.effects, Fidelity.full(), dims=self.axle.dims,
+                            pressure=self.pressure)
+
+    @property
+    def reduced_family(self) -> SpeedFamily:
+        return SpeedFamily(ShimmyModel(params=self.axle.params), pressure=self.pressure)
 
 
 def _finite(x: float) -> float | None:
@@ -90,9 +100,9 @@ def hopf_offsets(speeds: list[float]) -> list[float]:
     return out
 
 
-def hopf_rows(family, case, points) -> list[Row]:
-    """Each Hopf point with l1, and the two simulations that bracket it: one decays, the other grows, each at the
-    real part of the critical eigenvalue."""
+def hopf_rows(family, case, points, duration: float) -> list[Row]:
+    """Each Hopf point with l1, and the two simulations that bracket it: along the mode that crosses there, one
+    decays and the other grows, each at the real part of that mode's eigenvalue."""
     from mbs_shimmy.growth import RATE_TOL, envelope_rate
     rows = []
     for i, (h, off) in enumerate(zip(points, hopf_offsets([h.speed for h in points])), 1):
@@ -100,7 +110,8 @@ def hopf_rows(family, case, points) -> list[Row]:
                          "criticality": h.criticality.value if h.criticality else None,
                          "first_lyapunov": _finite(h.first_lyapunov), "continuation_hz": h.frequency_hz},
                         CheckStatus.INFO, f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"))
-        sides = [envelope_rate(family, max(from_kmh(1.0), h.speed + s * off)) for s in (-1.0, 1.0)]
+        sides = [envelope_rate(family, max(from_kmh(1.0), h.speed + s * off), duration, near=1j * h.omega)
+                 for s in (-1.0, 1.0)]
         apart = sides[0].rate * sides[1].rate < 0.0
         for side, rate in zip(("below", "above"), sides):
             ok = rate.agrees and apart
@@ -108,19 +119,19 @@ def hopf_rows(family, case, points) -> list[Row]:
                              "speed_kmh": kmh(rate.speed), "eigenvalue_real": rate.real,
                              "envelope_rate": _finite(rate.rate)},
                             CheckStatus.PASS if ok else CheckStatus.FAIL,
-                            ("decays" if rate.rate < 0 else "grows") + f" at Re of the critical eigenvalue "
+                            ("decays" if rate.rate < 0 else "grows") + f" at Re of the crossing mode's eigenvalue "
                             f"(to {RATE_TOL:g} 1/s)" if ok else
                             "the simulation's envelope rate does not follow the eigenvalue, or does not change "
                             "sign across the Hopf point"))
     return rows
 
 
-def no_hopf_rows(family, case) -> list[Row]:
+def no_hopf_rows(family, case, duration: float) -> list[Row]:
     """No Hopf point of the full geometry: the least-damped mode at its weakest speed decays, at its rate."""
     from mbs_shimmy.growth import envelope_rate
     speeds = np.linspace(from_kmh(5.0), VMAX, 80)
     weakest = max(speeds, key=lambda v: max(np.linalg.eigvals(family.linear_matrix(v, family.nominal)).real))
-    rate = envelope_rate(family, float(weakest))
+    rate = envelope_rate(family, float(weakest), duration)
     ok = rate.agrees and rate.real < 0.0
     return [Row({"case": case.label, "what": "no Hopf point (0-400 km/h); weakest mode",
                  "speed_kmh": kmh(rate.speed), "eigenvalue_real": rate.real, "envelope_rate": _finite(rate.rate)},
@@ -170,8 +181,10 @@ def branch_rows(family, case, diagram, settle) -> list[Row]:
     return rows
 
 
-def window_rows(family, case, diagram) -> list[Row]:
-    """The full geometry's bistable windows with their kick thresholds, or why there is none."""
+def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], list[str]]:
+    """The full geometry's bistable windows with the ramps through them and their kick thresholds, or why there
+    is none; (rows, recording names)."""
+    from comparisons.verify.full_jumps import jump_rows
     from mbs_shimmy.kick import KickStatus, bistable_windows, kicks
     windows = bistable_windows(diagram, family)
     if not windows:
@@ -181,10 +194,19 @@ def window_rows(family, case, diagram) -> list[Row]:
         fold_text = ", ".join(f"{kmh(s.speed):.2f} km/h" for s in folds) or "none"
         return [Row({"case": case.label, "what": "bistable window: none"}, CheckStatus.INFO,
                     f"no two stable states coexist at any speed: Hopf points {crit}; cycle folds {fold_text}; "
-                    f"no two stable stretches of the branches overlap")]
+                    f"no two stable stretches of the branches overlap")], []
     rows = [Row({"case": case.label, "what": f"bistable window {kmh(a):.2f}-{kmh(b):.2f} km/h",
                  "speed_kmh": kmh(0.5 * (a + b))}, CheckStatus.INFO,
                 "two stable states coexist (from the full geometry's own branches)") for a, b in windows]
+    recordings = []
+    if case.pressure_bar is None:
+        rows.append(Row({"case": case.label, "what": "ramps"}, CheckStatus.INFO,
+                        "not run: the ramps are made with both tyres alike"))
+    else:
+        bistable = BistableCase(case.axle, case.pressure_bar, kmh(windows[0][0]), kmh(windows[0][1]),
+                                "the full geometry's window", diagram)
+        more, recordings = jump_rows(ctx, case.label, bistable, family, diagram, windows)
+        rows += more
     for kick in kicks(family, diagram):
         found = kick.status is KickStatus.FOUND
         rows.append(Row({"case": case.label, "what": f"kick threshold: {kick.lower.label} -> {kick.upper.label}",
@@ -196,12 +218,12 @@ def window_rows(family, case, diagram) -> list[Row]:
                          f"{math.degrees(kick.leaves):.3f} deg leaves for {kick.upper.label} ({kick.runs} runs; "
                          f"continuation column: the unstable cycle between them)") if found else
                         f"kick not bracketed: {kick.status.value}"))
-    return rows
+    return rows, recordings
 
 
-def _figure(ctx: Context, case, reduced, full) -> str:
+def _figure(ctx: Context, case: Where, reduced, full) -> str:
     from comparisons.figures.cycle_plots import plot_model_branches
-    tag = case.label.replace(" ", "").replace("/", "_").replace(".", "p")
+    tag = "".join(c for c in case.label.replace(".", "p").replace("/", "_") if c.isalnum() or c in "_p")
     name = f"full_geometry_{tag}.png"
     plot_model_branches([("reduced model", reduced, "C0"), ("full geometry, MBS", full, "C3")],
                         os.path.join(ctx.out, name),
@@ -212,20 +234,22 @@ def _figure(ctx: Context, case, reduced, full) -> str:
 def full_geometry_section(ctx: Context) -> Section:
     from mbs_shimmy.kick import settle_function
     from reduced_model.bifurcation.cycles.branches import cycle_diagram
-    rows, figures = [], []
-    model = ShimmyModel(params=ctx.axle.params)
+    rows, figures, recordings = [], [], []
+    wheres = [Where.of_case(ctx.axle, c) for c in ctx.plan.cases]
+    if not ctx.quick:   # the plan's bistable cases on another axle (the paper's: t0 = 0.25 m)
+        wheres += [Where.of_bistable(b) for b in ctx.plan.bistable if b.axle.overrides != ctx.axle.overrides]
     cases = []
-    for case in ctx.plan.cases:
-        family = _family(ctx, case)
+    for where in wheres:
+        family, reduced = where.family, where.reduced_family
         points = hopf_points(family, family.nominal, 0.0, VMAX)
-        reduced = SpeedFamily(model, pressure=case.pressure)
         if points or hopf_points(reduced, reduced.nominal, 0.0, VMAX, lyapunov=False):
-            cases.append((case, family, points, reduced))
+            cases.append((where, family, points, reduced))
     if ctx.quick:   # one case, Hopf points only: the branches cost minutes
         cases = [c for c in cases if c[2]][:1] or cases[:1]
     for case, family, points, reduced in cases:
         ctx.progress(f"Full geometry: Hopf points at {case.label}")
-        rows += hopf_rows(family, case, points) if points else no_hopf_rows(family, case)
+        duration = QUICK_GROWTH_S if ctx.quick else DURATION
+        rows += hopf_rows(family, case, points, duration) if points else no_hopf_rows(family, case, duration)
         if ctx.quick:
             rows.append(Row({"case": case.label, "what": "cycle branches"}, CheckStatus.INFO,
                             "skipped in quick mode (a branch of the full geometry costs minutes)"))
@@ -234,14 +258,16 @@ def full_geometry_section(ctx: Context) -> Section:
         full = cycle_diagram(family, family.nominal, 0.0, VMAX)
         rows += branch_rows(family, case, full, lambda v, f=family: settle_function(f, v))
         ctx.progress(f"Full geometry: bistable windows at {case.label}")
-        rows += window_rows(family, case, full)
+        more, recorded = window_rows(ctx, family, case, full)
+        rows += more
+        recordings += recorded
         figures.append(_figure(ctx, case, cycle_diagram(reduced, reduced.nominal, 0.0, VMAX), full))
     if not cases:
         rows.append(Row({"what": "no Hopf point"}, CheckStatus.INFO,
                         "no planned case has a Hopf point in either model: nothing to continue"))
     return Section(
         key="full_geometry", title="The full geometry's own shimmy: continuation on the MBS against its simulations",
-        columns=COLUMNS, rows=tuple(rows), figures=tuple(figures), labels=LABELS,
+        columns=COLUMNS, rows=tuple(rows), figures=tuple(figures), recordings=tuple(recordings),
         text=(f"The MBS with every assumption off, continued on Exudyn, at every planned case where either model has "
               f"a Hopf point{' (quick mode: the first such case, Hopf points only)' if ctx.quick else ''}. Checks "
               f"against its own simulations: each Hopf point is bracketed by a small oscillation along the critical "

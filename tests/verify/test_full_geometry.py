@@ -145,3 +145,45 @@ def test_figure_of_both_models_branches(tmp_path):
     d = subcritical_diagram()
     plot_model_branches([("reduced model", d, "C0"), ("full geometry, MBS", d, "C3")], str(path), title="test")
     assert path.stat().st_size > 10_000
+
+
+@pytest.mark.slow
+def test_section_on_the_paper_axle_at_1_5_bar(tmp_path):
+    """The whole section at one case (a full-geometry branch: about 1-3 minutes on 2 cores)."""
+    from comparisons.verify.context import Context
+    from comparisons.verify.full_geometry import full_geometry_section
+    from comparisons.verify.plan import Case, CaseKind, Plan
+    from comparisons.verify.report import CheckStatus
+    plan = Plan((Case(1.5, 1.5, CaseKind.PAPER, "figure 4a"),), ())
+    section = full_geometry_section(Context(out=str(tmp_path), quick=False, plan=plan, recordings=False))
+    rows = {r.cells["what"]: r for r in section.rows}
+    assert not [r for r in section.rows if r.status is CheckStatus.FAIL]
+    assert rows["HB1"].cells["criticality"] == rows["HB2"].cells["criticality"] == "supercritical"
+    assert rows["HB1"].cells["speed_kmh"] == pytest.approx(39.2273, abs=1e-3)
+    assert {r.status for w, r in rows.items() if w.startswith("HB1,") or w.startswith("HB2,")} == {CheckStatus.PASS}
+    stable = [r for r in section.rows if r.cells["what"].endswith("stable orbit")
+              and not r.cells["what"].endswith("unstable orbit")]
+    assert len(stable) >= 3 and all(r.status is CheckStatus.PASS for r in stable)
+    assert all(r.cells["theta1_diff"] <= ORBIT_TOL and r.cells["frequency_diff"] <= ORBIT_TOL for r in stable)
+    assert "bistable window: none" in rows and "supercritical" in rows["bistable window: none"].note
+    assert section.figures == ("full_geometry_1p5bar.png",) and (tmp_path / section.figures[0]).stat().st_size
+
+
+def test_ramps_through_a_subcritical_window_start_on_straight_running():
+    """Below the window straight running is the state (its stable stretch reaches lower), above it the cycle:
+    the ramp up must leave straight running at or past the Hopf point, the ramp down the cycle at the fold."""
+    from comparisons.axles.axle import Axle
+    from comparisons.verify.cycles import ramps
+    from comparisons.verify.full_jumps import full_jump_setup
+    from comparisons.verify.plan import BistableCase
+    from reduced_model.modes import Mode
+    d = subcritical_diagram()
+    (window,) = bistable_windows(d, StraightRunning())
+    setup = full_jump_setup(BistableCase(Axle(), 1.5, 30.5, 40.0, "test", d), StraightRunning(), d, window)
+    assert (setup.low, setup.high) == pytest.approx((30.0, 40.0))        # the fold S1 and the Hopf point
+    assert (setup.below_mode, setup.above_mode) == (Mode.NONE, Mode.YAW)
+    assert (setup.v_lo, setup.v_hi) == pytest.approx((10.0, 60.0))
+    up, down = ramps(setup, 1.0)
+    assert (up.before, up.after, up.edge) == (Mode.NONE, Mode.YAW, pytest.approx(40.0))
+    assert (down.before, down.after, down.edge) == (Mode.YAW, Mode.NONE, pytest.approx(30.0))
+    assert up.beyond(40.2) and not up.beyond(35.0) and down.beyond(29.0) and not down.beyond(33.0)
