@@ -122,7 +122,7 @@ def hopf_rows(family, case, points, duration: float) -> list[Row]:
         apart = sides[0].rate * sides[1].rate < 0.0
         for side, rate in zip(("below", "above"), sides):
             ok = rate.agrees and apart
-            rows.append(Row({"case": case.label, "what": f"HB{i}, {kmh(off):.1f} km/h {side}",
+            rows.append(Row({"case": case.label, "what": f"HB{i}, {abs(kmh(rate.speed - h.speed)):.1f} km/h {side}",
                              "speed_kmh": kmh(rate.speed), "eigenvalue_real": rate.real,
                              "envelope_rate": _finite(rate.rate)},
                             CheckStatus.PASS if ok else CheckStatus.FAIL,
