@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from comparisons.axles.axle import Axle, interface_text
-from comparisons.axles.units import BAR, from_kmh, kmh
+from comparisons.axles.units import from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.orbit_checks import (
     LEFT_TOL,
@@ -40,8 +40,6 @@ from reduced_model.model import ShimmyModel
 
 QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: mbs_shimmy.growth.DURATION)
 HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two Hopf points are closer)
-BISTABLE_MARGIN_KMH = 100.0   # speeds continued beside a bistable case's window (km/h)
-FIG9A_SPEEDS_KMH = (100.0, 300.0)   # the paper's bistable case (no window in the plan): figure 9a's speeds
 STABLE_BUDGET = 12        # stable-orbit runs over all branches of a case (at most STABLE_PER_BRANCH each)
 STABLE_PER_BRANCH = 6
 UNSTABLE_PER_BRANCH = 2
@@ -65,16 +63,6 @@ class Where:
     def of_case(cls, axle: Axle, case) -> "Where":
         alike = case.pressure_right_bar == case.pressure_left_bar
         return cls(case.label, axle, case.pressure, case.pressure_right_bar if alike else None)
-
-    @classmethod
-    def of_bistable(cls, case: BistableCase) -> "Where":
-        changed = ", ".join(f"{k} = {v:g}" for k, v in case.axle.overrides)
-        # Around the window the plan chose (the paper's figure 9a: 100-300 km/h), not from 0 km/h: a branch of
-        # the full geometry costs minutes, and more at walking speeds.
-        low, high = (FIG9A_SPEEDS_KMH if math.isnan(case.low_kmh) else
-                     (case.low_kmh - BISTABLE_MARGIN_KMH, case.high_kmh + BISTABLE_MARGIN_KMH))
-        return cls(f"{case.pressure_bar:g} bar" + (f", {changed}" if changed else ""), case.axle,
-                   case.pressure_bar * BAR, case.pressure_bar, (from_kmh(max(0.0, low)), min(VMAX, from_kmh(high))))
 
     @property
     def family(self):
@@ -244,8 +232,6 @@ def full_geometry_section(ctx: Context) -> Section:
     from reduced_model.bifurcation.cycles.branches import cycle_diagram
     rows, figures, recordings = [], [], []
     wheres = [Where.of_case(ctx.axle, c) for c in ctx.plan.cases]
-    if not ctx.quick:   # the plan's bistable cases on another axle (the paper's: t0 = 0.25 m)
-        wheres += [Where.of_bistable(b) for b in ctx.plan.bistable if b.axle.overrides != ctx.axle.overrides]
     cases = []
     for where in wheres:
         family, reduced = where.family, where.reduced_family
