@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from comparisons.axles.axle import Axle, interface_text
-from comparisons.axles.units import from_kmh, kmh
+from comparisons.axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.orbit_checks import (
     LEFT_TOL,
@@ -63,6 +63,12 @@ class Where:
     def of_case(cls, axle: Axle, case) -> "Where":
         alike = case.pressure_right_bar == case.pressure_left_bar
         return cls(case.label, axle, case.pressure, case.pressure_right_bar if alike else None)
+
+    @classmethod
+    def of_bistable(cls, case: BistableCase) -> "Where":
+        changed = ", ".join(f"{k} = {v:g}" for k, v in case.axle.overrides)
+        return cls(f"{case.pressure_bar:g} bar" + (f", {changed}" if changed else ""), case.axle,
+                   case.pressure_bar * BAR, case.pressure_bar)
 
     @property
     def family(self):
@@ -227,6 +233,23 @@ def _figure(ctx: Context, case: Where, reduced, full) -> str:
     return name
 
 
+def other_axle_rows(ctx: Context) -> list[Row]:
+    """The plan's bistable case on another axle (the paper's: t0 = 0.25 m): the full geometry's Hopf points with
+    their brackets, and a row saying its branches are not continued."""
+    rows = []
+    for b in ctx.plan.bistable:
+        if b.axle.overrides == ctx.axle.overrides:
+            continue
+        where = Where.of_bistable(b)
+        family = where.family
+        ctx.progress(f"Full geometry: Hopf points at {where.label}")
+        rows += hopf_rows(family, where, hopf_points(family, family.nominal, *where.speeds), DURATION)
+        rows.append(Row({"case": where.label, "what": "cycle branches"}, CheckStatus.INFO,
+                        "not continued at the plan's bistable case on another axle: its full-geometry branches cost "
+                        "more than verify's budget (over 30 min under load)"))
+    return rows
+
+
 def full_geometry_section(ctx: Context) -> Section:
     from mbs_shimmy.kick import settle_function
     from reduced_model.bifurcation.cycles.branches import cycle_diagram
@@ -256,6 +279,8 @@ def full_geometry_section(ctx: Context) -> Section:
         rows += more
         recordings += recorded
         figures.append(_figure(ctx, case, cycle_diagram(reduced, reduced.nominal, *case.speeds), full))
+    if not ctx.quick:
+        rows += other_axle_rows(ctx)
     if not cases:
         rows.append(Row({"what": "no Hopf point"}, CheckStatus.INFO,
                         "no planned case has a Hopf point in either model: nothing to continue"))

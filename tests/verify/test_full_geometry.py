@@ -187,3 +187,12 @@ def test_ramps_through_a_subcritical_window_start_on_straight_running():
     assert (up.before, up.after, up.edge) == (Mode.NONE, Mode.YAW, pytest.approx(40.0))
     assert (down.before, down.after, down.edge) == (Mode.YAW, Mode.NONE, pytest.approx(30.0))
     assert up.beyond(40.2) and not up.beyond(35.0) and down.beyond(29.0) and not down.beyond(33.0)
+
+
+def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
+    from comparisons.axles.axle import Axle
+    from comparisons.verify.full_geometry import Where
+    from comparisons.verify.plan import BistableCase
+    where = Where.of_bistable(BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
+    assert where.label == "1.5 bar, t0 = 0.25" and where.pressure == pytest.approx(1.5e5)
+    assert where.family.model.params.t0 == 0.25 and where.reduced_family.model.params.t0 == 0.25
