@@ -154,30 +154,56 @@ def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, A
     return (a, b), (min(between) if between else math.sqrt(max(a.theta1, DECAYED) * b.theta1))
 
 
-def bistable_speeds(family, diagram, samples: int = 400) -> list[float]:
-    """The middle speed (m/s) of every window of the diagram where two stable states coexist: stable cycles on
-    overlapping stable stretches of its branches, or a stable cycle where straight running is stable too."""
+def stable_stretches(diagram) -> list[tuple[float, float]]:
+    """(low, high) speed intervals (m/s) of consecutive stable cycles on each branch of the diagram."""
+    out = []
+    for b in diagram.branches:
+        run: list[float] = []
+        for p in list(b.points) + [None]:
+            if p is not None and p.stable:
+                run.append(p.speed)
+                continue
+            if len(run) >= 2:
+                out.append((min(run), max(run)))
+            run = []
+    return out
+
+
+def stable_straight_running(family, diagram) -> list[tuple[float, float]]:
+    """(low, high) speed intervals (m/s) of the diagram's window where straight running is stable: between its
+    Hopf points, by the eigenvalues in the middle of each interval."""
     from reduced_model.bifurcation.equilibria.hopf import eigenvalues
 
-    stretches = []
-    for b in diagram.branches:
-        pts = list(b.points)
-        stretches += [(min(a.speed, c.speed), max(a.speed, c.speed)) for a, c in zip(pts[:-1], pts[1:])
-                      if a.stable and c.stable]
-    speeds = np.linspace(diagram.vmin, diagram.vmax, samples)
-    count = [sum(lo <= v <= hi for lo, hi in stretches)
-             + (eigenvalues(family, v, diagram.value)[0].real < 0.0) for v in speeds]
-    windows, start, previous = [], None, speeds[0]
-    for v, c in zip(speeds, count):
-        if c >= 2 and start is None:
-            start = v
-        elif c < 2 and start is not None:
-            windows.append((start, previous))
-            start = None
-        previous = v
-    if start is not None:
-        windows.append((start, speeds[-1]))
-    return [0.5 * (a + b) for a, b in windows if b > a]
+    edges = [diagram.vmin] + sorted(h.speed for h in diagram.hopf) + [diagram.vmax]
+    return [(a, b) for a, b in zip(edges[:-1], edges[1:])
+            if b > a and eigenvalues(family, 0.5 * (a + b), diagram.value)[0].real < 0.0]
+
+
+def bistable_windows(diagram, family=None, min_width: float = 0.0) -> list[tuple[float, float]]:
+    """Speed intervals (m/s) wider than ``min_width`` where two stable states coexist: stable cycles on
+    overlapping stable stretches of the diagram's branches and, when ``family`` is given, a stable cycle where
+    straight running is stable too (the window of a subcritical Hopf point).  Exact: the intervals' ends are
+    the computed cycles' speeds and the Hopf points."""
+    intervals = stable_stretches(diagram)
+    if family is not None:
+        intervals += stable_straight_running(family, diagram)
+    edges = sorted({e for interval in intervals for e in interval})
+    windows: list[tuple[float, float]] = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        mid = 0.5 * (a + b)
+        if sum(lo <= mid <= hi for lo, hi in intervals) < 2:
+            continue
+        if windows and windows[-1][1] == a:
+            windows[-1] = (windows[-1][0], b)
+        else:
+            windows.append((a, b))
+    return [(a, b) for a, b in windows if b - a > min_width]
+
+
+def bistable_speeds(family, diagram) -> list[float]:
+    """The middle speed (m/s) of every window of the diagram where two stable states coexist
+    (:func:`bistable_windows`, straight running included)."""
+    return [0.5 * (a + b) for a, b in bistable_windows(diagram, family)]
 
 
 def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplitude]:

@@ -3,7 +3,7 @@
 This is the one place where limit-cycle amplitudes are measured; when the reduced model's periodic-orbit
 continuation is available, :func:`reduced_peak` and :func:`reduced_steady_amplitude` can be replaced by it without
 touching the callers.  Method: simulate from a state near the cycle for ``settle`` seconds, then take the largest
-|theta1| (and |psi|) over the last ``window`` seconds; the run has settled when that maximum changed by less than
+|theta1| (and |psi|, and the frequency of theta1 from its upward zero crossings) over the last ``window`` seconds; the run has settled when that maximum changed by less than
 :data:`SETTLED_TOL` (relative) against the window before, or fell below :data:`DECAYED` (straight running
 attracts: no cycle there, amplitude 0 to that accuracy).  Otherwise the run is continued, ``settle`` seconds at a
 time, up to :data:`MAX_TIME`.  The reduced model is integrated by scipy's DOP853 (rtol 1e-9, atol 1e-12) on
@@ -27,6 +27,7 @@ from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP, extended_states, simul
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import N_STATES, STATE_NAMES, Effects, ShimmyModel
+from reduced_model.modes import crossing_frequency
 from reduced_model.parameters import ShimmyParameters
 from reduced_model.trajectory import SpeedSchedule
 
@@ -51,6 +52,7 @@ class SteadyAmplitude:
     settled: bool                # changed by less than SETTLED_TOL against the window before
     final_state: np.ndarray = field(compare=False, repr=False)
     method: str = ""
+    frequency_hz: float = math.nan   # of theta1 over the last window (upward zero crossings; NaN if fewer than two)
 
 
 def _default_start() -> np.ndarray:
@@ -74,13 +76,14 @@ def peak(y: np.ndarray) -> float:
     return top
 
 
-def _amplitudes(t: np.ndarray, x: np.ndarray, end: float, window: float) -> tuple[float, float, bool]:
+def _amplitudes(t: np.ndarray, x: np.ndarray, end: float, window: float) -> tuple[float, float, bool, float]:
+    """(max |theta1|, max |psi|, settled, frequency of theta1 in Hz) over the last window."""
     last = t >= end - window - 1e-9
     before = (t >= end - 2 * window - 1e-9) & ~last
     a1 = peak(x[last, TH1])
     a0 = peak(x[before, TH1]) if np.any(before) else math.inf
     settled = abs(a1 - a0) < SETTLED_TOL * max(a1, 1e-300) or a1 < DECAYED
-    return a1, peak(x[last, PSI]), settled
+    return a1, peak(x[last, PSI]), settled, crossing_frequency(t[last], x[last, TH1])
 
 
 def reduced_steady_amplitude(model: ShimmyModel, pressure: float | Sequence[float], speed: float,
@@ -95,10 +98,10 @@ def reduced_steady_amplitude(model: ShimmyModel, pressure: float | Sequence[floa
         t = np.linspace(max(0.0, settle - 2 * window), settle, int(4000 * window) + 1)
         xs = sol.sol(t).T
         total += settle
-        a1, ap, settled = _amplitudes(t, xs, settle, window)
+        a1, ap, settled, hz = _amplitudes(t, xs, settle, window)
         x = xs[-1].copy()
         if settled or total >= MAX_TIME:
-            return SteadyAmplitude(speed, a1, ap, settled, x, f"scipy DOP853 rtol {RTOL:g}, {total:g} s")
+            return SteadyAmplitude(speed, a1, ap, settled, x, f"scipy DOP853 rtol {RTOL:g}, {total:g} s", hz)
 
 
 def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: Fidelity,
@@ -119,10 +122,10 @@ def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: F
                                    extended_states(traj)[-1].copy() if len(traj.t) else x,
                                    f"MBS run stopped: {traj.message}")
         total += settle
-        a1, ap, settled = _amplitudes(traj.t, traj.x, settle, window)
+        a1, ap, settled, hz = _amplitudes(traj.t, traj.x, settle, window)
         x = extended_states(traj)[-1].copy()
         if settled or total >= MAX_TIME:
-            return SteadyAmplitude(speed, a1, ap, settled, x, f"{traj.integrator}, {total:g} s")
+            return SteadyAmplitude(speed, a1, ap, settled, x, f"{traj.integrator}, {total:g} s", hz)
 
 
 def unstable_windows(model: ShimmyModel, pressure: float, vmax: float) -> list[tuple[float, float]]:

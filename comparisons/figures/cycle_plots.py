@@ -40,6 +40,19 @@ def _stability_runs(branch: CycleBranch):
     return runs
 
 
+def branch_lines(branch: CycleBranch, name: str):
+    """(stable, speeds km/h, max |x_name| deg) of each run of equal stability, joined to the Hopf points the
+    branch starts and ends at (amplitude zero there)."""
+    for stable, pts in _stability_runs(branch):
+        v = [kmh(p.speed) for p in pts]
+        a = [np.degrees(p.max_abs(name)) for p in pts]
+        if branch.start is not None and pts[0] is branch.points[0]:
+            v, a = [kmh(branch.start.speed)] + v, [0.0] + a
+        if branch.end is not None and pts[-1] is branch.points[-1]:
+            v, a = v + [kmh(branch.end.speed)], a + [0.0]
+        yield stable, v, a
+
+
 def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None) -> None:
     """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
     max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
@@ -55,13 +68,7 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
             y = np.where(unstable == flag, 0.0, np.nan)
             ax.plot(kmh(speeds), y, style, color="0.4", lw=1.2)
         for branch in diagram.branches:
-            for stable, pts in _stability_runs(branch):
-                v = [kmh(p.speed) for p in pts]
-                a = [np.degrees(p.max_abs(name)) for p in pts]
-                if branch.start is not None and pts[0] is branch.points[0]:
-                    v, a = [kmh(branch.start.speed)] + v, [0.0] + a
-                if branch.end is not None and pts[-1] is branch.points[-1]:
-                    v, a = v + [kmh(branch.end.speed)], a + [0.0]
+            for stable, v, a in branch_lines(branch, name):
                 ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
         items = []
         for text, h in hopf_labels:
@@ -179,4 +186,39 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
         axes[1].plot(kmh(v), np.degrees(b), marker, color=color, mfc="none", ms=6)
     axes[0].legend(fontsize=8, loc="upper right")
     axes[0].set_title(title or f"Limit cycles at {diagram.value / BAR:g} bar", fontsize=10)
+    save_figure(fig, path)
+
+
+def plot_model_branches(models, path: str, title: str | None = None) -> None:
+    """Several models' cycle branches at one case in one panel: max |theta1| (deg) against speed (km/h), stable
+    solid, unstable dashed, Hopf points as dots on the axis and cycle folds, torus and period-doubling points
+    marked and named like the paper (S1, T1, ... per model).  ``models``: (name, CycleDiagram, colour)."""
+    from matplotlib.lines import Line2D
+    fig = Figure(figsize=(7.2, 4.4))
+    ax = fig.subplots()
+    items, handles = [], []
+    vmin, vmax = [], []
+    for label, diagram, color in models:
+        vmin.append(kmh(diagram.vmin))
+        vmax.append(kmh(diagram.vmax))
+        for branch in diagram.branches:
+            for stable, v, a in branch_lines(branch, "theta1"):
+                ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
+        for h in diagram.hopf:
+            ax.plot(kmh(h.speed), 0.0, "o", color=color, ms=5, zorder=5)
+        for text, p in special_point_labels(diagram):
+            amp = np.degrees(p.data["amplitude"][STATE_NAMES.index("theta1")])
+            ax.plot(kmh(p.speed), amp, LABELS.get(p.kind, ("", "x"))[1], color=color, ms=7, mfc="none")
+            items.append((kmh(p.speed), amp, text, color))
+        handles.append(Line2D([], [], color=color, lw=1.5, label=f"{label} ({len(diagram.hopf)} Hopf points)"))
+    handles += [Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--",
+                                                                            label="unstable")]
+    ax.set_xlim(min(vmin), max(vmax))
+    top = max(ax.get_ylim()[1], 1e-3)
+    ax.set_ylim(-0.05 * top, 1.1 * top)
+    ax.set_xlabel("speed V [km/h]")
+    ax.set_ylabel(r"max $|\theta_1|$ [deg]")
+    ax.legend(handles=handles, fontsize=8, loc="upper right")
+    place_labels(ax, items)
+    ax.set_title(title or "Limit cycles", fontsize=10)
     save_figure(fig, path)

@@ -194,15 +194,15 @@ def _classifier_for(cycles):
     return ModeClassifier(ratio_split=math.sqrt(ra * rb), frequency_split_hz=0.5 * (a.frequency_hz + b.frequency_hz))
 
 
-def _run_both(case: BistableCase, schedule, x0, duration: float):
-    """(reduced trajectory, MBS trajectory with every assumption on)."""
+def _run_both(case: BistableCase, schedule, x0, duration: float, fidelity=None):
+    """(reduced trajectory, MBS trajectory at ``fidelity``, default every assumption on)."""
     from mbs_shimmy.fidelity import Fidelity
     from mbs_shimmy.simulation import simulate as simulate_mbs
     from reduced_model.simulation import simulate
     model = ShimmyModel(params=case.axle.params)
     reduced = simulate(model, case.pressure_bar * BAR, schedule, duration, x0)
-    multibody = simulate_mbs(model.params, model.effects, Fidelity.reduced(), case.pressure_bar * BAR, schedule,
-                             x0, duration, dims=case.axle.dims, poses=True)
+    multibody = simulate_mbs(model.params, model.effects, fidelity or Fidelity.reduced(), case.pressure_bar * BAR,
+                             schedule, x0, duration, dims=case.axle.dims, poses=True)
     return reduced, multibody
 
 
@@ -324,12 +324,13 @@ def ramps(setup: JumpSetup, rate_kmh_s: float) -> tuple[Ramp, Ramp]:
                  setup.below_mode, setup.low))
 
 
-def run_ramp(setup: JumpSetup, ramp: Ramp) -> tuple[dict, list]:
+def run_ramp(setup: JumpSetup, ramp: Ramp, fidelity=None) -> tuple[dict, list]:
     """Both models through one ramp: ({model: speed of the first before->after switch, km/h, or None},
-    [(trajectory, mode history)] for the reduced model and the MBS)."""
+    [(trajectory, mode history)] for the reduced model and the MBS at ``fidelity`` (default every assumption
+    on))."""
     from reduced_model.simulation import initial_state
     found, both = {}, []
-    for traj in _run_both(setup.case, ramp.schedule, initial_state(), ramp.duration):
+    for traj in _run_both(setup.case, ramp.schedule, initial_state(), ramp.duration, fidelity):
         history = setup.classify(traj)
         jumps = [s for s in history.switches if s.before is ramp.before and s.after is ramp.after]
         found[traj.model] = kmh(jumps[0].speed) if jumps else None

@@ -244,31 +244,11 @@ def _overlapping_pairs(family: SpeedFamily, q: float, windows: list[Window]) -> 
     return False
 
 
-def stable_segments(diagram) -> list[tuple[float, float, int]]:
-    """(low, high, branch index) speed intervals (m/s) of consecutive stable cycles on each branch."""
-    out = []
-    for i, b in enumerate(diagram.branches):
-        run: list[float] = []
-        for p in list(b.points) + [None]:
-            if p is not None and p.stable:
-                run.append(p.speed)
-                continue
-            if len(run) >= 2:
-                out.append((min(run), max(run), i))
-            run = []
-    return out
-
-
 def bistable_windows(diagram) -> list[tuple[float, float]]:
-    """Speed intervals (m/s) where two stable segments overlap."""
-    segs = stable_segments(diagram)
-    found = []
-    for j in range(len(segs)):
-        for k in range(j + 1, len(segs)):
-            lo, hi = max(segs[j][0], segs[k][0]), min(segs[j][1], segs[k][1])
-            if hi - lo > from_kmh(0.5):
-                found.append((lo, hi))
-    return found
+    """Speed intervals (m/s) where two stable cycles coexist (:func:`mbs_shimmy.kick.bistable_windows`, straight
+    running not counted)."""
+    from mbs_shimmy.kick import bistable_windows as coexisting
+    return coexisting(diagram, min_width=from_kmh(0.5))
 
 
 def _mode_cases(scan: ModelScan, cases: list[Case], notes: list[str]) -> None:

@@ -28,6 +28,8 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     steps += [("Hopf speeds", hopf_section), ("Transient", transient_section), ("Limit cycles", cycles_section)]
     if ctx.plan.bistable:
         steps.append(("Bistable jumps", jumps_section))
+    from comparisons.verify.full_geometry import full_geometry_section
+    steps.append(("Full geometry", full_geometry_section))
     steps.append(("Assumptions", assumptions_section))
     from comparisons.verify.robustness import robustness_section
     steps.append(("Robustness", robustness_section))

@@ -1,43 +1,18 @@
 """The linearisation of the full multibody axle (all states: the new coordinates and the slip angles) against its
 own simulations (issue 9, item 5): near each Hopf point of the full geometry, a small oscillation started along
-the critical mode grows or decays at the real part of the critical eigenvalue.
-
-The envelope is that of the critical mode's modal coordinate z(t) = w^H x(t) (w the left eigenvector of the
-critical eigenvalue of the Jacobian A(V)), which the other modes do not enter for a linear system; its logarithm
-is fitted by a straight line over the run.  Amplitudes of 1e-5 rad keep the nonlinear terms ~1e-10 of the linear
-ones; Exudyn's RK44 at 1 ms integrates the rate to far below 1e-3 /s.
+the critical mode grows or decays at the real part of the critical eigenvalue (:mod:`mbs_shimmy.growth`, which the
+verify section `full_geometry` uses to bracket the Hopf points).
 """
 
-import numpy as np
 import pytest
 
 from comparisons.axles.units import BAR, KMH
 from mbs_shimmy import Fidelity
+from mbs_shimmy.growth import RATE_TOL, envelope_rate
 from mbs_shimmy.linearisation import MbsFamily, MbsModel
-from mbs_shimmy.simulation import extended_states, simulate
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.trajectory import SpeedSchedule
 
 OFFSET_KMH = 4.0
-DURATION = 4.0
-
-
-def envelope_rate(family: MbsFamily, pressure: float, speed: float) -> tuple[float, float]:
-    """(fitted envelope rate of a simulation, Re of the critical eigenvalue) at this speed (m/s), 1/s."""
-    A = family.linear_matrix(speed, pressure)
-    lam, right = np.linalg.eig(A)
-    k = int(np.argmax(lam.real))
-    lam_left, left = np.linalg.eig(A.T)
-    w = left[:, int(np.argmin(np.abs(lam_left - lam[k])))]
-    v = right[:, k] / np.max(np.abs(right[:, k]))
-    x0 = 1e-5 * v.real
-    traj = simulate(fidelity=family.model.fidelity, pressure=pressure, schedule=SpeedSchedule.constant(speed),
-                    x0=x0, duration=DURATION, poses=False)
-    assert traj.complete
-    x = extended_states(traj)
-    z = np.abs(x @ w)
-    slope = np.polyfit(traj.t, np.log(z), 1)[0]
-    return float(slope), float(lam[k].real)
 
 
 def full_hopf_speeds(pressure):
@@ -52,9 +27,9 @@ def test_growth_rate_equals_critical_eigenvalue_at_1_5_bar(index, side):
     family, speeds = full_hopf_speeds(pressure)
     assert len(speeds) == 2            # 39.23 and 91.79 km/h (tests/mbs/test_mbs_assumptions.py)
     speed = speeds[index] + side * OFFSET_KMH * KMH
-    rate, real = envelope_rate(family, pressure, speed)
-    assert abs(real) > 0.02            # away from the Hopf point: a rate that means something
-    assert rate == pytest.approx(real, abs=1e-3)
+    found = envelope_rate(family, speed)
+    assert abs(found.real) > 0.02      # away from the Hopf point: a rate that means something
+    assert found.complete and found.rate == pytest.approx(found.real, abs=RATE_TOL)
 
 
 def test_decay_rate_at_2_5_bar_without_hopf_points():
@@ -63,6 +38,6 @@ def test_decay_rate_at_2_5_bar_without_hopf_points():
     pressure = 2.5 * BAR
     family, speeds = full_hopf_speeds(pressure)
     assert speeds == []
-    rate, real = envelope_rate(family, pressure, 60 * KMH)
-    assert real < -0.02
-    assert rate == pytest.approx(real, abs=1e-3)
+    found = envelope_rate(family, 60 * KMH)
+    assert found.real < -0.02
+    assert found.complete and found.rate == pytest.approx(found.real, abs=RATE_TOL)

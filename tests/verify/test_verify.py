@@ -186,3 +186,14 @@ def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
     assert not list(out.glob("*.rrd"))          # --no-recordings
     text = (out / "report.md").read_text()
     assert "Axle: axle paper, t0 = 0.25 m" in text and "sha256" in text
+
+
+def test_verify_full_geometry_in_quick_mode(quick_report):
+    """Quick mode: the first case where the full geometry has Hopf points, each with l1 and bracketed by two
+    runs; the branches are skipped with a row that says so (information, never a pass)."""
+    rows = {r["what"]: r for r in section(quick_report, "full_geometry")["rows"]}
+    assert rows["HB1"]["case"] == "1.5 bar" and rows["HB1"]["criticality"] == "supercritical"
+    assert abs(rows["HB1"]["speed_kmh"] - 39.2273) < 1e-3 and rows["HB1"]["first_lyapunov"] < 0.0
+    brackets = [r for w, r in rows.items() if w.startswith(("HB1,", "HB2,"))]
+    assert len(brackets) == 4 and all(r["status"] == "pass" for r in brackets)
+    assert rows["cycle branches"]["status"] == "info" and "skipped in quick mode" in rows["cycle branches"]["note"]

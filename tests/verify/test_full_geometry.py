@@ -1,0 +1,198 @@
+"""The `full_geometry` verify section's logic on small inputs (the section itself, on the paper's axle at 1.5 bar,
+runs in the slow suite: a branch of the full geometry costs minutes).
+
+The diagrams here are built by hand from the toolkit's own result types: a branch of stable and unstable cycles
+with a cycle fold, Hopf points at its ends, so that every rule can be checked against an answer read off the
+construction.
+"""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from comparisons.axles.units import KMH
+from comparisons.verify.orbit_checks import (
+    LEFT_TOL,
+    ORBIT_TOL,
+    OrbitCheck,
+    beyond_fold,
+    bracket_special_point,
+    check_orbit,
+    decides_within,
+    sample_orbits,
+)
+from comparisons.verify.plan import bistable_windows as plan_windows
+from mbs_shimmy.kick import bistable_speeds, bistable_windows, stable_straight_running, stable_stretches
+from mbs_shimmy.limit_cycle import SteadyAmplitude
+from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint
+from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
+from reduced_model.model import STATE_NAMES
+
+
+def cycle(speed_kmh: float, theta1: float, stable: bool, hz: float = 6.0) -> CyclePoint:
+    amplitude = np.zeros(len(STATE_NAMES))
+    amplitude[0] = theta1
+    orbit = SimpleNamespace(nodes=np.tile(amplitude, (4, 1)))
+    multipliers = np.array([1.0] + [0.3 if stable else 3.0] + [0.1] * 6, complex)
+    return CyclePoint(speed_kmh * KMH, 1.5e5, 1.0 / hz, amplitude, multipliers, stable=stable, orbit=orbit,
+                      names=STATE_NAMES)
+
+
+def hopf(speed_kmh: float, l1: float) -> HopfPoint:
+    return HopfPoint(speed_kmh * KMH, 1.5e5, 2 * math.pi * 6.0, l1, np.zeros(8))
+
+
+def subcritical_diagram() -> CycleDiagram:
+    """Straight running unstable above 40 km/h (subcritical Hopf point there); the unstable cycles born at it
+    run down to a fold at 30 km/h and turn back stable up to 80 km/h."""
+    unstable = [cycle(v, 0.01 + 0.001 * (40 - v), False) for v in (39.0, 36.0, 33.0, 30.5)]
+    stable = [cycle(v, 0.03 + 0.001 * (v - 30), True) for v in (30.5, 35.0, 45.0, 60.0, 80.0)]
+    fold = SpecialPoint(PointKind.CYCLE_FOLD, 30.0 * KMH, 1.5e5, (0.0, 1.0), PointStatus.LOCATED,
+                        {"amplitude": stable[0].amplitude, "cycle": cycle(30.0, 0.02, False)})
+    branch = CycleBranch("speed", tuple(unstable + stable), (fold,), BranchStatus.COMPLETE, "left the window",
+                         start=hopf(40.0, +1e-3))
+    return CycleDiagram(1.5e5, 0.0, 100.0 * KMH, (hopf(40.0, +1e-3),), (branch,))
+
+
+class StraightRunning:
+    """A family whose straight running is stable below 40 km/h and unstable above (linear_matrix only)."""
+
+    def linear_matrix(self, speed, q):
+        return np.diag([speed - 40.0 * KMH, -1.0])
+
+
+def test_bistable_window_of_a_subcritical_onset_counts_straight_running():
+    d = subcritical_diagram()
+    assert stable_stretches(d) == [(30.5 * KMH, 80.0 * KMH)]
+    assert stable_straight_running(StraightRunning(), d) == [(0.0, 40.0 * KMH)]
+    # Stable straight running and the stable cycles coexist from the fold's last computed cycle to the Hopf point.
+    assert bistable_windows(d, StraightRunning()) == [(30.5 * KMH, 40.0 * KMH)]
+    assert bistable_speeds(StraightRunning(), d) == [pytest.approx(35.25 * KMH)]
+    # The plan asks for two stable cycles: one stretch alone is no window.
+    assert bistable_windows(d) == [] and plan_windows(d) == []
+
+
+def test_two_overlapping_stable_stretches_make_one_window():
+    a = CycleBranch("speed", tuple(cycle(v, 0.02, True) for v in (50.0, 60.0, 70.0)), (), BranchStatus.COMPLETE, "")
+    b = CycleBranch("speed", tuple(cycle(v, 0.05, s) for v, s in ((55.0, False), (65.0, True), (90.0, True))), (),
+                    BranchStatus.COMPLETE, "")
+    d = CycleDiagram(1.5e5, 0.0, 100.0 * KMH, (), (a, b))
+    assert bistable_windows(d) == [(65.0 * KMH, 70.0 * KMH)]
+    assert plan_windows(d) == [(65.0 * KMH, 70.0 * KMH)]
+    assert bistable_windows(d, min_width=6.0 * KMH) == []
+
+
+def run(theta1: float, hz: float = 6.0, settled: bool = True) -> SteadyAmplitude:
+    return SteadyAmplitude(0.0, theta1, 0.0, settled, np.zeros(8), "", hz)
+
+
+def test_stable_orbit_passes_only_within_its_tolerance_in_amplitude_and_frequency():
+    c = cycle(50.0, 0.1, True)
+    assert OrbitCheck(c, run(0.1 * (1 + 0.9 * ORBIT_TOL)), c.speed).ok
+    assert not OrbitCheck(c, run(0.1 * (1 + 1.1 * ORBIT_TOL)), c.speed).ok
+    assert not OrbitCheck(c, run(0.1, hz=6.0 * (1 + 1.1 * ORBIT_TOL)), c.speed).ok
+    assert not OrbitCheck(c, run(0.1, settled=False), c.speed).ok
+    assert not OrbitCheck(c, run(math.nan), c.speed).ok
+
+
+def test_unstable_orbit_passes_only_when_the_run_leaves_it():
+    c = cycle(50.0, 0.1, False)
+    assert OrbitCheck(c, run(0.0), c.speed).ok                     # decayed to straight running
+    assert OrbitCheck(c, run(0.3), c.speed).ok                     # went to a larger cycle
+    assert not OrbitCheck(c, run(0.1 * (1 + 0.5 * LEFT_TOL)), c.speed).ok
+
+
+def test_fold_is_bracketed_by_a_stable_cycle_and_a_run_past_it():
+    d = subcritical_diagram()
+    branch = d.branches[0]
+    (fold,) = branch.special_points
+    assert beyond_fold(branch, fold) < fold.speed           # the branch's cycles lie above 30 km/h
+    starts = []
+
+    def settle(speed):
+        def go(x0):
+            starts.append((speed, x0[0]))
+            return run(0.0 if speed < 30.0 * KMH else 0.03 + 0.001 * (speed / KMH - 30))
+        return go
+
+    checks = dict(bracket_special_point(settle, branch, fold))
+    assert set(checks) == {"stable side", "past the fold"}
+    assert checks["stable side"].cycle.speed == pytest.approx(30.5 * KMH) and checks["stable side"].ok
+    assert checks["past the fold"].speed < fold.speed and checks["past the fold"].ok
+    # Every run starts 2 % inside the orbit it checks.
+    assert starts[0][1] == pytest.approx(0.98 * checks["stable side"].cycle.max_abs("theta1"))
+    assert check_orbit(settle, branch.points[5]).ok
+
+
+def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
+    branch = subcritical_diagram().branches[0]
+    stable = sample_orbits(branch, 3, stable=True)
+    assert [p.speed / KMH for p in stable] == pytest.approx([30.5, 45.0, 80.0])
+    assert len(sample_orbits(branch, 10, stable=False)) == 4
+    # Next to a Hopf point (|mu| near 1) a 12 s run cannot tell: such an orbit is not sampled.
+    slow = cycle(40.5, 0.001, True)
+    slow = CyclePoint(slow.speed, slow.value, slow.period, slow.amplitude, np.array([1.0, 0.999] + [0.1] * 6),
+                      stable=True, orbit=slow.orbit, names=STATE_NAMES)
+    assert not decides_within(slow, 12.0) and decides_within(branch.points[5], 12.0)
+
+
+def test_figure_of_both_models_branches(tmp_path):
+    from comparisons.figures.cycle_plots import plot_model_branches
+    path = tmp_path / "both.png"
+    d = subcritical_diagram()
+    plot_model_branches([("reduced model", d, "C0"), ("full geometry, MBS", d, "C3")], str(path), title="test")
+    assert path.stat().st_size > 10_000
+
+
+@pytest.mark.slow
+def test_section_on_the_paper_axle_at_1_5_bar(tmp_path):
+    """The whole section at one case (a full-geometry branch: about 1-3 minutes on 2 cores)."""
+    from comparisons.verify.context import Context
+    from comparisons.verify.full_geometry import full_geometry_section
+    from comparisons.verify.plan import Case, CaseKind, Plan
+    from comparisons.verify.report import CheckStatus
+    plan = Plan((Case(1.5, 1.5, CaseKind.PAPER, "figure 4a"),), ())
+    section = full_geometry_section(Context(out=str(tmp_path), quick=False, plan=plan, recordings=False))
+    rows = {r.cells["what"]: r for r in section.rows}
+    assert not [r for r in section.rows if r.status is CheckStatus.FAIL]
+    assert rows["HB1"].cells["criticality"] == rows["HB2"].cells["criticality"] == "supercritical"
+    assert rows["HB1"].cells["speed_kmh"] == pytest.approx(39.2273, abs=1e-3)
+    assert {r.status for w, r in rows.items() if w.startswith("HB1,") or w.startswith("HB2,")} == {CheckStatus.PASS}
+    stable = [r for r in section.rows if r.cells["what"].endswith("stable orbit")
+              and not r.cells["what"].endswith("unstable orbit")]
+    assert len(stable) >= 3 and all(r.status is CheckStatus.PASS for r in stable)
+    assert all(r.cells["theta1_diff"] <= ORBIT_TOL and r.cells["frequency_diff"] <= ORBIT_TOL for r in stable)
+    assert "bistable window: none" in rows and "supercritical" in rows["bistable window: none"].note
+    assert section.figures == ("full_geometry_1p5bar.png",) and (tmp_path / section.figures[0]).stat().st_size
+
+
+def test_ramps_through_a_subcritical_window_start_on_straight_running():
+    """Below the window straight running is the state (its stable stretch reaches lower), above it the cycle:
+    the ramp up must leave straight running at or past the Hopf point, the ramp down the cycle at the fold."""
+    from comparisons.axles.axle import Axle
+    from comparisons.verify.cycles import ramps
+    from comparisons.verify.full_jumps import full_jump_setup
+    from comparisons.verify.plan import BistableCase
+    from reduced_model.modes import Mode
+    d = subcritical_diagram()
+    (window,) = bistable_windows(d, StraightRunning())
+    setup = full_jump_setup(BistableCase(Axle(), 1.5, 30.5, 40.0, "test", d), StraightRunning(), d, window)
+    assert (setup.low, setup.high) == pytest.approx((30.0, 40.0))        # the fold S1 and the Hopf point
+    assert (setup.below_mode, setup.above_mode) == (Mode.NONE, Mode.YAW)
+    assert (setup.v_lo, setup.v_hi) == pytest.approx((10.0, 60.0))
+    up, down = ramps(setup, 1.0)
+    assert (up.before, up.after, up.edge) == (Mode.NONE, Mode.YAW, pytest.approx(40.0))
+    assert (down.before, down.after, down.edge) == (Mode.YAW, Mode.NONE, pytest.approx(30.0))
+    assert up.beyond(40.2) and not up.beyond(35.0) and down.beyond(29.0) and not down.beyond(33.0)
+
+
+def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
+    from comparisons.axles.axle import Axle
+    from comparisons.verify.full_geometry import Where
+    from comparisons.verify.plan import BistableCase
+    where = Where.of_bistable(BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
+    assert where.label == "1.5 bar, t0 = 0.25" and where.pressure == pytest.approx(1.5e5)
+    assert where.family.model.params.t0 == 0.25 and where.reduced_family.model.params.t0 == 0.25
