@@ -134,15 +134,15 @@ def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, A
     from reduced_model.bifurcation.equilibria.hopf import eigenvalues
 
     stable: list[Attractor] = []
-    if eigenvalues(family, speed, diagram.value)[0].real < 0.0:
+    if eigenvalues(family, speed, diagram.q)[0].real < 0.0:
         stable.append(Attractor("straight running", 0.0, 0.0))
     unstable: list[float] = []
     for i, b in enumerate(diagram.branches):
         pts = list(b.points)
         for a, c in zip(pts[:-1], pts[1:]):
-            if not min(a.speed, c.speed) <= speed <= max(a.speed, c.speed) or a.stable != c.stable:
+            if not min(a.p, c.p) <= speed <= max(a.p, c.p) or a.stable != c.stable:
                 continue
-            cycle = cycle_at(family, min((a, c), key=lambda p: abs(p.speed - speed)), speed)
+            cycle = cycle_at(family, min((a, c), key=lambda p: abs(p.p - speed)), speed)
             if cycle.stable:
                 stable.append(Attractor(f"cycle of branch {i}", cycle.max_abs("theta1"), cycle.max_abs("psi")))
             else:
@@ -162,11 +162,11 @@ def bistable_speeds(family, diagram, samples: int = 400) -> list[float]:
     stretches = []
     for b in diagram.branches:
         pts = list(b.points)
-        stretches += [(min(a.speed, c.speed), max(a.speed, c.speed)) for a, c in zip(pts[:-1], pts[1:])
+        stretches += [(min(a.p, c.p), max(a.p, c.p)) for a, c in zip(pts[:-1], pts[1:])
                       if a.stable and c.stable]
-    speeds = np.linspace(diagram.vmin, diagram.vmax, samples)
+    speeds = np.linspace(diagram.p_min, diagram.p_max, samples)
     count = [sum(lo <= v <= hi for lo, hi in stretches)
-             + (eigenvalues(family, v, diagram.value)[0].real < 0.0) for v in speeds]
+             + (eigenvalues(family, v, diagram.q)[0].real < 0.0) for v in speeds]
     windows, start, previous = [], None, speeds[0]
     for v, c in zip(speeds, count):
         if c >= 2 and start is None:

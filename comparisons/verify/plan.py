@@ -141,7 +141,7 @@ def tramp_share(vector: np.ndarray) -> float:
 def unstable_windows(family: SpeedFamily, q: float, vmax: float = VMAX) -> tuple[list[Window], tuple]:
     """Unstable speed windows of straight running at q, each with the mode of its critical eigenvector."""
     points = hopf_points(family, q, 0.0, vmax)
-    edges = [MIN_SPEED] + [h.speed for h in points] + [vmax]
+    edges = [MIN_SPEED] + [h.p for h in points] + [vmax]
     windows = []
     for a, b in zip(edges[:-1], edges[1:]):
         if b - a < 1e-6:
@@ -173,7 +173,7 @@ def stable_segments(diagram) -> list[tuple[float, float, int]]:
         run: list[float] = []
         for p in list(b.points) + [None]:
             if p is not None and p.stable:
-                run.append(p.speed)
+                run.append(p.p)
                 continue
             if len(run) >= 2:
                 out.append((min(run), max(run), i))
@@ -240,17 +240,17 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
     if progress is not None:
         progress("plan: Hopf curves over the pressure window")
     diagram = hopf_diagram(family, lo * BAR, hi * BAR, MIN_SPEED, vmax, n_seeds=5 if quick else 9)
-    folds = sorted(s.value / BAR for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD)
+    folds = sorted(s.q / BAR for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD)
     shimmy_at_top = any(w for w in scan[-1][1])
     boundary = None
     if folds and not shimmy_at_top:
         boundary = folds[-1]
-        fold = max((s for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD), key=lambda s: s.value)
+        fold = max((s for s in diagram.special_points if s.kind is PointKind.HOPF_FOLD), key=lambda s: s.q)
         below = max(lo, boundary - EDGE_BAR)
         above = min(hi, boundary + EDGE_BAR)
         cases.append(Case(round(below, 4), round(below, 4), CaseKind.BELOW_BOUNDARY,
                           f"{EDGE_BAR:g} bar below the shimmy-free boundary at {boundary:.4f} bar (fold of the Hopf "
-                          f"curves at {kmh(fold.speed):.1f} km/h): the last mode's narrow window"))
+                          f"curves at {kmh(fold.p):.1f} km/h): the last mode's narrow window"))
         cases.append(Case(round(above, 4), round(above, 4), CaseKind.SHIMMY_FREE,
                           f"{EDGE_BAR:g} bar above the shimmy-free boundary: no Hopf point in either model"))
     elif shimmy_at_top:
@@ -258,8 +258,8 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
     else:
         notes.append("no fold of the Hopf curves in the pressure window")
     for s in diagram.special_points:
-        if s.kind is PointKind.HOPF_FOLD and (boundary is None or s.value / BAR != boundary):
-            notes.append(f"a mode is born or vanishes at {s.value / BAR:.4f} bar, {kmh(s.speed):.1f} km/h "
+        if s.kind is PointKind.HOPF_FOLD and (boundary is None or s.q / BAR != boundary):
+            notes.append(f"a mode is born or vanishes at {s.q / BAR:.4f} bar, {kmh(s.p):.1f} km/h "
                          f"(fold of the Hopf curves)")
     if asymmetric is not None:
         cases.append(_asymmetric_case(*asymmetric))

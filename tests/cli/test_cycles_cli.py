@@ -151,8 +151,8 @@ def test_curve_end_messages_print_in_interface_units(capsys):
     from reduced_model.bifurcation.cycle_curves.result import CycleCurve
     from reduced_model.bifurcation.special_points import BranchStatus, PointKind
 
-    curve = CycleCurve(kind=PointKind.TORUS, param="pressure", speeds=np.array([45.0, 46.0]),
-                       values=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),
+    curve = CycleCurve(kind=PointKind.TORUS, param="pressure", ps=np.array([45.0, 46.0]),
+                       qs=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),
                        status=(BranchStatus.COMPLETE,) * 2,
                        messages=("ends at the Hopf-Hopf point located at speed = 45.30795, pressure = 53204.76",
                                  "left the window at speed = 53.76107, pressure = 20000"),
