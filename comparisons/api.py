@@ -26,7 +26,7 @@ import math
 import os
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Iterable, Mapping, Sequence
+from typing import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -253,9 +253,11 @@ class ReducedModel:
         """The toolkit's family (pressures in Pa)."""
         return SpeedFamily(self.model, param, pressure=pressure)
 
-    def run(self, pressure, schedule: SpeedSchedule, x0, duration: float) -> Trajectory:
+    def run(self, pressure, schedule: SpeedSchedule, x0, duration: float,
+            progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
+        """The trajectory by scipy; ``poses`` changes nothing (a recording draws this model from its states)."""
         from reduced_model.simulation import simulate as simulate_reduced
-        return simulate_reduced(self.model, pressure, schedule, duration, x0)
+        return simulate_reduced(self.model, pressure, schedule, duration, x0, progress=progress)
 
 
 @dataclass(frozen=True)
@@ -285,10 +287,13 @@ class MultibodyModel:
         from mbs_shimmy.linearisation import MbsFamily
         return MbsFamily(self.model, param, pressure)
 
-    def run(self, pressure, schedule: SpeedSchedule, x0, duration: float) -> Trajectory:
+    def run(self, pressure, schedule: SpeedSchedule, x0, duration: float,
+            progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
+        """The trajectory by Exudyn, with the bodies' poses when ``poses`` (for a 3D recording); it reports no
+        ``progress``."""
         from mbs_shimmy.simulation import simulate as simulate_mbs
         return simulate_mbs(self.axle.params, self.effects, self.fidelity, pressure, schedule, x0, duration,
-                            dims=self.axle.dims, poses=False)
+                            dims=self.axle.dims, poses=poses)
 
 
 @dataclass(frozen=True)
@@ -392,11 +397,14 @@ def schedule_of(speed_kmh: float | None, ramp_kmh: tuple[float, float, float] | 
 
 def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, speed_kmh: float | None = None,
              ramp_kmh: tuple[float, float, float] | None = None, duration_s: float,
-             initial_deg: Mapping[str, float] | None = None) -> Simulation:
+             initial_deg: Mapping[str, float] | None = None, progress: Callable[[float], None] | None = None,
+             poses: bool = False) -> Simulation:
     """A time simulation of either model, the same call for both: at a constant ``speed_kmh`` or along
     ``ramp_kmh=(FROM, TO, SECONDS)`` (then held), for ``duration_s`` s from ``initial_deg`` (degrees, deg/s for
     the rates; default theta1 = 0.573 deg).  The reduced model runs on scipy, the MBS on Exudyn (about 2 s of
-    computing per simulated second).
+    computing per simulated second).  ``progress(t)`` is called with the simulated time every 1 % of the duration
+    (reduced model; the MBS reports none); ``poses`` keeps the MBS bodies' poses in the trajectory, for a 3D
+    recording (:func:`comparisons.recordings.writer.write_recording`).
 
     >>> run = simulate(Axle.paper().reduced(), TyrePressures.both(2.5), speed_kmh=60, duration_s=2)
     >>> run.status.value
@@ -405,7 +413,7 @@ def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, 
     schedule = schedule_of(speed_kmh, ramp_kmh)
     duration = check_range("duration_s", duration_s, *DURATION_RANGE_S, "s")
     x0 = initial_from_degrees(initial_deg)
-    trajectory = model.run(pressures.si, schedule, x0, duration)
+    trajectory = model.run(pressures.si, schedule, x0, duration, progress=progress, poses=poses)
     return Simulation(f"{model.label()}, {pressures}, axle {model.axle.name}", trajectory)
 
 

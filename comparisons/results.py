@@ -105,7 +105,7 @@ class HopfPoint:
 
     @classmethod
     def of(cls, point: ToolkitHopfPoint) -> "HopfPoint":
-        return cls(point.speed, point.omega, point.first_lyapunov, point.criticality, point)
+        return cls(point.p, point.omega, point.first_lyapunov, point.criticality, point)
 
     @property
     def speed_kmh(self) -> float:
@@ -214,12 +214,12 @@ class CycleBranches(Shown):
 def cycle_branch(branch: ToolkitCycleBranch, peak) -> CycleBranch:
     """The summary of a toolkit branch; ``peak`` is its cycle of largest max|theta1|
     (:func:`reduced_model.bifurcation.cycles.branches.branch_peak`)."""
-    speeds = [p.speed for p in branch.points]
-    special = tuple(CyclePointOnBranch(s.kind, s.speed, float(s.data["amplitude"][0]))
+    speeds = [p.p for p in branch.points]
+    special = tuple(CyclePointOnBranch(s.kind, s.p, float(s.data["amplitude"][0]))
                     for s in sorted(branch.special_points, key=lambda s: s.bracket[0]))
     return CycleBranch(start=HopfPoint.of(branch.start), end=None if branch.end is None else HopfPoint.of(branch.end),
                        status=branch.status, message=branch.message, speeds=(min(speeds), max(speeds)),
-                       peak_theta1=peak.max_abs("theta1"), peak_speed=peak.speed,
+                       peak_theta1=peak.max_abs("theta1"), peak_speed=peak.p,
                        frequencies=branch.frequency_range, stable=sum(p.stable for p in branch.points),
                        special_points=special, branch=branch)
 

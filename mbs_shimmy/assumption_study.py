@@ -75,15 +75,15 @@ def match_hopf(reduced: Sequence[HopfPoint], mbs: Sequence[HopfPoint]) -> tuple[
         for i, r in enumerate(reduced):
             for j, b in enumerate(mbs):
                 if abs(b.omega - r.omega) <= MATCH_FREQUENCY * r.omega:
-                    cost[i, j] = abs(b.speed - r.speed) / MATCH_SPEED + abs(b.omega - r.omega) / r.omega
+                    cost[i, j] = abs(b.p - r.p) / MATCH_SPEED + abs(b.omega - r.omega) / r.omega
         rows, cols = scipy.optimize.linear_sum_assignment(cost)
         pairs = [(i, j) for i, j in zip(rows, cols) if cost[i, j] < 1e6]
     matched_r = {i for i, _ in pairs}
     matched_m = {j for _, j in pairs}
-    out = [HopfShift(reduced[i].speed, mbs[j].speed, reduced[i].frequency_hz, mbs[j].frequency_hz)
+    out = [HopfShift(reduced[i].p, mbs[j].p, reduced[i].frequency_hz, mbs[j].frequency_hz)
            for i, j in pairs]
-    out += [HopfShift(r.speed, None, r.frequency_hz, None) for i, r in enumerate(reduced) if i not in matched_r]
-    out += [HopfShift(None, b.speed, None, b.frequency_hz) for j, b in enumerate(mbs) if j not in matched_m]
+    out += [HopfShift(r.p, None, r.frequency_hz, None) for i, r in enumerate(reduced) if i not in matched_r]
+    out += [HopfShift(None, b.p, None, b.frequency_hz) for j, b in enumerate(mbs) if j not in matched_m]
     return tuple(sorted(out, key=lambda h: h.reduced_speed if h.reduced_speed is not None else h.mbs_speed))
 
 
@@ -133,5 +133,5 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float
                 full_points, full_amp, full_settled = mbs, mbs_amp, settled
         if progress is not None:
             progress(k + 1)
-    return AssumptionStudy(q, effects.names, tuple(h.speed for h in reduced),
+    return AssumptionStudy(q, effects.names, tuple(h.p for h in reduced),
                            peak.speed if peak else None, peak.theta1 if peak else None, tuple(rows))

@@ -134,15 +134,15 @@ def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, A
     from reduced_model.bifurcation.equilibria.hopf import eigenvalues
 
     stable: list[Attractor] = []
-    if eigenvalues(family, speed, diagram.value)[0].real < 0.0:
+    if eigenvalues(family, speed, diagram.q)[0].real < 0.0:
         stable.append(Attractor("straight running", 0.0, 0.0))
     unstable: list[float] = []
     for i, b in enumerate(diagram.branches):
         pts = list(b.points)
         for a, c in zip(pts[:-1], pts[1:]):
-            if not min(a.speed, c.speed) <= speed <= max(a.speed, c.speed) or a.stable != c.stable:
+            if not min(a.p, c.p) <= speed <= max(a.p, c.p) or a.stable != c.stable:
                 continue
-            cycle = cycle_at(family, min((a, c), key=lambda p: abs(p.speed - speed)), speed)
+            cycle = cycle_at(family, min((a, c), key=lambda p: abs(p.p - speed)), speed)
             if cycle.stable:
                 stable.append(Attractor(f"cycle of branch {i}", cycle.max_abs("theta1"), cycle.max_abs("psi")))
             else:
@@ -161,7 +161,7 @@ def stable_stretches(diagram) -> list[tuple[float, float]]:
         run: list[float] = []
         for p in list(b.points) + [None]:
             if p is not None and p.stable:
-                run.append(p.speed)
+                run.append(p.p)
                 continue
             if len(run) >= 2:
                 out.append((min(run), max(run)))
@@ -174,9 +174,9 @@ def stable_straight_running(family, diagram) -> list[tuple[float, float]]:
     Hopf points, by the eigenvalues in the middle of each interval."""
     from reduced_model.bifurcation.equilibria.hopf import eigenvalues
 
-    edges = [diagram.vmin] + sorted(h.speed for h in diagram.hopf) + [diagram.vmax]
+    edges = [diagram.p_min] + sorted(h.p for h in diagram.hopf) + [diagram.p_max]
     return [(a, b) for a, b in zip(edges[:-1], edges[1:])
-            if b > a and eigenvalues(family, 0.5 * (a + b), diagram.value)[0].real < 0.0]
+            if b > a and eigenvalues(family, 0.5 * (a + b), diagram.q)[0].real < 0.0]
 
 
 def bistable_windows(diagram, family=None, min_width: float = 0.0) -> list[tuple[float, float]]:

@@ -132,7 +132,7 @@ def unstable_windows(model: ShimmyModel, pressure: float, vmax: float) -> list[t
     """Speed intervals (m/s) between consecutive Hopf points where straight running is unstable."""
     family = SpeedFamily(model, pressure=pressure)
     points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=False)
-    edges = [0.0] + [h.speed for h in points] + [vmax]
+    edges = [0.0] + [h.p for h in points] + [vmax]
     windows = []
     for a, b in zip(edges[:-1], edges[1:]):
         mid = 0.5 * (a + b)

@@ -3,6 +3,7 @@ that knows no problem, and no facades."""
 
 import ast
 import pathlib
+import re
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PACKAGES = ("reduced_model", "mbs_shimmy", "comparisons")
@@ -90,6 +91,28 @@ def test_no_module_level_getattr_facade():
     facades = [name for name, path in modules().items()
                if any(isinstance(n, ast.FunctionDef) and n.name == "__getattr__" for n in ast.parse(path.read_text()).body)]
     assert facades == []
+
+
+# A word of the shimmy problem inside an identifier or a sentence; ``_`` and digits count as word boundaries, so
+# ``speed_derivative``, ``SPEED_SCALE`` and ``seed_speeds`` are caught as well as "speed" in a docstring.
+PROBLEM_WORDS = re.compile(r"(?<![a-z])(speeds?|v_?min|v_?max|kmh)(?![a-z])|km/h", re.IGNORECASE)
+
+
+def test_the_pattern_of_problem_words_finds_them():
+    for text in ("speed", "A(V) with V the Speed", "speed_derivative", "SPEED_SCALE", "seed_speeds", "vmin", "v_max",
+                 "clip(vmax)", "400 km/h", "to_kmh"):
+        assert PROBLEM_WORDS.search(text), text
+    for text in ("p_min, p_max", "speedup", "primary_min", "v_lo", "the primary parameter p"):
+        assert not PROBLEM_WORDS.search(text), text
+
+
+def test_the_toolkit_names_no_speed():
+    """The toolkit continues in a named first parameter p, whatever it means to the problem: no identifier,
+    comment or docstring under ``reduced_model/bifurcation/`` says speed, vmin/vmax or km/h."""
+    found = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}"
+             for path in sorted((ROOT / "reduced_model" / "bifurcation").rglob("*.py"))
+             for n, line in enumerate(path.read_text().splitlines(), 1) if PROBLEM_WORDS.search(line)]
+    assert found == []
 
 
 def test_the_models_import_nothing_of_the_comparisons():

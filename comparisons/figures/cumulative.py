@@ -30,12 +30,12 @@ def uncovered(full: HopfDiagram, zoom: HopfDiagram, tol: float = 1e-2) -> int:
     """How many points of the full-window curves inside the zoom window are farther than ``tol`` (relative to
     the zoom window; chords of the polylines sag by ~1e-3) from every zoom curve: a check that the zoom's own
     seeding found every curve."""
-    dv, dq = zoom.vmax - zoom.vmin, zoom.hi - zoom.lo
-    zoom_pts = [np.column_stack([c.speeds / dv, c.values / dq]) for c in zoom.curves]
+    dv, dq = zoom.p_max - zoom.p_min, zoom.hi - zoom.lo
+    zoom_pts = [np.column_stack([c.ps / dv, c.qs / dq]) for c in zoom.curves]
     count = 0
     for c in full.curves:
-        inside = ((c.speeds > zoom.vmin) & (c.speeds < zoom.vmax) & (c.values > zoom.lo) & (c.values < zoom.hi))
-        for v, q in zip(c.speeds[inside] / dv, c.values[inside] / dq):
+        inside = ((c.ps > zoom.p_min) & (c.ps < zoom.p_max) & (c.qs > zoom.lo) & (c.qs < zoom.hi))
+        for v, q in zip(c.ps[inside] / dv, c.qs[inside] / dq):
             dist = min((_segment_distance(P, np.array([v, q])) for P in zoom_pts), default=np.inf)
             count += dist > tol
     return int(count)
@@ -64,16 +64,16 @@ def _z2_names(zoom: HopfDiagram, effects: Effects, label: str, colour, notes: li
     if "cusp_kmh" in ref:
         folds = _located(zoom, PointKind.HOPF_FOLD)
         if folds:
-            f = min(folds, key=lambda p: abs(kmh(p.speed) - ref["cusp_kmh"]))
-            out.append((kmh(f.speed), f.value / BAR, f"cusp ({label})", colour))
-            notes.append(f"{label}: cusp (HB2 meets HB3) at {kmh(f.speed):.2f} km/h, {f.value / BAR:.4f} bar "
+            f = min(folds, key=lambda p: abs(kmh(p.p) - ref["cusp_kmh"]))
+            out.append((kmh(f.p), f.q / BAR, f"cusp ({label})", colour))
+            notes.append(f"{label}: cusp (HB2 meets HB3) at {kmh(f.p):.2f} km/h, {f.q / BAR:.4f} bar "
                          f"(paper {ref['cusp_kmh']:g} km/h, {ref['cusp_bar']:g} bar)")
     if "hopf_hopf_bar" in ref:
         crossings = _located(zoom, PointKind.HOPF_HOPF)
         if crossings:
-            h = min(crossings, key=lambda p: abs(p.value / BAR - ref["hopf_hopf_bar"]))
-            out.append((kmh(h.speed), h.value / BAR, f"HH1 ({label})", colour))
-            notes.append(f"{label}: HH1 (HB2 crosses HB3) at {kmh(h.speed):.2f} km/h, {h.value / BAR:.4f} bar "
+            h = min(crossings, key=lambda p: abs(p.q / BAR - ref["hopf_hopf_bar"]))
+            out.append((kmh(h.p), h.q / BAR, f"HH1 ({label})", colour))
+            notes.append(f"{label}: HH1 (HB2 crosses HB3) at {kmh(h.p):.2f} km/h, {h.q / BAR:.4f} bar "
                          f"(paper {ref['hopf_hopf_bar']:g} bar)")
     return out
 
@@ -91,8 +91,8 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
         _draw_curves(ax, diagram, BAR, colour, label=label)
         folds = _located(diagram, PointKind.HOPF_FOLD)
         if folds:
-            notes.append(f"{label}: no shimmy above {folds[-1].value / BAR:.4f} bar "
-                         f"(fold at {kmh(folds[-1].speed):.2f} km/h)")
+            notes.append(f"{label}: no shimmy above {folds[-1].q / BAR:.4f} bar "
+                         f"(fold at {kmh(folds[-1].p):.2f} km/h)")
         notes += _special_notes(f"{label}: ", diagram, "bar", BAR)
         notes += _incomplete_notes(f"{label}: ", diagram)
         complete &= diagram.complete
@@ -105,9 +105,9 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
                              f"zoom lie on no zoom curve")
             _draw_curves(zax, zd, BAR, colour, label=label)
             for f in _located(zd, PointKind.HOPF_FOLD):
-                zax.plot(kmh(f.speed), f.value / BAR, "o", color=colour, ms=4, mfc="white")
+                zax.plot(kmh(f.p), f.q / BAR, "o", color=colour, ms=4, mfc="white")
             for s in _located(zd, PointKind.HOPF_HOPF):
-                zax.plot(kmh(s.speed), s.value / BAR, "s", color=colour, ms=4, mfc="white")
+                zax.plot(kmh(s.p), s.q / BAR, "s", color=colour, ms=4, mfc="white")
             complete &= zd.complete
             notes += _incomplete_notes(f"{label} zoom: ", zd)
             if (plo, phi, vlo, vhi) == Z2:

@@ -59,7 +59,7 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
             notes.append(f"{text}: INCOMPLETE: {interface_text(str(exc))}")
             complete = False
             continue
-        origin = f"from {kmh(point.speed):.2f} km/h at {start / factor:g} {unit}"
+        origin = f"from {kmh(point.p):.2f} km/h at {start / factor:g} {unit}"
         complete &= _draw_cycle_curve(ax, family, text, origin, curve, factor, unit, start, notes, items, label_at)
     return items, complete
 
@@ -75,24 +75,24 @@ def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, fac
     """Draw one S or T curve with its ends (stars) and the codimension-two points of cycles found along it (x);
     add its label to ``items`` and its notes; returns whether the curve is complete."""
     style, colour = CURVE_STYLES[curve.kind]
-    ax.plot(kmh(curve.speeds), curve.values / factor, style, color=colour, lw=1.6,
+    ax.plot(kmh(curve.ps), curve.qs / factor, style, color=colour, lw=1.6,
             label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
             if text in ("S1", "T1") else None)
     # The label sits the fraction ``label_at`` of the way from the starting line to the curve's far end.
-    k = int(np.argmin(np.abs(curve.values - (start + label_at * (curve.values.max() - start)))))
-    items.append((kmh(curve.speeds[k]), curve.values[k] / factor, text, colour))
+    k = int(np.argmin(np.abs(curve.qs - (start + label_at * (curve.qs.max() - start)))))
+    items.append((kmh(curve.ps[k]), curve.qs[k] / factor, text, colour))
     ends = [e for e in curve.ends if e is not None]
     for v, q in ends:
         ax.plot(kmh(v), q / factor, "*", color=colour, ms=9, zorder=6)
-    located = {(p.speed, p.value): p for p in curve.end_points if p is not None}
+    located = {(p.p, p.q): p for p in curve.end_points if p is not None}
     end_text = "; ".join(f"amplitude vanishes at {kmh(v):.2f} km/h, {q / factor:.4f} {unit}"
                          + (f" ({located[(v, q)].kind.value.replace('_', '-')} point located on its Hopf curve)"
                             if (v, q) in located else " (extrapolated)") for v, q in ends)
     for sp in curve.special_points:    # codimension-two points of cycles found along the curve
-        ax.plot(kmh(sp.speed), sp.value / factor, "x", color=colour, ms=7, mew=1.6, zorder=6)
-        items.append((kmh(sp.speed), sp.value / factor, CODIM2_LABELS.get(sp.kind, sp.kind.value), colour))
+        ax.plot(kmh(sp.p), sp.q / factor, "x", color=colour, ms=7, mew=1.6, zorder=6)
+        items.append((kmh(sp.p), sp.q / factor, CODIM2_LABELS.get(sp.kind, sp.kind.value), colour))
         notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} ({CODIM2_LABELS.get(sp.kind, '')}) at "
-                     f"{kmh(sp.speed):.2f} km/h, {sp.value / factor:.4g} {unit} ({sp.status.value})")
+                     f"{kmh(sp.p):.2f} km/h, {sp.q / factor:.4g} {unit} ({sp.status.value})")
     messages = " | ".join(interface_text(m) for m in curve.messages)
     notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}")
     return curve.complete
@@ -133,7 +133,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
             complete = False
             continue
         letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
-        for curve in sorted(found, key=lambda c: -c.speeds[int(np.argmin(c.values))]):
+        for curve in sorted(found, key=lambda c: -c.ps[int(np.argmin(c.qs))]):
             named[letter] = named.get(letter, 0) + 1
             complete &= _draw_cycle_curve(ax, family, f"{letter}{named[letter]}", f"born at {origin}", curve, BAR,
                                           "bar", FIG18_START_BAR * BAR, notes, items, 0.5)
@@ -141,8 +141,8 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     # The paper's names: HB3 turns subcritical at DH (its cycles are unstable below it), HB2 stays supercritical.
     for h in cycles.hopf:
         name = "HB3" if h.first_lyapunov > 0 else "HB2"
-        items.append((kmh(h.speed), FIG18_START_BAR, name, "k"))
-        notes.append(f"{name} at {FIG18_START_BAR:g} bar: {kmh(h.speed):.2f} km/h, first Lyapunov coefficient "
+        items.append((kmh(h.p), FIG18_START_BAR, name, "k"))
+        notes.append(f"{name} at {FIG18_START_BAR:g} bar: {kmh(h.p):.2f} km/h, first Lyapunov coefficient "
                      f"{'positive (subcritical)' if h.first_lyapunov > 0 else 'negative (supercritical)'}")
     _speed_axis(ax, FIG18_VIEW_KMH[1], FIG18_VIEW_KMH[0])
     ax.set_ylim(lo_bar, hi_bar)
@@ -175,23 +175,23 @@ def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
     notes = []
     for i, hh in enumerate(_located(diagram, PointKind.HOPF_HOPF), 1):
         name = "HH" if len(_located(diagram, PointKind.HOPF_HOPF)) == 1 else f"HH{i}"
-        _mark(ax, hh, 1.0, f"{name} (t = {hh.value:.3f} m)", colour="tab:red", marker="s", offset=(-95, -3))
+        _mark(ax, hh, 1.0, f"{name} (t = {hh.q:.3f} m)", colour="tab:red", marker="s", offset=(-95, -3))
         notes.append(_point_note(name, hh, "m", 1.0))
     for i, dh in enumerate(_located(diagram, PointKind.GENERALIZED_HOPF), 1):
-        _mark(ax, dh, 1.0, f"DH{i} (t = {dh.value:.3f} m)", colour="tab:blue", marker="D", offset=(6, -3))
+        _mark(ax, dh, 1.0, f"DH{i} (t = {dh.q:.3f} m)", colour="tab:blue", marker="D", offset=(6, -3))
         notes.append(_point_note(f"DH{i} (criticality changes)", dh, "m", 1.0))
     offsets = iter(((6, -12), (6, -12), (-40, 8), (6, -12)))
     for i, f in enumerate(_located(diagram, PointKind.HOPF_FOLD), 1):
-        _mark(ax, f, 1.0, f"F{i} ({f.value:.3f} m)", offset=next(offsets, (6, 4)))
+        _mark(ax, f, 1.0, f"F{i} ({f.q:.3f} m)", offset=next(offsets, (6, 4)))
         notes.append(_point_note(f"fold F{i}", f, "m", 1.0))
     for p in diagram.points_of(PointKind.HOPF_FOLD):
-        if p.status is not PointStatus.LOCATED or kmh(p.speed) < MIN_LABEL_SPEED_KMH:
+        if p.status is not PointStatus.LOCATED or kmh(p.p) < MIN_LABEL_SPEED_KMH:
             notes.append(_point_note(f"fold at the window edge, not labelled ({p.status.value})", p, "m", 1.0))
     # The torus (T) and saddle-node (S) curves of the paper's figure 8, continued from figure 9a's points.
     cycles = cycle_diagram(family, FIG8_START_T, 0.0, VMAX_KMH * KMH)
     items, ok = _draw_cycle_curves(ax, family, cycles, key.lo, key.hi, 0.0, VMAX_KMH, 1.0, "m", FIG8_START_T,
                                    notes, label_at=0.75)
-    place_labels(ax, items, fontsize=9, avoid=[(kmh(p.speed), p.value) for p in diagram.special_points])
+    place_labels(ax, items, fontsize=9, avoid=[(kmh(p.p), p.q) for p in diagram.special_points])
     ax.axhline(FIG8_START_T, color="0.5", lw=0.7, ls=":")
     ax.legend(fontsize=8, loc="center right", framealpha=0.9)
     ax.axhline(YANG2024.t0, color="0.4", lw=0.7, ls=":")

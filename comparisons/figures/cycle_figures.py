@@ -44,13 +44,13 @@ def _cycle_notes(prefix: str, family: SpeedFamily, diagram: CycleDiagram, paper_
     def ref(name):
         i = int(name[2:]) - 1 if name[2:].isdigit() else None
         return paper_hopf[i] if paper_hopf and i is not None and i < len(paper_hopf) else None
-    hopf = ", ".join(f"{name} {kmh(h.speed):.2f}{_paper(ref(name))}"
-                     for name, h in sorted(hopf_names(diagram, hopf_labels), key=lambda nh: nh[1].speed))
+    hopf = ", ".join(f"{name} {kmh(h.p):.2f}{_paper(ref(name))}"
+                     for name, h in sorted(hopf_names(diagram, hopf_labels), key=lambda nh: nh[1].p))
     notes.append(f"{prefix}Hopf points [km/h]: {hopf or 'none: straight running stable in the whole window'}")
     modes = list(paper_modes.items()) if paper_modes else []
     for i, b in enumerate(diagram.branches):
-        ends = (f"{kmh(b.start.speed):.2f}" if b.start else "?") + " - " + \
-            (f"{kmh(b.end.speed):.2f} km/h" if b.end else interface_text(b.message).split(": ", 1)[-1])
+        ends = (f"{kmh(b.start.p):.2f}" if b.start else "?") + " - " + \
+            (f"{kmh(b.end.p):.2f} km/h" if b.end else interface_text(b.message).split(": ", 1)[-1])
         name, ref = modes[i] if i < len(modes) else (f"branch {i + 1}", {})
         if not b.points:
             notes.append(f"{prefix}{name} ({ends}): INCOMPLETE, no cycle computed: {interface_text(b.message)}")
@@ -60,15 +60,15 @@ def _cycle_notes(prefix: str, family: SpeedFamily, diagram: CycleDiagram, paper_
         f_ref = ref.get("frequency_hz")
         notes.append(
             f"{prefix}{name} (from {ends}): peak max|theta1| {np.degrees(th.max_abs('theta1')):.3f} deg"
-            f"{_paper(ref.get('theta1_deg'))} at {kmh(th.speed):.2f} km/h, peak max|psi| "
-            f"{np.degrees(ps.max_abs('psi')):.3f} deg{_paper(ref.get('psi_deg'))} at {kmh(ps.speed):.2f} km/h, "
+            f"{_paper(ref.get('theta1_deg'))} at {kmh(th.p):.2f} km/h, peak max|psi| "
+            f"{np.degrees(ps.max_abs('psi')):.3f} deg{_paper(ref.get('psi_deg'))} at {kmh(ps.p):.2f} km/h, "
             f"frequency {f_lo:.2f}-{f_hi:.2f} Hz" + (f" (paper {f_ref[0]:g}-{f_ref[1]:g})" if f_ref else ""))
         if not b.complete:
             notes.append(f"{prefix}{name}: INCOMPLETE: {interface_text(b.message)}")
     for text, p in special_point_labels(diagram):
         status = "" if p.status is PointStatus.LOCATED else f" ({p.status.value})"
         ref = (paper_special or {}).get(text)
-        notes.append(f"{prefix}{text} ({p.kind.value}): {kmh(p.speed):.2f} km/h{_paper(ref)}, max|theta1| "
+        notes.append(f"{prefix}{text} ({p.kind.value}): {kmh(p.p):.2f} km/h{_paper(ref)}, max|theta1| "
                      f"{np.degrees(p.data['amplitude'][0]):.3f} deg{status}")
     return notes
 
@@ -78,20 +78,20 @@ def hopf_names(diagram: CycleDiagram, names: tuple[str, ...] | None = None) -> l
     HB(2k+2) above; a branch that leaves the window at its low end starts at its upper Hopf point.  ``names``
     (in speed order) overrides this where the paper keeps the names of a neighbouring diagram (figure 9b)."""
     if names is not None and len(names) == len(diagram.hopf):
-        return list(zip(names, sorted(diagram.hopf, key=lambda h: h.speed)))
+        return list(zip(names, sorted(diagram.hopf, key=lambda h: h.p)))
     out, named = [], set()
     for k, b in enumerate(diagram.branches):
         ends = [h for h in (b.start, b.end) if h is not None]
         if len(ends) == 2:
-            ends.sort(key=lambda h: h.speed)
+            ends.sort(key=lambda h: h.p)
             pairs = zip(ends, (2 * k + 1, 2 * k + 2))
         else:
-            upper = bool(ends) and b.points and np.mean([p.speed for p in b.points]) < ends[0].speed
+            upper = bool(ends) and b.points and np.mean([p.p for p in b.points]) < ends[0].p
             pairs = zip(ends, (2 * k + 2 if upper else 2 * k + 1,))
         for h, n in pairs:
             out.append((f"HB{n}", h))
             named.add(id(h))
-    out += [(f"HB? ({kmh(h.speed):.1f})", h) for h in diagram.hopf if id(h) not in named]
+    out += [(f"HB? ({kmh(h.p):.1f})", h) for h in diagram.hopf if id(h) not in named]
     return out
 
 

@@ -25,7 +25,7 @@ def special_point_labels(diagram: CycleDiagram) -> list[tuple[str, object]]:
     points = [p for b in diagram.branches for p in sorted(b.special_points, key=lambda p: p.bracket[0])]
     number = {}
     for kind in {p.kind for p in points}:
-        same = sorted((p for p in points if p.kind is kind), key=lambda p: -p.speed)
+        same = sorted((p for p in points if p.kind is kind), key=lambda p: -p.p)
         number.update({id(p): i for i, p in enumerate(same, 1)})
     return [(f"{LABELS.get(p.kind, (p.kind.value, 'x'))[0]}{number[id(p)]}", p) for p in points]
 
@@ -44,12 +44,12 @@ def branch_lines(branch: CycleBranch, name: str):
     """(stable, speeds km/h, max |x_name| deg) of each run of equal stability, joined to the Hopf points the
     branch starts and ends at (amplitude zero there)."""
     for stable, pts in _stability_runs(branch):
-        v = [kmh(p.speed) for p in pts]
+        v = [kmh(p.p) for p in pts]
         a = [np.degrees(p.max_abs(name)) for p in pts]
         if branch.start is not None and pts[0] is branch.points[0]:
-            v, a = [kmh(branch.start.speed)] + v, [0.0] + a
+            v, a = [kmh(branch.start.p)] + v, [0.0] + a
         if branch.end is not None and pts[-1] is branch.points[-1]:
-            v, a = v + [kmh(branch.end.speed)], a + [0.0]
+            v, a = v + [kmh(branch.end.p)], a + [0.0]
         yield stable, v, a
 
 
@@ -57,11 +57,11 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
     """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
     max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
     point) pairs; default HB1, HB2, ... by speed).  Labels are placed so that they do not collide."""
-    speeds = np.linspace(diagram.vmin, diagram.vmax, 801)
-    unstable = stability_grid(family, speeds, np.array([diagram.value]))[0] > 0
+    speeds = np.linspace(diagram.p_min, diagram.p_max, 801)
+    unstable = stability_grid(family, speeds, np.array([diagram.q]))[0] > 0
     labels = special_point_labels(diagram)
     if hopf_labels is None:
-        hopf_labels = [(f"HB{i}", h) for i, h in enumerate(sorted(diagram.hopf, key=lambda h: h.speed), 1)]
+        hopf_labels = [(f"HB{i}", h) for i, h in enumerate(sorted(diagram.hopf, key=lambda h: h.p), 1)]
     for ax, (name, ylabel) in zip(axes, PANELS):
         # Straight running on the axis: solid where stable, dashed where not.
         for flag, style in ((False, "-"), (True, "--")):
@@ -72,14 +72,14 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
                 ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
         items = []
         for text, h in hopf_labels:
-            ax.plot(kmh(h.speed), 0.0, "o", color="C0", ms=5, zorder=5)
-            items.append((kmh(h.speed), 0.0, text, "C0"))
+            ax.plot(kmh(h.p), 0.0, "o", color="C0", ms=5, zorder=5)
+            items.append((kmh(h.p), 0.0, text, "C0"))
         for text, p in labels:
             amp = np.degrees(p.data["amplitude"][STATE_NAMES.index(name)])
             marker = LABELS.get(p.kind, ("", "x"))[1]
-            ax.plot(kmh(p.speed), amp, marker, color="C3", ms=6, mfc="none")
-            items.append((kmh(p.speed), amp, text, "C3"))
-        ax.set_xlim(kmh(diagram.vmin), kmh(diagram.vmax))
+            ax.plot(kmh(p.p), amp, marker, color="C3", ms=6, mfc="none")
+            items.append((kmh(p.p), amp, text, "C3"))
+        ax.set_xlim(kmh(diagram.p_min), kmh(diagram.p_max))
         ax.set_ylabel(ylabel)
         top = max(ax.get_ylim()[1], 1e-3)
         ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
@@ -92,7 +92,7 @@ def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, ti
     axes = fig.subplots(2, 1, sharex=True)
     draw_cycle_diagram(axes, diagram, family)
     effects = ",".join(family.model.effects.names) or "section 3 model"
-    axes[0].set_title(title or f"Limit cycles at {diagram.value / BAR:g} bar ({effects}); "
+    axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar ({effects}); "
                                f"solid stable, dashed unstable", fontsize=10)
     save_figure(fig, path)
 
@@ -151,12 +151,12 @@ def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, titl
     ax = fig.subplots()
     draw_hopf_diagram(ax, hopf, family)
     for curve, label in zip(curves, labels):
-        if curve is None or len(curve.speeds) == 0:
+        if curve is None or len(curve.ps) == 0:
             continue
         style, color = CURVE_STYLES.get(curve.kind, ("--", "C4"))
-        ax.plot(kmh(curve.speeds), curve.values / factor, style, color=color, lw=1.6)
-        k = len(curve.speeds) // 2
-        ax.annotate(label, (kmh(curve.speeds[k]), curve.values[k] / factor), textcoords="offset points",
+        ax.plot(kmh(curve.ps), curve.qs / factor, style, color=color, lw=1.6)
+        k = len(curve.ps) // 2
+        ax.annotate(label, (kmh(curve.ps[k]), curve.qs[k] / factor), textcoords="offset points",
                     xytext=(4, -10), fontsize=8, color=color)
         for end in curve.ends:
             if end is not None:
@@ -185,7 +185,7 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
         axes[0].plot(kmh(v), np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
         axes[1].plot(kmh(v), np.degrees(b), marker, color=color, mfc="none", ms=6)
     axes[0].legend(fontsize=8, loc="upper right")
-    axes[0].set_title(title or f"Limit cycles at {diagram.value / BAR:g} bar", fontsize=10)
+    axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar", fontsize=10)
     save_figure(fig, path)
 
 
@@ -199,17 +199,17 @@ def plot_model_branches(models, path: str, title: str | None = None) -> None:
     items, handles = [], []
     vmin, vmax = [], []
     for label, diagram, color in models:
-        vmin.append(kmh(diagram.vmin))
-        vmax.append(kmh(diagram.vmax))
+        vmin.append(kmh(diagram.p_min))
+        vmax.append(kmh(diagram.p_max))
         for branch in diagram.branches:
             for stable, v, a in branch_lines(branch, "theta1"):
                 ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
         for h in diagram.hopf:
-            ax.plot(kmh(h.speed), 0.0, "o", color=color, ms=5, zorder=5)
+            ax.plot(kmh(h.p), 0.0, "o", color=color, ms=5, zorder=5)
         for text, p in special_point_labels(diagram):
             amp = np.degrees(p.data["amplitude"][STATE_NAMES.index("theta1")])
-            ax.plot(kmh(p.speed), amp, LABELS.get(p.kind, ("", "x"))[1], color=color, ms=7, mfc="none")
-            items.append((kmh(p.speed), amp, text, color))
+            ax.plot(kmh(p.p), amp, LABELS.get(p.kind, ("", "x"))[1], color=color, ms=7, mfc="none")
+            items.append((kmh(p.p), amp, text, color))
         handles.append(Line2D([], [], color=color, lw=1.5, label=f"{label} ({len(diagram.hopf)} Hopf points)"))
     handles += [Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--",
                                                                             label="unstable")]

@@ -20,7 +20,7 @@ def _pressure_label(p_bar: float) -> str:
 
 def _shade_stable(ax, family: SpeedFamily, diagram: HopfDiagram, factor: float, colour="0.85", alpha=1.0) -> None:
     """Shade where straight running is stable (all eigenvalues in the left half plane)."""
-    speeds = np.linspace(diagram.vmin, diagram.vmax, 201)
+    speeds = np.linspace(diagram.p_min, diagram.p_max, 201)
     values = np.linspace(diagram.lo, diagram.hi, 121)
     stable = (stability_grid(family, speeds, values) == 0).astype(float)
     ax.contourf(kmh(speeds), values / factor, stable, levels=[0.5, 1.5], colors=[colour], alpha=alpha)
@@ -28,33 +28,33 @@ def _shade_stable(ax, family: SpeedFamily, diagram: HopfDiagram, factor: float, 
 
 def _draw_curves(ax, diagram: HopfDiagram, factor: float, colour, label=None, lw=1.4) -> None:
     for i, c in enumerate(diagram.curves):
-        ax.plot(kmh(c.speeds), c.values / factor, "-", color=colour, lw=lw, label=label if i == 0 else None)
+        ax.plot(kmh(c.ps), c.qs / factor, "-", color=colour, lw=lw, label=label if i == 0 else None)
 
 
 def _located(diagram: HopfDiagram, kind: PointKind) -> list:
     return sorted((p for p in diagram.points_of(kind) if p.status is PointStatus.LOCATED
-                   and kmh(p.speed) >= MIN_LABEL_SPEED_KMH), key=lambda p: p.value)
+                   and kmh(p.p) >= MIN_LABEL_SPEED_KMH), key=lambda p: p.q)
 
 
 def _curve_of(diagram: HopfDiagram, point) -> HopfCurve:
     """The curve passing closest to a special point."""
     def dist(c):
-        return np.min(np.hypot((c.speeds - point.speed) / 10.0,
-                               (c.values - point.value) / (diagram.hi - diagram.lo)))
+        return np.min(np.hypot((c.ps - point.p) / 10.0,
+                               (c.qs - point.q) / (diagram.hi - diagram.lo)))
     return min(diagram.curves, key=dist)
 
 
 def _fold_is_maximum(diagram: HopfDiagram, point) -> bool:
     """Whether the Hopf curve reaches a local maximum of the parameter at this fold (else a minimum)."""
     c = _curve_of(diagram, point)
-    k = int(np.argmin(np.hypot((c.speeds - point.speed) / 10.0, (c.values - point.value) / (diagram.hi - diagram.lo))))
-    around = c.values[max(k - 3, 0):k + 4]
-    return bool(np.mean(around) < point.value)
+    k = int(np.argmin(np.hypot((c.ps - point.p) / 10.0, (c.qs - point.q) / (diagram.hi - diagram.lo))))
+    around = c.qs[max(k - 3, 0):k + 4]
+    return bool(np.mean(around) < point.q)
 
 
 def _mark(ax, point, factor, text, colour="k", offset=(5, 5), marker="o", text_at=None) -> None:
     """Mark a special point; the label sits ``offset`` points away, or at data position ``text_at`` with an arrow."""
-    x, y = kmh(point.speed), point.value / factor
+    x, y = kmh(point.p), point.q / factor
     ax.plot(x, y, marker, color=colour, ms=5, mfc="white", mew=1.3, zorder=5)
     if text:
         where = dict(xytext=text_at, textcoords="data", arrowprops=dict(arrowstyle="-", color=colour, lw=0.7)) \
@@ -68,21 +68,21 @@ def _label_hopf_points(ax, family: SpeedFamily, q: float, factor: float, vmax_km
     """Label the Hopf points on the line q = const as HB1, HB2, ... by speed (the paper's naming)."""
     points = hopf_points(family, q, 0.0, vmax_kmh * KMH, lyapunov=False)
     for i, h in enumerate(points, 1):
-        ax.plot(kmh(h.speed), q / factor, ".", color=colour, ms=6)
-        ax.annotate(f"HB{i}", (kmh(h.speed), q / factor), textcoords="offset points", xytext=offset, fontsize=8,
+        ax.plot(kmh(h.p), q / factor, ".", color=colour, ms=6)
+        ax.annotate(f"HB{i}", (kmh(h.p), q / factor), textcoords="offset points", xytext=offset, fontsize=8,
                     color=colour)
     return list(points)
 
 
 def _point_note(name: str, p, unit: str, factor: float, fmt: str = ".4g") -> str:
-    return f"{name}: {kmh(p.speed):.2f} km/h, {p.value / factor:{fmt}} {unit}"
+    return f"{name}: {kmh(p.p):.2f} km/h, {p.q / factor:{fmt}} {unit}"
 
 
 def _special_notes(prefix: str, diagram: HopfDiagram, unit: str, factor: float) -> list[str]:
     names = {PointKind.HOPF_FOLD: "fold", PointKind.HOPF_HOPF: "Hopf-Hopf", PointKind.GENERALIZED_HOPF: "DH",
              PointKind.ZERO_HOPF: "zero-Hopf"}
     notes = []
-    for p in sorted(diagram.special_points, key=lambda p: (p.kind.value, p.value)):
+    for p in sorted(diagram.special_points, key=lambda p: (p.kind.value, p.q)):
         status = "" if p.status is PointStatus.LOCATED else f" ({p.status.value})"
         notes.append(f"{prefix}{_point_note(names.get(p.kind, p.kind.value), p, unit, factor)}{status}")
     return notes

@@ -58,10 +58,10 @@ def draw_pressure_curves(store: DiagramStore) -> Drawing:
     notes = []
     if folds:
         f1 = folds[-1]   # the highest-pressure fold: where the last (yaw) mode vanishes
-        _mark(ax, f1, BAR, f"F1 ({kmh(f1.speed):.1f} km/h, {f1.value / BAR:.3f} bar)", offset=(6, 4))
+        _mark(ax, f1, BAR, f"F1 ({kmh(f1.p):.1f} km/h, {f1.q / BAR:.3f} bar)", offset=(6, 4))
         notes.append(_point_note("F1 (yaw mode vanishes)", f1, "bar", BAR))
         for f in folds[:-1]:
-            _mark(ax, f, BAR, f"tramp-mode fold\n({kmh(f.speed):.1f} km/h, {f.value / BAR:.3f} bar)",
+            _mark(ax, f, BAR, f"tramp-mode fold\n({kmh(f.p):.1f} km/h, {f.q / BAR:.3f} bar)",
                   offset=(-40, 8))
             notes.append(_point_note("tramp-mode fold (tramp mode vanishes)", f, "bar", BAR))
     ax.text(70, 1.0, "yaw\nmode", ha="center", fontsize=9)
@@ -97,7 +97,7 @@ def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float,
         key = DiagramKey(Effects(), param, p, lo, hi, 0.0, VMAX_KMH)
         diagram, family = store.diagram(key), store.family(key)
         if speeds is None:
-            speeds = np.linspace(diagram.vmin, diagram.vmax, 201)
+            speeds = np.linspace(diagram.p_min, diagram.p_max, 201)
             values = np.linspace(diagram.lo, diagram.hi, 121)
         stable_count = stable_count + (stability_grid(family, speeds, values) == 0)
         colour = PRESSURE_COLOURS[p]
@@ -105,7 +105,7 @@ def _four_pressure_figure(store: DiagramStore, param: str, lo: float, hi: float,
             _draw_curves(panel, diagram, 1.0, colour, label=_pressure_label(p) if panel is ax else None)
             for kind, marker, _ in SPECIAL_MARKERS:
                 for s in _located(diagram, kind):
-                    panel.plot(kmh(s.speed), s.value, marker, color=colour, ms=4, mfc="white", zorder=4)
+                    panel.plot(kmh(s.p), s.q, marker, color=colour, ms=4, mfc="white", zorder=4)
         notes += _special_notes(f"{p:g} bar: ", diagram, unit, 1.0)
         notes += _incomplete_notes(f"{p:g} bar: ", diagram)
         complete &= diagram.complete
@@ -171,17 +171,17 @@ def draw_vertical_stiffness(store: DiagramStore) -> Drawing:
         if diagram is None:
             continue
         folds = _located(diagram, PointKind.HOPF_FOLD)
-        top = max(diagram.curves, key=lambda c: np.min(c.values))
+        top = max(diagram.curves, key=lambda c: np.min(c.qs))
         upper = [f for f in folds if _curve_of(diagram, f) is top and not _fold_is_maximum(diagram, f)]
         lower_max = sorted((f for f in folds if _curve_of(diagram, f) is not top and _fold_is_maximum(diagram, f)),
-                           key=lambda f: f.speed)
+                           key=lambda f: f.p)
         if len(diagram.curves) > 1 and upper:
-            f = min(upper, key=lambda f: f.value)
-            _mark(ax, f, 1.0, f"{high_name} ({f.value / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
+            f = min(upper, key=lambda f: f.q)
+            _mark(ax, f, 1.0, f"{high_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
                   offset=(8, -4))
         if low_name and lower_max:
             f = lower_max[0]
-            _mark(ax, f, 1.0, f"{low_name} ({f.value / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
+            _mark(ax, f, 1.0, f"{low_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
                   text_at=(105.0, 1.75e5))
     ax.set_title("Fig. 14: Hopf curves in (V, $k_5$) at four pressures\n" + _FOUR_NOTE, fontsize=9)
     return Drawing(fig, tuple(notes), complete)

@@ -37,18 +37,18 @@ def stability_grid(family: SpeedFamily, speeds: np.ndarray, values: np.ndarray) 
 def draw_hopf_diagram(ax, diagram: HopfDiagram, family: SpeedFamily, color="k", shade=True, label=None) -> None:
     unit, factor = interface_unit(diagram.param)
     if shade:
-        speeds = np.linspace(diagram.vmin, diagram.vmax, 161)
+        speeds = np.linspace(diagram.p_min, diagram.p_max, 161)
         values = np.linspace(diagram.lo, diagram.hi, 121)
         stable = stability_grid(family, speeds, values) == 0
         ax.contourf(kmh(speeds), values / factor, stable.astype(float), levels=[0.5, 1.5], colors=["0.85"])
     for i, c in enumerate(diagram.curves):
-        ax.plot(kmh(c.speeds), c.values / factor, "-", color=color, lw=1.4, label=label if i == 0 else None)
+        ax.plot(kmh(c.ps), c.qs / factor, "-", color=color, lw=1.4, label=label if i == 0 else None)
     for s in diagram.special_points:
         marker, text = MARKERS.get(s.kind, ("x", s.kind.value))
-        ax.plot(kmh(s.speed), s.value / factor, marker, color="C3", ms=5)
-        ax.annotate(text, (kmh(s.speed), s.value / factor), textcoords="offset points", xytext=(4, 4),
+        ax.plot(kmh(s.p), s.q / factor, marker, color="C3", ms=5)
+        ax.annotate(text, (kmh(s.p), s.q / factor), textcoords="offset points", xytext=(4, 4),
                     fontsize=8, color="C3")
-    ax.set_xlim(kmh(diagram.vmin), kmh(diagram.vmax))
+    ax.set_xlim(kmh(diagram.p_min), kmh(diagram.p_max))
     ax.set_ylim(diagram.lo / factor, diagram.hi / factor)
     ax.set_xlabel("speed V [km/h]")
     ax.set_ylabel(f"{diagram.param} [{unit}]")

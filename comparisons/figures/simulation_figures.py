@@ -62,7 +62,7 @@ def _trajectory_column(axes, tr: Trajectory, history: ModeHistory, crossing: tup
 def draw_mode_changes(store: DiagramStore) -> Drawing:
     family, diagram = store_cycles(store, _trail_key(0.25))
     labels = dict(special_point_labels(diagram))
-    s1, t2 = kmh(labels["S1"].speed), kmh(labels["T2"].speed)
+    s1, t2 = kmh(labels["S1"].p), kmh(labels["T2"].p)
     model = family.model
     fig = Figure(figsize=(12.0, 6.0))
     axes = fig.subplots(2, 2, sharex="col")
@@ -99,7 +99,7 @@ def draw_phase_portrait(store: DiagramStore) -> Drawing:
     for branch, mode in zip(diagram.branches, ("yaw", "tramp")):
         stable = [p for p in branch.points if p.stable]
         try:
-            cycles[mode] = cycle_at(family, min(stable, key=lambda p: abs(p.speed - V)), V)
+            cycles[mode] = cycle_at(family, min(stable, key=lambda p: abs(p.p - V)), V)
         except (ValueError, ConvergenceError) as exc:
             notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {interface_text(str(exc))}")
     for name, start, colour, offset in PHASE_STARTS:

@@ -181,7 +181,7 @@ def _continuation_curves(task: SweepTask, name: str, lo: float, hi: float):
     family = SpeedFamily(ShimmyModel(task.axle.params, Effects.parse(task.effects)), name,
                          pressure=r if r == l else (r, l))
     diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, task.vmax_kmh * KMH)
-    return [(c.values / factor, c.speeds / KMH) for c in diagram.curves]
+    return [(c.qs / factor, c.ps / KMH) for c in diagram.curves]
 
 
 def stability_fraction(table: pa.Table, name: str, edges: np.ndarray, speeds: np.ndarray) -> np.ndarray:

@@ -156,7 +156,7 @@ class SweepTask:
                         row[f"mbs_{_column_safe(f)}_hopf_l1"] = [h.first_lyapunov for h in mp]
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
                     shifts = {m.reduced_speed: shift_kmh(m) for m in match_hopf(points, mp)}
-                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.speed) for h in points]
+                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.p) for h in points]
         if "assumptions" in self.compute:
             from mbs_shimmy.assumption_study import assumption_study
             study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
@@ -170,8 +170,8 @@ class SweepTask:
 
 def _hopf_columns(prefix: str, points) -> dict:
     modes = [mode_of(abs(h.eigenvector[4]) / abs(h.eigenvector[0]), h.frequency_hz) for h in points]
-    out = {f"{prefix}hopf_kmh": [kmh(h.speed) for h in points], f"{prefix}hopf_hz": [h.frequency_hz for h in points],
-           f"{prefix}hopf_mode": modes, f"{prefix}onset_kmh": kmh(points[0].speed) if points else None}
+    out = {f"{prefix}hopf_kmh": [kmh(h.p) for h in points], f"{prefix}hopf_hz": [h.frequency_hz for h in points],
+           f"{prefix}hopf_mode": modes, f"{prefix}onset_kmh": kmh(points[0].p) if points else None}
     if not prefix:
         out["n_hopf"] = len(points)
     return out
@@ -182,7 +182,7 @@ def _unstable_intervals(family, points, vmax: float) -> tuple[list[float], list[
     at each interval's midpoint."""
     from reduced_model.bifurcation.equilibria.hopf import eigenvalues
     q = family.nominal
-    edges = [family.primary_min] + [h.speed for h in points] + [vmax]
+    edges = [family.primary_min] + [h.p for h in points] + [vmax]
     lo, hi = [], []
     for a, b in zip(edges[:-1], edges[1:]):
         if b <= a:
@@ -204,7 +204,7 @@ def _cycle_columns(family, vmax: float) -> dict:
         p = b.peak("theta1")
         t1, psi = p.max_abs("theta1"), p.max_abs("psi")
         modes.append(mode_of(psi / t1 if t1 > 0 else math.nan, p.frequency_hz))
-        speeds.append(kmh(p.speed))
+        speeds.append(kmh(p.p))
         th.append(math.degrees(t1))
         ps.append(math.degrees(psi))
     peak = {m: max((t for t, mm in zip(th, modes) if mm == m), default=None) for m in ("yaw", "tramp")}

@@ -55,7 +55,7 @@ def cycle_amplitude_check(model: ShimmyModel, point, pressure, dims, settle: flo
     from mbs_shimmy.fidelity import Fidelity
     from mbs_shimmy.limit_cycle import mbs_steady_amplitude
     start = point.orbit.nodes[0] if x0 is None else x0
-    got = mbs_steady_amplitude(model.params, model.effects, Fidelity.reduced(), pressure, point.speed, start,
+    got = mbs_steady_amplitude(model.params, model.effects, Fidelity.reduced(), pressure, point.p, start,
                                settle=settle, dims=dims)
     ref = point.max_abs("theta1")
     rel = abs(got.theta1 - ref) / ref if math.isfinite(got.theta1) else math.inf
@@ -85,26 +85,26 @@ def cycles_section(ctx: Context) -> Section:
     for case, family, diagram in diagrams:
         overlay = {"reduced": [], "full": []}
         for b, branch in enumerate(diagram.branches, 1):
-            where = f"from HB at {kmh(branch.start.speed):.2f} km/h"
-            for s in sorted(branch.special_points, key=lambda s: s.speed):
-                rows.append(Row({"case": case.label, "branch": where, "speed_kmh": kmh(s.speed),
+            where = f"from HB at {kmh(branch.start.p):.2f} km/h"
+            for s in sorted(branch.special_points, key=lambda s: s.p):
+                rows.append(Row({"case": case.label, "branch": where, "speed_kmh": kmh(s.p),
                                  "point": s.kind.value, "continuation_theta1_deg": math.degrees(s.data["amplitude"][0])},
                                 CheckStatus.INFO, f"{s.kind.value} of the cycles ({s.status.value})"))
             if not branch.complete:
                 rows.append(Row({"case": case.label, "branch": where, "point": "branch"}, CheckStatus.FAIL,
                                 f"continuation stopped: {interface_text(branch.message)}"))
             for point in sample_stable(branch, per_branch):
-                ctx.progress(f"Limit cycles: MBS runs at {case.label}, {kmh(point.speed):.1f} km/h")
+                ctx.progress(f"Limit cycles: MBS runs at {case.label}, {kmh(point.p):.1f} km/h")
                 check = cycle_amplitude_check(model, point, case.pressure, ctx.axle.dims, settle)
                 full_run = mbs_steady_amplitude(model.params, model.effects, Fidelity.parse("full"),
-                                                case.pressure, point.speed, point.orbit.nodes[0], settle=settle,
+                                                case.pressure, point.p, point.orbit.nodes[0], settle=settle,
                                                 dims=ctx.axle.dims)
                 full = full_run.theta1
-                overlay["reduced"].append((point.speed, check.mbs.theta1, check.mbs.psi))
-                overlay["full"].append((point.speed, full_run.theta1, full_run.psi))
+                overlay["reduced"].append((point.p, check.mbs.theta1, check.mbs.psi))
+                overlay["full"].append((point.p, full_run.theta1, full_run.psi))
                 red, rel = check.mbs.theta1, check.relative_diff
                 rows.append(Row({"case": case.label, "branch": where, "point": "stable cycle",
-                                 "speed_kmh": kmh(point.speed), "continuation_theta1_deg": math.degrees(check.reference),
+                                 "speed_kmh": kmh(point.p), "continuation_theta1_deg": math.degrees(check.reference),
                                  "mbs_reduced_theta1_deg": math.degrees(red) if math.isfinite(red) else None,
                                  "relative_diff": rel if math.isfinite(rel) else None,
                                  "mbs_full_theta1_deg": math.degrees(full) if math.isfinite(full) else None},
@@ -141,10 +141,10 @@ def _bistable_diagram(case: BistableCase):
 def window_points(diagram) -> dict:
     """The cycle folds and torus points that bound and cross the window, by name: S1.. (folds, by decreasing
     speed) and T1.. (torus points), as the paper names them in figure 9a."""
-    folds = sorted(diagram.points_of(PointKind.CYCLE_FOLD), key=lambda s: -s.speed)
-    tori = sorted(diagram.points_of(PointKind.TORUS), key=lambda s: -s.speed)
-    named = {f"S{i}": kmh(s.speed) for i, s in enumerate(folds, 1)}
-    named.update({f"T{i}": kmh(s.speed) for i, s in enumerate(tori, 1)})
+    folds = sorted(diagram.points_of(PointKind.CYCLE_FOLD), key=lambda s: -s.p)
+    tori = sorted(diagram.points_of(PointKind.TORUS), key=lambda s: -s.p)
+    named = {f"S{i}": kmh(s.p) for i, s in enumerate(folds, 1)}
+    named.update({f"T{i}": kmh(s.p) for i, s in enumerate(tori, 1)})
     return named
 
 
@@ -160,8 +160,8 @@ def _stable_cycles_at(diagram, speed: float) -> list:
     for b in diagram.branches:
         pts = list(b.points)
         for a, c in zip(pts[:-1], pts[1:]):
-            if a.stable and c.stable and min(a.speed, c.speed) <= speed <= max(a.speed, c.speed):
-                out.append(min((a, c), key=lambda p: abs(p.speed - speed)))
+            if a.stable and c.stable and min(a.p, c.p) <= speed <= max(a.p, c.p):
+                out.append(min((a, c), key=lambda p: abs(p.p - speed)))
     return out
 
 
@@ -172,14 +172,14 @@ def _stable_reach(diagram, cycle) -> float:
         if not any(p is cycle for p in pts):
             continue
         k = next(i for i, p in enumerate(pts) if p is cycle)
-        lo = cycle.speed
+        lo = cycle.p
         for step in (-1, 1):
             j = k
             while 0 <= j + step < len(pts) and pts[j + step].stable:
                 j += step
-                lo = min(lo, pts[j].speed)
+                lo = min(lo, pts[j].p)
         return lo
-    return cycle.speed
+    return cycle.p
 
 
 def _classifier_for(cycles):

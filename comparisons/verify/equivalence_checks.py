@@ -189,22 +189,22 @@ def test_hopf_points_equal(axle, pressure):
     red_family, mbs_family = families(axle, pressure)
     red = hopf_points(red_family, red_family.nominal, 0.0, VMAX)
     mbs = hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX)
-    speeds = lambda pts: ", ".join(f"{kmh(h.speed):.2f}" for h in pts) or "none"   # noqa: E731
+    speeds = lambda pts: ", ".join(f"{kmh(h.p):.2f}" for h in pts) or "none"   # noqa: E731
     assert len(mbs) == len(red), f"{label(pressure)}: reduced {speeds(red)} km/h, MBS {speeds(mbs)} km/h"
     for i, (h, r) in enumerate(zip(mbs, red), 1):
-        assert abs(kmh(h.speed) - kmh(r.speed)) < HOPF_TOL_KMH, \
-            f"HB{i} at {label(pressure)}: MBS {kmh(h.speed):.4f} km/h, reduced {kmh(r.speed):.4f} km/h"
+        assert abs(kmh(h.p) - kmh(r.p)) < HOPF_TOL_KMH, \
+            f"HB{i} at {label(pressure)}: MBS {kmh(h.p):.4f} km/h, reduced {kmh(r.p):.4f} km/h"
         assert abs(h.omega - r.omega) < FREQUENCY_TOL * r.omega, \
             f"HB{i} at {label(pressure)}: MBS {h.frequency_hz:.6f} Hz, reduced {r.frequency_hz:.6f} Hz"
         assert abs(h.first_lyapunov - r.first_lyapunov) <= LYAPUNOV_TOL * abs(r.first_lyapunov), \
             f"HB{i} at {label(pressure)}: MBS l1 {h.first_lyapunov:.6g}, reduced {r.first_lyapunov:.6g}"
         for side in (-SIDE_KMH, SIDE_KMH):
-            v = max(r.speed + side * KMH, MIN_SPEED)
+            v = max(r.p + side * KMH, MIN_SPEED)
             a = critical_real_part(mbs_family, v, r.omega)
             b = critical_real_part(red_family, v, r.omega)
             assert np.sign(a) == np.sign(b), f"HB{i} at {label(pressure)}: crossing differs at {v / KMH:.2f} km/h"
-        below = critical_real_part(red_family, max(r.speed - SIDE_KMH * KMH, MIN_SPEED), r.omega)
-        above = critical_real_part(red_family, r.speed + SIDE_KMH * KMH, r.omega)
+        below = critical_real_part(red_family, max(r.p - SIDE_KMH * KMH, MIN_SPEED), r.omega)
+        above = critical_real_part(red_family, r.p + SIDE_KMH * KMH, r.omega)
         assert below * above < 0.0, f"HB{i} at {label(pressure)}: the critical pair does not cross"
 
 
@@ -213,13 +213,13 @@ def first_stretch(branch, hopf) -> list:
     away: where the normal form describes them."""
     out = []
     for p in branch.points:
-        d = p.speed - hopf.speed
-        if out and (d * (out[-1].speed - hopf.speed) < 0.0 or abs(d) < abs(out[-1].speed - hopf.speed)):
+        d = p.p - hopf.p
+        if out and (d * (out[-1].p - hopf.p) < 0.0 or abs(d) < abs(out[-1].p - hopf.p)):
             break
         out.append(p)
         if abs(d) > SIDE_KMH * KMH:
             break
-    return [p for p in out if p.speed != hopf.speed]
+    return [p for p in out if p.p != hopf.p]
 
 
 @pytest.fixture(scope="session")
@@ -254,31 +254,31 @@ def test_criticality(axle, pressure, quick, cycle_diagrams):
     settle = 6.0 if quick else 12.0
     checked = 0
     for branch in branches[:1] if quick else branches:
-        h = min(points, key=lambda p: abs(p.speed - branch.start.speed))
+        h = min(points, key=lambda p: abs(p.p - branch.start.p))
         stretch = first_stretch(branch, h)
-        if not math.isfinite(h.first_lyapunov) or abs(h.speed - branch.start.speed) > 0.01 * KMH or not stretch:
+        if not math.isfinite(h.first_lyapunov) or abs(h.p - branch.start.p) > 0.01 * KMH or not stretch:
             continue
-        where = f"HB at {kmh(h.speed):.2f} km/h, {label(pressure)}"
-        offset = stretch[-1].speed - h.speed
+        where = f"HB at {kmh(h.p):.2f} km/h, {label(pressure)}"
+        offset = stretch[-1].p - h.p
         # the side the cycles leave into, a little way off the Hopf point (0.5 km/h: well inside the crossing
         # pair's window, well beyond the accuracy of the branch's speeds)
-        side = critical_real_part(red, max(h.speed + math.copysign(SIDE_KMH * KMH, offset), MIN_SPEED), h.omega)
+        side = critical_real_part(red, max(h.p + math.copysign(SIDE_KMH * KMH, offset), MIN_SPEED), h.omega)
         supercritical = h.first_lyapunov < 0.0
         assert (side > 0.0) == supercritical, (
             f"{where}: l1 = {h.first_lyapunov:.3g} ({'super' if supercritical else 'sub'}critical) but the cycles "
             f"leave to the {'unstable' if side > 0.0 else 'stable'} side ({'above' if offset > 0 else 'below'})")
         if supercritical:
-            target = next((p for p in branch.points if p.stable and critical_real_part(red, p.speed, h.omega)
+            target = next((p for p in branch.points if p.stable and critical_real_part(red, p.p, h.omega)
                            >= GROWTH_MIN), None)
             if target is not None:
                 check = cycle_amplitude_check(model, target, pressure, axle.dims, settle,
                                               x0=0.5 * target.orbit.nodes[0])
                 assert check.ok, (f"{where}: MBS from half the cycle reached {math.degrees(check.mbs.theta1):.4f} "
-                                  f"deg, the stable cycle at {kmh(target.speed):.2f} km/h has "
+                                  f"deg, the stable cycle at {kmh(target.p):.2f} km/h has "
                                   f"{math.degrees(check.reference):.4f} deg")
         else:
             cycle = stretch[-1]           # the unstable cycle farthest from the Hopf point before the fold
-            lam = np.linalg.eigvals(red.linear_matrix(cycle.speed, red.nominal))
+            lam = np.linalg.eigvals(red.linear_matrix(cycle.p, red.nominal))
             if not cycle.stable and np.max(lam.real) < 0.0:   # only then it separates straight running
                 inside = cycle_amplitude_check(model, cycle, pressure, axle.dims, settle,
                                                x0=0.8 * cycle.orbit.nodes[0])
@@ -320,7 +320,7 @@ def test_limit_cycle_amplitude(axle, pressure, quick, cycle_diagrams):
     model = ShimmyModel(axle.params)
     for point in points[:1] if quick else points:
         check = cycle_amplitude_check(model, point, pressure, axle.dims, 6.0 if quick else 12.0)
-        assert check.ok, (f"{kmh(point.speed):.2f} km/h, {label(pressure)}: MBS {math.degrees(check.mbs.theta1):.4f} "
+        assert check.ok, (f"{kmh(point.p):.2f} km/h, {label(pressure)}: MBS {math.degrees(check.mbs.theta1):.4f} "
                           f"deg against the continuation's {math.degrees(check.reference):.4f} deg "
                           f"(off by {check.relative_diff:.2%}, tolerance {AMPLITUDE_TOL:.1%})")
 

@@ -106,17 +106,17 @@ def hopf_rows(family, case, points, duration: float) -> list[Row]:
     decays and the other grows, each at the real part of that mode's eigenvalue."""
     from mbs_shimmy.growth import RATE_TOL, envelope_rate
     rows = []
-    for i, (h, off) in enumerate(zip(points, hopf_offsets([h.speed for h in points])), 1):
-        rows.append(Row({"case": case.label, "what": f"HB{i}", "speed_kmh": kmh(h.speed),
+    for i, (h, off) in enumerate(zip(points, hopf_offsets([h.p for h in points])), 1):
+        rows.append(Row({"case": case.label, "what": f"HB{i}", "speed_kmh": kmh(h.p),
                          "criticality": h.criticality.value if h.criticality else None,
                          "first_lyapunov": _finite(h.first_lyapunov), "continuation_hz": h.frequency_hz},
                         CheckStatus.INFO, f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"))
-        sides = [envelope_rate(family, max(from_kmh(1.0), h.speed + s * off), duration, near=1j * h.omega)
+        sides = [envelope_rate(family, max(from_kmh(1.0), h.p + s * off), duration, near=1j * h.omega)
                  for s in (-1.0, 1.0)]
         apart = sides[0].rate * sides[1].rate < 0.0
         for side, rate in zip(("below", "above"), sides):
             ok = rate.agrees and apart
-            rows.append(Row({"case": case.label, "what": f"HB{i}, {abs(kmh(rate.speed - h.speed)):.1f} km/h {side}",
+            rows.append(Row({"case": case.label, "what": f"HB{i}, {abs(kmh(rate.speed - h.p)):.1f} km/h {side}",
                              "speed_kmh": kmh(rate.speed), "eigenvalue_real": rate.real,
                              "envelope_rate": _finite(rate.rate)},
                             CheckStatus.PASS if ok else CheckStatus.FAIL,
@@ -158,11 +158,11 @@ def branch_rows(family, case, diagram, settle) -> list[Row]:
     stable_branches = sum(any(p.stable for p in b.points) for b in diagram.branches)
     per_branch = max(1, min(STABLE_PER_BRANCH, STABLE_BUDGET // max(1, stable_branches)))
     for b, branch in enumerate(diagram.branches, 1):
-        where = f"branch {b} from {kmh(branch.start.speed):.2f} km/h"
+        where = f"branch {b} from {kmh(branch.start.p):.2f} km/h"
         stable = sum(p.stable for p in branch.points)
         peak = branch.peak("theta1") if branch.points else None
         rows.append(Row({"case": case.label, "what": where,
-                         "speed_kmh": kmh(peak.speed) if peak else None,
+                         "speed_kmh": kmh(peak.p) if peak else None,
                          "continuation_theta1_deg": math.degrees(peak.max_abs("theta1")) if peak else None,
                          "continuation_hz": peak.frequency_hz if peak else None},
                         CheckStatus.INFO if branch.complete else CheckStatus.FAIL,
@@ -173,9 +173,9 @@ def branch_rows(family, case, diagram, settle) -> list[Row]:
             rows.append(_orbit_row(case, f"{where}: stable orbit", check_orbit(settle, point)))
         for point in sample_orbits(branch, UNSTABLE_PER_BRANCH, stable=False):
             rows.append(_orbit_row(case, f"{where}: unstable orbit", check_orbit(settle, point)))
-        for s in sorted(branch.special_points, key=lambda s: s.speed):
+        for s in sorted(branch.special_points, key=lambda s: s.p):
             name = s.kind.value
-            rows.append(Row({"case": case.label, "what": f"{where}: {name}", "speed_kmh": kmh(s.speed),
+            rows.append(Row({"case": case.label, "what": f"{where}: {name}", "speed_kmh": kmh(s.p),
                              "continuation_theta1_deg": math.degrees(s.data["amplitude"][0])},
                             CheckStatus.INFO, f"{name} of the cycles ({s.status.value})"))
             for side, check in bracket_special_point(settle, branch, s):
@@ -190,10 +190,10 @@ def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], 
     from mbs_shimmy.kick import KickStatus, bistable_windows, kicks
     windows = bistable_windows(diagram, family)
     if not windows:
-        crit = ", ".join(f"{kmh(h.speed):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"
+        crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"
                          for h in diagram.hopf) or "none"
         folds = diagram.points_of(PointKind.CYCLE_FOLD)
-        fold_text = ", ".join(f"{kmh(s.speed):.2f} km/h" for s in folds) or "none"
+        fold_text = ", ".join(f"{kmh(s.p):.2f} km/h" for s in folds) or "none"
         return [Row({"case": case.label, "what": "bistable window: none"}, CheckStatus.INFO,
                     f"no two stable states coexist at any speed: Hopf points {crit}; cycle folds {fold_text}; "
                     f"no two stable stretches of the branches overlap")], []

@@ -43,7 +43,7 @@ def full_jump_setup(case: BistableCase, family, diagram, window: tuple[float, fl
     from mbs_shimmy.kick import stable_straight_running
     from reduced_model.modes import Mode, ModeClassifier
     named = window_points(diagram)
-    ends = list(named.values()) + [kmh(h.speed) for h in diagram.hopf]
+    ends = list(named.values()) + [kmh(h.p) for h in diagram.hopf]
     low, high = _snap(kmh(window[0]), ends), _snap(kmh(window[1]), ends)
     mid = from_kmh(0.5 * (low + high))
     cycles = list({id(c): c for c in _stable_cycles_at(diagram, mid)}.values())   # one per stable stretch

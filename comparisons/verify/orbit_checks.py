@@ -55,7 +55,7 @@ class OrbitCheck:
 
     @property
     def expect_stays(self) -> bool:
-        return self.cycle.stable and self.speed == self.cycle.speed
+        return self.cycle.stable and self.speed == self.cycle.p
 
     @property
     def ok(self) -> bool:
@@ -75,7 +75,7 @@ class OrbitCheck:
 
 def check_orbit(settle: Callable[[float], Callable], cycle, speed: float | None = None) -> OrbitCheck:
     """The simulation at ``speed`` (default the orbit's) from the orbit's first node scaled by :data:`START_SCALE`."""
-    speed = cycle.speed if speed is None else speed
+    speed = cycle.p if speed is None else speed
     return OrbitCheck(cycle, settle(speed)(START_SCALE * cycle.orbit.nodes[0]), speed)
 
 
@@ -107,19 +107,19 @@ def bracketing_cycles(branch, point) -> tuple[object | None, object | None]:
     if not pts:
         return None, None
     located = point.data.get("cycle")
-    k = min(range(len(pts)), key=lambda i: abs(pts[i].speed - point.speed)
+    k = min(range(len(pts)), key=lambda i: abs(pts[i].p - point.p)
             + (0.0 if located is None else abs(pts[i].max_abs("theta1") - located.max_abs("theta1"))))
     near = pts[max(0, k - 2):k + 3]
-    stable = min((p for p in near if p.stable), key=lambda p: abs(p.speed - point.speed), default=None)
-    unstable = min((p for p in near if not p.stable), key=lambda p: abs(p.speed - point.speed), default=None)
+    stable = min((p for p in near if p.stable), key=lambda p: abs(p.p - point.p), default=None)
+    unstable = min((p for p in near if not p.stable), key=lambda p: abs(p.p - point.p), default=None)
     return stable, unstable
 
 
 def beyond_fold(branch, point) -> float:
     """A speed (m/s) past the fold ``point``, on the side where the branch has no cycles near it."""
-    near = [p.speed for p in branch.points if abs(p.speed - point.speed) < from_kmh(10.0)] or [point.speed]
-    side = 1.0 if point.speed >= sum(near) / len(near) else -1.0
-    return point.speed + side * from_kmh(BEYOND_FOLD_KMH)
+    near = [p.p for p in branch.points if abs(p.p - point.p) < from_kmh(10.0)] or [point.p]
+    side = 1.0 if point.p >= sum(near) / len(near) else -1.0
+    return point.p + side * from_kmh(BEYOND_FOLD_KMH)
 
 
 def bracket_special_point(settle, branch, point) -> list[tuple[str, OrbitCheck]]:

@@ -85,7 +85,7 @@ def unstable_windows(family, q: float, vmax: float = VMAX, lyapunov: bool = True
     """Unstable speed windows of straight running at q, each with the mode of its critical eigenvector (the
     family's first states are the reduced model's, as in both models' families)."""
     points = hopf_points(family, q, 0.0, vmax, lyapunov=lyapunov)
-    edges = [MIN_SPEED] + [h.speed for h in points] + [vmax]
+    edges = [MIN_SPEED] + [h.p for h in points] + [vmax]
     windows = []
     for a, b in zip(edges[:-1], edges[1:]):
         if b - a < 1e-6:
@@ -213,7 +213,7 @@ def scan_model(axle, model: Model, grid, vmax: float = VMAX, curves: bool = True
     if curves:
         say(f"plan: Hopf curves of {model.label} over {lo:g}-{hi:g} bar")
         diagram = hopf_diagram(family, lo * BAR, hi * BAR, MIN_SPEED, vmax, n_seeds=n_seeds)
-        folds = tuple(sorted((s.value / BAR, kmh(s.speed)) for s in diagram.special_points
+        folds = tuple(sorted((s.q / BAR, kmh(s.p)) for s in diagram.special_points
                              if s.kind is PointKind.HOPF_FOLD))
     boundary = _boundary(family, points, folds, vmax, say, model)
     return ModelScan(model, (lo, hi), tuple(points), boundary, folds, curves, time.perf_counter() - start, diagram)

@@ -73,15 +73,15 @@ def paper_section(ctx: Context) -> Section:
         if not printed:
             ok = not computed
             rows.append(Row({"quantity": f"Hopf points at {p:g} bar", "paper": "none",
-                             "computed": "none" if ok else ", ".join(f"{kmh(h.speed):.2f}" for h in computed)},
+                             "computed": "none" if ok else ", ".join(f"{kmh(h.p):.2f}" for h in computed)},
                             CheckStatus.PASS if ok else CheckStatus.FAIL,
                             "no shimmy at any speed, as in the paper" if ok else "the paper has none"))
             continue
         for i, ref in enumerate(printed):
             h = computed[i] if i < len(computed) else None
-            status, note = paper_status(f"hopf:{p}:HB{i + 1}", ref, kmh(h.speed) if h else None)
+            status, note = paper_status(f"hopf:{p}:HB{i + 1}", ref, kmh(h.p) if h else None)
             rows.append(Row({"quantity": f"HB{i + 1} at {p:g} bar (km/h)", "paper": ref,
-                             "computed": kmh(h.speed) if h else None}, status, note))
+                             "computed": kmh(h.p) if h else None}, status, note))
         if len(computed) != len(printed):
             rows.append(Row({"quantity": f"number of Hopf points at {p:g} bar", "paper": len(printed),
                              "computed": len(computed)}, CheckStatus.FAIL, "a different number of Hopf points"))
@@ -139,12 +139,12 @@ def hopf_section(ctx: Context) -> Section:
                                 "the MBS (reduced fidelity) has Hopf points the reduced model lacks"))
             full_by_reduced = {s.reduced_speed: s for s in by_fidelity["full"] if s.reduced_speed is not None}
             for i, h in enumerate(reduced):
-                red = next((s for s in by_fidelity["reduced"] if s.reduced_speed == h.speed), None)
-                full = full_by_reduced.get(h.speed)
+                red = next((s for s in by_fidelity["reduced"] if s.reduced_speed == h.p), None)
+                full = full_by_reduced.get(h.p)
                 red_kmh = shifts.mbs_kmh(red) if red else None
-                ok = red_kmh is not None and abs(red_kmh - kmh(h.speed)) <= HOPF_TOL_KMH
-                _collect_hopf_speeds(speeds, label, case, kmh(h.speed), red, full)
-                rows.append(Row({**base, "point": f"HB{i + 1}", "reduced_kmh": kmh(h.speed),
+                ok = red_kmh is not None and abs(red_kmh - kmh(h.p)) <= HOPF_TOL_KMH
+                _collect_hopf_speeds(speeds, label, case, kmh(h.p), red, full)
+                rows.append(Row({**base, "point": f"HB{i + 1}", "reduced_kmh": kmh(h.p),
                                  "mbs_reduced_kmh": red_kmh,
                                  "mbs_full_kmh": shifts.mbs_kmh(full) if full else None,
                                  "full_shift_kmh": shifts.shift_kmh(full) if full else None,

@@ -85,6 +85,6 @@ def clip_window(family: Family, lo: float, hi: float) -> tuple[float, float]:
 
 
 def describe(family: Family, p: float, q: float | None = None) -> str:
-    """``"speed = 12.5, pressure = 150000"``: a location in a message, in SI, named as the family names it."""
+    """``"<primary> = 12.5, <param> = 150000"``: a location in a message, in SI, named as the family names it."""
     text = f"{family.primary} = {p:.7g}"
     return text if q is None else f"{text}, {family.param} = {q:.7g}"

@@ -58,8 +58,8 @@ class SpecialPoint:
     """A detected point on a branch: kind, location (SI), the bracketing interval and the location status."""
 
     kind: PointKind
-    speed: float                              # m/s
-    value: float                              # second parameter (SI), or NaN on one-parameter branches
+    p: float                              # the primary parameter
+    q: float                              # second parameter (SI), or NaN on one-parameter branches
     bracket: tuple[float, float]              # arclength interval of the sign change
     status: PointStatus
     data: dict = field(default_factory=dict, compare=False)  # kind-specific extras (frequencies, l1, ...)

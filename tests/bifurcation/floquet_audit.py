@@ -57,14 +57,14 @@ def poincare_multipliers(family, cycle: CyclePoint) -> np.ndarray:
 
     def rhs(t, z):
         x, phi = z[:n], z[n:].reshape(n, n)
-        return np.concatenate([family.rhs(x, cycle.speed, cycle.value),
-                               (family.jacobian(x, cycle.speed, cycle.value) @ phi).ravel()])
+        return np.concatenate([family.rhs(x, cycle.p, cycle.q),
+                               (family.jacobian(x, cycle.p, cycle.q) @ phi).ravel()])
 
     scale = np.max(np.abs(x0))
     sol = solve_ivp(rhs, (0.0, cycle.period), np.concatenate([x0, np.eye(n).ravel()]), method="DOP853",
                     rtol=RTOL, atol=RTOL * min(scale, 1.0) * 1e-2)
     M = sol.y[n:, -1].reshape(n, n)
-    f = family.rhs(x0, cycle.speed, cycle.value)
+    f = family.rhs(x0, cycle.p, cycle.q)
     normal = f / np.linalg.norm(f)
     P = (np.eye(n) - np.outer(f, normal) / (normal @ f)) @ M
     Q = np.linalg.svd(normal[None, :])[2][1:].T                 # orthonormal basis of the section
@@ -74,7 +74,7 @@ def poincare_multipliers(family, cycle: CyclePoint) -> np.ndarray:
 def hopf_end_multipliers(family, hopf) -> np.ndarray:
     """exp(lambda_i T) of straight running with one of the critical pair's two unit multipliers (the trivial
     one) left out."""
-    lam = np.linalg.eigvals(family.linear_matrix(hopf.speed, hopf.value))
+    lam = np.linalg.eigvals(family.linear_matrix(hopf.p, hopf.q))
     k = int(np.argmin(np.abs(lam - 1j * hopf.omega)))
     return np.exp(np.delete(lam, k) * 2.0 * np.pi / hopf.omega)
 
@@ -109,7 +109,7 @@ TESTS = {PointKind.CYCLE_FOLD: fold_det, PointKind.PERIOD_DOUBLING: flip_det, Po
 def toward(cycle: CyclePoint, hopf, fraction: float) -> tuple[CyclePoint, float]:
     """A predictor a fraction of the way (in amplitude) from ``cycle`` to the Hopf point, and its speed
     (V - V_H proportional to the amplitude squared near a Hopf point)."""
-    speed = hopf.speed + fraction ** 2 * (cycle.speed - hopf.speed)
+    speed = hopf.p + fraction ** 2 * (cycle.p - hopf.p)
     period = 2.0 * np.pi / hopf.omega + fraction ** 2 * (cycle.period - 2.0 * np.pi / hopf.omega)
     orbit = dataclasses.replace(cycle.orbit, nodes=fraction * cycle.orbit.nodes, period=period)
     return dataclasses.replace(cycle, orbit=orbit, period=period), speed
@@ -122,7 +122,7 @@ def audit_orbits(family, branch: CycleBranch, between: int, audit: Audit) -> lis
     fractions = [(k + 1) / (between + 1) for k in range(between)]
 
     def add(cycle, step):
-        out.append(AuditOrbit(cycle.speed, poincare_multipliers(family, cycle), True, step))
+        out.append(AuditOrbit(cycle.p, poincare_multipliers(family, cycle), True, step))
         audit.orbits += 1
 
     def solve(near, speed):
@@ -136,24 +136,24 @@ def audit_orbits(family, branch: CycleBranch, between: int, audit: Audit) -> lis
         cycles = [solve(*toward(cycle, hopf, f)) for f in order]
         for c in cycles:
             if c is not None:
-                add(c, abs(cycle.speed - hopf.speed))
+                add(c, abs(cycle.p - hopf.p))
 
     if branch.start is not None and points:
-        out.append(AuditOrbit(branch.start.speed, hopf_end_multipliers(family, branch.start), False, 0.0))
+        out.append(AuditOrbit(branch.start.p, hopf_end_multipliers(family, branch.start), False, 0.0))
         end_segment(points[0], branch.start, fractions)
     for k, p in enumerate(points):
-        step = max(abs(p.speed - points[max(k - 1, 0)].speed), abs(points[min(k + 1, len(points) - 1)].speed
-                                                                     - p.speed))
+        step = max(abs(p.p - points[max(k - 1, 0)].p), abs(points[min(k + 1, len(points) - 1)].p
+                                                                     - p.p))
         add(p, step)
         if k + 1 < len(points):
             q = points[k + 1]
             for f in fractions:
-                c = solve(p if f <= 0.5 else q, p.speed + f * (q.speed - p.speed))
+                c = solve(p if f <= 0.5 else q, p.p + f * (q.p - p.p))
                 if c is not None:
                     add(c, step)
     if branch.end is not None and points:
         end_segment(points[-1], branch.end, fractions[::-1])
-        out.append(AuditOrbit(branch.end.speed, hopf_end_multipliers(family, branch.end), False, 0.0))
+        out.append(AuditOrbit(branch.end.p, hopf_end_multipliers(family, branch.end), False, 0.0))
     return out
 
 
@@ -172,7 +172,7 @@ def audit_branch(family, branch: CycleBranch, index: int, between: int, audit: A
             lo, hi = sorted((a.speed, b.speed))
             # A fold lies beyond both orbits' speeds, by at most the branch's step there; the others between.
             margin = max(a.branch_step, b.branch_step) if kind is PointKind.CYCLE_FOLD else 1e-9 * hi
-            if not any(p.kind is kind and lo - margin <= p.speed <= hi + margin for p in located):
+            if not any(p.kind is kind and lo - margin <= p.p <= hi + margin for p in located):
                 audit.unmatched.append((kind.value, (lo, hi), index))
 
 

@@ -62,7 +62,7 @@ def test_mesh_grows_to_a_tight_tolerance_and_marks_points_that_cannot_reach_it()
     assert tight.complete and all(p.meets_tolerance for p in tight.points)
     assert max(p.orbit.intervals for p in tight.points) > 40
     last = tight.points[-1]
-    assert np.max(last.amplitude) == pytest.approx(np.sqrt(last.speed - SHIFT), rel=1e-10)
+    assert np.max(last.amplitude) == pytest.approx(np.sqrt(last.p - SHIFT), rel=1e-10)
     capped = branch_from_hopf(family, h, 0.0, SHIFT + 2.0,
                               settings=CycleSettings(tolerance=1e-11, min_intervals=4, max_intervals=6))
     assert capped.complete and not capped.points[-1].meets_tolerance
@@ -83,10 +83,10 @@ def test_branch_ends_at_the_hopf_point_of_the_defining_system_even_when_not_list
     listed = branch_from_hopf(family, h0, 0.0, SHIFT + 3.0, others=(h1,))
     assert listed.status is BranchStatus.COMPLETE and listed.end is h1
     alone = branch_from_hopf(family, h0, 0.0, SHIFT + 3.0)      # h1 not given: found by its defining system
-    assert alone.end is not None and alone.end.speed == pytest.approx(SHIFT + 1.0, abs=1e-9)
+    assert alone.end is not None and alone.end.p == pytest.approx(SHIFT + 1.0, abs=1e-9)
     assert alone.end.omega == pytest.approx(W, abs=1e-9)
-    mid = [p for p in listed.points if abs(p.speed - SHIFT - 0.5) < 0.3]
-    assert all(np.max(p.amplitude) == pytest.approx(np.sqrt((p.speed - SHIFT) * (1 + SHIFT - p.speed)), rel=1e-8)
+    mid = [p for p in listed.points if abs(p.p - SHIFT - 0.5) < 0.3]
+    assert all(np.max(p.amplitude) == pytest.approx(np.sqrt((p.p - SHIFT) * (1 + SHIFT - p.p)), rel=1e-8)
                for p in mid)
 
 
@@ -99,16 +99,16 @@ def trail025():
 def test_user_points_are_the_continuations_own_orbits(trail025):
     family, d = trail025
     pts = d.branches[0].points
-    targets = (pts[10].speed, pts[40].speed, 183 * KMH)
+    targets = (pts[10].p, pts[40].p, 183 * KMH)
     d2 = cycle_diagram(family, 1.5e5, 0.0, 400 * KMH, at=targets)
     for k in (10, 40):
-        u = min(d2.branches[0].user_points, key=lambda x: abs(x.speed - pts[k].speed))
-        assert u.speed == pytest.approx(pts[k].speed, abs=1e-10)
+        u = min(d2.branches[0].user_points, key=lambda x: abs(x.p - pts[k].p))
+        assert u.p == pytest.approx(pts[k].p, abs=1e-10)
         assert np.max(np.abs(u.amplitude - pts[k].amplitude)) < 1e-8
         assert abs(u.period - pts[k].period) < 1e-8
         assert np.max(np.abs(u.multipliers - pts[k].multipliers)) < 1e-8
     # 183 km/h lies between T1 and S1 on the yaw branch (stable and unstable cycle) and on the tramp branch.
-    at183 = [[p for p in b.user_points if abs(kmh(p.speed) - 183) < 1e-9] for b in d2.branches]
+    at183 = [[p for p in b.user_points if abs(kmh(p.p) - 183) < 1e-9] for b in d2.branches]
     assert [len(a) for a in at183] == [2, 1]
     assert sorted(p.stable for p in at183[0]) == [False, True] and at183[1][0].stable
 
@@ -118,11 +118,11 @@ def test_max_step_makes_the_output_denser_and_moves_no_special_point(trail025):
     b = d.branches[1]                       # the tramp branch, with S2 and T2
     others = tuple(h for h in d.hopf if h is not b.start)
     for bd in [branch_from_hopf(family, b.start, 0.0, 400 * KMH, others=others, max_step=5 * KMH)]:
-        speeds = np.array([kmh(p.speed) for p in bd.points])
+        speeds = np.array([kmh(p.p) for p in bd.points])
         assert len(bd.points) > len(b.points) and np.max(np.abs(np.diff(speeds))) <= 5.0 + 1e-9
         for s in b.special_points:
             (t,) = [x for x in bd.special_points if x.kind is s.kind]
-            assert t.speed == pytest.approx(s.speed, abs=1e-6 * KMH)
+            assert t.p == pytest.approx(s.p, abs=1e-6 * KMH)
 
 
 def test_hard_case_at_walking_pace_meets_its_tolerance():
@@ -131,11 +131,11 @@ def test_hard_case_at_walking_pace_meets_its_tolerance():
     family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")))
     d = cycle_diagram(family, 0.25e5, 0.0, 400 * KMH)
     assert d.complete
-    low = min((b.points[-1] for b in d.branches), key=lambda p: p.speed)
-    assert kmh(low.speed) == pytest.approx(0.5, abs=1e-9) and low.meets_tolerance
+    low = min((b.points[-1] for b in d.branches), key=lambda p: p.p)
+    assert kmh(low.p) == pytest.approx(0.5, abs=1e-9) and low.meets_tolerance
     assert low.orbit.intervals > 40
     x0 = low.orbit.nodes[0]
-    sol = solve_ivp(lambda t, x: family.rhs(x, low.speed, low.value), (0, low.period), x0, method="DOP853",
+    sol = solve_ivp(lambda t, x: family.rhs(x, low.p, low.q), (0, low.period), x0, method="DOP853",
                     rtol=1e-12, atol=1e-14)
     assert np.max(np.abs(sol.y[:, -1] - x0)) < 1e-7
     assert all(p.meets_tolerance for b in d.branches for p in b.points)
@@ -187,10 +187,10 @@ def test_orbits_near_a_hopf_end_follow_the_square_root_law():
     speeds = (70.45 * KMH, 70.49 * KMH, 70.5 * KMH)
     d = cycle_diagram(family, 2.5e5, 0.0, 400 * KMH, at=speeds)
     (b,) = d.branches
-    assert kmh(b.end.speed) == pytest.approx(70.5006, abs=1e-4)
-    assert kmh(b.points[-1].speed) < 70.45
-    at = {round(kmh(p.speed), 6): p for p in b.user_points}
+    assert kmh(b.end.p) == pytest.approx(70.5006, abs=1e-4)
+    assert kmh(b.points[-1].p) < 70.45
+    at = {round(kmh(p.p), 6): p for p in b.user_points}
     assert set(at) == {70.45, 70.49, 70.5}
     amp2 = {v: p.max_abs("theta1") ** 2 for v, p in at.items()}
     ratio = amp2[70.49] / amp2[70.5]
-    assert ratio == pytest.approx((kmh(b.end.speed) - 70.49) / (kmh(b.end.speed) - 70.5), rel=0.02)
+    assert ratio == pytest.approx((kmh(b.end.p) - 70.49) / (kmh(b.end.p) - 70.5), rel=0.02)

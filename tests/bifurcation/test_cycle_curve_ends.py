@@ -21,16 +21,16 @@ def test_figure8_tramp_curves_end_at_the_located_hopf_hopf_and_bautin_points():
     cycles = cycle_diagram(family, 0.25, vmin, vmax)
     hopf = hopf_diagram(family, lo, hi, vmin, vmax)
     (hh,) = hopf.points_of(PointKind.HOPF_HOPF)
-    dh2 = max(hopf.points_of(PointKind.GENERALIZED_HOPF), key=lambda p: p.value)
-    s2 = min(cycles.points_of(PointKind.CYCLE_FOLD), key=lambda p: p.speed)
-    t2 = min(cycles.points_of(PointKind.TORUS), key=lambda p: p.speed)
+    dh2 = max(hopf.points_of(PointKind.GENERALIZED_HOPF), key=lambda p: p.q)
+    s2 = min(cycles.points_of(PointKind.CYCLE_FOLD), key=lambda p: p.p)
+    t2 = min(cycles.points_of(PointKind.TORUS), key=lambda p: p.p)
     for start, target in ((t2, hh), (s2, dh2)):
         curve = cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax)
         (end,) = [p for p in curve.end_points if p is not None]
         assert end.kind is target.kind and end.status is PointStatus.LOCATED
-        assert kmh(end.speed) == pytest.approx(kmh(target.speed), abs=1e-6)
-        assert end.value == pytest.approx(target.value, abs=1e-6 * target.value)
-        assert (end.speed, end.value) in curve.ends and "located" in " ".join(curve.messages)
+        assert kmh(end.p) == pytest.approx(kmh(target.p), abs=1e-6)
+        assert end.q == pytest.approx(target.q, abs=1e-6 * target.q)
+        assert (end.p, end.q) in curve.ends and "located" in " ".join(curve.messages)
 
 
 def _crossings(a_speeds, a_values, b_speeds, b_values, q_scale):
@@ -56,18 +56,18 @@ def test_figure18_torus_curves_do_not_meet_again_down_to_0_05_bar():
     family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure")
     lo, hi, vmin, vmax = 0.05 * BAR, 0.6 * BAR, 50 * KMH, 400 * KMH
     cycles = cycle_diagram(family, 0.25 * BAR, vmin, vmax)
-    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.speed)
+    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.p)
     curves = [cycle_bifurcation_curve(family, t, lo, hi, vmin, vmax) for t in (t1, t2)]
     for c in curves:
-        assert c.complete and c.values.min() == pytest.approx(lo, rel=1e-9)
-        low = int(np.argmin(c.values))
+        assert c.complete and c.qs.min() == pytest.approx(lo, rel=1e-9)
+        low = int(np.argmin(c.qs))
         assert np.degrees(c.amplitudes[low][0]) > 1.5
         (end,) = [p for p in c.end_points if p is not None]
-        assert end.kind is PointKind.HOPF_HOPF and end.value / BAR == pytest.approx(0.532, abs=5e-4)
+        assert end.kind is PointKind.HOPF_HOPF and end.q / BAR == pytest.approx(0.532, abs=5e-4)
     (end0,), (end1,) = ([p for p in c.end_points if p is not None] for c in curves)
-    assert end0.speed == pytest.approx(end1.speed, abs=1e-9) and end0.value == pytest.approx(end1.value, abs=1e-9)
+    assert end0.p == pytest.approx(end1.p, abs=1e-9) and end0.q == pytest.approx(end1.q, abs=1e-9)
     a, b = curves
-    hits = _crossings(kmh(a.speeds), a.values, kmh(b.speeds), b.values, BAR)
+    hits = _crossings(kmh(a.ps), a.qs, kmh(b.ps), b.qs, BAR)
     # The only common point is HH1, the shared end.
     assert all(abs(h[1] - 0.532) < 1e-3 for h in hits)
 
@@ -124,13 +124,13 @@ def test_fold_curve_of_the_bautin_normal_form_by_the_minimally_augmented_system(
     (h,) = hopf_points(family, 2.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
     (fold,) = branch_from_hopf(family, h, family.SHIFT - 3.0, family.SHIFT + 0.5).points_of(PointKind.CYCLE_FOLD)
     curve = fold_curve(family, fold, -0.5, 3.0, family.SHIFT - 5.0, family.SHIFT + 1.0)
-    mu, beta = curve.speeds - family.SHIFT, curve.values
+    mu, beta = curve.ps - family.SHIFT, curve.qs
     assert np.max(np.abs(mu + beta ** 2 / 4)) < 1e-10
     assert np.max(np.abs(np.max(curve.amplitudes, axis=1) ** 2 - beta / 2)) < 1e-8
     assert curve.complete and beta.max() == pytest.approx(3.0, abs=1e-9)       # the window's edge
     (end,) = [p for p in curve.end_points if p is not None]
     assert end.kind is PointKind.GENERALIZED_HOPF
-    assert end.speed == pytest.approx(family.SHIFT, abs=1e-9) and abs(end.value) < 1e-9
+    assert end.p == pytest.approx(family.SHIFT, abs=1e-9) and abs(end.q) < 1e-9
 
 
 FLIP_BETA = 0.8
@@ -180,9 +180,9 @@ def test_fold_flip_and_fold_neimark_sacker_points_on_a_fold_curve(flip):
     else:
         expected = [1.5]
         found = curve.points_of(PointKind.FOLD_NEIMARK_SACKER)
-    assert sorted(p.value for p in found) == pytest.approx(expected, abs=1e-9)
+    assert sorted(p.q for p in found) == pytest.approx(expected, abs=1e-9)
     assert all(p.status is PointStatus.LOCATED for p in found)
-    assert all(p.speed == pytest.approx(family.SHIFT - p.value ** 2 / 4, abs=1e-9) for p in found)
+    assert all(p.p == pytest.approx(family.SHIFT - p.q ** 2 / 4, abs=1e-9) for p in found)
     assert len(curve.special_points) == len(expected)
 
 
@@ -213,11 +213,11 @@ def test_torus_curve_and_strong_resonances_of_a_known_torus_curve():
             if abs(h.omega - family.W) < 1e-9]
     (torus,) = branch_from_hopf(family, h, 0.0, family.SHIFT + 1.0).points_of(PointKind.TORUS)
     curve = cycle_bifurcation_curve(family, torus, 0.3, 0.9, 0.0, family.SHIFT + 2.0)
-    assert curve.complete and curve.values.min() == pytest.approx(0.3) and curve.values.max() == pytest.approx(0.9)
-    assert np.max(np.abs(curve.speeds - family.SHIFT - family.C)) < 1e-10
+    assert curve.complete and curve.qs.min() == pytest.approx(0.3) and curve.qs.max() == pytest.approx(0.9)
+    assert np.max(np.abs(curve.ps - family.SHIFT - family.C)) < 1e-10
     (r3,) = curve.points_of(PointKind.RESONANCE_1_3)
     (r4,) = curve.points_of(PointKind.RESONANCE_1_4)
-    assert r3.value == pytest.approx(family.W / 3, abs=1e-9) and r4.value == pytest.approx(family.W / 4, abs=1e-9)
+    assert r3.q == pytest.approx(family.W / 3, abs=1e-9) and r4.q == pytest.approx(family.W / 4, abs=1e-9)
     assert r3.status is PointStatus.LOCATED and r4.status is PointStatus.LOCATED
 
 
@@ -237,13 +237,13 @@ def test_switching_from_the_hopf_hopf_point_gives_the_torus_curves_of_figure_8()
     assert len(switched) == 2
 
     def exit_speed(curve):
-        return curve.speeds[int(np.argmax(curve.values))]
+        return curve.ps[int(np.argmax(curve.qs))]
 
     assert sorted(exit_speed(c) for c in switched) == pytest.approx(sorted(exit_speed(c) for c in from_branches),
                                                                    abs=1e-6 * KMH)
     for c in switched:
         (end,) = [p for p in c.end_points if p is not None]
-        assert end.speed == pytest.approx(hh.speed, abs=1e-9) and end.value == pytest.approx(hh.value, abs=1e-9)
+        assert end.p == pytest.approx(hh.p, abs=1e-9) and end.q == pytest.approx(hh.q, abs=1e-9)
 
 
 class CuspOfCycles(ComplexStepFamily):
@@ -271,11 +271,11 @@ def test_cusp_of_cycles_on_the_fold_curve():
     folds = branch_from_hopf(family, h, family.SHIFT - 1.0, family.SHIFT + 1.0).points_of(PointKind.CYCLE_FOLD)
     curve = fold_curve(family, folds[0], -0.5, 1.5, family.SHIFT - 2.0, family.SHIFT + 2.0)
     rho = np.max(curve.amplitudes, axis=1) ** 2 - 1.0
-    assert np.max(np.abs(curve.speeds - family.SHIFT + 2 * rho ** 3)) < 1e-8
-    assert np.max(np.abs(curve.values - 3 * rho ** 2)) < 1e-8
+    assert np.max(np.abs(curve.ps - family.SHIFT + 2 * rho ** 3)) < 1e-8
+    assert np.max(np.abs(curve.qs - 3 * rho ** 2)) < 1e-8
     (cusp,) = curve.special_points
     assert cusp.kind is PointKind.CUSP_OF_CYCLES and cusp.status is PointStatus.LOCATED
-    assert abs(cusp.speed - family.SHIFT) < 1e-9 and abs(cusp.value) < 1e-9
+    assert abs(cusp.p - family.SHIFT) < 1e-9 and abs(cusp.q) < 1e-9
     # Through the cusp the curve reaches the other fold's side: both ends on the edge beta = 1.5.
     assert all("left the window" in m for m in curve.messages)
 
@@ -294,11 +294,11 @@ def test_codimension_two_points_of_cycles_in_figure_8():
                 PointKind.RESONANCE_1_4: (147.7994, 0.142204), PointKind.CHENCINER: (160.0095, 0.173143)}
     assert set(found) == set(expected)
     for kind, (V, t0) in expected.items():
-        assert kmh(found[kind].speed) == pytest.approx(V, abs=1e-3) and found[kind].value == pytest.approx(t0, abs=1e-5)
-        on_branch = cycle_diagram(family, found[kind].value, vmin, vmax)
+        assert kmh(found[kind].p) == pytest.approx(V, abs=1e-3) and found[kind].q == pytest.approx(t0, abs=1e-5)
+        on_branch = cycle_diagram(family, found[kind].q, vmin, vmax)
         base = PointKind.CYCLE_FOLD if kind is PointKind.FOLD_NEIMARK_SACKER else PointKind.TORUS
-        p = min(on_branch.points_of(base), key=lambda p: abs(p.speed - found[kind].speed))
-        assert p.speed == pytest.approx(found[kind].speed, abs=1e-6)
+        p = min(on_branch.points_of(base), key=lambda p: abs(p.p - found[kind].p))
+        assert p.p == pytest.approx(found[kind].p, abs=1e-6)
         mu = p.data["multipliers"]
         pair = mu[np.abs(mu.imag) > 1e-3]
         angle = {PointKind.RESONANCE_1_3: 2 * np.pi / 3, PointKind.RESONANCE_1_4: np.pi / 2}.get(kind)

@@ -18,7 +18,7 @@ def located(family, q, kind, lo, hi, near=None):
             if abs(h.omega - family.W) < 1e-9]
     points = branch_from_hopf(family, h, lo, hi).points_of(kind)
     if near is not None:
-        points = [p for p in points if abs(p.speed - near) < 1e-6]
+        points = [p for p in points if abs(p.p - near) < 1e-6]
     (point,) = points
     return point
 
@@ -67,19 +67,19 @@ def test_torus_curve_through_a_strong_resonance_is_flagged_there(resonance, q_st
     family = CycleWithBlock(resonance)
     torus = located(family, q_start, PointKind.TORUS, 0.0, family.SHIFT + 1.0, near=family.SHIFT + family.C)
     curve = cycle_bifurcation_curve(family, torus, *window, 0.0, family.SHIFT + 2.0)
-    assert curve.complete and curve.values.min() == pytest.approx(window[0])
-    assert curve.values.max() == pytest.approx(window[1])
-    assert np.max(np.abs(curve.speeds - family.SHIFT - family.C)) < 1e-9
-    assert np.max(np.abs(curve.kappas - family.kappa(curve.values))) < 1e-8
+    assert curve.complete and curve.qs.min() == pytest.approx(window[0])
+    assert curve.qs.max() == pytest.approx(window[1])
+    assert np.max(np.abs(curve.ps - family.SHIFT - family.C)) < 1e-9
+    assert np.max(np.abs(curve.kappas - family.kappa(curve.qs))) < 1e-8
     (r,) = curve.special_points
     assert r.kind is kind and r.status is PointStatus.LOCATED
-    assert r.value == pytest.approx(q_star, abs=1e-8) and r.speed == pytest.approx(family.SHIFT + family.C, abs=1e-9)
+    assert r.q == pytest.approx(q_star, abs=1e-8) and r.p == pytest.approx(family.SHIFT + family.C, abs=1e-9)
     lo, hi = sorted(r.bracket)
     assert lo < hi
     # Past the resonance the points are neutral saddle cycles, and marked so.
-    beyond = curve.values < q_star
-    assert np.array_equal(curve.neutral_saddle[np.abs(curve.values - q_star) > 1e-6],
-                          beyond[np.abs(curve.values - q_star) > 1e-6])
+    beyond = curve.qs < q_star
+    assert np.array_equal(curve.neutral_saddle[np.abs(curve.qs - q_star) > 1e-6],
+                          beyond[np.abs(curve.qs - q_star) > 1e-6])
 
 
 def test_fold_flip_on_a_period_doubling_curve():
@@ -93,12 +93,12 @@ def test_fold_flip_on_a_period_doubling_curve():
     pd = located(family, 1.0, PointKind.PERIOD_DOUBLING, family.SHIFT - 3.0, family.SHIFT + 0.5)
     curve = cycle_bifurcation_curve(family, pd, 0.5, 1.3, family.SHIFT - 5.0, family.SHIFT + 1.0)
     assert curve.complete
-    r = (1.5 - curve.values) / FLIP_BETA
-    assert np.max(np.abs(curve.speeds - (family.SHIFT - curve.values * r ** 2 + r ** 4))) < 1e-9
+    r = (1.5 - curve.qs) / FLIP_BETA
+    assert np.max(np.abs(curve.ps - (family.SHIFT - curve.qs * r ** 2 + r ** 4))) < 1e-9
     q_ff = brentq(lambda b: b - 1.5 + FLIP_BETA * np.sqrt(b / 2), 0.01, 3.0)
     (ff,) = curve.special_points
     assert ff.kind is PointKind.FOLD_FLIP and ff.status is PointStatus.LOCATED
-    assert ff.value == pytest.approx(q_ff, abs=1e-8) and ff.speed == pytest.approx(family.SHIFT - q_ff ** 2 / 4,
+    assert ff.q == pytest.approx(q_ff, abs=1e-8) and ff.p == pytest.approx(family.SHIFT - q_ff ** 2 / 4,
                                                                                   abs=1e-9)
 
 
@@ -165,18 +165,18 @@ def test_period_doubling_coefficient_and_generalized_period_doubling_point():
     family = FlipWithCubic()
     q0 = 0.3
     pd = located(family, q0, PointKind.PERIOD_DOUBLING, 0.0, family.SHIFT + 1.0)
-    assert pd.speed == pytest.approx(family.SHIFT + family.radius(q0) ** 2, abs=1e-9)
+    assert pd.p == pytest.approx(family.SHIFT + family.radius(q0) ** 2, abs=1e-9)
     system = FoldSystem(family, pd.data["cycle"], 0.1, kind=PointKind.PERIOD_DOUBLING)
     U = system.start(pd.data["cycle"])
     assert period_doubling_coefficient(system, U) == pytest.approx(family.coefficient(q0), abs=1e-8)
     curve = cycle_bifurcation_curve(family, pd, -0.2, 0.4, 0.0, family.SHIFT + 2.0)
     assert curve.complete
-    assert np.max(np.abs(curve.speeds - family.SHIFT - family.radius(curve.values) ** 2)) < 1e-9
+    assert np.max(np.abs(curve.ps - family.SHIFT - family.radius(curve.qs) ** 2)) < 1e-9
     (gpd,) = curve.special_points
     q_star = brentq(family.coefficient, -0.2, 0.4)
     assert gpd.kind is PointKind.GENERALIZED_PERIOD_DOUBLING and gpd.status is PointStatus.LOCATED
-    assert gpd.value == pytest.approx(q_star, abs=1e-8)
-    assert gpd.speed == pytest.approx(family.SHIFT + family.radius(q_star) ** 2, abs=1e-9)
+    assert gpd.q == pytest.approx(q_star, abs=1e-8)
+    assert gpd.p == pytest.approx(family.SHIFT + family.radius(q_star) ** 2, abs=1e-9)
 
 
 class TorusWithCubic(CycleWithOscillator):
@@ -215,10 +215,10 @@ def test_neimark_sacker_coefficient_and_chenciner_point():
     U = system.start(torus.data["cycle"])
     assert neimark_sacker_coefficient(system, U) == pytest.approx(family.coefficient(q0), abs=1e-8)
     curve = cycle_bifurcation_curve(family, torus, 0.15, 0.45, 0.0, family.SHIFT + 2.0)
-    assert curve.complete and np.max(np.abs(curve.speeds - family.SHIFT - family.C)) < 1e-9
+    assert curve.complete and np.max(np.abs(curve.ps - family.SHIFT - family.C)) < 1e-9
     (ch,) = curve.special_points
     assert ch.kind is PointKind.CHENCINER and ch.status is PointStatus.LOCATED
-    assert ch.value == pytest.approx(family.Q0 - family.GAMMA * family.RHO, abs=1e-8)
+    assert ch.q == pytest.approx(family.Q0 - family.GAMMA * family.RHO, abs=1e-8)
 
 
 def test_resonance_between_the_last_curve_point_and_the_hopf_hopf_end(monkeypatch):

@@ -15,7 +15,7 @@ from reduced_model.model import Effects, ShimmyModel
 
 
 def codim2(diagram, kind):
-    return sorted(diagram.points_of(kind), key=lambda p: p.value)
+    return sorted(diagram.points_of(kind), key=lambda p: p.q)
 
 
 def zero_amplitude_end(curve):
@@ -32,18 +32,18 @@ def test_figure8_curves_end_at_the_hopf_hopf_and_bautin_points():
     hopf = hopf_diagram(family, lo, hi, vmin, vmax)
     (hh,) = codim2(hopf, PointKind.HOPF_HOPF)
     dh1, dh2 = codim2(hopf, PointKind.GENERALIZED_HOPF)
-    s1, s2 = sorted(cycles.points_of(PointKind.CYCLE_FOLD), key=lambda p: -p.speed)
-    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.speed)
+    s1, s2 = sorted(cycles.points_of(PointKind.CYCLE_FOLD), key=lambda p: -p.p)
+    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.p)
     for start, target in ((t1, hh), (t2, hh), (s1, dh1), (s2, dh2)):
         curve = cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax)
         V, t0 = zero_amplitude_end(curve)
-        assert t0 == pytest.approx(target.value, abs=5e-6)
-        assert V == pytest.approx(target.speed, abs=0.01 * KMH)
+        assert t0 == pytest.approx(target.q, abs=5e-6)
+        assert V == pytest.approx(target.p, abs=0.01 * KMH)
         # The other end is on the window's top edge t0 = 0.26 m.
-        assert max(curve.values) == pytest.approx(hi, abs=1e-9)
-    assert agrees_to_printed_digits(paper.SECTION4["t0_hopf_hopf_1.5bar_m"], hh.value)
-    assert agrees_to_printed_digits(paper.SECTION4["t0_dh1_1.5bar_m"], dh1.value)
-    assert agrees_to_printed_digits(paper.SECTION4["t0_dh2_1.5bar_m"], dh2.value)
+        assert max(curve.qs) == pytest.approx(hi, abs=1e-9)
+    assert agrees_to_printed_digits(paper.SECTION4["t0_hopf_hopf_1.5bar_m"], hh.q)
+    assert agrees_to_printed_digits(paper.SECTION4["t0_dh1_1.5bar_m"], dh1.q)
+    assert agrees_to_printed_digits(paper.SECTION4["t0_dh2_1.5bar_m"], dh2.q)
 
 
 def test_figure18_torus_and_fold_curves_in_the_pressure_plane():
@@ -54,14 +54,14 @@ def test_figure18_torus_and_fold_curves_in_the_pressure_plane():
     hopf = hopf_diagram(family, lo, hi, vmin, vmax)
     (hh1,) = codim2(hopf, PointKind.HOPF_HOPF)
     (dh,) = codim2(hopf, PointKind.GENERALIZED_HOPF)
-    assert hh1.value / BAR == pytest.approx(paper.SECTION5["hcl,pt"]["hopf_hopf_bar"], abs=0.005)
+    assert hh1.q / BAR == pytest.approx(paper.SECTION5["hcl,pt"]["hopf_hopf_bar"], abs=0.005)
     cycles = cycle_diagram(family, 0.25 * BAR, vmin, vmax)
     (s1,) = cycles.points_of(PointKind.CYCLE_FOLD)
-    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.speed)
+    t1, t2 = sorted(cycles.points_of(PointKind.TORUS), key=lambda p: -p.p)
     for start, target in ((t1, hh1), (t2, hh1), (s1, dh)):
         curve = cycle_bifurcation_curve(family, start, lo, hi, vmin, vmax)
         V, p = zero_amplitude_end(curve)
-        assert p == pytest.approx(target.value, abs=2e-4 * BAR)
-        assert V == pytest.approx(target.speed, abs=0.02 * KMH)
-        assert min(curve.values) == pytest.approx(lo, rel=1e-9)
-    assert hh1.value / BAR == pytest.approx(0.532, abs=5e-4) and dh.value / BAR == pytest.approx(0.2884, abs=5e-4)
+        assert p == pytest.approx(target.q, abs=2e-4 * BAR)
+        assert V == pytest.approx(target.p, abs=0.02 * KMH)
+        assert min(curve.qs) == pytest.approx(lo, rel=1e-9)
+    assert hh1.q / BAR == pytest.approx(0.532, abs=5e-4) and dh.q / BAR == pytest.approx(0.2884, abs=5e-4)

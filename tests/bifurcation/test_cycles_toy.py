@@ -96,7 +96,7 @@ def with_flip(X, V):
 
 
 def first_hopf(family, vmin=SHIFT - 0.2, vmax=SHIFT + 0.2):
-    (h,) = [h for h in hopf_points(family, 0.0, vmin, vmax) if abs(h.speed - SHIFT) < 1e-9]
+    (h,) = [h for h in hopf_points(family, 0.0, vmin, vmax) if abs(h.p - SHIFT) < 1e-9]
     return h
 
 
@@ -114,9 +114,9 @@ def test_supercritical_branch_radius_period_and_multipliers():
     assert h.first_lyapunov == pytest.approx(-2.0 / W, rel=1e-9)  # l1 = 2a/w with a = -1
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0)
     assert b.status is BranchStatus.COMPLETE and "left the window" in b.message
-    assert b.points[-1].speed == pytest.approx(SHIFT + 1.0, abs=1e-12)
+    assert b.points[-1].p == pytest.approx(SHIFT + 1.0, abs=1e-12)
     for p in b.points:
-        mu = p.speed - SHIFT
+        mu = p.p - SHIFT
         assert p.amplitude[0] == pytest.approx(np.sqrt(mu), rel=1e-8)
         assert p.period == pytest.approx(2 * np.pi / W, rel=1e-10)
         rest, trivial = classify_multipliers(p.multipliers)
@@ -134,16 +134,16 @@ def test_subcritical_branch_turns_at_the_fold_and_changes_stability():
     assert b.complete
     (fold,) = b.points_of(PointKind.CYCLE_FOLD)
     assert fold.status is PointStatus.LOCATED
-    assert fold.speed - SHIFT == pytest.approx(-1.0, abs=1e-9)
+    assert fold.p - SHIFT == pytest.approx(-1.0, abs=1e-9)
     assert fold.data["amplitude"][0] == pytest.approx(1.0, abs=1e-5)
     for p in b.points:
         r2 = p.amplitude[0] ** 2
-        assert p.speed - SHIFT == pytest.approx(r2 * r2 - 2 * r2, abs=1e-7)
+        assert p.p - SHIFT == pytest.approx(r2 * r2 - 2 * r2, abs=1e-7)
         if abs(r2 - 1.0) > 1e-3:
             assert p.stable == (r2 > 1.0)
     # It went down to the fold and back up to the window's top.
-    assert min(p.speed for p in b.points) - SHIFT == pytest.approx(-1.0, abs=0.05)
-    assert b.points[-1].speed == pytest.approx(SHIFT + 1.0)
+    assert min(p.p for p in b.points) - SHIFT == pytest.approx(-1.0, abs=0.05)
+    assert b.points[-1].p == pytest.approx(SHIFT + 1.0)
 
 
 def test_torus_point_of_an_attached_oscillator():
@@ -151,12 +151,12 @@ def test_torus_point_of_an_attached_oscillator():
     b = branch_from_hopf(fam, first_hopf(fam), SHIFT - 1.0, SHIFT + 1.0)
     (torus,) = b.points_of(PointKind.TORUS)
     assert torus.status is PointStatus.LOCATED
-    assert torus.speed - SHIFT == pytest.approx(C_TORUS, abs=1e-8)
+    assert torus.p - SHIFT == pytest.approx(C_TORUS, abs=1e-8)
     mu = classify_multipliers(torus.data["multipliers"])[0]
     pair = mu[np.abs(mu.imag) > 1e-6]
     assert np.allclose(np.abs(pair), 1.0, atol=1e-7)
     assert np.cos(np.angle(pair[0])) == pytest.approx(np.cos(W2 * 2 * np.pi / W), abs=1e-7)
-    assert all(p.stable == (p.speed - SHIFT < C_TORUS) for p in b.points if abs(p.speed - SHIFT - C_TORUS) > 1e-3)
+    assert all(p.stable == (p.p - SHIFT < C_TORUS) for p in b.points if abs(p.p - SHIFT - C_TORUS) > 1e-3)
     assert not b.points_of(PointKind.PERIOD_DOUBLING) and not b.points_of(PointKind.CYCLE_FOLD)
 
 
@@ -167,7 +167,7 @@ def test_period_doubling_point():
     assert pd.status is PointStatus.LOCATED
     # mu - C + BETA sqrt(mu) = 0 with sqrt(mu) = s: s^2 + BETA s - C = 0.
     s = (-BETA + np.sqrt(BETA ** 2 + 4 * C_TORUS)) / 2
-    assert pd.speed - SHIFT == pytest.approx(s * s, abs=1e-8)
+    assert pd.p - SHIFT == pytest.approx(s * s, abs=1e-8)
     mu = classify_multipliers(pd.data["multipliers"])[0]
     assert np.min(np.abs(mu + 1.0)) < 1e-7
 
@@ -202,9 +202,9 @@ def test_torus_and_fold_between_the_hopf_start_and_the_first_cycle():
         (h,) = [h for h in hopf_points(family, q, family.SHIFT - 0.2, family.SHIFT + 0.2)
                 if abs(h.omega - family.W) < 1e-9]
         branch = branch_from_hopf(family, h, family.SHIFT - 1.0, family.SHIFT + 1.0)
-        first = branch.points[0].speed
+        first = branch.points[0].p
         assert abs(first - family.SHIFT) > 5 * abs(expected - family.SHIFT)     # the point is short of it
         (point,) = branch.points_of(kind)
         assert point.status is PointStatus.LOCATED and point.data["end_segment"]
-        assert point.speed == pytest.approx(expected, abs=1e-12)
+        assert point.p == pytest.approx(expected, abs=1e-12)
         assert point.bracket[1] <= 0.0          # before the first cycle on the branch's arclength

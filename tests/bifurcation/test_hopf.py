@@ -59,20 +59,20 @@ def test_section3_hopf_speeds(section3, pressure):
         assert h.criticality is Criticality.SUPERCRITICAL
         if (pressure, ref) == (1.5, 27.63):
             # Paper prints 27.63; the printed equations give 26.630 (README, differences table).
-            assert kmh(h.speed) == pytest.approx(26.630, abs=1e-3)
+            assert kmh(h.p) == pytest.approx(26.630, abs=1e-3)
         else:
-            assert kmh(h.speed) == pytest.approx(ref, abs=0.006)
+            assert kmh(h.p) == pytest.approx(ref, abs=0.006)
 
 
 def test_hopf_points_solve_the_defining_system(section3):
     for h in hopf_points(section3, 1.5 * BAR, 0.0, 400 * KMH):
-        A = section3.linear_matrix(h.speed, 1.5 * BAR)
+        A = section3.linear_matrix(h.p, 1.5 * BAR)
         assert np.linalg.norm(A @ h.eigenvector - 1j * h.omega * h.eigenvector) < 1e-9
         lam = np.linalg.eigvals(A)
         assert np.min(np.abs(lam.real)) < 1e-9
         # Newton converged: a 1e-6 km/h shift makes the real part of the pair change sign.
-        re = [np.max(np.linalg.eigvals(section3.linear_matrix(h.speed + d * KMH, 1.5 * BAR)).real
-                     [np.abs(np.linalg.eigvals(section3.linear_matrix(h.speed + d * KMH, 1.5 * BAR)).imag
+        re = [np.max(np.linalg.eigvals(section3.linear_matrix(h.p + d * KMH, 1.5 * BAR)).real
+                     [np.abs(np.linalg.eigvals(section3.linear_matrix(h.p + d * KMH, 1.5 * BAR)).imag
                              - h.omega) < 1e-3]) for d in (-1e-6, 1e-6)]
         assert re[0] * re[1] < 0
 
@@ -84,7 +84,7 @@ def test_frequency_ranges_of_the_two_modes(section3):
 
 
 def special(diagram, kind):
-    return sorted(diagram.points_of(kind), key=lambda p: p.value)
+    return sorted(diagram.points_of(kind), key=lambda p: p.q)
 
 
 def test_figure5_fold_F1_and_tramp_vanishing(section3):
@@ -94,10 +94,10 @@ def test_figure5_fold_F1_and_tramp_vanishing(section3):
     assert all(f.status is PointStatus.LOCATED for f in folds)
     assert len(folds) == 2
     tramp, f1 = folds
-    assert kmh(f1.speed) == pytest.approx(paper.FIG5_F1["speed_kmh"], abs=0.01)
-    assert f1.value / BAR == pytest.approx(paper.FIG5_F1["pressure_bar"], abs=0.005)
-    assert kmh(tramp.speed) == pytest.approx(paper.FIG5_TRAMP_VANISHES["speed_kmh"], abs=0.5)
-    assert tramp.value / BAR == pytest.approx(paper.FIG5_TRAMP_VANISHES["pressure_bar"], abs=0.005)
+    assert kmh(f1.p) == pytest.approx(paper.FIG5_F1["speed_kmh"], abs=0.01)
+    assert f1.q / BAR == pytest.approx(paper.FIG5_F1["pressure_bar"], abs=0.005)
+    assert kmh(tramp.p) == pytest.approx(paper.FIG5_TRAMP_VANISHES["speed_kmh"], abs=0.5)
+    assert tramp.q / BAR == pytest.approx(paper.FIG5_TRAMP_VANISHES["pressure_bar"], abs=0.005)
     # No interaction between the modes down to 0.05 bar: no Hopf-Hopf point (section 3).
     assert not d.points_of(PointKind.HOPF_HOPF)
 
@@ -110,27 +110,27 @@ def test_half_contact_length_fold_at_nominal_pressure():
     d = param_diagram("a0", 2.5, 0.02, 0.4)
     (fold,) = special(d, PointKind.HOPF_FOLD)
     # Paper: 0.186 m at about 58 km/h; computed 0.1872 m (README, differences table).
-    assert fold.value == pytest.approx(0.18716, abs=5e-5)
-    assert kmh(fold.speed) == pytest.approx(paper.SECTION4["a0_fold_speed_kmh"], abs=0.5)
+    assert fold.q == pytest.approx(0.18716, abs=5e-5)
+    assert kmh(fold.p) == pytest.approx(paper.SECTION4["a0_fold_speed_kmh"], abs=0.5)
 
 
 def test_pneumatic_trail_figure8_codimension_two_points():
     d = param_diagram("t0", 1.5, 0.01, 0.32)
     assert d.complete
-    folds = [f.value for f in special(d, PointKind.HOPF_FOLD)]
+    folds = [f.q for f in special(d, PointKind.HOPF_FOLD)]
     assert folds[0] == pytest.approx(paper.SECTION4["t0_yaw_vanishes_1.5bar_m"], abs=5e-4)
     assert folds[1] == pytest.approx(paper.SECTION4["t0_tramp_vanishes_1.5bar_m"], abs=5e-4)
     assert folds[2] > paper.SECTION4["t0_modes_merge_1.5bar_m"]  # HB2 and HB3 meet just above 0.28 m
     (hh,) = special(d, PointKind.HOPF_HOPF)
-    assert hh.value == pytest.approx(paper.SECTION4["t0_hopf_hopf_1.5bar_m"], abs=5e-4)
+    assert hh.q == pytest.approx(paper.SECTION4["t0_hopf_hopf_1.5bar_m"], abs=5e-4)
     dh1, dh2 = special(d, PointKind.GENERALIZED_HOPF)
-    assert dh1.value == pytest.approx(paper.SECTION4["t0_dh1_1.5bar_m"], abs=5e-4)
-    assert dh2.value == pytest.approx(paper.SECTION4["t0_dh2_1.5bar_m"], abs=5e-4)
+    assert dh1.q == pytest.approx(paper.SECTION4["t0_dh1_1.5bar_m"], abs=5e-4)
+    assert dh2.q == pytest.approx(paper.SECTION4["t0_dh2_1.5bar_m"], abs=5e-4)
 
 
 def test_relaxation_length_figure13():
     d = param_diagram("sigma0", 1.5, 0.05, 1.5)
-    folds = [f.value for f in special(d, PointKind.HOPF_FOLD)]
+    folds = [f.q for f in special(d, PointKind.HOPF_FOLD)]
     assert any(abs(v - paper.SECTION4["sigma0_tramp_vanishes_1.5bar_m"]) < 5e-3 for v in folds)
     # Paper: "a further increase to 1.2 m" ends the yaw mode; computed 1.183 m.
     assert any(abs(v - 1.1833) < 1e-3 for v in folds)
@@ -138,11 +138,11 @@ def test_relaxation_length_figure13():
 
 def test_vertical_stiffness_figures_14_and_15():
     d = param_diagram("k5_0", 1.5, 1.5e5, 7e5)
-    folds = [f.value for f in special(d, PointKind.HOPF_FOLD)]
+    folds = [f.q for f in special(d, PointKind.HOPF_FOLD)]
     assert folds[0] == pytest.approx(paper.SECTION4["k5_modes_merge_1.5bar_Npm"], abs=2e3)
     assert folds[1] == pytest.approx(paper.SECTION4["k5_tramp_vanishes_1.5bar_Npm"], abs=1e3)
     d = param_diagram("k5_0", 2.56, 1.5e5, 7e5)
-    folds = [f.value for f in special(d, PointKind.HOPF_FOLD)]
+    folds = [f.q for f in special(d, PointKind.HOPF_FOLD)]
     for key in ("k5_F1_2.56bar_Npm", "k5_F2_2.56bar_Npm", "k5_second_mode_upper_2.56bar_Npm"):
         assert any(abs(v - paper.SECTION4[key]) < 1e3 for v in folds), key
 
@@ -154,22 +154,22 @@ def test_figure17_cumulative_effects(effects):
     assert d.complete
     ref = paper.SECTION5[effects]
     folds = special(d, PointKind.HOPF_FOLD)
-    no_shimmy = max(f.value for f in folds) / BAR
+    no_shimmy = max(f.q for f in folds) / BAR
     assert no_shimmy == pytest.approx(ref["no_shimmy_bar"], abs=0.005)
     # The tramp mode's speed window closes at a fold above 200 km/h and above 1 bar.
-    tramp = [f.value / BAR for f in folds if kmh(f.speed) > 200 and f.value > 1.0 * BAR]
+    tramp = [f.q / BAR for f in folds if kmh(f.p) > 200 and f.q > 1.0 * BAR]
     if ref.get("tramp_vanishes_bar") is None and "modes_meet_bar" not in ref:
         assert tramp == []  # RL: the tramp mode disappears
     elif "tramp_vanishes_bar" in ref:
         assert tramp == [pytest.approx(ref["tramp_vanishes_bar"], abs=0.005)]
     if "cusp_bar" in ref:  # HB2 and HB3 meet: a fold of the curve near 0.078 bar, 220.5 km/h
-        low = [f for f in folds if f.value < 0.2 * BAR]
-        assert any(abs(f.value / BAR - ref["cusp_bar"]) < 0.001 and abs(kmh(f.speed) - ref["cusp_kmh"]) < 0.5
+        low = [f for f in folds if f.q < 0.2 * BAR]
+        assert any(abs(f.q / BAR - ref["cusp_bar"]) < 0.001 and abs(kmh(f.p) - ref["cusp_kmh"]) < 0.5
                    for f in low)
     if "hopf_hopf_bar" in ref:
-        assert any(abs(h.value / BAR - ref["hopf_hopf_bar"]) < 0.005 for h in d.points_of(PointKind.HOPF_HOPF))
+        assert any(abs(h.q / BAR - ref["hopf_hopf_bar"]) < 0.005 for h in d.points_of(PointKind.HOPF_HOPF))
     if "modes_meet_bar" in ref:
-        assert any(abs(f.value / BAR - ref["modes_meet_bar"]) < 0.005 for f in folds)
+        assert any(abs(f.q / BAR - ref["modes_meet_bar"]) < 0.005 for f in folds)
         assert tramp == [pytest.approx(1.7529, abs=5e-4)]  # the tramp mode reappears with VS
 
 
@@ -179,8 +179,8 @@ def test_hopf_curve_passes_through_the_one_parameter_hopf_points(section3):
     for h in hopf_points(section3, 2.2 * BAR, 0.0, 400 * KMH):
         hits = []
         for c in d.curves:
-            sign = np.sign(c.values - 2.2 * BAR)
+            sign = np.sign(c.qs - 2.2 * BAR)
             for i in np.nonzero(np.diff(sign))[0]:
-                t = (2.2 * BAR - c.values[i]) / (c.values[i + 1] - c.values[i])
-                hits.append(c.speeds[i] + t * (c.speeds[i + 1] - c.speeds[i]))
-        assert kmh(min(abs(np.array(hits) - h.speed))) < 0.5
+                t = (2.2 * BAR - c.qs[i]) / (c.qs[i + 1] - c.qs[i])
+                hits.append(c.ps[i] + t * (c.ps[i + 1] - c.ps[i]))
+        assert kmh(min(abs(np.array(hits) - h.p))) < 0.5

@@ -30,14 +30,14 @@ def test_doubled_branch_has_the_known_amplitude_and_twice_the_period():
     family = toy.ToyFamily(saturated_flip, 4)
     h = toy.first_hopf(family)
     branch = branch_from_hopf(family, h, 0.0, toy.SHIFT + 2.0)
-    pd = min(branch.points_of(PointKind.PERIOD_DOUBLING), key=lambda p: p.speed)
+    pd = min(branch.points_of(PointKind.PERIOD_DOUBLING), key=lambda p: p.p)
     assert pd.status is PointStatus.LOCATED
-    mu_pd = pd.speed - toy.SHIFT          # a + BETA sqrt(mu) = 0
+    mu_pd = pd.p - toy.SHIFT          # a + BETA sqrt(mu) = 0
     assert mu_pd - toy.C_TORUS + toy.BETA * np.sqrt(mu_pd) == pytest.approx(0.0, abs=1e-9)
     doubled = branch_from_period_doubling(family, pd, 0.0, toy.SHIFT + 2.0)
     assert doubled.status is BranchStatus.COMPLETE and len(doubled.points) > 5
     for p in doubled.points:
-        mu = p.speed - toy.SHIFT
+        mu = p.p - toy.SHIFT
         assert p.period == pytest.approx(2 * 2 * np.pi / toy.W, rel=1e-9)
         assert p.amplitude[2] == pytest.approx(np.sqrt(mu - toy.C_TORUS + toy.BETA * np.sqrt(mu)), rel=1e-7)
         assert p.amplitude[0] == pytest.approx(np.sqrt(mu), rel=1e-7)
@@ -69,9 +69,9 @@ def test_period_doubling_curve_by_the_minimally_augmented_system():
     family = FlipInTwoParameters()
     (h,) = [h for h in hopf_points(family, 0.3, toy.SHIFT - 0.2, toy.SHIFT + 0.2) if abs(h.omega - toy.W) < 1e-9]
     pd = min(branch_from_hopf(family, h, 0.0, toy.SHIFT + 2.0).points_of(PointKind.PERIOD_DOUBLING),
-             key=lambda p: p.speed)
+             key=lambda p: p.p)
     curve = cycle_bifurcation_curve(family, pd, 0.1, 1.0, toy.SHIFT + 1e-3, toy.SHIFT + 3.0)
-    mu = curve.speeds - toy.SHIFT
+    mu = curve.ps - toy.SHIFT
     assert curve.kind is PointKind.PERIOD_DOUBLING and curve.complete
-    assert np.max(np.abs(curve.values - mu - toy.BETA * np.sqrt(mu))) < 1e-9
-    assert curve.values.min() == pytest.approx(0.1) and curve.values.max() == pytest.approx(1.0)
+    assert np.max(np.abs(curve.qs - mu - toy.BETA * np.sqrt(mu))) < 1e-9
+    assert curve.qs.min() == pytest.approx(0.1) and curve.qs.max() == pytest.approx(1.0)

@@ -82,9 +82,9 @@ def short_runs(monkeypatch):
     import comparisons.cli.commands.simulate as simulate_command
     real = simulate_command.simulate_model
 
-    def short(args, schedule, x0):
+    def short(args, ramp, initial):
         args.duration = min(args.duration, 0.05)
-        return real(args, schedule, x0)
+        return real(args, ramp, initial)
     monkeypatch.setattr(simulate_command, "simulate_model", short)
 
 

@@ -93,9 +93,12 @@ def test_simulate_reports_mode_switches(capsys):
 
 
 def test_simulate_diverged_exits_3_with_output(capsys, monkeypatch):
-    # 4 rad is outside the initial-angle range of the CLI (45 deg): widened here to reach the divergence exit.
+    # 4 rad is outside the initial-angle range (45 deg), which the CLI checks and the API it runs through checks
+    # again: widened in both here to reach the divergence exit.
+    import comparisons.api as api
     import comparisons.cli.commands.simulate as simulate_command
     monkeypatch.setattr(simulate_command, "ANGLE_RANGE_DEG", (-300.0, 300.0))
+    monkeypatch.setattr(api, "ANGLE_RANGE_DEG", (-300.0, 300.0))
     assert main(["simulate", "--pressure", "2.5", "--speed", "30", "--duration", "1", "--initial", "theta1=229.18",
                  "--json"]) == 3
     captured = capsys.readouterr()
@@ -151,8 +154,8 @@ def test_curve_end_messages_print_in_interface_units(capsys):
     from reduced_model.bifurcation.cycle_curves.result import CycleCurve
     from reduced_model.bifurcation.special_points import BranchStatus, PointKind
 
-    curve = CycleCurve(kind=PointKind.TORUS, param="pressure", speeds=np.array([45.0, 46.0]),
-                       values=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),
+    curve = CycleCurve(kind=PointKind.TORUS, param="pressure", ps=np.array([45.0, 46.0]),
+                       qs=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),
                        status=(BranchStatus.COMPLETE,) * 2,
                        messages=("ends at the Hopf-Hopf point located at speed = 45.30795, pressure = 53204.76",
                                  "left the window at speed = 53.76107, pressure = 20000"),

@@ -101,7 +101,7 @@ def test_hopf_names_follow_the_paper():
     """HB1, HB2 bound the first branch and HB3, HB4 the second, whatever their speed order (figure 9a)."""
     store = figures.DiagramStore()
     _, d = figures.store_cycles(store, figures.CycleKey(1.5, 400.0, (("t0", 0.25),)))
-    names = {name: round(kmh(h.speed), 2) for name, h in figures.hopf_names(d)}
+    names = {name: round(kmh(h.p), 2) for name, h in figures.hopf_names(d)}
     assert names == {"HB1": 1.47, "HB2": 164.75, "HB3": 137.97}
 
 

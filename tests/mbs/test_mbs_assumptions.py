@@ -67,7 +67,7 @@ COMPUTED = {
 @pytest.mark.parametrize("name,fidelity", study_fidelities())
 def test_hopf_speeds_without_each_assumption(pressure, name, fidelity):
     points = hopf_points(MbsFamily(MbsModel(fidelity=fidelity)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
-    assert [kmh(h.speed) for h in points] == pytest.approx(COMPUTED[pressure][name], abs=1e-3)
+    assert [kmh(h.p) for h in points] == pytest.approx(COMPUTED[pressure][name], abs=1e-3)
 
 
 @pytest.mark.parametrize("name", ["constant_load", "quasi_steady_speed", "parallel_steering_arms"])
@@ -79,7 +79,7 @@ def test_nonlinear_assumptions_move_no_hopf_point(name):
                      else (Fidelity.parse(f"{name},massless_links"), Fidelity.parse("massless_links")))
     reduced = hopf_points(MbsFamily(MbsModel(fidelity=base)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
     dropped = hopf_points(MbsFamily(MbsModel(fidelity=without)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
-    assert np.max(np.abs(np.array([h.speed for h in dropped]) - [h.speed for h in reduced])) < 1e-6
+    assert np.max(np.abs(np.array([h.p for h in dropped]) - [h.p for h in reduced])) < 1e-6
 
 
 def test_full_geometry_with_large_trail():
@@ -87,12 +87,12 @@ def test_full_geometry_with_large_trail():
     up."""
     from reduced_model.parameters import YANG2024
     family = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
-    assert [kmh(h.speed) for h in hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
+    assert [kmh(h.p) for h in hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
         pytest.approx([3.5605, 194.6488, 224.4958], abs=1e-3)
 
 
 def _hopf(kmh, hz):
-    return HopfPoint(speed=kmh * KMH, value=0.0, omega=2 * np.pi * hz, first_lyapunov=float("nan"),
+    return HopfPoint(p=kmh * KMH, q=0.0, omega=2 * np.pi * hz, first_lyapunov=float("nan"),
                      eigenvector=np.zeros(8))
 
 
@@ -204,4 +204,4 @@ def test_steering_gear_row_split_into_compliance_and_roll_steer(dims, expected):
     from mbs_shimmy.fidelity import ISSUE_18
     family = MbsFamily(MbsModel(fidelity=Fidelity(ISSUE_18), dims=DEFAULT_DIMENSIONS.replace(**dims)))
     points = hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
-    assert [kmh(h.speed) for h in points] == pytest.approx(expected, abs=1e-3)
+    assert [kmh(h.p) for h in points] == pytest.approx(expected, abs=1e-3)

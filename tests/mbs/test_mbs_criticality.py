@@ -33,7 +33,7 @@ def test_mbs_first_lyapunov_equals_the_reduced_models_with_every_assumption_on(e
     m = hopf_points(mbs, mbs.nominal, 0.0, VMAX)
     assert len(r) == len(m) > 0
     for a, b in zip(r, m):
-        assert b.speed == pytest.approx(a.speed, rel=1e-9)
+        assert b.p == pytest.approx(a.p, rel=1e-9)
         assert b.first_lyapunov == pytest.approx(a.first_lyapunov, rel=1e-4)
         assert b.criticality is a.criticality
 
@@ -56,12 +56,12 @@ def test_full_geometry_criticality_agrees_with_the_side_the_branch_leaves(pressu
     assert points
     for h in points:
         assert h.criticality is not None
-        delta = 1e-3 * h.speed
-        growth = [max(eigenvalues(family, h.speed + s * delta, h.value).real) for s in (-1.0, 1.0)]
+        delta = 1e-3 * h.p
+        growth = [max(eigenvalues(family, h.p + s * delta, h.q).real) for s in (-1.0, 1.0)]
         unstable_side = 1.0 if growth[1] > growth[0] else -1.0
         branch = _short_branch(family, h, points)
         assert len(branch.points) >= 3, branch.message
-        side = np.sign(branch.points[-1].speed - h.speed)
+        side = np.sign(branch.points[-1].p - h.p)
         expected = unstable_side if h.criticality is Criticality.SUPERCRITICAL else -unstable_side
         assert side == expected
         assert branch.points[1].stable == (h.criticality is Criticality.SUPERCRITICAL)

@@ -28,7 +28,7 @@ VMAX = 400.0 * KMH
 def _folds(family):
     diagram = hopf_diagram(family, *WINDOW, 0.0, VMAX)
     assert diagram.complete
-    return sorted(diagram.points_of(PointKind.HOPF_FOLD), key=lambda p: -p.value)
+    return sorted(diagram.points_of(PointKind.HOPF_FOLD), key=lambda p: -p.q)
 
 
 def _unstable_somewhere(family, pressure):
@@ -41,8 +41,8 @@ def test_mbs_with_every_assumption_on_has_the_reduced_models_folds():
     mbs = _folds(MbsFamily(MbsModel(fidelity=Fidelity.reduced()), param="pressure", pressure=1.5 * BAR))
     assert len(mbs) == len(reduced) == 2
     for a, b in zip(reduced, mbs):
-        assert b.value == pytest.approx(a.value, rel=1e-7)
-        assert b.speed == pytest.approx(a.speed, rel=1e-6)
+        assert b.q == pytest.approx(a.q, rel=1e-7)
+        assert b.p == pytest.approx(a.p, rel=1e-6)
 
 
 def test_full_geometry_shimmy_free_boundary_from_the_curves_command():

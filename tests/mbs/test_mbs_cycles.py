@@ -41,10 +41,10 @@ def test_mbs_with_every_assumption_on_continues_the_reduced_models_branch(both_y
     assert len(mbs.branches) == len(reduced.branches) == 1
     r, m = reduced.branches[0], mbs.branches[0]
     assert m.complete and r.complete
-    assert m.end.speed == pytest.approx(r.end.speed, abs=1e-4 * KMH)
+    assert m.end.p == pytest.approx(r.end.p, abs=1e-4 * KMH)
     assert len(m.user_points) == len(r.user_points) == len(AT)
-    for a, b in zip(sorted(r.user_points, key=lambda p: p.speed), sorted(m.user_points, key=lambda p: p.speed)):
-        assert b.speed == pytest.approx(a.speed, rel=1e-12)
+    for a, b in zip(sorted(r.user_points, key=lambda p: p.p), sorted(m.user_points, key=lambda p: p.p)):
+        assert b.p == pytest.approx(a.p, rel=1e-12)
         assert b.period == pytest.approx(a.period, rel=1e-6)
         np.testing.assert_allclose(b.amplitude[:8], a.amplitude, rtol=1e-6, atol=1e-9)
         assert b.stable == a.stable

@@ -207,5 +207,5 @@ def test_slip_heading_only_terms_one_at_a_time(keep, expected, monkeypatch):
     monkeypatch.setattr(tyre_element.TyreElement, "linear", _slip_with_one_term(keep))
     for bar, speeds in expected.items():
         family = MbsFamily(MbsModel(fidelity=Fidelity.reduced()), pressure=bar * BAR)
-        got = [kmh(h.speed) for h in hopf_points(family, bar * BAR, 0.0, 400 * KMH, lyapunov=False)]
+        got = [kmh(h.p) for h in hopf_points(family, bar * BAR, 0.0, 400 * KMH, lyapunov=False)]
         assert got == pytest.approx(speeds, abs=0.01)

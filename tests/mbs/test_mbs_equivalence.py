@@ -46,7 +46,7 @@ def test_hopf_speeds_equal_reduced(overrides, pressure):
     red = hopf_points(SpeedFamily(ShimmyModel(params)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
     assert len(mbs) == len(red) >= 2
     for h, r in zip(mbs, red):
-        assert abs(kmh(h.speed) - kmh(r.speed)) < 0.01
+        assert abs(kmh(h.p) - kmh(r.p)) < 0.01
         assert abs(h.omega - r.omega) < 1e-6 * r.omega
 
 
@@ -117,7 +117,7 @@ def test_limit_cycle_amplitude_matches_continuation():
     family = SpeedFamily(ShimmyModel())
     hopf = hopf_points(family, p, 0.0, 400 * KMH)
     branch = branch_from_hopf(family, hopf[0], 0.0, 400 * KMH, others=tuple(hopf[1:]))
-    near = min(branch.points, key=lambda c: abs(c.speed - V))
+    near = min(branch.points, key=lambda c: abs(c.p - V))
     cycle = cycle_at(family, near, V)
     start = reduced_steady_amplitude(ShimmyModel(), p, V, settle=6.0)   # a state near the cycle
     mbs = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.reduced(), p, V, start.final_state, settle=6.0)

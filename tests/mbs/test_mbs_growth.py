@@ -17,7 +17,7 @@ OFFSET_KMH = 4.0
 
 def full_hopf_speeds(pressure):
     family = MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=pressure)
-    return family, [h.speed for h in hopf_points(family, pressure, 0.0, 400 * KMH, lyapunov=False)]
+    return family, [h.p for h in hopf_points(family, pressure, 0.0, 400 * KMH, lyapunov=False)]
 
 
 @pytest.mark.parametrize("side", [-1.0, 1.0])

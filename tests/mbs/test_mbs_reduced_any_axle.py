@@ -54,7 +54,7 @@ def test_reduced_fidelity_reproduces_the_reduced_equations_for_any_axle(seed):
     hr = hopf_points(red, red.nominal, 0.0, 400 * KMH, lyapunov=False)
     assert len(hm) == len(hr)
     for h, r in zip(hm, hr):
-        assert abs(kmh(h.speed) - kmh(r.speed)) < 0.01
+        assert abs(kmh(h.p) - kmh(r.p)) < 0.01
 
 
 def test_reduced_fidelity_transient_for_another_axle():

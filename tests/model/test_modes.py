@@ -38,7 +38,7 @@ def test_modes_at_the_first_hopf_point():
     """At HB1 the Hopf solver's frequency (an independent computation) is the undamped yaw mode's."""
     family = SpeedFamily(ShimmyModel(), pressure=1.5e5)
     hb1 = hopf_points(family, 1.5e5, 0.0, from_kmh(400), lyapunov=False)[0]
-    modes = mode_shapes(family.linear_matrix(hb1.speed, 1.5e5), 6.0, 160.0)
+    modes = mode_shapes(family.linear_matrix(hb1.p, 1.5e5), 6.0, 160.0)
     critical = modes[0]
     assert abs(critical.eigenvalue.real) < 1e-6
     assert critical.frequency_hz == pytest.approx(hb1.frequency_hz, rel=1e-8)

@@ -49,16 +49,16 @@ def test_swapping_pressures_mirrors_the_solution():
     b = SpeedFamily(SYMMETRIC, pressure=(1.2 * BAR, 1.5 * BAR))
     ha, hb = hopf_points(a, a.nominal, 0.0, 400 * KMH), hopf_points(b, b.nominal, 0.0, 400 * KMH)
     assert len(ha) == len(hb) > 0
-    assert [h.speed for h in ha] == pytest.approx([h.speed for h in hb], rel=1e-10)
+    assert [h.p for h in ha] == pytest.approx([h.p for h in hb], rel=1e-10)
     # the yaw branch near its Hopf point (a narrow speed window keeps the continuation short)
-    ba = branch_from_hopf(a, ha[0], ha[0].speed - 3 * KMH, ha[0].speed + 8 * KMH)
-    bb = branch_from_hopf(b, hb[0], hb[0].speed - 3 * KMH, hb[0].speed + 8 * KMH)
+    ba = branch_from_hopf(a, ha[0], ha[0].p - 3 * KMH, ha[0].p + 8 * KMH)
+    bb = branch_from_hopf(b, hb[0], hb[0].p - 3 * KMH, hb[0].p + 8 * KMH)
     assert len(ba.points) > 3 and len(bb.points) > 3
     for ba, bb in ((ba, bb),):
         # the same uniform mesh for both: max|x_i| over mesh nodes is then the same estimate of the same orbit
         pa = ba.points[len(ba.points) // 2]
-        pb = min(bb.points, key=lambda p: abs(p.speed - pa.speed))
-        pa, pb = cycle_at(a, pa, pa.speed, intervals=60), cycle_at(b, pb, pa.speed, intervals=60)
+        pb = min(bb.points, key=lambda p: abs(p.p - pa.p))
+        pa, pb = cycle_at(a, pa, pa.p, intervals=60), cycle_at(b, pb, pa.p, intervals=60)
         assert pb.period == pytest.approx(pa.period, rel=1e-6)
         assert pb.max_abs("theta1") == pytest.approx(pa.max_abs("theta2"), rel=1e-6)
         assert pb.max_abs("theta2") == pytest.approx(pa.max_abs("theta1"), rel=1e-6)
@@ -81,7 +81,7 @@ def test_asymmetric_cycle_agrees_with_a_long_simulation():
     half = len(x) // 2
     # no half-period odd symmetry: x(T/2) is not -x(0)
     assert np.max(np.abs(x[half] + x[0])) > 1e-4 * np.max(np.abs(x))
-    traj = simulate(model, (1.5 * BAR, 1.2 * BAR), SpeedSchedule.constant(point.speed), 30.0,
+    traj = simulate(model, (1.5 * BAR, 1.2 * BAR), SpeedSchedule.constant(point.p), 30.0,
                     0.5 * point.orbit.nodes[0])
     tail = traj.t > traj.t[-1] - 3.0
     for name in ("theta1", "theta2", "psi"):

@@ -26,7 +26,7 @@ def fig9a():
 
 def special(diagram, kind, branch):
     (p,) = diagram.branches[branch].points_of(kind)
-    return p.speed
+    return p.p
 
 
 def synthetic(t, parts, speed=20.0):
@@ -76,7 +76,7 @@ def test_figure11_two_initial_conditions_two_stable_cycles(fig9a):
     assert special(d, PointKind.TORUS, 1) < V < special(d, PointKind.CYCLE_FOLD, 0)
     expected = {}
     for branch, mode in zip(d.branches, (Mode.YAW, Mode.TRAMP)):
-        near = min((p for p in branch.points if p.stable), key=lambda p: abs(p.speed - V))
+        near = min((p for p in branch.points if p.stable), key=lambda p: abs(p.p - V))
         expected[mode] = cycle_at(family, near, V)
     starts = {Mode.TRAMP: initial_state(), Mode.YAW: initial_state({"theta1": 0.2, "psi": 0.01})}
     for mode, x0 in starts.items():
@@ -134,8 +134,8 @@ def test_tramp_cycle_below_T2_is_left_for_the_yaw_mode(fig9a):
     family, d = fig9a
     V = 150.0 * KMH
     assert V < special(d, PointKind.TORUS, 1)
-    near = min((p for p in d.branches[1].points if p.speed > V - 5 * KMH and p.max_abs("theta1") > 0.1),
-               key=lambda p: abs(p.speed - V))
+    near = min((p for p in d.branches[1].points if p.p > V - 5 * KMH and p.max_abs("theta1") > 0.1),
+               key=lambda p: abs(p.p - V))
     cycle = cycle_at(family, near, V)
     assert not cycle.stable
     pair = cycle.nontrivial[np.abs(cycle.nontrivial.imag) > 1e-6]

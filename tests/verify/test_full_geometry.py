@@ -91,25 +91,25 @@ def run(theta1: float, hz: float = 6.0, settled: bool = True) -> SteadyAmplitude
 
 def test_stable_orbit_passes_only_within_its_tolerance_in_amplitude_and_frequency():
     c = cycle(50.0, 0.1, True)
-    assert OrbitCheck(c, run(0.1 * (1 + 0.9 * ORBIT_TOL)), c.speed).ok
-    assert not OrbitCheck(c, run(0.1 * (1 + 1.1 * ORBIT_TOL)), c.speed).ok
-    assert not OrbitCheck(c, run(0.1, hz=6.0 * (1 + 1.1 * ORBIT_TOL)), c.speed).ok
-    assert not OrbitCheck(c, run(0.1, settled=False), c.speed).ok
-    assert not OrbitCheck(c, run(math.nan), c.speed).ok
+    assert OrbitCheck(c, run(0.1 * (1 + 0.9 * ORBIT_TOL)), c.p).ok
+    assert not OrbitCheck(c, run(0.1 * (1 + 1.1 * ORBIT_TOL)), c.p).ok
+    assert not OrbitCheck(c, run(0.1, hz=6.0 * (1 + 1.1 * ORBIT_TOL)), c.p).ok
+    assert not OrbitCheck(c, run(0.1, settled=False), c.p).ok
+    assert not OrbitCheck(c, run(math.nan), c.p).ok
 
 
 def test_unstable_orbit_passes_only_when_the_run_leaves_it():
     c = cycle(50.0, 0.1, False)
-    assert OrbitCheck(c, run(0.0), c.speed).ok                     # decayed to straight running
-    assert OrbitCheck(c, run(0.3), c.speed).ok                     # went to a larger cycle
-    assert not OrbitCheck(c, run(0.1 * (1 + 0.5 * LEFT_TOL)), c.speed).ok
+    assert OrbitCheck(c, run(0.0), c.p).ok                     # decayed to straight running
+    assert OrbitCheck(c, run(0.3), c.p).ok                     # went to a larger cycle
+    assert not OrbitCheck(c, run(0.1 * (1 + 0.5 * LEFT_TOL)), c.p).ok
 
 
 def test_fold_is_bracketed_by_a_stable_cycle_and_a_run_past_it():
     d = subcritical_diagram()
     branch = d.branches[0]
     (fold,) = branch.special_points
-    assert beyond_fold(branch, fold) < fold.speed           # the branch's cycles lie above 30 km/h
+    assert beyond_fold(branch, fold) < fold.p           # the branch's cycles lie above 30 km/h
     starts = []
 
     def settle(speed):
@@ -120,8 +120,8 @@ def test_fold_is_bracketed_by_a_stable_cycle_and_a_run_past_it():
 
     checks = dict(bracket_special_point(settle, branch, fold))
     assert set(checks) == {"stable side", "past the fold"}
-    assert checks["stable side"].cycle.speed == pytest.approx(30.5 * KMH) and checks["stable side"].ok
-    assert checks["past the fold"].speed < fold.speed and checks["past the fold"].ok
+    assert checks["stable side"].cycle.p == pytest.approx(30.5 * KMH) and checks["stable side"].ok
+    assert checks["past the fold"].speed < fold.p and checks["past the fold"].ok
     # Every run starts 2 % inside the orbit it checks.
     assert starts[0][1] == pytest.approx(0.98 * checks["stable side"].cycle.max_abs("theta1"))
     assert check_orbit(settle, branch.points[5]).ok
@@ -130,11 +130,11 @@ def test_fold_is_bracketed_by_a_stable_cycle_and_a_run_past_it():
 def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
     branch = subcritical_diagram().branches[0]
     stable = sample_orbits(branch, 3, stable=True)
-    assert [p.speed / KMH for p in stable] == pytest.approx([30.5, 45.0, 80.0])
+    assert [p.p / KMH for p in stable] == pytest.approx([30.5, 45.0, 80.0])
     assert len(sample_orbits(branch, 10, stable=False)) == 4
     # Next to a Hopf point (|mu| near 1) a 12 s run cannot tell: such an orbit is not sampled.
     slow = cycle(40.5, 0.001, True)
-    slow = CyclePoint(slow.speed, slow.value, slow.period, slow.amplitude, np.array([1.0, 0.999] + [0.1] * 6),
+    slow = CyclePoint(slow.p, slow.q, slow.period, slow.amplitude, np.array([1.0, 0.999] + [0.1] * 6),
                       stable=True, orbit=slow.orbit, names=STATE_NAMES)
     assert not decides_within(slow, 12.0) and decides_within(branch.points[5], 12.0)
 

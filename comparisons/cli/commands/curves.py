@@ -45,11 +45,11 @@ def diagram_json(diagram: HopfDiagram, factor: float) -> dict:
         "param": diagram.param,
         "unit": interface_unit(diagram.param)[0],
         "complete": diagram.complete,
-        "curves": [{"points": [[kmh(v), q / factor] for v, q in zip(c.speeds, c.values)],
+        "curves": [{"points": [[kmh(v), q / factor] for v, q in zip(c.ps, c.qs)],
                     "status": [s.value for s in c.status],
                     "messages": [interface_text(m) for m in c.messages]}
                    for c in diagram.curves],
-        "special_points": [{"kind": s.kind.value, "speed_kmh": kmh(s.speed), "value": s.value / factor,
+        "special_points": [{"kind": s.kind.value, "speed_kmh": kmh(s.p), "value": s.q / factor,
                             "status": s.status.value,
                             **{f"{k}_hz" if k.startswith("omega") else k:
                                (v / (2 * 3.141592653589793) if k.startswith("omega") else v)
@@ -79,15 +79,15 @@ def run(args: argparse.Namespace) -> int:
         emit_json({**inputs_json(args), **model, **diagram_json(diagram, factor)})
     else:
         print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
-              f"[{kmh(diagram.vmin):g}, {args.vmax:g}] km/h"
+              f"[{kmh(diagram.p_min):g}, {args.vmax:g}] km/h"
               + ("" if args.param == "pressure" else f", at {pressure_label(args)}")
               + (f" (MBS, fidelity {family.model.fidelity.label})" if args.model == "mbs" else ""))
         print(f"  {build_axle(args).label()}")
         for i, c in enumerate(diagram.curves, 1):
             ends = " | ".join(interface_text(m) for m in c.messages)
-            print(f"  curve {i}: {len(c.speeds)} points; ends: {ends}")
+            print(f"  curve {i}: {len(c.ps)} points; ends: {ends}")
         for s in diagram.special_points:
-            print(f"  {s.kind.value:17s} {kmh(s.speed):9.3f} km/h  {args.param} = {s.value / factor:.6g} {unit}"
+            print(f"  {s.kind.value:17s} {kmh(s.p):9.3f} km/h  {args.param} = {s.q / factor:.6g} {unit}"
                   f"  ({s.status.value})")
         if args.plot:
             print(f"  plot written to {args.plot}")

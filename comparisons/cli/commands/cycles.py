@@ -114,7 +114,7 @@ def extra_amplitudes(p: CyclePoint, family) -> dict:
 
 def point_row(p: CyclePoint, family) -> dict:
     mu = largest(p.multipliers)
-    return {"kind": "cycle", "speed_kmh": kmh(p.speed), "period_s": p.period, "frequency_hz": p.frequency_hz,
+    return {"kind": "cycle", "speed_kmh": kmh(p.p), "period_s": p.period, "frequency_hz": p.frequency_hz,
             "max_theta1_deg": degrees(p.max_abs("theta1")), "max_theta2_deg": degrees(p.max_abs("theta2")),
             "max_psi_deg": degrees(p.max_abs("psi")), **extra_amplitudes(p, family),
             "largest_multiplier": [mu.real, mu.imag],
@@ -128,7 +128,7 @@ def hopf_row(h: HopfPoint, family: SpeedFamily) -> dict:
     period = 2.0 * np.pi / h.omega
     big = largest(hopf_multipliers(family, h))
     extras = {key: 0.0 for _, key, _ in extra_coordinates(family)}
-    return {"kind": "hopf", "speed_kmh": kmh(h.speed), "period_s": period, "frequency_hz": h.frequency_hz,
+    return {"kind": "hopf", "speed_kmh": kmh(h.p), "period_s": period, "frequency_hz": h.frequency_hz,
             "max_theta1_deg": 0.0, "max_theta2_deg": 0.0, "max_psi_deg": 0.0, **extras,
             "largest_multiplier": [big.real, big.imag], "largest_multiplier_abs": abs(big), "stable": False,
             "error_estimate": 0.0, "meets_tolerance": True, "intervals": 0}
@@ -145,7 +145,7 @@ def at_json(diagram: CycleDiagram, speeds_kmh, family) -> list[dict]:
     out = []
     for v in speeds_kmh:
         orbits = [orbit_row(p, i, family) for i, b in enumerate(diagram.branches) for p in b.user_points
-                  if abs(kmh(p.speed) - v) <= 1e-9 * max(1.0, v)]
+                  if abs(kmh(p.p) - v) <= 1e-9 * max(1.0, v)]
         out.append({"speed_kmh": v, "orbits": orbits})
     return out
 
@@ -158,13 +158,13 @@ def peaks(family: SpeedFamily, b: CycleBranch) -> dict:
             p = branch_peak(family, b, name)
         except ConvergenceError:
             p = b.peak(name)
-        out[name] = {"speed_kmh": kmh(p.speed), "max_deg": degrees(p.max_abs(name)), "frequency_hz": p.frequency_hz}
+        out[name] = {"speed_kmh": kmh(p.p), "max_deg": degrees(p.max_abs(name)), "frequency_hz": p.frequency_hz}
     return out
 
 
 def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
-    return {"from_hopf_kmh": kmh(b.start.speed) if b.start else None,
-            "to_hopf_kmh": kmh(b.end.speed) if b.end else None,
+    return {"from_hopf_kmh": kmh(b.start.p) if b.start else None,
+            "to_hopf_kmh": kmh(b.end.p) if b.end else None,
             "complete": b.complete, "status": b.status.value, "message": interface_text(b.message),
             "peak": peaks(family, b) if b.points else None,
             "frequency_range_hz": list(b.frequency_range) if b.points else None,
@@ -180,7 +180,7 @@ def diagram_json(diagram: CycleDiagram, family: SpeedFamily, pressure_bar: float
     for i, b in enumerate(diagram.branches):
         for s in sorted(b.special_points, key=lambda s: s.bracket[0]):
             amp = s.data["amplitude"]
-            specials.append({"kind": s.kind.value, "label": labels[id(s)], "speed_kmh": kmh(s.speed),
+            specials.append({"kind": s.kind.value, "label": labels[id(s)], "speed_kmh": kmh(s.p),
                              "max_theta1_deg": degrees(amp[0]), "max_psi_deg": degrees(amp[4]),
                              "frequency_hz": 1.0 / s.data["period"], "status": s.status.value, "branch": i})
     return {"pressure_bar": pressure_bar, "effects": list(effects), "complete": diagram.complete,
@@ -203,7 +203,7 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
 
 def codim2_row(p, factor: float) -> dict:
     """A codimension-two point of a two-parameter curve: kind, place (km/h, interface unit), status."""
-    return {"kind": p.kind.value, "speed_kmh": kmh(p.speed), "value": p.value / factor, "status": p.status.value}
+    return {"kind": p.kind.value, "speed_kmh": kmh(p.p), "value": p.q / factor, "status": p.status.value}
 
 
 def curves_json(curves, labels, factor: float) -> list[dict]:
@@ -215,7 +215,7 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
             continue
         out.append({"label": label, "kind": curve.kind.value, "complete": curve.complete,
                     "status": [s.value for s in curve.status], "messages": [interface_text(m) for m in curve.messages],
-                    "points": [[kmh(v), q / factor] for v, q in zip(curve.speeds, curve.values)],
+                    "points": [[kmh(v), q / factor] for v, q in zip(curve.ps, curve.qs)],
                     # Per point, parallel to "points": past a 1:1 or 1:2 resonance a torus curve goes on as
                     # neutral saddles; a curve keeps its start mesh, so its error estimate is marked, not enforced.
                     "neutral_saddle": [bool(f) for f in curve.neutral_saddle],
@@ -327,7 +327,7 @@ def run(args: argparse.Namespace) -> int:
             print_kicks(found_kicks)
         if args.two_param:
             print_curves(curves, labels, args.two_param)
-    problems = [f"branch from {kmh(b.start.speed):.3f} km/h stopped: {interface_text(b.message)}"
+    problems = [f"branch from {kmh(b.start.p):.3f} km/h stopped: {interface_text(b.message)}"
                 for b in diagram.branches if not b.complete]
     if unstable is not None:
         problems.append(unstable)
@@ -340,7 +340,7 @@ def run(args: argparse.Namespace) -> int:
     if missed:
         sys.stderr.write(f"shimmy: warning: {len(missed)} cycles miss the error tolerance {args.tolerance:g} even "
                          f"with {DEFAULT_SETTINGS.max_intervals} intervals (marked in the output), first at "
-                         f"{kmh(missed[0].speed):.3f} km/h\n")
+                         f"{kmh(missed[0].p):.3f} km/h\n")
     if problems:
         sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
@@ -375,7 +375,7 @@ def print_at(diagram: CycleDiagram, speeds_kmh) -> None:
     print("  orbits at the requested speeds (located on the branches):")
     for v in speeds_kmh:
         rows = [(i, p) for i, b in enumerate(diagram.branches) for p in b.user_points
-                if abs(kmh(p.speed) - v) <= 1e-9 * max(1.0, v)]
+                if abs(kmh(p.p) - v) <= 1e-9 * max(1.0, v)]
         if not rows:
             print(f"    {v:g} km/h: no branch in the window passes this speed")
         for i, p in rows:
@@ -393,7 +393,7 @@ def unstable_without_hopf(diagram: CycleDiagram, family: SpeedFamily, q: float) 
     if diagram.hopf:
         return None
     # From MIN_SPEED: at V = 0 the slip equations have zero eigenvalues that round-off can put on either side.
-    speeds = np.linspace(max(diagram.vmin, MIN_SPEED), diagram.vmax, 81)
+    speeds = np.linspace(max(diagram.p_min, MIN_SPEED), diagram.p_max, 81)
     bad = [V for V in speeds if np.max(np.linalg.eigvals(family.linear_matrix(V, q)).real) > 1e-9]
     if not bad:
         return None
@@ -409,12 +409,12 @@ def print_curves(curves, labels, name: str) -> None:
             print(f"    {label:4s} [INCOMPLETE] {error}")
             continue
         flag = "" if curve.complete else "  [INCOMPLETE]"
-        print(f"    {label:4s} {curve.kind.value:10s} {len(curve.speeds)} points, {name} "
-              f"{curve.values.min() / factor:.6g}-{curve.values.max() / factor:.6g} {unit}{flag}")
+        print(f"    {label:4s} {curve.kind.value:10s} {len(curve.ps)} points, {name} "
+              f"{curve.qs.min() / factor:.6g}-{curve.qs.max() / factor:.6g} {unit}{flag}")
         for message in curve.messages:
             print(f"         end: {interface_text(message)}")
         for p in curve.special_points:
-            print(f"         {p.kind.value} at {kmh(p.speed):.4f} km/h, {name} {p.value / factor:.6g} {unit} "
+            print(f"         {p.kind.value} at {kmh(p.p):.4f} km/h, {name} {p.q / factor:.6g} {unit} "
                   f"({p.status.value})")
 
 
@@ -427,12 +427,12 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
           f"{effects}")
     print(f"  {build_axle(args).label()}")
     if not diagram.hopf:
-        unstable = unstable_without_hopf(diagram, family, diagram.value)
+        unstable = unstable_without_hopf(diagram, family, diagram.q)
         print(f"  [INCOMPLETE] {unstable}" if unstable else
               "  no Hopf point in the window and straight running stable throughout: no shimmy")
     labels = {id(p): text for text, p in special_point_labels(diagram)}
     for b in diagram.branches:
-        head = f"  branch from HB at {kmh(b.start.speed):.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
+        head = f"  branch from HB at {kmh(b.start.p):.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
                f"{b.start.criticality.value if b.start.criticality else 'criticality unknown'}): " \
                f"{len(b.points)} cycles"
         print(head + ("" if b.complete else "  [INCOMPLETE]"))
@@ -447,7 +447,7 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
         print(f"    frequency {lo:.3f}-{hi:.3f} Hz; {stable} of {len(b.points)} cycles stable")
         for s in sorted(b.special_points, key=lambda s: s.bracket[0]):
             amp = s.data["amplitude"]
-            print(f"    {labels[id(s)]:4s} {s.kind.value:16s} {kmh(s.speed):10.3f} km/h  "
+            print(f"    {labels[id(s)]:4s} {s.kind.value:16s} {kmh(s.p):10.3f} km/h  "
                   f"max|theta1| {degrees(amp[0]):7.3f} deg  max|psi| {degrees(amp[4]):6.3f} deg  "
                   f"({s.status.value})")
     if args.plot:

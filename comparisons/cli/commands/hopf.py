@@ -29,7 +29,7 @@ def add_parser(sub) -> None:
 
 
 def hopf_row(h: HopfPoint) -> dict:
-    return {"speed_kmh": kmh(h.speed), "frequency_hz": h.frequency_hz,
+    return {"speed_kmh": kmh(h.p), "frequency_hz": h.frequency_hz,
             "first_lyapunov": None if h.criticality is None else h.first_lyapunov,
             "criticality": h.criticality.value if h.criticality else None}
 
@@ -54,5 +54,5 @@ def run(args: argparse.Namespace) -> int:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
         l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
-        print(f"  HB{i}: {kmh(h.speed):10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
+        print(f"  HB{i}: {kmh(h.p):10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
     return 0

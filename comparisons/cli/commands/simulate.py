@@ -8,7 +8,8 @@ import sys
 
 import numpy as np
 
-from comparisons.api import name_and_text
+from comparisons.api import name_and_text, schedule_of
+from comparisons.api import simulate as simulate_api
 from comparisons.axles.axle import interface_text
 from comparisons.axles.limits import (
     ANGLE_RANGE_DEG,
@@ -18,7 +19,7 @@ from comparisons.axles.limits import (
     SPEED_RANGE_KMH,
     UsageError,
 )
-from comparisons.axles.units import KMH, kmh
+from comparisons.axles.units import kmh
 from comparisons.cli.options import (
     add_model_choice,
     add_model_options,
@@ -27,18 +28,19 @@ from comparisons.cli.options import (
     build_family,
     build_fidelity,
     build_model,
+    chosen_model,
     emit_json,
     inputs_json,
     operating_pressure,
     parse_number,
     pressure_label,
     ranged,
+    tyre_pressures,
 )
 from comparisons.cli.progress import progress
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.parameters import ParameterError
-from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
@@ -76,20 +78,21 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def parse_ramp(text: str) -> SpeedSchedule:
+def parse_ramp(text: str) -> tuple[float, float, float]:
+    """``--ramp FROM:TO:SECONDS`` to (km/h, km/h, s), each checked against its range."""
     parts = text.split(":")
     if len(parts) != 3:
         raise UsageError(f"--ramp expects FROM:TO:SECONDS, got '{text}'")
     start, end = (parse_number(x, f"--ramp {what}", *SPEED_RANGE_KMH, "km/h") for x, what in
                   zip(parts[:2], ("FROM", "TO")))
-    seconds = parse_number(parts[2], "--ramp SECONDS", *RAMP_TIME_RANGE_S, "s")
-    return SpeedSchedule.ramp(start * KMH, end * KMH, seconds)
+    return start, end, parse_number(parts[2], "--ramp SECONDS", *RAMP_TIME_RANGE_S, "s")
 
 
-def parse_initial(items: list[str] | None) -> np.ndarray:
-    """``--initial NAME=VALUE`` in degrees (angles) and degrees per second (rates) to the SI state vector."""
+def parse_initial(items: list[str] | None) -> dict[str, float] | None:
+    """``--initial NAME=VALUE`` to {state: degrees (angles) or degrees per second (rates)}, each checked against
+    its range; None without the option (the API's default start)."""
     if not items:
-        return initial_state()
+        return None
     values: dict[str, float] = {}
     for item in items:
         try:
@@ -100,8 +103,8 @@ def parse_initial(items: list[str] | None) -> np.ndarray:
             raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
         rate = STATE_UNITS[STATE_NAMES.index(name)] == "rad/s"
         lo, hi = RATE_RANGE_DEG_S if rate else ANGLE_RANGE_DEG
-        values[name] = math.radians(parse_number(text, f"--initial {name}", lo, hi, "deg/s" if rate else "deg"))
-    return initial_state(values)
+        values[name] = parse_number(text, f"--initial {name}", lo, hi, "deg/s" if rate else "deg")
+    return values
 
 
 def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
@@ -132,20 +135,26 @@ def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
                          f"stiffnesses and inertias (k1, k2, I1, ...)")
 
 
-def simulate_model(args: argparse.Namespace, schedule: SpeedSchedule, x0: np.ndarray) -> Trajectory:
-    """The one place where a trajectory is made: the reduced model (scipy) or the multibody model (Exudyn)."""
-    model = build_model(args)
-    fidelity = build_fidelity(args)
-    if fidelity is not None:
-        from mbs_shimmy.simulation import simulate as simulate_mbs
-        return simulate_mbs(model.params, model.effects, fidelity, operating_pressure(args), schedule, x0,
-                            args.duration, dims=build_axle(args).dims, poses=bool(args.rerun))
+def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | None,
+                   initial: dict[str, float] | None) -> Trajectory:
+    """The one place where a trajectory is made, by the API's one call for both models: the reduced model
+    (scipy, with a progress bar) or the multibody model (Exudyn, with the bodies' poses when recording)."""
+    def run(tick=None) -> Trajectory:
+        try:
+            return simulate_api(chosen_model(args), tyre_pressures(args), speed_kmh=args.speed, ramp_kmh=ramp,
+                                duration_s=args.duration, initial_deg=initial, progress=tick,
+                                poses=bool(args.rerun)).trajectory
+        except ParameterError as exc:
+            raise UsageError(str(exc)) from None
+
+    if build_fidelity(args) is not None:
+        return run()
     quiet = args.json or not sys.stderr.isatty()
     with progress(100, "simulating", quiet) as bar:
         def tick(t):
             bar.n = int(100 * t / args.duration)
             bar.refresh()
-        return simulate(model, operating_pressure(args), schedule, args.duration, x0, progress=tick)
+        return run(tick)
 
 
 def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
@@ -180,15 +189,11 @@ def schedule_json(args: argparse.Namespace) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.speed is not None:
-        schedule = SpeedSchedule.constant(args.speed * KMH)
-        default = CONSTANT_DURATION
-    else:
-        schedule = parse_ramp(args.ramp)
-        default = schedule.ramp_time + HOLD_AFTER_RAMP
+    ramp = None if args.speed is not None else parse_ramp(args.ramp)
+    schedule = schedule_of(args.speed, ramp)
     if args.duration is None:
-        args.duration = default
-    x0 = parse_initial(args.initial)
+        args.duration = CONSTANT_DURATION if ramp is None else schedule.ramp_time + HOLD_AFTER_RAMP
+    initial = parse_initial(args.initial)
     check_work(args, schedule)
     if args.series:   # the paths themselves are checked by comparisons.cli before any command runs
         from comparisons.recordings.series import series_format
@@ -196,7 +201,7 @@ def run(args: argparse.Namespace) -> int:
             series_format(args.series)
         except ValueError as exc:
             raise UsageError(str(exc)) from None
-    trajectory = simulate_model(args, schedule, x0)
+    trajectory = simulate_model(args, ramp, initial)
     history = ModeClassifier().classify(trajectory)
     if args.rerun:
         from comparisons.recordings.writer import RecordingError, write_recording

@@ -66,10 +66,10 @@ CODIM2 = {PointKind.CYCLE_FOLD: (
 
 def curve_q_scale(cycle: CyclePoint) -> float:
     """The second parameter's scale in a curve's norms: a tenth of its value at the start."""
-    return 0.1 * max(abs(cycle.value), 1e-12)
+    return 0.1 * max(abs(cycle.q), 1e-12)
 
 
-def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                           settings: CycleSettings, continuation: ContinuationSettings, system):
     """Follow the curve of ``point``'s kind through it with a bordered ``system`` (a :class:`FoldSystem` by
     default; its unknowns end with (V, q) at K + 1, K + 2 and possibly more after them)."""
@@ -78,7 +78,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
 
     folds = point.kind is PointKind.CYCLE_FOLD
     ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
-    vmin, vmax = clip_window(family, vmin, vmax)
+    p_min, p_max = clip_window(family, p_min, p_max)
     cycle: CyclePoint = point.data["cycle"]
     iV, iq = system.K + 1, system.K + 2
     what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
@@ -113,7 +113,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                     points.append(system.point(U))
                     kappas.append(system.kappa(U))
                 found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
-                                   abs(q - U_old[iq]), vmin, vmax)
+                                   abs(q - U_old[iq]), p_min, p_max)
                 ends.append(found)
                 if found is not None:
                     # The last step and the rest of the way to the end point: tested like every other step,
@@ -121,7 +121,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                     k, s_zero = len(branch.points) - 2, lam * branch.steps[-1]
                     for kind, where, ok, bracket in system.end_events(branch, k, s_zero, found):
                         special.append(SpecialPoint(
-                            kind=kind, speed=where.speed, value=where.value,
+                            kind=kind, p=where.p, q=where.q,
                             bracket=(sign * (arclength[-1] + bracket[0]), sign * (arclength[-1] + bracket[1])),
                             status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
                             data={"cycle": where, "period": where.period, "multipliers": where.multipliers,
@@ -129,8 +129,8 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                 if found is None:
                     return (f"complete: the amplitude vanishes near {describe(family, *guess)} "
                             f"(extrapolated; no {what} point located there)")
-                return f"complete: ends at the {what} point located at {describe(family, found.speed, found.value)}"
-            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, vmin, -1), (iV, vmax, 1)):
+                return f"complete: ends at the {what} point located at {describe(family, found.p, found.q)}"
+            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, p_min, -1), (iV, p_max, 1)):
                 if side * (U[index] - bound) <= 0.0:
                     continue
                 # Cut the step where it leaves the window (Brent on the corrected curve) and stop there.
@@ -156,7 +156,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                 u, _, ok = locate_on_step(branch, k, step,
                                           lambda u, t: float(np.dot(t[Vq] * weights[Vq], previous)))
                 where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
-                special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, speed=where.speed, value=where.value,
+                special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, p=where.p, q=where.q,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period}))
             for kind, critical, count, test in CODIM2.get(point.kind, ()):
@@ -167,12 +167,12 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
                 u, _, ok = locate_on_step(branch, k, step,
                                           lambda u, t, test=test: test(system.point(u).multipliers))
                 where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
-                special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
+                special.append(SpecialPoint(kind=kind, p=where.p, q=where.q,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=status, data={"cycle": where, "period": where.period,
                                                                  "multipliers": where.multipliers}))
             for kind, where, ok in system.events(branch, k, step):
-                special.append(SpecialPoint(kind=kind, speed=where.speed, value=where.value,
+                special.append(SpecialPoint(kind=kind, p=where.p, q=where.q,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
                                             status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
                                             data={"cycle": where, "period": where.period,
@@ -188,10 +188,10 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
     (fwd, s_fwd, m_fwd, e_fwd, k_fwd), (bwd, s_bwd, m_bwd, e_bwd, k_bwd) = halves
     pts = list(reversed(bwd[1:])) + fwd
     return CycleCurve(kind=point.kind, param=family.param,
-                      speeds=np.array([p.speed for p in pts]), values=np.array([p.value for p in pts]),
+                      ps=np.array([p.p for p in pts]), qs=np.array([p.q for p in pts]),
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
-                      ends=tuple(None if e is None else (e.speed, e.value) for e in (e_bwd, e_fwd)),
+                      ends=tuple(None if e is None else (e.p, e.q) for e in (e_bwd, e_fwd)),
                       end_points=(e_bwd, e_fwd), special_points=tuple(special),
                       kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd),
                       errors=np.array([p.error for p in pts]), tolerances=np.array([p.tolerance for p in pts]))

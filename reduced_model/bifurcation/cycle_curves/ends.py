@@ -19,7 +19,7 @@ from reduced_model.bifurcation.special_points import (
 
 
 def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last: CyclePoint, dV: float,
-               dq: float, vmin: float, vmax: float) -> SpecialPoint | None:
+               dq: float, p_min: float, p_max: float) -> SpecialPoint | None:
     """The codimension-two point of straight running where a curve of cycle bifurcations of ``kind`` ends, near
     ``guess`` = (V, q): Hopf points at q = guess[1] within a few curve steps dV of guess[0] (the one with the
     cycle's frequency), the Hopf curve through it continued in a window of a few steps (dV, dq) around the
@@ -29,7 +29,7 @@ def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last
     V0, q0 = guess
     half_V = max(4.0 * dV, 1e-3 * abs(V0))
     half_q = max(4.0 * dq, 1e-4 * abs(q0))
-    v_lo, v_hi = max(V0 - half_V, vmin), min(V0 + half_V, vmax)
+    v_lo, v_hi = max(V0 - half_V, p_min), min(V0 + half_V, p_max)
     try:
         candidates = hopf_points(family, q0, v_lo, v_hi, lyapunov=False)
     except (ProblemError, ConvergenceError):
@@ -45,4 +45,4 @@ def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last
     found = [p for p in hc.special_points if p.kind is END_KIND[kind] and p.status is PointStatus.LOCATED]
     if not found:
         return None
-    return min(found, key=lambda p: ((p.speed - V0) / half_V) ** 2 + ((p.value - q0) / half_q) ** 2)
+    return min(found, key=lambda p: ((p.p - V0) / half_V) ** 2 + ((p.q - q0) / half_q) ** 2)

@@ -64,7 +64,7 @@ class FoldSystem:
         omega = 2.0 * np.pi / cycle.period
         self.family = family
         self.kind = kind
-        self.cp = CycleProblem(family, family.primary, cycle.speed, cycle.value, cycle.orbit,
+        self.cp = CycleProblem(family, family.primary, cycle.p, cycle.q, cycle.orbit,
                                state_scales(family, omega), family.primary_scale, settings)
         self.q_scale = q_scale
         rng = np.random.default_rng(1)
@@ -107,7 +107,7 @@ class FoldSystem:
         """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the columns in V and q."""
         K, cp = self.K, self.cp
         q = float(U[K + 2])
-        cp.set_fixed(value=q)
+        cp.set_fixed(q=q)
         G, CJ = cp(U[:K + 2])
         self._last_jacobian = CJ
         if not np.all(np.isfinite(G)):
@@ -208,12 +208,12 @@ class FoldSystem:
 
     def point(self, U: np.ndarray) -> CyclePoint:
         K = self.K
-        self.cp.set_fixed(value=float(U[K + 2]))
+        self.cp.set_fixed(q=float(U[K + 2]))
         return self.cp.point(U[:K + 2])
 
     def start(self, cycle: CyclePoint) -> np.ndarray:
         """The unknowns at the located point of a one-parameter branch."""
-        return self.pack(cycle.orbit, cycle.speed, cycle.value)
+        return self.pack(cycle.orbit, cycle.p, cycle.q)
 
     def events(self, branch, k: int, step: float) -> list:
         """Further codimension-two points in the last step: (kind, cycle, located).  Period doubling: generalized
@@ -252,10 +252,10 @@ class FoldSystem:
 
 
 
-def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+def fold_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
-    """The curve of cycle folds through the located fold ``point`` of a speed branch, both ways, within
-    [vmin, vmax] x [lo, hi], by the minimally augmented system (module docstring).
+    """The curve of cycle folds through the located fold ``point`` of a branch in the primary parameter, both
+    ways, within [p_min, p_max] x [lo, hi], by the minimally augmented system (module docstring).
 
     Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier
     through -1) and fold-Neimark-Sacker points (a complex pair through the unit circle) are detected by the change
@@ -268,15 +268,15 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, v
         raise ValueError("fold_curve follows cycle folds")
     cycle = point.data["cycle"]
     system = FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
-    return follow_bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation, system)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system)
 
 
-def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                           settings: CycleSettings = CycleSettings(),
                           continuation: ContinuationSettings = FOLD_SETTINGS):
-    """The curve of period-doubling points through the located ``point`` of a speed branch, both ways, within
-    [vmin, vmax] x [lo, hi], by the minimally augmented PD system (antiperiodic variational equation, see
-    :class:`FoldSystem`).  Along the curve, fold-flip points (a further multiplier through +1, the curve touching
+    """The curve of period-doubling points through the located ``point`` of a branch in the primary parameter,
+    both ways, within [p_min, p_max] x [lo, hi], by the minimally augmented PD system (antiperiodic variational
+    equation, see :class:`FoldSystem`).  Along the curve, fold-flip points (a further multiplier through +1, the curve touching
     a cycle-fold curve; Kuznetsov 2004, section 10.3) are detected by the change in the number of real multipliers
     above 1, with the trivial one and the one at -1 left out, and located by Brent's method on the sum of the two
     multipliers nearest +1; generalized period-doubling points (the normal-form coefficient through zero) by
@@ -285,6 +285,6 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, vmi
         raise ValueError("period_doubling_curve follows period-doubling points")
     cycle = point.data["cycle"]
     system = FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
-    return follow_bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation, system)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system)
 
 

@@ -34,8 +34,8 @@ class CycleCurve:
 
     kind: PointKind
     param: str
-    speeds: np.ndarray
-    values: np.ndarray
+    ps: np.ndarray
+    qs: np.ndarray
     amplitudes: np.ndarray      # (k, 8) max |x_i| of the critical cycle
     periods: np.ndarray
     status: tuple[BranchStatus, BranchStatus]
@@ -52,7 +52,7 @@ class CycleCurve:
         """Per point: False where the error estimate exceeds the tolerance.  The curves keep the mesh of their
         start point (no remeshing along a bordered system), so this marks, it does not enforce."""
         if self.errors is None:
-            return np.ones(len(self.speeds), dtype=bool)
+            return np.ones(len(self.ps), dtype=bool)
         return ~(self.errors > self.tolerances)
 
     def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
@@ -63,7 +63,7 @@ class CycleCurve:
         """Per point: True where a torus curve has gone on past a 1:1 or 1:2 resonance (|kappa| > 1): the
         critical multipliers are then a real pair mu, 1/mu, a neutral saddle cycle, not a torus bifurcation."""
         if self.kappas is None:
-            return np.zeros(len(self.speeds), dtype=bool)
+            return np.zeros(len(self.ps), dtype=bool)
         return np.abs(self.kappas) > 1.0
 
     @property

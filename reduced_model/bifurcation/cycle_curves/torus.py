@@ -64,7 +64,7 @@ class TorusSystem(FoldSystem):
         rest, _ = classify_multipliers(cycle.multipliers)
         pair = rest[np.abs(rest.imag) > 1e-7]
         mu = pair[np.argmin(np.abs(np.abs(pair) - 1.0))]
-        U0 = np.append(self.pack(cycle.orbit, cycle.speed, cycle.value), np.cos(np.angle(mu)))
+        U0 = np.append(self.pack(cycle.orbit, cycle.p, cycle.q), np.cos(np.angle(mu)))
         self.renormalize(U0), self.renormalize(U0)
         self._choose_entries(U0)
         return U0
@@ -259,13 +259,13 @@ class TorusSystem(FoldSystem):
         return found
 
 
-def torus_curve(family, point: SpecialPoint, lo: float, hi: float, vmin: float, vmax: float,
+def torus_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                 settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
-    """The curve of torus points through the located torus ``point`` of a speed branch, both ways, within
-    [vmin, vmax] x [lo, hi], by the bordered NS system (module docstring).  Returns a
+    """The curve of torus points through the located torus ``point`` of a branch in the primary parameter, both
+    ways, within [p_min, p_max] x [lo, hi], by the bordered NS system (module docstring).  Returns a
     :class:`reduced_model.bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.TORUS:
         raise ValueError("torus_curve follows torus points")
     cycle: CyclePoint = point.data["cycle"]
     system = TorusSystem(family, cycle, curve_q_scale(cycle), settings)
-    return follow_bordered_curve(family, point, lo, hi, vmin, vmax, settings, continuation, system=system)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system=system)

@@ -2,9 +2,9 @@
 
 Branch switching at a Hopf point uses the normal form for the first amplitude (Kuznetsov, Elements of Applied
 Bifurcation Theory, 3rd ed., 2004, sections 3.5 and 10.3.1): with A q = i w q, |q| = 1, p^H q = 1 and
-mu'(V) = Re p^H A_V q, the orbit near the Hopf point is x = 2 Re(z q e^(i w t)) with |z|^2 = -mu' (V - V_H) /
-(l1 w), so a first amplitude |z| fixes the first speed; the guess is then corrected by Newton with the projection
-on the critical eigenfunction held fixed (AUTO's branch switching, Doedel's notes).
+mu'(p) = Re p^H A_p q, the orbit near the Hopf point is x = 2 Re(z q e^(i w t)) with |z|^2 = -mu' (p - p_H) /
+(l1 w), so a first amplitude |z| fixes the first value of the primary parameter; the guess is then corrected by
+Newton with the projection on the critical eigenfunction held fixed (AUTO's branch switching, Doedel's notes).
 
 Along a branch the cycle folds, torus and period-doubling points (test functions in :mod:`reduced_model.bifurcation.cycles.problem`)
 are located by Brent's method along the corrected branch, as in :mod:`reduced_model.bifurcation.equilibria.hopf_curves`; so are the
@@ -40,7 +40,7 @@ from reduced_model.bifurcation.cycles.problem import (
     CycleSettings,
     state_scales,
 )
-from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points, speed_derivative
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points, primary_derivative
 from reduced_model.bifurcation.problem import Family, ProblemError, clip_window, describe
 from reduced_model.bifurcation.special_points import (
     BranchStatus,
@@ -56,23 +56,23 @@ from reduced_model.bifurcation.special_points import (
 
 def hopf_predictor(family: Family, hopf: HopfPoint, amplitude: float,
                    scales: np.ndarray) -> tuple[float, float, np.ndarray]:
-    """(speed, |z|, q) of the normal-form cycle whose largest scaled state amplitude is ``amplitude``."""
-    A = family.linear_matrix(hopf.speed, hopf.value)
-    A_V = speed_derivative(family, hopf.speed, hopf.value, A)
+    """(p, |z|, q-eigenvector) of the normal-form cycle whose largest scaled state amplitude is ``amplitude``."""
+    A = family.linear_matrix(hopf.p, hopf.q)
+    A_V = primary_derivative(family, hopf.p, hopf.q, A)
     q = hopf.eigenvector / np.linalg.norm(hopf.eigenvector)
     _, _, vh = np.linalg.svd(A.T + 1j * hopf.omega * np.eye(A.shape[0]))
     p = vh[-1].conj()
     p = p / np.conj(np.vdot(p, q))                           # p^H q = 1
-    mu_prime = float(np.vdot(p, A_V @ q).real)               # d Re(lambda) / dV
+    mu_prime = float(np.vdot(p, A_V @ q).real)               # d Re(lambda) / dp
     z = amplitude / (2.0 * np.max(np.abs(q) / scales))
     l1 = hopf.first_lyapunov
     if not np.isfinite(l1) or mu_prime == 0.0:
         delta = 0.0
     else:
         delta = -l1 * hopf.omega * z * z / mu_prime
-    # Far from the normal form's validity the speed guess is useless; Newton fixes the speed anyway.
+    # Far from the normal form's validity the guess of p is useless; Newton fixes p anyway.
     delta = float(np.clip(delta, -0.05 * family.primary_scale, 0.05 * family.primary_scale))
-    return hopf.speed + delta, z, q
+    return hopf.p + delta, z, q
 
 
 def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = CycleSettings()
@@ -87,7 +87,7 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
         return 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
 
     guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
-    problem = CycleProblem(family, family.primary, hopf.speed, hopf.value, guess, scales, family.primary_scale,
+    problem = CycleProblem(family, family.primary, hopf.p, hopf.q, guess, scales, family.primary_scale,
                            settings)
     u_pred = problem.pack(guess, V1)
     w = problem.weights()
@@ -95,12 +95,12 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     direction /= np.linalg.norm(direction * w)
     result = correct(problem, u_pred, direction, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     if result is None:
-        raise ConvergenceError(f"branch switching at the Hopf point at {describe(family, hopf.speed)}: Newton did "
+        raise ConvergenceError(f"branch switching at the Hopf point at {describe(family, hopf.p)}: Newton did "
                                f"not converge on the first cycle")
     u0 = result[0]
     problem.set_reference(problem.orbit_of(u0))
     u0 = problem.meet_tolerance(u0, np.concatenate([u0[:-2], [0.0, 0.0]]))
-    u_hopf = np.concatenate([np.zeros(problem.size), [period, hopf.speed]])
+    u_hopf = np.concatenate([np.zeros(problem.size), [period, hopf.p]])
     return problem, u0, u0 - u_hopf
 
 
@@ -110,7 +110,7 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
 
 def _special(kind: PointKind, problem: CycleProblem, u: np.ndarray, bracket, status: PointStatus) -> SpecialPoint:
     point = problem.point(u)
-    return SpecialPoint(kind=kind, speed=point.speed, value=point.value, bracket=bracket, status=status,
+    return SpecialPoint(kind=kind, p=point.p, q=point.q, bracket=bracket, status=status,
                         data={"period": point.period, "amplitude": point.amplitude,
                               "multipliers": point.multipliers, "free": problem.free, "cycle": point})
 
@@ -230,13 +230,13 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         if located is None:
             return None
         # The located point must lie where the branch was heading: within the last step (and a bit) of p_end.
-        if abs(located.speed - p_end) > 2.0 * abs(p2 - p1) + 1e-9 * abs(p_end):
+        if abs(located.p - p_end) > 2.0 * abs(p2 - p1) + 1e-9 * abs(p_end):
             return None
-        match = [h for h in hopf if abs(h.speed - located.speed) <= 1e-6 * max(1.0, abs(h.speed))
+        match = [h for h in hopf if abs(h.p - located.p) <= 1e-6 * max(1.0, abs(h.p))
                  and abs(h.omega - located.omega) <= 1e-6 * h.omega]
         h = match[0] if match else located
         end.append(h)
-        return f"complete: returns to the Hopf point at {describe(problem.family, h.speed)}"
+        return f"complete: returns to the Hopf point at {describe(problem.family, h.p)}"
 
     def renormalize(u):
         # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
@@ -248,7 +248,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                 s_i, cyc = user[i]
                 if s_i > arclength[-2]:
                     try:
-                        user[i] = (s_i, cycle_at(problem.family, cyc, cyc.speed, settings, mesh=problem.mesh))
+                        user[i] = (s_i, cycle_at(problem.family, cyc, cyc.p, settings, mesh=problem.mesh))
                     except ConvergenceError:
                         pass    # keeps its coarser orbit, which says so through its error estimate
         return result
@@ -267,7 +267,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         if hopf_end is None or near is None or problem.free != problem.family.primary:
             continue
         for target in targets:
-            if (hopf_end.speed - target) * (near.speed - target) < 0.0 and target != near.speed:
+            if (hopf_end.p - target) * (near.p - target) < 0.0 and target != near.p:
                 try:
                     cyc = cycle_at(problem.family, toward_hopf(near, hopf_end, target), target, settings)
                 except ConvergenceError:
@@ -287,10 +287,10 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                        user_points=tuple(c for _, c in sorted(user, key=lambda x: x[0])))
 
 
-def toward_hopf(near: CyclePoint, hopf: HopfPoint, speed: float) -> CyclePoint:
-    """A predictor for the cycle at ``speed`` between the computed cycle ``near`` and the Hopf point it runs
-    into: the orbit scaled by sqrt((V_H - V) / (V_H - V_near)), the period interpolated to 2 pi / omega_H."""
-    lam = (hopf.speed - speed) / (hopf.speed - near.speed)
+def toward_hopf(near: CyclePoint, hopf: HopfPoint, p: float) -> CyclePoint:
+    """A predictor for the cycle at ``p`` between the computed cycle ``near`` and the Hopf point it runs
+    into: the orbit scaled by sqrt((p_H - p) / (p_H - p_near)), the period interpolated to 2 pi / omega_H."""
+    lam = (hopf.p - p) / (hopf.p - near.p)
     orbit = near.orbit
     period = 2.0 * np.pi / hopf.omega + lam * (near.period - 2.0 * np.pi / hopf.omega)
     scaled = col.Orbit(mesh=orbit.mesh, nodes=np.sqrt(max(lam, 0.0)) * orbit.nodes, period=period,
@@ -308,30 +308,30 @@ def first_harmonic(orbit: col.Orbit) -> np.ndarray:
     return np.einsum("jk,jkn->n", wgt, Xc)
 
 
-def end_hopf_point(family, last: CyclePoint, speed_guess: float) -> HopfPoint | None:
+def end_hopf_point(family, last: CyclePoint, p_guess: float) -> HopfPoint | None:
     """The Hopf point of the equilibrium a shrinking branch runs into, by Newton on the Hopf defining system
-    (:func:`reduced_model.bifurcation.equilibria.hopf.locate_hopf`) from the extrapolated speed, the cycle's frequency and its first
+    (:func:`reduced_model.bifurcation.equilibria.hopf.locate_hopf`) from the extrapolated p, the cycle's frequency and its first
     harmonic; None if Newton does not converge."""
     from reduced_model.bifurcation.equilibria.hopf import locate_hopf
     v = first_harmonic(last.orbit)
     try:
-        return locate_hopf(family, last.value, speed_guess, 2.0 * np.pi / last.period, v)
+        return locate_hopf(family, last.q, p_guess, 2.0 * np.pi / last.period, v)
     except (ConvergenceError, np.linalg.LinAlgError, ProblemError):
         return None
 
 
-def branch_from_hopf(family: Family, hopf: HopfPoint, vmin: float, vmax: float,
+def branch_from_hopf(family: Family, hopf: HopfPoint, p_min: float, p_max: float,
                      others: tuple[HopfPoint, ...] = (), settings: CycleSettings = CycleSettings(),
                      accept_hook=None, at: tuple[float, ...] = (), max_step: float | None = None) -> CycleBranch:
-    """The branch of cycles born at ``hopf``, continued in the family's first parameter within [vmin, vmax]
+    """The branch of cycles born at ``hopf``, continued in the family's first parameter within [p_min, p_max]
     (never below its ``primary_min``)."""
-    vmin, vmax = clip_window(family, vmin, vmax)
+    p_min, p_max = clip_window(family, p_min, p_max)
     try:
         problem, u0, direction = start_at_hopf(family, hopf, settings)
     except ConvergenceError as exc:
         return CycleBranch(free=family.primary, points=(), special_points=(), status=BranchStatus.NEWTON_FAILED,
                            message=f"newton_failed: {exc}", start=hopf)
-    return follow_branch(problem, u0, direction, vmin, vmax, hopf=others, start=hopf, accept_hook=accept_hook,
+    return follow_branch(problem, u0, direction, p_min, p_max, hopf=others, start=hopf, accept_hook=accept_hook,
                          at=at, max_step=max_step)
 
 
@@ -342,64 +342,65 @@ def branch_from_cycle(family: Family, point: CyclePoint, free: str, lo: float, h
     omega = 2.0 * np.pi / point.period
     scales = state_scales(family, omega)
     primary = free == family.primary
-    p_scale = family.primary_scale if primary else 0.1 * max(abs(point.value), 1e-12)
-    problem = CycleProblem(family, free, point.speed, point.value, point.orbit, scales, p_scale, settings)
+    p_scale = family.primary_scale if primary else 0.1 * max(abs(point.q), 1e-12)
+    problem = CycleProblem(family, free, point.p, point.q, point.orbit, scales, p_scale, settings)
     if primary:
         lo, hi = clip_window(family, lo, hi)
-    p0 = point.speed if primary else point.value
+    p0 = point.p if primary else point.q
     u0 = problem.pack(point.orbit, p0)
     direction = np.zeros_like(u0)
     direction[-1] = sign
     return follow_branch(problem, u0, direction, lo, hi)
 
 
-def cycle_diagram(family: Family, value: float, vmin: float, vmax: float,
+def cycle_diagram(family: Family, q: float, p_min: float, p_max: float,
                   settings: CycleSettings = CycleSettings(), progress=None, at: tuple[float, ...] = (),
                   max_step: float | None = None) -> CycleDiagram:
-    """Every branch of cycles born at a Hopf point of straight running in [vmin, vmax] (m/s) at q = value.
+    """Every branch of cycles born at a Hopf point of the equilibrium with p in [p_min, p_max] at the second
+    parameter q.
 
-    A Hopf point that an earlier branch returned to is not started again.  ``at`` (speeds, m/s) and
-    ``max_step`` (m/s) as in :func:`follow_branch`.
+    A Hopf point that an earlier branch returned to is not started again.  ``at`` (values of p) and
+    ``max_step`` (in p) as in :func:`follow_branch`.
     """
-    family.validate(value)
-    hopf = hopf_points(family, value, vmin, vmax)
+    family.validate(q)
+    hopf = hopf_points(family, q, p_min, p_max)
     branches: list[CycleBranch] = []
     reached: list[HopfPoint] = []
     for i, h in enumerate(hopf):
         if not any(h is r for r in reached):
-            b = branch_from_hopf(family, h, vmin, vmax, others=tuple(x for x in hopf if x is not h),
+            b = branch_from_hopf(family, h, p_min, p_max, others=tuple(x for x in hopf if x is not h),
                                  settings=settings, at=at, max_step=max_step)
             branches.append(b)
             if b.end is not None:
                 reached.append(b.end)
         if progress is not None:
             progress(i + 1, len(hopf))
-    return CycleDiagram(value=value, vmin=vmin, vmax=vmax, hopf=hopf, branches=tuple(branches))
+    return CycleDiagram(q=q, p_min=p_min, p_max=p_max, hopf=hopf, branches=tuple(branches))
 
 
-def cycle_at(family: Family, near: CyclePoint, speed: float, settings: CycleSettings = CycleSettings(),
+def cycle_at(family: Family, near: CyclePoint, p: float, settings: CycleSettings = CycleSettings(),
              intervals: int | None = None, mesh: np.ndarray | None = None) -> CyclePoint:
-    """The cycle at ``speed`` (same q) by Newton's method from the nearby cycle ``near`` (T free, speed fixed).
+    """The cycle at ``p`` (same q) by Newton's method from the nearby cycle ``near`` (T free, p fixed).
 
     With ``intervals`` the cycle is computed on a uniform mesh of that many intervals, with ``mesh`` on that mesh
     (``near`` is interpolated onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
-    not a function of the speed) or when ``near`` is too far away.
+    not a function of p) or when ``near`` is too far away.
     """
     omega = 2.0 * np.pi / near.period
     if mesh is None and intervals is not None:
         mesh = col.uniform_mesh(intervals)
     orbit = near.orbit if mesh is None else mesh_adaptation.remesh(near.orbit, mesh)
-    problem = CycleProblem(family, family.primary, near.speed, near.value, orbit, state_scales(family, omega),
+    problem = CycleProblem(family, family.primary, near.p, near.q, orbit, state_scales(family, omega),
                            family.primary_scale, settings)
-    u_pred = problem.pack(orbit, speed)
+    u_pred = problem.pack(orbit, p)
     w = problem.weights()
-    fix_speed = np.zeros_like(u_pred)
-    fix_speed[-1] = 1.0 / w[-1]                       # unit weighted norm: the hyperplane is p = speed
-    result = correct(problem, u_pred, fix_speed, w, settings.continuation, blocks=problem.blocks_of_unknowns())
+    fix_p = np.zeros_like(u_pred)
+    fix_p[-1] = 1.0 / w[-1]                           # unit weighted norm: the hyperplane is the given p
+    result = correct(problem, u_pred, fix_p, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     # x = 0 with any period solves the discretised problem too; a collapse onto it is a failure here.
     if result is None or problem.scaled_rms(result[0]) < 1e-3 * problem.scaled_rms(u_pred):
-        raise ConvergenceError(f"no cycle found at {describe(family, speed)} from the one at "
-                               f"{describe(family, near.speed)}")
+        raise ConvergenceError(f"no cycle found at {describe(family, p)} from the one at "
+                               f"{describe(family, near.p)}")
     u = result[0]
     if intervals is None and mesh is None:
         fix = np.zeros_like(u)
@@ -410,13 +411,13 @@ def cycle_at(family: Family, near: CyclePoint, speed: float, settings: CycleSett
 
 def branch_peak(family: Family, branch: CycleBranch, name: str,
                 settings: CycleSettings = CycleSettings()) -> CyclePoint:
-    """The cycle where max |x_name| peaks along the branch, maximised over the speed by Brent's method between
+    """The cycle where max |x_name| peaks along the branch, maximised over p by Brent's method between
     the neighbours of the largest computed point (a smooth maximum, not at a fold)."""
     values = [p.max_abs(name) for p in branch.points]
     k = int(np.argmax(values))
     if k == 0 or k == len(values) - 1:
         return branch.points[k]
-    lo, hi = sorted((branch.points[k - 1].speed, branch.points[k + 1].speed))
+    lo, hi = sorted((branch.points[k - 1].p, branch.points[k + 1].p))
     cache: dict[float, CyclePoint] = {}
 
     def negative(V):

@@ -12,12 +12,12 @@ T = 2 pi / omega is the equilibrium, whose monodromy matrix is exp(A T), so its 
 Along the segment the cycles are solved, not interpolated: the collocation system of the branch plus the
 hyperplane <X_near, X>_W = c <X_near, X_near>_W, c in (0, 1], which fixes the orbit's projection on the computed
 cycle X_near (c = 1) and goes to zero at the Hopf point (c = 0).  Near a Hopf point the orbit is the critical
-eigenfunction times a small amplitude (Kuznetsov 2004, section 3.5), so c measures that amplitude and V - V_H is
-of order c^2: c parametrises the segment even through a fold of cycles, where the speed does not.  The test
+eigenfunction times a small amplitude (Kuznetsov 2004, section 3.5), so c measures that amplitude and p - p_H is
+of order c^2: c parametrises the segment even through a fold of cycles, where p does not.  The test
 functions are those of the branch (a complex pair through the unit circle, a real multiplier through -1, the
-speed turning back), evaluated at sub-segment nodes c_k = sqrt(k / SUBDIVISIONS) and located by Brent's method in
-c on the solved cycles, with the same status and the same collocation error estimate as a point located between
-two computed cycles.
+primary parameter turning back), evaluated at sub-segment nodes c_k = sqrt(k / SUBDIVISIONS) and located by
+Brent's method in c on the solved cycles, with the same status and the same collocation error estimate as a point
+located between two computed cycles.
 """
 
 from __future__ import annotations
@@ -34,18 +34,18 @@ from reduced_model.bifurcation.cycles.multipliers import (
     torus_test,
 )
 from reduced_model.bifurcation.cycles.problem import CyclePoint, CycleProblem, CycleSettings, state_scales
-from reduced_model.bifurcation.equilibria.hopf import HopfPoint, speed_derivative
+from reduced_model.bifurcation.equilibria.hopf import HopfPoint, primary_derivative
 from reduced_model.bifurcation.problem import Family, ProblemError
 from reduced_model.bifurcation.special_points import PointKind, PointStatus, SpecialPoint
 
-SUBDIVISIONS = 4       # sub-segments of an end segment, equally spaced in c^2 (roughly in the speed)
+SUBDIVISIONS = 4       # sub-segments of an end segment, equally spaced in c^2 (roughly in p)
 
 
 def hopf_multipliers(family: Family, hopf: HopfPoint) -> np.ndarray:
     """exp(lambda_i T), T = 2 pi / omega, by decreasing modulus: the Floquet multipliers of the zero-amplitude
     cycle at ``hopf`` (module docstring), the trivial one included."""
     period = 2.0 * np.pi / hopf.omega
-    mu = np.exp(np.linalg.eigvals(family.linear_matrix(hopf.speed, hopf.value)) * period)
+    mu = np.exp(np.linalg.eigvals(family.linear_matrix(hopf.p, hopf.q)) * period)
     return mu[np.argsort(-np.abs(mu))]
 
 
@@ -54,13 +54,13 @@ def hopf_side(family: Family, hopf: HopfPoint) -> float:
     d Re lambda / dV); NaN when l1 is unknown."""
     if not np.isfinite(hopf.first_lyapunov) or hopf.first_lyapunov == 0.0:
         return float("nan")
-    A = family.linear_matrix(hopf.speed, hopf.value)
+    A = family.linear_matrix(hopf.p, hopf.q)
     lam, vecs = np.linalg.eig(A)
     k = int(np.argmin(np.abs(lam - 1j * hopf.omega)))
     lam_l, left = np.linalg.eig(A.T)
     p = left[:, int(np.argmin(np.abs(lam_l - 1j * hopf.omega)))]          # p^T A = i w p^T
     q = vecs[:, k]
-    mu_prime = float((p @ speed_derivative(family, hopf.speed, hopf.value, A) @ q / (p @ q)).real)
+    mu_prime = float((p @ primary_derivative(family, hopf.p, hopf.q, A) @ q / (p @ q)).real)
     return float(np.sign(-hopf.first_lyapunov / mu_prime)) if mu_prime != 0.0 else float("nan")
 
 
@@ -69,9 +69,9 @@ class EndSegment:
 
     def __init__(self, family: Family, near: CyclePoint, hopf: HopfPoint, settings: CycleSettings):
         self.family, self.near, self.hopf, self.settings = family, near, hopf, settings
-        self.problem = CycleProblem(family, family.primary, near.speed, near.value, near.orbit,
+        self.problem = CycleProblem(family, family.primary, near.p, near.q, near.orbit,
                                     state_scales(family, 2.0 * np.pi / near.period), family.primary_scale, settings)
-        self.u1 = self.problem.pack(near.orbit, near.speed)
+        self.u1 = self.problem.pack(near.orbit, near.p)
         self.w = self.problem.weights()
         size = self.problem.size
         normal = np.concatenate([self.u1[:size], [0.0, 0.0]])
@@ -84,13 +84,13 @@ class EndSegment:
         """(u, unit tangent) of the cycle at c in (0, 1]; RuntimeError when Newton fails."""
         if c in self.solved:
             return self.solved[c]
-        # Predictor from the nearest solved c' (or the computed cycle): nodes scaled by c / c', speed and
-        # period moved towards the Hopf values as (c / c')^2 (V - V_H and T - T_H are of order c^2).
+        # Predictor from the nearest solved c' (or the computed cycle): nodes scaled by c / c', p and
+        # period moved towards the Hopf values as (c / c')^2 (p - p_H and T - T_H are of order c^2).
         c0 = min(self.solved, key=lambda x: abs(x - c)) if self.solved else 1.0
         u0 = self.solved[c0][0] if self.solved else self.u1
         r = c / c0
         size = self.problem.size
-        hopf_tail = np.array([2.0 * np.pi / self.hopf.omega, self.hopf.speed])
+        hopf_tail = np.array([2.0 * np.pi / self.hopf.omega, self.hopf.p])
         u_pred = np.concatenate([r * u0[:size], hopf_tail + r * r * (u0[size:] - hopf_tail)])
         # The hyperplane is <t_end, u>_W = c <t_end, u(1)>_W: shift the predictor onto it along the normal.
         u_pred += (c * self.P1 - float(np.dot(self.normal * self.w, u_pred * self.w))) * self.normal
@@ -129,7 +129,7 @@ def end_segment_points(family: Family, near: CyclePoint, hopf: HopfPoint, settin
     arclength: ``near`` at ``s_near``, the Hopf point the segment's weighted length away in the direction
     ``sign``, c in between as c^2."""
     seg = EndSegment(family, near, hopf, settings)
-    hopf_u = np.concatenate([np.zeros(seg.problem.size), [2.0 * np.pi / hopf.omega, hopf.speed]])
+    hopf_u = np.concatenate([np.zeros(seg.problem.size), [2.0 * np.pi / hopf.omega, hopf.p]])
     s1, s0 = s_near, s_near + sign * float(np.linalg.norm((seg.u1 - hopf_u) * seg.w))
     nodes = [float(np.sqrt(k / SUBDIVISIONS)) for k in range(SUBDIVISIONS, -1, -1)]     # 1, ..., 0
     tests = (
@@ -165,7 +165,7 @@ def end_segment_points(family: Family, near: CyclePoint, hopf: HopfPoint, settin
             if where is None:
                 c, where, status = a, seg.point(a), PointStatus.NOT_CONVERGED
             found.append(SpecialPoint(
-                kind=kind, speed=where.speed, value=where.value,
+                kind=kind, p=where.p, q=where.q,
                 bracket=tuple(sorted((position(a), position(b)))), status=status,
                 data={"period": where.period, "amplitude": where.amplitude, "multipliers": where.multipliers,
                       "free": family.primary, "cycle": where, "end_segment": True}))

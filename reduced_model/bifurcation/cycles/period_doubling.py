@@ -38,30 +38,30 @@ def doubled_orbit(orbit: col.Orbit, phi: np.ndarray) -> tuple[col.Orbit, np.ndar
 
 def branch_from_period_doubling(family, point: SpecialPoint, lo: float, hi: float,
                                 settings: CycleSettings = CycleSettings()) -> CycleBranch:
-    """The branch of period-doubled cycles born at the located period-doubling ``point`` of a speed branch,
-    followed in speed within [lo, hi] (m/s) in the direction in which it leaves the point."""
+    """The branch of period-doubled cycles born at the located period-doubling ``point`` of a branch in the
+    primary parameter, followed in it within [lo, hi] in the direction in which it leaves the point."""
     if point.kind is not PointKind.PERIOD_DOUBLING:
         raise ValueError("branch switching needs a period-doubling point")
     cycle: CyclePoint = point.data["cycle"]
     omega = 2.0 * np.pi / cycle.period
     scales = state_scales(family, omega)
-    base = CycleProblem(family, family.primary, cycle.speed, cycle.value, cycle.orbit, scales, family.primary_scale,
+    base = CycleProblem(family, family.primary, cycle.p, cycle.q, cycle.orbit, scales, family.primary_scale,
                         settings)
-    u_pd = base.pack(cycle.orbit, cycle.speed)
+    u_pd = base.pack(cycle.orbit, cycle.p)
     phi = col.floquet_eigenfunction(base.blocks(u_pd), -1.0)
     orbit2, phi2 = doubled_orbit(cycle.orbit, phi)
-    problem = CycleProblem(family, family.primary, cycle.speed, cycle.value, orbit2, scales, family.primary_scale,
+    problem = CycleProblem(family, family.primary, cycle.p, cycle.q, orbit2, scales, family.primary_scale,
                            settings)
     size = np.max(np.abs(phi2) / scales[None, :])
     eps = settings.start_amplitude / size
-    u_pd2 = problem.pack(orbit2, cycle.speed)
+    u_pd2 = problem.pack(orbit2, cycle.p)
     direction = np.concatenate([phi2.ravel(), [0.0, 0.0]])
     w = problem.weights()
     direction /= np.linalg.norm(direction * w)
     result = correct(problem, u_pd2 + eps * np.linalg.norm(phi2.ravel() * w[:-2]) * direction, direction, w,
                      settings.continuation, blocks=problem.blocks_of_unknowns())
     if result is None:
-        raise ConvergenceError(f"branch switching at the period doubling at {describe(family, cycle.speed)}: Newton "
+        raise ConvergenceError(f"branch switching at the period doubling at {describe(family, cycle.p)}: Newton "
                                f"did not converge on the first doubled cycle")
     u0 = result[0]
     if abs(np.dot((u0 - u_pd2) * w, direction * w)) < 0.5 * eps * np.linalg.norm(phi2.ravel() * w[:-2]):

@@ -1,8 +1,8 @@
 """Limit cycles (shimmy oscillations): branches born at Hopf points, Floquet multipliers, cycle bifurcations.
 
 Discretisation: orthogonal collocation on an adaptive mesh (:mod:`reduced_model.bifurcation.cycles.collocation`, where the choice
-over multiple shooting is argued).  Unknowns u = (node values, period T, free parameter p), p being the speed or
-the family's named parameter; equations: collocation of x' = T f(x) and the integral phase condition
+over multiple shooting is argued).  Unknowns u = (node values, period T, free parameter p), p being the family's
+primary parameter or its second one; equations: collocation of x' = T f(x) and the integral phase condition
 int_0^1 <x(tau), x_ref'(tau)> dtau = 0 against a recent orbit (Doedel, Keller & Kernevez 1991; AUTO notes).
 Continuation is Keller's pseudo-arclength (:mod:`reduced_model.bifurcation.continuation`) with the Newton matrix solved by
 condensation (:class:`~reduced_model.bifurcation.cycles.collocation.CondensedJacobian`).
@@ -58,8 +58,8 @@ class CycleSettings:
 class CyclePoint:
     """One periodic orbit: parameters (SI), period, max |x_i| of every state, Floquet multipliers, stability."""
 
-    speed: float                     # m/s
-    value: float                     # the family's second parameter (SI)
+    p: float                         # the family's primary parameter (SI)
+    q: float                         # the family's second parameter (SI)
     period: float                    # s
     amplitude: np.ndarray = field(repr=False)     # (8,) max over the orbit of |x_i|, SI
     multipliers: np.ndarray = field(repr=False)   # (8,) complex, by decreasing modulus, trivial one included
@@ -125,11 +125,11 @@ class CycleBranch:
 
 @dataclass(frozen=True)
 class CycleDiagram:
-    """All cycle branches born at the Hopf points of straight running in a speed window at one value of q."""
+    """All cycle branches born at the Hopf points of the equilibrium in a window [p_min, p_max] at one value of q."""
 
-    value: float
-    vmin: float
-    vmax: float
+    q: float
+    p_min: float
+    p_max: float
     hopf: tuple[HopfPoint, ...]
     branches: tuple[CycleBranch, ...]
 
@@ -163,17 +163,17 @@ def state_scales(family: Family, omega: float) -> np.ndarray:
 class CycleProblem:
     """G(u) = 0 for u = (node values, T, p): collocation + phase condition, Jacobian in condensed block form.
 
-    ``free`` is ``"speed"`` or the family's parameter name; the other of (speed, value) stays fixed.  The mesh
+    ``free`` is the family's ``primary`` or its ``param``; the other of (p, q) stays fixed.  The mesh
     and the phase reference are state of the problem, updated between continuation steps (:meth:`renormalize`).
     """
 
-    def __init__(self, family: Family, free: str, speed: float, value: float, orbit: col.Orbit,
+    def __init__(self, family: Family, free: str, p: float, q: float, orbit: col.Orbit,
                  scales: np.ndarray, p_scale: float, settings: CycleSettings = CycleSettings()):
         if free not in (family.primary, family.param):
             raise ProblemError(f"cannot continue cycles in '{free}': the family's parameters are {family.primary} and "
                                  f"{family.param}")
         self.family, self.free = family, free
-        self.speed, self.value = float(speed), float(value)
+        self.p, self.q = float(p), float(q)
         self.scales, self.p_scale = scales, p_scale
         self.settings = settings
         self.sch = col.scheme(orbit.degree)
@@ -199,16 +199,18 @@ class CycleProblem:
         return col.Orbit(mesh=self.mesh, nodes=u[:self.size].reshape(-1, self.n), period=float(u[self.size]),
                          degree=self.degree)
 
-    def parameters(self, p: float) -> tuple[float, float]:
-        """(speed, value) at free-parameter value p."""
-        return (float(p), self.value) if self.free == self.family.primary else (self.speed, float(p))
+    def parameters(self, free_value: float) -> tuple[float, float]:
+        """(p, q) where the free parameter has the value ``free_value``."""
+        if self.free == self.family.primary:
+            return float(free_value), self.q
+        return self.p, float(free_value)
 
-    def set_fixed(self, speed: float | None = None, value: float | None = None) -> None:
+    def set_fixed(self, p: float | None = None, q: float | None = None) -> None:
         """Change the parameter that is not continued (invalidates cached evaluations)."""
-        if speed is not None:
-            self.speed = float(speed)
-        if value is not None:
-            self.value = float(value)
+        if p is not None:
+            self.p = float(p)
+        if q is not None:
+            self.q = float(q)
         self._cache = None
 
     def mean_square(self, u: np.ndarray) -> tuple[float, np.ndarray]:
@@ -241,9 +243,9 @@ class CycleProblem:
         self._cache = None
 
     # --- evaluation ----------------------------------------------------------------------------------
-    def _parameter_derivative(self, P: np.ndarray, speed: float, value: float) -> np.ndarray:
-        """df/dp at the points P (M, n), as the family forms it."""
-        return self.family.parameter_derivative(P, speed, value, self.free, self.p_scale)
+    def _parameter_derivative(self, P: np.ndarray, p: float, q: float) -> np.ndarray:
+        """df/d(free) at the points P (M, n), as the family forms it."""
+        return self.family.parameter_derivative(P, p, q, self.free, self.p_scale)
 
     def evaluate(self, u: np.ndarray) -> dict:
         if self._cache is not None and np.array_equal(self._cache[0], u):
@@ -295,7 +297,7 @@ class CycleProblem:
         mu = self.multipliers(u)
         rest, trivial = classify_multipliers(mu)
         amplitude = orbit.maxima()
-        return CyclePoint(speed=V, value=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
+        return CyclePoint(p=V, q=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
                           trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
                           error=mesh_adaptation.relative_error(orbit, self.scales, amplitude),
                           tolerance=self.settings.tolerance,

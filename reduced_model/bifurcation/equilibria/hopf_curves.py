@@ -7,7 +7,7 @@ watched and their zeros located by Brent's method on the corrected curve (Govaer
 ch. 8 and 10):
 
 * ``hopf_fold``: the q-component of the tangent (a fold of the curve in q, where two Hopf points of a one-parameter
-  speed sweep meet and a shimmy mode vanishes, like the paper's F1),
+  sweep in p meet and an oscillation mode vanishes, like the paper's F1),
 * ``hopf_hopf`` / ``zero_hopf``: the real part of another eigenvalue, when the count of unstable eigenvalues other
   than the tracked pair changes,
 * ``generalized_hopf``: the first Lyapunov coefficient (the paper's DH points).
@@ -27,13 +27,13 @@ from reduced_model.bifurcation.equilibria.hopf import (
     hopf_points,
     hopf_residual,
     parameter_derivative,
-    speed_derivative,
+    primary_derivative,
 )
 from reduced_model.bifurcation.equilibria.normal_form import first_lyapunov_coefficient
 from reduced_model.bifurcation.problem import Family, ProblemError, clip_window, describe
 from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
 
-SPEED_SCALE = 10.0    # m/s per unit of arclength
+PRIMARY_SCALE = 10.0  # p per unit of arclength
 OMEGA_SCALE = 30.0    # rad/s per unit of arclength
 VECTOR_WEIGHT = 0.02
 MIN_OMEGA = 1e-3      # rad/s; below this the curve is ending in a Bogdanov-Takens-like point
@@ -43,8 +43,8 @@ MIN_OMEGA = 1e-3      # rad/s; below this the curve is ending in a Bogdanov-Take
 class HopfCurve:
     """One Hopf curve: arrays along arclength (SI), how it ended at each end, and the points found on it."""
 
-    speeds: np.ndarray
-    values: np.ndarray
+    ps: np.ndarray
+    qs: np.ndarray
     omegas: np.ndarray
     first_lyapunov: np.ndarray
     status: tuple[BranchStatus, BranchStatus]  # backward end, forward end
@@ -61,8 +61,8 @@ class HopfDiagram:
     param: str
     lo: float
     hi: float
-    vmin: float
-    vmax: float
+    p_min: float
+    p_max: float
     curves: tuple[HopfCurve, ...]
     special_points: tuple[SpecialPoint, ...]
 
@@ -95,7 +95,7 @@ class _HopfProblem:
         vr, vi, w, V, q = self.unpack(u)
         try:
             A = self.family.linear_matrix(V, q)
-            A_V = speed_derivative(self.family, V, q, A)
+            A_V = primary_derivative(self.family, V, q, A)
             A_q = parameter_derivative(self.family, V, q, self.q_scale, A)
         except ProblemError:
             nan = np.full(2 * self.n + 2, np.nan)
@@ -131,7 +131,7 @@ class _HopfProblem:
 
 def _weights(family: Family, q_range: float) -> np.ndarray:
     n = family.n
-    return np.concatenate([np.full(2 * n, VECTOR_WEIGHT), [1.0 / OMEGA_SCALE, 1.0 / SPEED_SCALE, 1.0 / q_range]])
+    return np.concatenate([np.full(2 * n, VECTOR_WEIGHT), [1.0 / OMEGA_SCALE, 1.0 / PRIMARY_SCALE, 1.0 / q_range]])
 
 
 def _crossing_eigenvalue(before: np.ndarray, after: np.ndarray) -> complex | None:
@@ -149,8 +149,8 @@ def _nearest_axis_frequency(problem: _HopfProblem, u: np.ndarray) -> float:
     return float(abs(ev[np.argmin(np.abs(ev.real))].imag))
 
 
-def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo: float, hi: float, vmin: float,
-            vmax: float, settings: ContinuationSettings) -> tuple[Branch, list[SpecialPoint], list]:
+def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo: float, hi: float, p_min: float,
+            p_max: float, settings: ContinuationSettings) -> tuple[Branch, list[SpecialPoint], list]:
     """Continue from ``start`` along ``direction``; returns the branch, its special points and per-point l1."""
     n = problem.n
     iq, iV, iw = 2 * n + 2, 2 * n + 1, 2 * n
@@ -171,7 +171,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         data = {"omega": float(abs(u[iw]))}
         if extra is not None:
             data.update(extra(u))
-        found.append(SpecialPoint(kind=kind, speed=float(u[iV]), value=float(u[iq]),
+        found.append(SpecialPoint(kind=kind, p=float(u[iV]), q=float(u[iq]),
                                   bracket=(s0, s0 + s_hi), status=status, data=data))
 
     def accept(branch: Branch) -> str | None:
@@ -180,7 +180,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         step = branch.steps[-1]
         verdict = None
         # Window boundary: cut the step at the crossing and stop there.
-        for idx, bound, side in ((iV, vmin, -1), (iV, vmax, 1), (iq, lo, -1), (iq, hi, 1)):
+        for idx, bound, side in ((iV, p_min, -1), (iV, p_max, 1), (iq, lo, -1), (iq, hi, 1)):
             if side * (u_new[idx] - bound) <= 0.0:
                 continue
             if side * (branch.points[k][idx] - bound) >= 0.0:
@@ -234,12 +234,12 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
 
 def _start_vector(point: HopfPoint) -> np.ndarray:
     v = point.eigenvector / np.linalg.norm(point.eigenvector)
-    return np.concatenate([v.real, v.imag, [point.omega, point.speed, point.value]])
+    return np.concatenate([v.real, v.imag, [point.omega, point.p, point.q]])
 
 
-def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, vmin: float, vmax: float,
+def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, p_min: float, p_max: float,
                settings: ContinuationSettings = ContinuationSettings(ds=0.02, ds_max=0.06)) -> HopfCurve:
-    """The Hopf curve through ``point``, followed both ways until it leaves [vmin, vmax] x [lo, hi] or closes."""
+    """The Hopf curve through ``point``, followed both ways until it leaves [p_min, p_max] x [lo, hi] or closes."""
     n = family.n
     scale = max(abs(family.nominal), hi - lo)
     halves = []
@@ -247,7 +247,7 @@ def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, vmin: flo
         problem = _HopfProblem(family, scale, point.eigenvector)
         start = _start_vector(point)
         direction = sign * tangent(problem(start)[1], _weights(family, hi - lo), None)
-        branch, found, l1s = _follow(problem, start, direction, lo, hi, vmin, vmax, settings)
+        branch, found, l1s = _follow(problem, start, direction, lo, hi, p_min, p_max, settings)
         halves.append((branch, found, l1s))
         if branch.status is BranchStatus.CLOSED:
             break
@@ -266,15 +266,15 @@ def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, vmin: flo
         statuses.insert(0, BranchStatus.CLOSED)
         messages.insert(0, halves[0][0].message)
     U = np.vstack(pts)
-    return HopfCurve(speeds=U[:, 2 * n + 1], values=U[:, 2 * n + 2], omegas=np.abs(U[:, 2 * n]),
+    return HopfCurve(ps=U[:, 2 * n + 1], qs=U[:, 2 * n + 2], omegas=np.abs(U[:, 2 * n]),
                      first_lyapunov=np.concatenate(l1), status=(statuses[0], statuses[1]),
                      messages=(messages[0], messages[1]), special_points=tuple(special))
 
 
 def _on_curve(curve: HopfCurve, point: HopfPoint, q_range: float, tol: float = 5e-3) -> bool:
     """Whether a Hopf point lies on an already computed curve (same place in (V, q) and same frequency)."""
-    P = np.column_stack([curve.speeds / SPEED_SCALE, curve.values / q_range])
-    x = np.array([point.speed / SPEED_SCALE, point.value / q_range])
+    P = np.column_stack([curve.ps / PRIMARY_SCALE, curve.qs / q_range])
+    x = np.array([point.p / PRIMARY_SCALE, point.q / q_range])
     if len(P) < 2:  # a curve that stopped at its seed (a corner of the window)
         return bool(np.linalg.norm(P[0] - x) < tol and abs(curve.omegas[0] - point.omega) < 0.02 * point.omega)
     a, b = P[:-1], P[1:]
@@ -289,14 +289,14 @@ def _on_curve(curve: HopfCurve, point: HopfPoint, q_range: float, tol: float = 5
 def _dedupe(points: list[SpecialPoint], q_range: float) -> tuple[SpecialPoint, ...]:
     """One entry per special point: a Hopf-Hopf point lies on two curves and is found on both."""
     kept: list[SpecialPoint] = []
-    for p in sorted(points, key=lambda p: (p.kind.value, p.speed)):
-        if not any(p.kind is k.kind and abs(p.speed - k.speed) < 1e-4 * SPEED_SCALE
-                   and abs(p.value - k.value) < 1e-4 * q_range for k in kept):
+    for p in sorted(points, key=lambda p: (p.kind.value, p.p)):
+        if not any(p.kind is k.kind and abs(p.p - k.p) < 1e-4 * PRIMARY_SCALE
+                   and abs(p.q - k.q) < 1e-4 * q_range for k in kept):
             kept.append(p)
     return tuple(kept)
 
 
-def hopf_diagram(family: Family, lo: float, hi: float, vmin: float, vmax: float, n_seeds: int = 9,
+def hopf_diagram(family: Family, lo: float, hi: float, p_min: float, p_max: float, n_seeds: int = 9,
                  progress=None) -> HopfDiagram:
     """All Hopf curves met on ``n_seeds`` lines q = const in [lo, hi] (plus q = nominal), each followed in full.
 
@@ -305,7 +305,7 @@ def hopf_diagram(family: Family, lo: float, hi: float, vmin: float, vmax: float,
     """
     if not lo < hi:
         raise ProblemError(f"range must have LO < HI, got {lo:g} >= {hi:g}")
-    vmin, vmax = clip_window(family, vmin, vmax)
+    p_min, p_max = clip_window(family, p_min, p_max)
     for q in (lo, hi):
         family.validate(q)
     seeds = list(np.linspace(lo, hi, n_seeds))
@@ -313,12 +313,12 @@ def hopf_diagram(family: Family, lo: float, hi: float, vmin: float, vmax: float,
         seeds.append(family.nominal)
     curves: list[HopfCurve] = []
     for i, q in enumerate(seeds):
-        for point in hopf_points(family, q, vmin, vmax):
+        for point in hopf_points(family, q, p_min, p_max):
             if any(_on_curve(c, point, hi - lo) for c in curves):
                 continue
-            curves.append(hopf_curve(family, point, lo, hi, vmin, vmax))
+            curves.append(hopf_curve(family, point, lo, hi, p_min, p_max))
         if progress is not None:
             progress(i + 1, len(seeds))
     special = _dedupe([p for c in curves for p in c.special_points], hi - lo)
-    return HopfDiagram(param=family.param, lo=lo, hi=hi, vmin=vmin, vmax=vmax, curves=tuple(curves),
+    return HopfDiagram(param=family.param, lo=lo, hi=hi, p_min=p_min, p_max=p_max, curves=tuple(curves),
                        special_points=special)
