@@ -186,3 +186,14 @@ def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
     assert not list(out.glob("*.rrd"))          # --no-recordings
     text = (out / "report.md").read_text()
     assert "Axle: axle paper, t0 = 0.25 m" in text and "sha256" in text
+
+
+def test_verify_margin_rows(quick_report):
+    proc, out = quick_report
+    rows = section(quick_report, "margins")["rows"]
+    assert all(r["status"] == "pass" for r in rows if r["status"] != "info")
+    zero = [r for r in rows if r["quantity"].startswith("zero level")]
+    assert {(r["model"], r["case"]) for r in zero} >= {("reduced model", "2.5 bar"), ("MBS, full geometry", "1.5 bar")}
+    minima = {r["model"]: r for r in rows if r["quantity"] == "minimum margin"}
+    assert minima["reduced model"]["damping_ratio"] < 0 and minima["MBS, full geometry"]["damping_ratio"] < 0
+    assert (out / "margins.png").exists()
