@@ -63,3 +63,23 @@ def plot_margin_maps(panels, path: str, title: str = "") -> None:
 def plot_margin_map(study, path: str, title: str) -> None:
     """One map (``shimmy margins --plot``); black line: zero damping, the shimmy boundary."""
     plot_margin_maps([(study, title + "\nblack: zero damping (shimmy boundary); star: minimum", ())], path)
+
+
+def plot_hopf_diagram_with_margins(diagram, family, study, path: str) -> None:
+    """``shimmy curves --plot`` over a pressure: the Hopf diagram, and beside it the margin map of the same window
+    with the Hopf curves drawn on it (they lie on its zero level where the last stable pair crosses)."""
+    from comparisons.figures.plots import draw_hopf_diagram
+    fig = Figure(figsize=(12.4, 4.8))
+    left, right = fig.subplots(1, 2)
+    draw_hopf_diagram(left, diagram, family)
+    effects = ",".join(family.model.effects.names) or "section 3 model"
+    left.set_title(f"Hopf curves ({effects}); shaded: straight running stable", fontsize=9)
+    filled = draw_margin_map(right, study, "least damping ratio; black: zero level; white: Hopf curves; "
+                                           "star: minimum")
+    for c in diagram.curves:
+        right.plot(kmh(c.speeds), c.values / BAR, "-", color="w", lw=1.0)
+    right.set_xlim(kmh(diagram.vmin), kmh(diagram.vmax))
+    right.set_ylim(diagram.lo / BAR, diagram.hi / BAR)
+    right.set_ylabel(f"{diagram.param} [bar]")
+    fig.colorbar(filled, ax=right, shrink=0.9).set_label("least damping ratio (negative: shimmy)")
+    save_figure(fig, path)
