@@ -38,9 +38,7 @@ ZERO_RTOL = 1e-6
 SIDE = 1e-4                 # relative step beside a Hopf point to read the margin's sign on either side
 FIGURE = "margins.png"
 COLUMNS = ("model", "case", "quantity", "damping_ratio", "speed_kmh", "pressure_bar", "frequency_hz", "mode")
-LABELS = {"damping_ratio": Column("least damping ratio (negative: shimmy)", dash="no value in that row"),
-          "frequency_hz": Column("frequency of the least damped mode [Hz]", dash="no value in that row"),
-          "mode": Column("least damped mode", dash="no value in that row"),
+LABELS = {"frequency_hz": Column("frequency of the least damped mode [Hz]", dash="no value in that row"),
           "quantity": Column("what")}
 
 

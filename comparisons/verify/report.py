@@ -92,6 +92,8 @@ COLUMN_LABELS: dict[str, Column] = {
                                     dash="not computed (quick mode), or no cycle in one of the models"),
     "reduced_value": Column("reduced model (does not depend on the multibody dimensions)"),
     "plausible_axles": Column("over the plausible axles (median, 5-95 % range or share)"),
+    "damping_ratio": Column("least damping ratio (negative: shimmy)", dash="no value in that row"),
+    "mode": Column("least damped mode", dash="no value in that row"),
     "status": Column("check"),
     "note": Column("note"),
     "error": Column("error"),

@@ -219,12 +219,12 @@ def margin_rows(s: PressureStudy) -> list[Row]:
     speeds, modes = s.column("margin_kmh"), s.column("margin_mode")
     value = ("-" if not reduced.size or np.isnan(reduced[0]) else
              f"{reduced[0]:+.4f} at {speeds[0]:.0f} km/h ({modes[0]})")
-    rows = [Row({"case": s.label, "quantity": "MBS with every assumption on: minimum margin = reduced model's",
+    rows = [Row({"case": s.label, "quantity": "minimum margin: MBS with every assumption on = reduced model",
                  "reduced_value": value, "plausible_axles": f"max abs diff {worst:.2g} in {len(reduced)} axles"},
                 CheckStatus.PASS if ok else CheckStatus.FAIL, "" if ok else f"differs by more than {MARGIN_TOL:g}")]
     full = s.margins("mbs_full_")
     have = np.isfinite(full)
-    cells = {"case": s.label, "quantity": "minimum margin (least damping ratio), full geometry",
+    cells = {"case": s.label, "quantity": "minimum margin, full geometry (least damping ratio)",
              "reduced_value": value}
     if have.any():
         p5, p50, p95 = np.quantile(full[have], QUANTILES)
