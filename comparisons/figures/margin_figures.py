@@ -56,7 +56,7 @@ def plot_margin_maps(panels, path: str, title: str = "") -> None:
     bar = fig.colorbar(filled, ax=list(axes), shrink=0.9)
     bar.set_label("least damping ratio of straight running (negative: shimmy)")
     if title:
-        fig.suptitle(title, fontsize=10)
+        fig.suptitle(title, fontsize=10, y=1.03)
     save_figure(fig, path)
 
 

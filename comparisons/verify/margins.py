@@ -38,7 +38,8 @@ ZERO_RTOL = 1e-6
 SIDE = 1e-4                 # relative step beside a Hopf point to read the margin's sign on either side
 FIGURE = "margins.png"
 COLUMNS = ("model", "case", "quantity", "damping_ratio", "speed_kmh", "pressure_bar", "frequency_hz", "mode")
-LABELS = {"frequency_hz": Column("frequency of the least damped mode [Hz]", dash="no value in that row"),
+LABELS = {"model": Column("model"),
+          "frequency_hz": Column("frequency of the least damped mode [Hz]", dash="no value in that row"),
           "quantity": Column("what")}
 
 
@@ -69,8 +70,10 @@ def zero_level_row(family, title: str, bar: float, nodes: int) -> tuple[Row, lis
     if ok and not hopf:
         note = "no Hopf point and no zero level: straight running is damped at every speed"
     elif ok:
-        note = (f"zero level at {speeds} km/h = the Hopf points (relative {ZERO_RTOL:g}); "
-                f"{len(hopf) - len(crossing)} Hopf points where another mode is already unstable")
+        others = len(hopf) - len(crossing)
+        note = (f"zero level at {speeds} km/h = the Hopf points (relative {ZERO_RTOL:g})"
+                + (f"; {others} Hopf points where another mode is already unstable (the margin stays negative)"
+                   if others else ""))
     else:
         note = (f"zero level at {speeds} km/h; not a Hopf point: "
                 f"{', '.join(f'{kmh(z):.2f}' for z in stray) or '-'}; Hopf points missed: "
