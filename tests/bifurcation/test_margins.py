@@ -58,6 +58,8 @@ def test_the_least_damping_ratio_is_the_oscillators(p, q):
     assert np.linalg.norm(A @ m.eigenvector - m.eigenvalue * m.eigenvector) < 1e-12
     assert m.real_growth == pytest.approx(-0.01) and not m.divergent
     assert m.stable == (zeta > 0)
+    bare = least_damped(family, p, q, vector=False)
+    assert bare.eigenvector is None and bare.damping_ratio == pytest.approx(m.damping_ratio, abs=1e-14)
 
 
 def test_a_growing_real_eigenvalue_is_a_divergence_not_a_damping_ratio():

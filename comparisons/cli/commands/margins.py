@@ -21,6 +21,10 @@ from comparisons.cli.options import (
 )
 from reduced_model.parameters import ParameterError
 
+# The API's argument names in its messages, as this command's options.
+OPTION_NAMES = {"pressure_points": "--pressures", "speed_points": "--speeds", "vmin_kmh": "--vmin",
+                "vmax_kmh": "--vmax"}
+
 
 def add_parser(sub) -> None:
     p = sub.add_parser("margins", help="stability margins: the least damping ratio of straight running over speed "
@@ -47,8 +51,10 @@ def run(args: argparse.Namespace) -> int:
         result = stability_margins(model, (lo, hi), max(args.vmin, SPEED_RANGE_KMH[0]), args.vmax, args.pressures,
                                    args.speeds)
     except ParameterError as exc:
-        raise UsageError(str(exc).replace("pressure_points", "--pressures").replace("speed_points", "--speeds")
-                         ) from None
+        text = str(exc)
+        for name, option in OPTION_NAMES.items():
+            text = text.replace(name, option)
+        raise UsageError(text) from None
     if args.plot:
         from comparisons.figures.margin_figures import plot_margin_map
         plot_margin_map(result.study, args.plot, title=f"Least damping ratio, {model.label()}")

@@ -73,11 +73,13 @@ class Margin:
         return damped and not self.real_growth >= 0.0
 
 
-def least_damped(family: Family, p: float, q: float, A: np.ndarray | None = None) -> Margin:
-    """The margin at (p, q) (module docstring), from ``family.linear_matrix(p, q)`` unless ``A`` is given."""
+def least_damped(family: Family, p: float, q: float, A: np.ndarray | None = None, vector: bool = True) -> Margin:
+    """The margin at (p, q) (module docstring), from ``family.linear_matrix(p, q)`` unless ``A`` is given; without
+    ``vector`` the eigenvector is not computed (``eigenvector`` None; about half the cost)."""
     if A is None:
         A = family.linear_matrix(p, q)
-    values, vectors = np.linalg.eig(np.asarray(A, dtype=float))
+    A = np.asarray(A, dtype=float)
+    values, vectors = np.linalg.eig(A) if vector else (np.linalg.eigvals(A), None)
     radius = float(np.max(np.abs(values))) if values.size else 0.0
     oscillatory = np.abs(values.imag) > IMAG_RTOL * radius
     real = values[~oscillatory].real
@@ -88,7 +90,7 @@ def least_damped(family: Family, p: float, q: float, A: np.ndarray | None = None
     zeta = -values[upper].real / np.abs(values[upper])
     k = upper[int(np.argmin(zeta))]
     return Margin(float(p), float(q), float(-values[k].real / abs(values[k])), complex(values[k]), growth,
-                  MarginStatus.OSCILLATORY, vectors[:, k])
+                  MarginStatus.OSCILLATORY, None if vectors is None else vectors[:, k])
 
 
 @dataclass(frozen=True)
