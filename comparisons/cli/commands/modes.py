@@ -21,7 +21,6 @@ from comparisons.cli.options import (
     positive_float,
     pressure_label,
 )
-from comparisons.margins import mode_inertias
 from reduced_model.mode_shapes import ModeShape, mode_shapes, reduced_inertias
 
 
@@ -40,6 +39,7 @@ def add_parser(sub) -> None:
 
 def _models(args: argparse.Namespace):
     """(key, title, modes) for the reduced model and the MBS."""
+    from comparisons.margins import mode_inertias
     from mbs_shimmy.linearisation import MbsFamily
     from reduced_model.family import SpeedFamily
     model = build_model(args)
