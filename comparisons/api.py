@@ -13,7 +13,8 @@ result's fields; results show themselves in interface units (:mod:`comparisons.r
 * inputs: :class:`Axle` (``paper``, ``from_file``, ``with_values``, ``with_set``), :class:`TyrePressures`;
 * models: ``axle.reduced(effects=...)`` (:class:`ReducedModel`) and ``axle.mbs(fidelity=..., assume=...)``
   (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure")`` (:class:`Family`);
-* jobs: :func:`hopf_points`, :func:`cycle_branches`, :func:`simulate` (one signature for both models).
+* jobs: :func:`hopf_points`, :func:`cycle_branches`, :func:`stability_margins`, :func:`simulate` (one signature
+  for both models).
 
 Bad input raises :class:`~reduced_model.parameters.ParameterError` with a one-line message naming the range.
 Reading an axle loads no Exudyn: the multibody model is imported when its family or a simulation is made.  The
@@ -41,7 +42,7 @@ from comparisons.axles.limits import (
     SPEED_RANGE_KMH,
 )
 from comparisons.axles.units import to_si
-from comparisons.results import CycleBranches, HopfPoint, HopfResult, Simulation, cycle_branch
+from comparisons.results import CycleBranches, HopfPoint, HopfResult, Simulation, StabilityMargins, cycle_branch
 from mbs_shimmy.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from reduced_model.bifurcation.special_points import BranchStatus
@@ -366,6 +367,35 @@ def cycle_branches(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.
                          status, diagram)
 
 
+def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: tuple[float, float] | None = None,
+                      vmin_kmh: float = 0.5, vmax_kmh: float = 400.0, pressure_points: int = 31,
+                      speed_points: int = 201) -> StabilityMargins:
+    """The least damping ratio of straight running on an even grid of speeds (km/h) and tyre pressures (bar, both
+    tyres alike; default: the axle's operating window), with the mode it belongs to, as ``shimmy margins``.
+
+    >>> result = stability_margins(Axle.paper().reduced(), (2.5, 2.5), 40, 80, pressure_points=1, speed_points=41)
+    >>> low = result.minimum
+    >>> round(low.damping_ratio, 4), low.mode, round(low.speed_kmh)
+    (-0.0038, 'yaw', 57)
+    """
+    from comparisons.margins import margin_study
+    lo, hi = model.axle.data.pressure_range_bar if pressure_range_bar is None else pressure_range_bar
+    lo, hi = (check_range("pressure_range_bar", v, *PRESSURE_RANGE_BAR, "bar") for v in (lo, hi))
+    if not lo <= hi:
+        raise ParameterError(f"pressure_range_bar needs LO <= HI, got {lo:g} {hi:g}")
+    vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
+    counts = []
+    for what, n in (("pressure_points", pressure_points), ("speed_points", speed_points)):
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 2001:
+            raise ParameterError(f"{what} must be a whole number within [1, 2001], got {n!r}")
+        counts.append(n)
+    pressures = TyrePressures.both(0.5 * (lo + hi))
+    problem = model.problem(pressures.si, "pressure")
+    grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
+    study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p)
+    return StabilityMargins(f"{model.label()}, axle {model.axle.name}", study)
+
+
 def initial_from_degrees(initial_deg: Mapping[str, float] | None) -> np.ndarray:
     """The SI initial state of ``{state: degrees}`` (deg/s for the rates); None: theta1 = 0.573 deg (0.01 rad)."""
     if initial_deg is None:
@@ -418,5 +448,5 @@ def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, 
 
 
 __all__ = ["Axle", "CycleBranches", "Family", "HopfPoint", "HopfResult", "MultibodyModel", "ReducedModel",
-           "Simulation", "TyrePressures", "cycle_branches", "fidelity_of", "hopf_points", "parse_settings",
-           "simulate"]
+           "Simulation", "StabilityMargins", "TyrePressures", "cycle_branches", "fidelity_of", "hopf_points",
+           "parse_settings", "simulate", "stability_margins"]

@@ -20,7 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from comparisons.axles.axle import interface_text
-from comparisons.axles.units import KMH, to_interface
+from comparisons.axles.units import BAR, KMH, to_interface
+from comparisons.margins import MarginPoint, MarginStudy
 from reduced_model.bifurcation.cycles.problem import CycleBranch as ToolkitCycleBranch
 from reduced_model.bifurcation.cycles.problem import CycleDiagram
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint as ToolkitHopfPoint
@@ -222,6 +223,37 @@ def cycle_branch(branch: ToolkitCycleBranch, peak) -> CycleBranch:
                        peak_theta1=peak.max_abs("theta1"), peak_speed=peak.p,
                        frequencies=branch.frequency_range, stable=sum(p.stable for p in branch.points),
                        special_points=special, branch=branch)
+
+
+# --- stability margins ----------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StabilityMargins(Shown):
+    """The least damping ratio of straight running over speed and tyre pressure (both tyres alike), with the mode
+    it belongs to (:class:`comparisons.margins.MarginStudy`, SI in its fields); ``minimum`` over the map's window.
+    Negative: that mode grows (shimmy)."""
+
+    title: str
+    study: MarginStudy = field(repr=False)
+
+    @property
+    def minimum(self) -> MarginPoint | None:
+        return self.study.minimum
+
+    def table(self) -> Table:
+        rows = []
+        for p, m in zip(self.study.pressures, self.study.least_per_pressure()):
+            rows.append((f"{p / BAR:.3f}",) + (("-", "-", "-", "none oscillates") if m is None else
+                                                (f"{m.damping_ratio:+.4f}", f"{m.speed_kmh:.1f}",
+                                                 f"{m.frequency_hz:.3f}", m.mode)))
+        low = self.minimum
+        where = ("no oscillatory mode" if low is None else
+                 f"minimum {low.damping_ratio:+.4f} ({low.mode}, {low.frequency_hz:.3f} Hz) at {low.speed_kmh:.1f} "
+                 f"km/h, {low.pressure_bar:.3f} bar")
+        speeds = self.study.speeds
+        return Table(("pressure bar", "least damping ratio", "at km/h", "frequency Hz", "mode"), tuple(rows),
+                     f"Stability margins, {self.title}, {kmh(speeds[0]):g}-{kmh(speeds[-1]):g} km/h "
+                     f"({len(speeds)} speeds): {where}")
 
 
 # --- simulations ----------------------------------------------------------------------------------------------

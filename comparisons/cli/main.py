@@ -27,7 +27,7 @@ from comparisons.files import (
     remove_live_temporaries,
 )
 
-COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "simulate", "assumptions", "figures", "params", "bench", "sweep")
+COMMANDS = ("verify", "hopf", "curves", "cycles", "modes", "margins", "simulate", "assumptions", "figures", "params", "bench", "sweep")
 
 EXIT_FAILED = 1
 EXIT_USAGE = 2

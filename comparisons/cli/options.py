@@ -105,10 +105,14 @@ def add_model_options(p: argparse.ArgumentParser, pressure_required: bool = True
                    help="left tyre (wheel 2, theta2) pressure, bar; the right takes --pressure")
     p.add_argument("--pressure-right", type=pressure_bar("--pressure-right"), default=None, metavar="BAR",
                    help="right tyre (wheel 1, theta1) pressure, bar; the left takes --pressure")
-    p.add_argument("--effects", default="", metavar="LIST",
-                   help="pressure effects beyond the lateral force: comma list of hcl,pt,rl,vs, or all")
+    add_effects_option(p)
     add_axle_option(p)
     p.set_defaults(pressure_required=pressure_required)
+
+
+def add_effects_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--effects", default="", metavar="LIST",
+                   help="pressure effects beyond the lateral force: comma list of hcl,pt,rl,vs, or all")
 
 
 def resolve_pressures(args: argparse.Namespace) -> None:

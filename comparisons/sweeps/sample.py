@@ -23,14 +23,16 @@ from comparisons.axles.axle import Axle, entry, interface_text
 from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
 
-COMPUTE = ("hopf", "assumptions", "cycles")
+COMPUTE = ("hopf", "margins", "assumptions", "cycles")
+# margins: the least damping ratio of straight running on this many even speeds from 0.5 km/h to vmax (default)
+MARGIN_SPEEDS = 41
 PRESSURE_LIMITS_BAR = (0.05, 20.0)
 # Hopf points and cycles are labelled with the mode they belong to by the thresholds of
 # reduced_model.modes.ModeClassifier: tramp above both the psi/theta1 ratio and the frequency split, yaw below both.
 RATIO_SPLIT = 0.22
 FREQUENCY_SPLIT_HZ = 8.8
 # Rough cost of one sample (s, one core) for batch sizing; measured on the paper's axle at 1.5 bar.
-COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "assumptions": 0.3, "cycles": 1.5}
+COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assumptions": 0.3, "cycles": 1.5}
 
 
 def mode_of(ratio: float, frequency_hz: float) -> str:
@@ -58,16 +60,19 @@ class SweepTask:
     mbs: tuple[str, ...] = ()               # MBS fidelities whose Hopf points are computed too
     vmax_kmh: float = 400.0
     lyapunov: bool = False
+    margin_speeds: int = MARGIN_SPEEDS      # speeds of the margins output
 
     def cost_s(self) -> float:
         cost = COST_S["hopf"] + (COST_S["lyapunov"] if self.lyapunov else 0.0) + COST_S["mbs"] * len(self.mbs)
-        return cost + sum(COST_S[c] for c in self.compute if c != "hopf")
+        margins = (COST_S["margins"] * (1 + len(self.mbs)) * self.margin_speeds / MARGIN_SPEEDS
+                   if "margins" in self.compute else 0.0)
+        return cost + margins + sum(COST_S[c] for c in self.compute if c not in ("hopf", "margins"))
 
     def to_json(self) -> dict:
         return {"axle": self.axle.describe(), "effects": list(self.effects),
                 "pressure_right_bar": self.pressure_right_bar, "pressure_left_bar": self.pressure_left_bar,
                 "compute": list(self.compute), "mbs": list(self.mbs), "vmax_kmh": self.vmax_kmh,
-                "lyapunov": self.lyapunov}
+                "lyapunov": self.lyapunov, "margin_speeds": self.margin_speeds}
 
     # --- schema -------------------------------------------------------------------------------------------
     def assumption_names(self) -> list[str]:
@@ -93,6 +98,10 @@ class SweepTask:
                            pa.field(f"{c}_shift_kmh", floats)]
                 if self.lyapunov:
                     fields.append(pa.field(f"{c}_hopf_l1", floats))
+        if "margins" in self.compute:
+            for c in [""] + [f"mbs_{_column_safe(f)}_" for f in self.mbs]:
+                fields += [pa.field(f"{c}margin", pa.float64()), pa.field(f"{c}margin_kmh", pa.float64()),
+                           pa.field(f"{c}margin_hz", pa.float64()), pa.field(f"{c}margin_mode", pa.string())]
         if "assumptions" in self.compute:
             for name in self.assumption_names():
                 fields += [pa.field(f"shift_{name}_kmh", floats), pa.field(f"only_{name}_kmh", floats)]
@@ -138,6 +147,7 @@ class SweepTask:
         vmax = self.vmax_kmh * KMH
         row: dict = {"pressure_right_bar": right, "pressure_left_bar": left}
         family = SpeedFamily(model, pressure=pressure)
+        mbs_families = {}
         if "hopf" in self.compute:
             points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
             row.update(_hopf_columns("", points))
@@ -150,6 +160,7 @@ class SweepTask:
                 from mbs_shimmy.linearisation import MbsFamily
                 for f in self.mbs:
                     mf = MbsFamily.of(axle.params, effects, Fidelity.parse(f), dims=axle.dims, pressure=pressure)
+                    mbs_families[f] = mf
                     mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.lyapunov)
                     row.update(_hopf_columns(f"mbs_{_column_safe(f)}_", mp))
                     if self.lyapunov:
@@ -157,6 +168,11 @@ class SweepTask:
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
                     shifts = {m.reduced_speed: shift_kmh(m) for m in match_hopf(points, mp)}
                     row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.p) for h in points]
+        if "margins" in self.compute:
+            speeds = np.linspace(family.primary_min, vmax, self.margin_speeds)
+            row.update(_margin_columns("", family, speeds))
+            for f, mf in mbs_families.items():     # the MBS Jacobians of the Hopf search are kept: only eigenvalues
+                row.update(_margin_columns(f"mbs_{_column_safe(f)}_", mf, speeds))
         if "assumptions" in self.compute:
             from mbs_shimmy.assumption_study import assumption_study
             study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
@@ -175,6 +191,24 @@ def _hopf_columns(prefix: str, points) -> dict:
     if not prefix:
         out["n_hopf"] = len(points)
     return out
+
+
+def _margin_columns(prefix: str, family, speeds: np.ndarray) -> dict:
+    """The least damping ratio of straight running over ``speeds`` (m/s): its minimum, where, its frequency and
+    mode (labelled as the Hopf points are); null where nothing oscillates."""
+    from reduced_model.bifurcation.equilibria.margins import MarginStatus, least_damped
+    # The family was validated at this q by the Hopf search (margin_map would validate again: an Exudyn
+    # linearisation per MBS fidelity, more than the eigenvalues cost).
+    found = [m for m in (least_damped(family, v, family.nominal, vector=False) for v in speeds)
+             if m.status is MarginStatus.OSCILLATORY]
+    if not found:
+        return {f"{prefix}margin": None, f"{prefix}margin_kmh": None, f"{prefix}margin_hz": None,
+                f"{prefix}margin_mode": None}
+    low = least_damped(family, min(found, key=lambda m: m.damping_ratio).p, family.nominal)   # with its vector
+    v = low.eigenvector
+    return {f"{prefix}margin": low.damping_ratio, f"{prefix}margin_kmh": kmh(low.p),
+            f"{prefix}margin_hz": low.frequency_hz, f"{prefix}margin_mode": mode_of(abs(v[4]) / abs(v[0]),
+                                                                                  low.frequency_hz)}
 
 
 def _unstable_intervals(family, points, vmax: float) -> tuple[list[float], list[float]]:

@@ -113,6 +113,8 @@ COLUMN_LABELS: dict[str, Column] = {
                             dash="no simulation in that row, or no oscillation left to measure"),
     "frequency_diff": Column("frequency, simulation against continuation [%]", factor=100.0,
                              dash="no orbit compared in that row"),
+    "damping_ratio": Column("least damping ratio (negative: shimmy)", dash="no value in that row"),
+    "mode": Column("least damped mode", dash="no value in that row"),
     "status": Column("check"),
     "note": Column("note"),
     "error": Column("error"),

@@ -28,6 +28,9 @@ from comparisons.verify.report import CheckStatus, Row, Section
 
 SAMPLES_FULL = 256
 SAMPLES_QUICK = 32
+MARGIN_SPEEDS_FULL = 41       # the coarse speed grid of each sample's minimum margin (0.5-400 km/h)
+MARGIN_SPEEDS_QUICK = 21
+MARGIN_TOL = 1e-9             # MBS with every assumption on against the reduced model
 SEED = 2024
 QUANTILES = (0.05, 0.5, 0.95)
 FIGURE = "robustness.png"
@@ -112,6 +115,16 @@ class PressureStudy:
             worst = max([worst] + [abs(a - b) for a, b in zip(red, mbs)])
         return worst
 
+    def margins(self, prefix: str) -> np.ndarray:
+        """The minimum margin of each sampled axle (NaN: nothing oscillates)."""
+        return np.array([math.nan if m is None else m for m in self.column(f"{prefix}margin")])
+
+    def worst_reduced_fidelity_margin_error(self) -> float:
+        a, b = self.margins(""), self.margins("mbs_reduced_")
+        if not np.array_equal(np.isnan(a), np.isnan(b)):
+            return math.inf
+        return float(np.nanmax(np.abs(a - b))) if np.isfinite(a).any() else 0.0
+
     def most_influential(self, i: int) -> tuple[str, float] | None:
         """(dimension, SRC) with the largest |SRC| for the shift of reduced Hopf point i."""
         y = self.shifts(i)
@@ -128,6 +141,7 @@ class PressureStudy:
 
 def run_robustness(axle: Axle, out_dir: str, samples: int, *,
                    pressures: tuple[tuple[float, float], ...] | None = None, seed: int = SEED,
+                   margin_speeds: int = MARGIN_SPEEDS_FULL,
                    scheduler: str | None = None, workers: int | None = None, processes: bool = True,
                    message=lambda text: None) -> list[PressureStudy]:
     """One sweep per (right, left) pressure pair over the plausible dimensions; Parquet files
@@ -140,7 +154,8 @@ def run_robustness(axle: Axle, out_dir: str, samples: int, *,
             label = pressure_label(right, left)
             message(f"Robustness: {samples} plausible axles at {label}")
             task = SweepTask(axle=axle, effects=(), pressure_right_bar=right, pressure_left_bar=left,
-                             names=design.names, compute=("hopf",), mbs=("reduced", "full"))
+                             names=design.names, compute=("hopf", "margins"), mbs=("reduced", "full"),
+                             margin_speeds=margin_speeds)
             tag = f"{right:g}" if right == left else f"R{right:g}_L{left:g}"
             path = os.path.join(out_dir, f"robustness_{tag.replace('.', 'p')}bar.parquet")
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
@@ -171,6 +186,7 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
                         CheckStatus.PASS if ok else CheckStatus.FAIL,
                         "" if ok else (f"{s.failed} samples failed" if s.failed else
                                        f"differs by more than {HOPF_TOL_KMH} km/h")))
+        rows += margin_rows(s)
         present = {m for _, m in s.reduced_points()}
         for mode in ("yaw", "tramp"):
             rows.append(Row({"case": s.label, "quantity": f"{mode} mode present (full geometry)",
@@ -191,6 +207,32 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
                 cells["plausible_axles"] = "no partner in any axle: the mode vanishes with the full geometry"
                 note = ""
             rows.append(Row(cells, CheckStatus.INFO, note))
+    return rows
+
+
+def margin_rows(s: PressureStudy) -> list[Row]:
+    """The minimum margin over the coarse speed grid: the check that the dimensions do not enter with every
+    assumption on, and its spread with the full geometry."""
+    worst = s.worst_reduced_fidelity_margin_error()
+    ok = worst <= MARGIN_TOL
+    reduced = s.margins("")
+    speeds, modes = s.column("margin_kmh"), s.column("margin_mode")
+    value = ("-" if not reduced.size or np.isnan(reduced[0]) else
+             f"{reduced[0]:+.4f} at {speeds[0]:.0f} km/h ({modes[0]})")
+    rows = [Row({"case": s.label, "quantity": "minimum margin: MBS with every assumption on = reduced model",
+                 "reduced_value": value, "plausible_axles": f"max abs diff {worst:.2g} in {len(reduced)} axles"},
+                CheckStatus.PASS if ok else CheckStatus.FAIL, "" if ok else f"differs by more than {MARGIN_TOL:g}")]
+    full = s.margins("mbs_full_")
+    have = np.isfinite(full)
+    cells = {"case": s.label, "quantity": "minimum margin, full geometry (least damping ratio)",
+             "reduced_value": value}
+    if have.any():
+        p5, p50, p95 = np.quantile(full[have], QUANTILES)
+        cells["plausible_axles"] = (f"{p50:+.4f} (5-95 %: {p5:+.4f} to {p95:+.4f}); negative (shimmy) in "
+                                    f"{_pct(float(np.mean(full[have] < 0)))}")
+    else:
+        cells["plausible_axles"] = "no oscillating mode in any axle"
+    rows.append(Row(cells, CheckStatus.INFO))
     return rows
 
 
@@ -238,8 +280,9 @@ def robustness_section(ctx: Context) -> Section:
     axle = ctx.axle
     samples = SAMPLES_QUICK if ctx.quick else SAMPLES_FULL
     # quick: a few dozen samples, less work than starting worker processes; one worker in this process
+    margin_speeds = MARGIN_SPEEDS_QUICK if ctx.quick else MARGIN_SPEEDS_FULL
     studies = run_robustness(axle, ctx.out, samples, pressures=planned_pressures(ctx), processes=not ctx.quick,
-                             message=ctx.progress)
+                             margin_speeds=margin_speeds, message=ctx.progress)
     names = ", ".join(studies[0].design.names)
     plot_robustness(studies, os.path.join(ctx.out, FIGURE))
     return Section(
@@ -250,6 +293,8 @@ def robustness_section(ctx: Context) -> Section:
               f"`[plausible]`, scrambled Sobol' sample, seed {SEED}), the same axles at each pressure; MBS Hopf points "
               f"with every assumption on and off, 0-400 km/h, computed by `shimmy sweep` on a local Dask cluster "
               f"(results: {', '.join(f'`{s.file}`' for s in studies)}). Check: with every assumption on the MBS keeps "
-              f"the reduced model's Hopf points to {HOPF_TOL_KMH} km/h in every axle. Information: how often each mode "
-              f"exists with the full geometry, each Hopf point's shift (median, 5-95 %) and the dimension its shift "
-              f"depends on most (standardized regression coefficient)."))
+              f"the reduced model's Hopf points to {HOPF_TOL_KMH} km/h and its minimum margin (least damping ratio of "
+              f"straight running on {margin_speeds} speeds in 0.5-400 km/h) to {MARGIN_TOL:g} in every axle. "
+              f"Information: how often each mode exists with the full geometry, each Hopf point's shift (median, "
+              f"5-95 %) and the dimension its shift depends on most (standardized regression coefficient), and the "
+              f"full geometry's minimum margin (median, 5-95 %, share of axles where it is negative)."))

@@ -1,5 +1,5 @@
 """The notebook API in one sitting: an axle, Hopf points of both models at a pressure pair, a cycle branch, a
-simulation of each model and the multibody model at full fidelity.
+simulation of each model, the multibody model at full fidelity and both models' stability margins.
 
 Run it as a script (``.venv/bin/python docs/examples/notebook.py``) or cell by cell in a notebook, where every
 result renders as an HTML table.  Inputs in km/h, bar and degrees; the results' fields are SI.
@@ -7,7 +7,7 @@ result renders as an HTML table.  Inputs in km/h, bar and degrees; the results' 
 
 # %% An axle: the paper's truck, or an axle file (Axle.from_file("mytruck.toml")), with entries changed in the
 # units of 'shimmy params' (degrees, bar, otherwise SI).
-from comparisons.api import Axle, TyrePressures, cycle_branches, hopf_points, simulate
+from comparisons.api import Axle, TyrePressures, cycle_branches, hopf_points, simulate, stability_margins
 
 axle = Axle.paper().with_values(gamma=4.0)          # caster 4 degrees instead of the paper's 2.29
 print(axle)
@@ -40,3 +40,10 @@ full_hopf = hopf_points(axle.mbs(fidelity="full", effects="hcl,pt").family(press
 print(full_hopf)
 for a, b in zip(reduced_hopf.points, full_hopf.points):
     print(f"onset {a.speed_kmh:8.3f} km/h in the reduced model, {b.speed_kmh:8.3f} km/h with the full geometry")
+
+# %% Stability margins: the least damping ratio of straight running over speed and pressure (both tyres alike),
+# negative where a mode grows; the minimum over the grid with the speed and pressure where it occurs.
+for model in (reduced, axle.mbs(fidelity="full", effects="hcl,pt")):
+    margins = stability_margins(model, pressure_range_bar=(1.0, 3.0), vmax_kmh=200, pressure_points=5,
+                                speed_points=41)
+    print(margins)

@@ -221,3 +221,21 @@ def test_ctrl_c_at_the_terminal_keeps_finished_batches_and_resume_completes(tmp_
     done = subprocess.run(argv + ["--resume", "--json"], capture_output=True, text=True, cwd=tmp_path, timeout=300)
     run = json.loads(done.stdout)["run"]
     assert run["computed_batches"] == 30 - kept and run["samples"] == 3000 and run["failed"] == 0
+
+
+def test_margin_columns_equal_the_margin_api():
+    """The sweep's margin outputs against ``stability_margins`` on the same speeds (the call of ``shimmy margins``),
+    for the reduced model and both MBS fidelities, on one axle with other dimensions; with every assumption on the
+    MBS has the reduced model's margin."""
+    from comparisons.api import Axle as ApiAxle
+    from comparisons.api import stability_margins
+    from comparisons.sweeps.sample import MARGIN_SPEEDS
+    task = SweepTask(Axle(), (), 2.5, 2.5, ("drag_link_inclination",), compute=("hopf", "margins"),
+                     mbs=("reduced", "full"))
+    assert {"margin", "mbs_full_margin_kmh", "mbs_reduced_margin_mode"} <= set(task.schema().names)
+    row = task.evaluate(np.array([11.0]))
+    axle = ApiAxle(Axle().with_values({"drag_link_inclination": np.radians(11.0)}))
+    for prefix, model in (("", axle.reduced()), ("mbs_reduced_", axle.mbs("reduced")), ("mbs_full_", axle.mbs("full"))):
+        low = stability_margins(model, (2.5, 2.5), 0.5, 400, pressure_points=1, speed_points=MARGIN_SPEEDS).minimum
+        assert row[f"{prefix}margin"] == low.damping_ratio and row[f"{prefix}margin_kmh"] == low.speed_kmh
+    assert abs(row["mbs_reduced_margin"] - row["margin"]) < 1e-9 and row["margin"] < 0 < row["mbs_full_margin"]

@@ -42,3 +42,15 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     # over the axles in which HB1 keeps a partner (with the full geometry of issue 9 it vanishes in many)
     median = float(np.median([x["mbs_full_shift_kmh"][0] for x in ok if x["mbs_full_shift_kmh"][0] is not None]))
     assert f"{median:+.1f} km/h" in shift_row.cells["plausible_axles"]
+    # the minimum margin: the check passes, and the full geometry's is the margin API's on the same speeds
+    from comparisons.api import Axle as ApiAxle
+    from comparisons.api import stability_margins
+    from comparisons.verify.robustness import MARGIN_SPEEDS_FULL
+    margin_check = next(x for x in rows if x.cells["quantity"] == "minimum margin: MBS with every assumption on = reduced model")
+    assert margin_check.status is CheckStatus.PASS
+    low = stability_margins(ApiAxle(axle.with_values({n: entries()[n].to_si(r[n]) for n in study.design.names})).mbs(
+        "full"), (1.5, 1.5), 0.5, 400, pressure_points=1, speed_points=MARGIN_SPEEDS_FULL).minimum
+    assert r["mbs_full_margin"] == low.damping_ratio
+    spread = next(x for x in rows if x.cells["quantity"].startswith("minimum margin, full geometry"))
+    margins = [x["mbs_full_margin"] for x in ok]
+    assert f"{float(np.median(margins)):+.4f} (5-95 %" in spread.cells["plausible_axles"]

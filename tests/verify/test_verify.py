@@ -197,3 +197,22 @@ def test_verify_full_geometry_in_quick_mode(quick_report):
     brackets = [r for w, r in rows.items() if w.startswith(("HB1,", "HB2,"))]
     assert len(brackets) == 4 and all(r["status"] == "pass" for r in brackets)
     assert rows["cycle branches"]["status"] == "info" and "skipped in quick mode" in rows["cycle branches"]["note"]
+
+
+def test_verify_margin_rows(quick_report):
+    proc, out = quick_report
+    rows = section(quick_report, "margins")["rows"]
+    assert all(r["status"] == "pass" for r in rows if r["status"] != "info")
+    zero = [r for r in rows if r["quantity"].startswith("zero level")]
+    assert {(r["model"], r["case"]) for r in zero} >= {("reduced model", "2.5 bar"), ("MBS, full geometry", "1.5 bar")}
+    minima = {r["model"]: r for r in rows if r["quantity"] == "minimum margin"}
+    assert minima["reduced model"]["damping_ratio"] < 0 and minima["MBS, full geometry"]["damping_ratio"] < 0
+    assert (out / "margins.png").exists()
+
+
+def test_verify_robustness_margins(quick_report):
+    rows = section(quick_report, "robustness")["rows"]
+    checks = [r for r in rows if r["quantity"] == "minimum margin: MBS with every assumption on = reduced model"]
+    assert [r["case"] for r in checks] == ["1.5 bar", "2.5 bar"] and all(r["status"] == "pass" for r in checks)
+    spread = [r for r in rows if r["quantity"].startswith("minimum margin, full geometry")]
+    assert len(spread) == 2 and all("(5-95 %:" in r["plausible_axles"] for r in spread)

@@ -23,9 +23,11 @@ from comparisons.cli.options import (
 )
 from comparisons.cli.progress import progress, ticker
 from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
+from reduced_model.family import PRESSURE_PARAMS
 from reduced_model.parameters import ParameterError
 
 PARAMS = SECOND_PARAMETERS
+MARGIN_GRID = (161, 41)      # speeds, pressures of the margin panel of --plot over a pressure
 
 
 def add_parser(sub) -> None:
@@ -71,7 +73,15 @@ def run(args: argparse.Namespace) -> int:
     quiet = args.json or not sys.stderr.isatty()
     with progress(10, "Hopf curves", quiet) as bar:
         diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, args.vmax * KMH, progress=ticker(bar))
-    if args.plot:
+    if args.plot and args.param in PRESSURE_PARAMS:
+        import numpy as np
+
+        from comparisons.figures.margin_figures import plot_hopf_diagram_with_margins
+        from comparisons.margins import margin_study
+        study = margin_study(family, np.linspace(diagram.p_min, diagram.p_max, MARGIN_GRID[0]),
+                             np.linspace(diagram.lo, diagram.hi, MARGIN_GRID[1]))
+        plot_hopf_diagram_with_margins(diagram, family, study, args.plot)
+    elif args.plot:
         from comparisons.figures.plots import plot_hopf_diagram
         plot_hopf_diagram(diagram, family, args.plot)
     if args.json:

@@ -7,8 +7,6 @@ from __future__ import annotations
 import argparse
 import math
 
-import numpy as np
-
 from comparisons.axles.limits import SPEED_RANGE_KMH, UsageError
 from comparisons.axles.units import KMH
 from comparisons.cli.options import (
@@ -39,17 +37,9 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def mbs_inertias(mbs) -> dict[str, float]:
-    """The diagonal of the MBS's own mass matrix at straight running, by mechanical coordinate: with the full
-    geometry the axle's lateral travel and the steering gear carry energy too."""
-    from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator
-    evaluator = MbsEvaluator(mbs.model.system(mbs.pressure, ConstantSpeed(0.0)))
-    M = evaluator.mass_matrix(np.zeros(mbs.n))
-    return {name: float(M[k, k]) for k, name in enumerate(mbs.layout.coordinates)}
-
-
 def _models(args: argparse.Namespace):
     """(key, title, modes) for the reduced model and the MBS."""
+    from comparisons.margins import mode_inertias
     from mbs_shimmy.linearisation import MbsFamily
     from reduced_model.family import SpeedFamily
     model = build_model(args)
@@ -62,7 +52,7 @@ def _models(args: argparse.Namespace):
     return [("reduced", "reduced model", mode_shapes(reduced.linear_matrix(speed, reduced.nominal),
                                                      inertias=reduced_inertias(model.params.I1, model.params.I3))),
             ("mbs", f"MBS, fidelity {fidelity.label}",
-             mode_shapes(mbs.linear_matrix(speed, mbs.nominal), inertias=mbs_inertias(mbs),
+             mode_shapes(mbs.linear_matrix(speed, mbs.nominal), inertias=mode_inertias(mbs),
                          names=mbs.state_names))], fidelity
 
 

@@ -46,8 +46,10 @@ def add_parser(sub) -> None:
     p.add_argument("--design", choices=("sobol", "saltelli"), default=None,
                    help="sobol: scrambled Sobol' sequence (default); saltelli: A/AB/B matrices for Sobol' indices")
     p.add_argument("--compute", default="hopf", metavar="LIST",
-                   help="comma list of hopf (reduced model, and MBS with --mbs), assumptions (each assumption's "
-                        "Hopf-speed shift, MBS), cycles (peak limit-cycle amplitude of each mode); default hopf")
+                   help="comma list of hopf (reduced model, and MBS with --mbs), margins (least damping ratio of "
+                        "straight running over the speed window, reduced model and the --mbs fidelities), "
+                        "assumptions (each assumption's Hopf-speed shift, MBS), cycles (peak limit-cycle amplitude "
+                        "of each mode); default hopf")
     p.add_argument("--mbs", default="", metavar="FIDELITIES",
                    help="also the MBS Hopf points at these fidelities, comma list of reduced, full (with hopf)")
     p.add_argument("--lyapunov", action="store_true", help="also each Hopf point's first Lyapunov coefficient "

@@ -1,0 +1,85 @@
+"""Stability-margin maps: the least damping ratio of straight running, filled over (speed, pressure), its zero level
+(where shimmy sets in) drawn, the minimum marked; Hopf curves or Hopf points on top when given."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.colors import TwoSlopeNorm
+from matplotlib.figure import Figure
+
+from comparisons.axles.units import BAR, kmh
+from comparisons.figures.plots import save_figure
+
+CMAP = "RdBu"     # red: negative damping (shimmy), blue: damped
+
+
+def margin_limits(studies) -> tuple[float, float]:
+    """One colour scale for several maps: symmetric-ish about zero, from their finite values."""
+    values = np.concatenate([s.damping_ratio[np.isfinite(s.damping_ratio)].ravel() for s in studies] + [[0.0]])
+    lo, hi = float(values.min()), float(values.max())
+    return min(lo, -1e-3), max(hi, 1e-3)
+
+
+def draw_margin_map(ax, study, title: str, limits: tuple[float, float] | None = None, hopf=()):
+    """The filled map of ``study`` (:class:`comparisons.margins.MarginStudy`) on ``ax``; ``hopf``: (km/h, bar)
+    points to mark.  Returns the filled contour set (for a colour bar)."""
+    lo, hi = limits or margin_limits([study])
+    speeds, bars, zeta = kmh(study.speeds), study.pressures / BAR, study.damping_ratio
+    if len(bars) == 1:       # one pressure: a band, so that contourf has two rows
+        bars, zeta = np.array([bars[0] - 0.05, bars[0] + 0.05]), np.vstack([zeta, zeta])
+    norm = TwoSlopeNorm(vmin=lo, vcenter=0.0, vmax=hi)
+    filled = ax.contourf(speeds, bars, zeta, levels=np.linspace(lo, hi, 25), cmap=CMAP, norm=norm, extend="both")
+    if np.nanmin(zeta) < 0.0 < np.nanmax(zeta):
+        ax.contour(speeds, bars, zeta, levels=[0.0], colors="k", linewidths=1.3)
+    for v, p in hopf:
+        ax.plot(v, p, "o", ms=4, mfc="none", mec="k")
+    low = study.minimum
+    if low is not None:
+        ax.plot(low.speed_kmh, low.pressure_bar, "*", ms=11, color="gold", mec="k", zorder=5)
+        ax.annotate(f"min {low.damping_ratio:+.3f} ({low.mode})", (low.speed_kmh, low.pressure_bar),
+                    textcoords="offset points", xytext=(6, 6), fontsize=8,
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+    ax.set_xlabel("speed V [km/h]")
+    ax.set_ylabel("tyre pressure [bar]")
+    ax.set_title(title, fontsize=9)
+    return filled
+
+
+def plot_margin_maps(panels, path: str, title: str = "") -> None:
+    """Maps side by side on one colour scale: ``panels`` of (study, title, hopf points (km/h, bar))."""
+    limits = margin_limits([s for s, _, _ in panels])
+    fig = Figure(figsize=(5.4 * len(panels) + 0.8, 4.4))
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    filled = None
+    for ax, (study, text, hopf) in zip(axes, panels):
+        filled = draw_margin_map(ax, study, text, limits, hopf)
+    bar = fig.colorbar(filled, ax=list(axes), shrink=0.9)
+    bar.set_label("least damping ratio of straight running (negative: shimmy)")
+    if title:
+        fig.suptitle(title, fontsize=10, y=1.03)
+    save_figure(fig, path)
+
+
+def plot_margin_map(study, path: str, title: str) -> None:
+    """One map (``shimmy margins --plot``); black line: zero damping, the shimmy boundary."""
+    plot_margin_maps([(study, title + "\nblack: zero damping (shimmy boundary); star: minimum", ())], path)
+
+
+def plot_hopf_diagram_with_margins(diagram, family, study, path: str) -> None:
+    """``shimmy curves --plot`` over a pressure: the Hopf diagram, and beside it the margin map of the same window
+    with the Hopf curves drawn on it (they lie on its zero level where the last stable pair crosses)."""
+    from comparisons.figures.plots import draw_hopf_diagram
+    fig = Figure(figsize=(12.4, 4.8))
+    left, right = fig.subplots(1, 2)
+    draw_hopf_diagram(left, diagram, family)
+    effects = ",".join(family.model.effects.names) or "section 3 model"
+    left.set_title(f"Hopf curves ({effects}); shaded: straight running stable", fontsize=9)
+    filled = draw_margin_map(right, study, "least damping ratio; black: zero level; white: Hopf curves; "
+                                           "star: minimum")
+    for c in diagram.curves:
+        right.plot(kmh(c.ps), c.qs / BAR, "-", color="w", lw=1.0)
+    right.set_xlim(kmh(diagram.p_min), kmh(diagram.p_max))
+    right.set_ylim(diagram.lo / BAR, diagram.hi / BAR)
+    right.set_ylabel(f"{diagram.param} [bar]")
+    fig.colorbar(filled, ax=right, shrink=0.9).set_label("least damping ratio (negative: shimmy)")
+    save_figure(fig, path)
