@@ -18,10 +18,12 @@ Information: each model's minimum margin over the window with its speed, pressur
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 
 import numpy as np
 
 from comparisons.axles.units import BAR, kmh
+from comparisons.margins import MarginPoint
 from comparisons.verify.context import Context
 from comparisons.verify.plan import VMAX
 from comparisons.verify.report import CheckStatus, Column, Row, Section
@@ -94,6 +96,33 @@ def minimum_row(title: str, study) -> Row:
                CheckStatus.INFO, where)
 
 
+@dataclass(frozen=True)
+class MarginMinimum:
+    """One model's least damping ratio over the operating window, as the verdict states it
+    (:class:`comparisons.verify.verdict.MarginFact`)."""
+
+    model: str
+    point: MarginPoint | None
+    window_bar: tuple[float, float]
+
+    def text(self) -> str:
+        lo, hi = self.window_bar
+        if self.point is None:
+            return f"Stability margin of {self.model}: no oscillating mode anywhere in {lo:g}-{hi:g} bar."
+        p = self.point
+        state = "a mode grows (shimmy)" if p.damping_ratio < 0 else "every mode is damped"
+        return (f"Stability margin of {self.model}: least damping ratio {p.damping_ratio:+.4f} over "
+                f"{lo:g}-{hi:g} bar and {kmh(MIN_SPEED):g}-{kmh(VMAX):g} km/h, at {p.speed_kmh:.1f} km/h and "
+                f"{p.pressure_bar:.2f} bar ({p.mode}, {p.frequency_hz:.2f} Hz): {state}.")
+
+    def to_json(self) -> dict:
+        p = self.point
+        return {"model": self.model, "damping_ratio": None if p is None else p.damping_ratio,
+                "speed_kmh": None if p is None else p.speed_kmh, "pressure_bar": None if p is None else p.pressure_bar,
+                "frequency_hz": None if p is None else p.frequency_hz, "mode": None if p is None else p.mode,
+                "text": self.text()}
+
+
 def margins_section(ctx: Context) -> Section:
     from comparisons.api import Axle, stability_margins
     from comparisons.figures.margin_figures import plot_margin_maps
@@ -136,6 +165,8 @@ def margins_section(ctx: Context) -> Section:
     return Section(
         key="margins", title="Stability margins: the least damping ratio of straight running", columns=COLUMNS,
         rows=tuple(rows), figures=(FIGURE,), labels=LABELS,
+        verdict_facts=tuple(MarginMinimum(models[key][0], studies[key].minimum, window)
+                            for key in ("reduced", "mbs_full")),
         text=(f"The least damping ratio zeta = -Re(lambda)/|lambda| over the oscillating eigenvalues of straight "
               f"running (real eigenvalues left out), on {n_speeds} speeds in {kmh(MIN_SPEED):g}-{kmh(VMAX):g} km/h x "
               f"{n_pressures} pressures in {lo:g}-{hi:g} bar (the axle's operating window, both tyres alike); "

@@ -147,6 +147,8 @@ class Section:
     figures: tuple[str, ...] = ()       # file names relative to the report folder
     recordings: tuple[str, ...] = ()
     labels: dict = field(default_factory=dict)   # column -> Column or str, over COLUMN_LABELS
+    # what the section adds to the verdict at the top (e.g. the margins' minima: verdict.MarginFact objects)
+    verdict_facts: tuple = ()
 
     def count(self, status: CheckStatus) -> int:
         return sum(r.status is status for r in self.rows)

@@ -77,4 +77,6 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
                                     rows=(Row({"error": error}, CheckStatus.FAIL),),
                                     text="This part of the verification could not be completed."))
         progress(f"done: {title}")
-    return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle, verdict=verdict)
+    facts = tuple(f for s in sections for f in s.verdict_facts)
+    return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle,
+                  verdict=dataclasses.replace(verdict, margins=verdict.margins + facts))

@@ -91,7 +91,8 @@ class Disagreement:
 
 
 class MarginFact(Protocol):
-    """What a stability margin adds to the verdict (issue 21, part 3, built elsewhere): a sentence and its data."""
+    """What a stability margin adds to the verdict: a sentence and its data
+    (:class:`comparisons.verify.margins.MarginMinimum`, one per model, from the section "Stability margins")."""
 
     def text(self) -> str: ...
 
@@ -102,8 +103,8 @@ class MarginFact(Protocol):
 class Verdict:
     models: tuple[ModelVerdict, ...]
     disagreements: tuple[Disagreement, ...]
-    # Stability margins (issue 21, part 3): per model, the least damping ratio of straight running over the
-    # operating window; empty until that is computed.
+    # per model, the least damping ratio of straight running over the operating window; added after the section
+    # "Stability margins" has run (empty when it did not)
     margins: tuple[MarginFact, ...] = ()
 
     def of(self, model: Model) -> ModelVerdict | None:
@@ -142,7 +143,8 @@ class Verdict:
 
     def to_json(self) -> dict:
         return {"headline": self.headline(), "models": [m.to_json() for m in self.models],
-                "disagreements": [d.to_json() for d in self.disagreements], "margins": [m.to_json() for m in self.margins],
+                "disagreements": [d.to_json() for d in self.disagreements],
+                "margins": [m.to_json() for m in self.margins],
                 "lines": self.lines()}
 
 

@@ -20,3 +20,16 @@ def test_a_stable_axle_has_a_margin_figure_and_passing_checks(tmp_path):
     minima = {r.cells["model"]: r.cells for r in section.rows if r.cells["quantity"] == "minimum margin"}
     assert set(minima) == {"reduced model", "MBS, full geometry"}
     assert all(m["damping_ratio"] > 0 for m in minima.values())
+
+
+def test_the_margin_minima_reach_the_verdict(tmp_path):
+    """The section hands each model's minimum to the verdict as data (sentence and JSON from the same point)."""
+    axle = Axle().with_overrides({"c4": 120.0})
+    section = margins_section(Context(out=str(tmp_path), quick=True, axle=axle, plan=Plan((), ())))
+    facts = {f.model: f for f in section.verdict_facts}
+    assert set(facts) == {"reduced model", "MBS, full geometry"}
+    minima = {r.cells["model"]: r.cells for r in section.rows if r.cells["quantity"] == "minimum margin"}
+    for model, fact in facts.items():
+        data = fact.to_json()
+        assert data["damping_ratio"] == minima[model]["damping_ratio"] > 0
+        assert f"{data['damping_ratio']:+.4f}" in fact.text() and "every mode is damped" in fact.text()

@@ -216,3 +216,18 @@ def test_verify_robustness_margins(quick_report):
     assert [r["case"] for r in checks] == ["1.5 bar", "2.5 bar"] and all(r["status"] == "pass" for r in checks)
     spread = [r for r in rows if r["quantity"].startswith("minimum margin, full geometry")]
     assert len(spread) == 2 and all("(5-95 %:" in r["plausible_axles"] for r in spread)
+
+
+def test_verify_verdict_states_both_models_and_their_margins(quick_report):
+    """The verdict of the paper's truck: both models' boundaries, the 2.5 bar case where only the reduced model
+    shimmies, and both models' margin minima, the same numbers as the margins section's minimum rows."""
+    verdict = json.loads(quick_report[0].stdout)["verdict"]
+    assert {m["model"] for m in verdict["models"]} == {"reduced", "full"}
+    assert any(d["kind"] == "one_model" and d["shimmies"] == "reduced" and d["case"] == "2.5 bar"
+               for d in verdict["disagreements"])
+    minima = {r["model"]: r["damping_ratio"] for r in section(quick_report, "margins")["rows"]
+              if r["quantity"] == "minimum margin"}
+    assert {m["model"]: m["damping_ratio"] for m in verdict["margins"]} == minima
+    assert all(m["text"] in verdict["lines"] for m in verdict["margins"])
+    text = (quick_report[1] / "report.md").read_text()
+    assert "## Verdict" in text and all(m["text"] in text for m in verdict["margins"])
