@@ -20,6 +20,7 @@ import scipy.optimize
 from reduced_model.bifurcation.special_points import BranchStatus
 
 Residual = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]  # u -> (G(u), DG(u))
+Value = Callable[[np.ndarray], np.ndarray]                         # u -> G(u) alone, for chord iterations
 Blocks = tuple[slice, ...] | None                                 # blocks of unknowns with their own scales
 
 
@@ -32,6 +33,7 @@ class ContinuationSettings:
     newton_tol: float = 1e-10  # on the weighted Newton step
     newton_max_iter: int = 8
     max_turn: float = 0.35     # radians between successive tangents
+    chord_max_iter: int = 12   # chord iterations (see :func:`correct`) before falling back to Newton
 
 
 def _solve_bordered(J, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -68,14 +70,54 @@ def step_norm(du: np.ndarray, w: np.ndarray, blocks: Blocks) -> float:
     return max(float(np.linalg.norm(du[b] * w[b])) for b in blocks)
 
 
+def _chord(value: Value, J, u_pred: np.ndarray, row: np.ndarray, w: np.ndarray, settings: ContinuationSettings,
+           blocks: Blocks) -> tuple[np.ndarray, int] | None:
+    """Chord iterations on [G(u); <t, u - u_pred>_W] = 0 with the fixed Jacobian J: (u, iterations), or None
+    when they do not contract (the caller then runs Newton)."""
+    u = u_pred.copy()
+    previous = np.inf
+    for it in range(1, settings.chord_max_iter + 1):
+        G = value(u)
+        if not np.all(np.isfinite(G)):
+            return None
+        du = _solve_bordered(J, row, -np.concatenate([G, [row @ (u - u_pred)]]))
+        if not np.all(np.isfinite(du)):
+            return None
+        u = u + du
+        size = step_norm(du, w, blocks)
+        if size < settings.newton_tol:
+            return u, it
+        if size > 0.5 * previous:
+            return None
+        previous = size
+    return None
+
+
 def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray, settings: ContinuationSettings,
-            anchor: np.ndarray | None = None, blocks: Blocks = None) -> tuple[np.ndarray, np.ndarray, int] | None:
+            anchor: np.ndarray | None = None, blocks: Blocks = None, value: Value | None = None,
+            frozen=None) -> tuple[np.ndarray, np.ndarray, int] | None:
     """Newton on [G(u); <t, u - u_pred>_W] = 0.  Returns (u, DG(u), iterations) or None on failure.
 
     Converged when every block of the step (``blocks``, slices of u, each measured in its own weights) is below
-    ``settings.newton_tol``."""
-    u = u_pred.copy()
+    ``settings.newton_tol``.
+
+    With ``value`` (G alone) and ``frozen`` (DG at a nearby solution, the previous point's), the chord method runs
+    first: the frozen Jacobian in every iteration, G alone evaluated (Kelley, Solving Nonlinear Equations with
+    Newton's Method, SIAM 2003, section 1.7; AUTO uses it for expensive Jacobians).  It converges linearly, at a
+    rate set by how far the predictor moved from the point J belongs to, and is worth it where DG costs many
+    evaluations of G (difference Jacobians).  DG is formed once, at the converged point, for the tangent.  The
+    iteration count returned is then half the chord count, as a chord iteration gains about half the digits
+    of a Newton one (the count drives the step-size control).  When the chord iterations stop contracting, Newton starts again from
+    the predictor."""
     row = t * w * w
+    if value is not None and frozen is not None and frozen.shape[1] == len(u_pred):
+        chord = _chord(value, frozen, u_pred, row, w, settings, blocks)
+        if chord is not None:
+            u, iterations = chord
+            G, J = residual(u)
+            if np.all(np.isfinite(G)) and np.max(np.abs(G)) < 1e-7 * (1.0 + np.max(np.abs(u))):
+                return u, J, (iterations + 1) // 2
+    u = u_pred.copy()
     for it in range(1, settings.newton_max_iter + 1):
         G, J = residual(u)
         if not np.all(np.isfinite(G)):
@@ -105,12 +147,15 @@ class Branch:
     message: str = ""
 
     blocks: tuple[slice, ...] | None = None
+    value: Value | None = None          # G alone, for chord iterations (:func:`correct`)
+    jacobian: object = None             # DG at the last accepted point, for chord iterations
 
     def point_at(self, k: int, s: float) -> tuple[np.ndarray, np.ndarray]:
         """Corrected point at arclength s from point k along its tangent, and the tangent there (only for the
         last step: after a re-discretisation earlier points may have another size)."""
         u_pred = self.points[k] + s * self.tangents[k]
-        result = correct(self.residual, u_pred, self.tangents[k], self.weights, self.settings, blocks=self.blocks)
+        result = correct(self.residual, u_pred, self.tangents[k], self.weights, self.settings, blocks=self.blocks,
+                         value=self.value, frozen=self.jacobian)
         if result is None:
             raise RuntimeError(f"corrector failed at s = {s:.3g} after point {k}")
         u, J, _ = result
@@ -134,7 +179,8 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                    settings: ContinuationSettings = ContinuationSettings(),
                    accept: Callable[[Branch], str | None] | None = None,
                    renormalize: Callable[[np.ndarray], object] | None = None, blocks=None,
-                   step_bound: Callable[[np.ndarray, np.ndarray], float] | None = None) -> Branch:
+                   step_bound: Callable[[np.ndarray, np.ndarray], float] | None = None,
+                   value: Value | None = None) -> Branch:
     """Follow G(u) = 0 from u0 (already a solution) in ``direction``.
 
     ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`BranchStatus`
@@ -144,15 +190,18 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     consistent with the renormalised point.  ``weights`` and ``blocks`` (slices of u for the Newton test, see
     :func:`correct`) may be callables, re-read after every renormalisation.  ``step_bound(u_old, u_new)`` is the
     size of a step relative to a bound the caller sets (e.g. on one parameter): a step above 1 is retried
-    shorter, and the next step is not predicted longer than the bound allows.
+    shorter, and the next step is not predicted longer than the bound allows.  ``value`` (G alone) lets the
+    corrector run chord iterations with the last point's Jacobian (:func:`correct`), for residuals whose
+    Jacobian is expensive.
     """
     def current():
         w_ = np.asarray(weights() if callable(weights) else weights, dtype=float)
         return w_, (blocks() if callable(blocks) else blocks)
 
     w, blk = current()
-    branch = Branch(residual=residual, weights=w, settings=settings, blocks=blk)
+    branch = Branch(residual=residual, weights=w, settings=settings, blocks=blk, value=value)
     G, J = residual(u0)
+    branch.jacobian = J
     if np.max(np.abs(G)) > 1e-6 * (1.0 + np.max(np.abs(u0))):
         branch.status, branch.message = BranchStatus.NEWTON_FAILED, "start point is not a solution"
         return branch
@@ -166,7 +215,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     for _ in range(settings.max_steps):
         u, t = branch.points[-1], branch.tangents[-1]
         while True:
-            result = correct(residual, u + ds * t, t, w, settings, blocks=blk)
+            result = correct(residual, u + ds * t, t, w, settings, blocks=blk, value=value, frozen=branch.jacobian)
             if result is not None:
                 u_new, J_new, iters = result
                 t_new = tangent(J_new, w, t)
@@ -185,6 +234,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
         branch.points.append(u_new)
         branch.tangents.append(t_new)
         branch.steps.append(ds)
+        branch.jacobian = J_new
         if accept is not None:
             verdict = accept(branch)
             if verdict is not None:
@@ -201,7 +251,8 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                 w, blk = current()
                 branch.weights, branch.blocks = w, blk
                 branch.points[-1] = renormalized
-                branch.tangents[-1] = tangent(residual(renormalized)[1], w, previous)
+                branch.jacobian = residual(renormalized)[1]
+                branch.tangents[-1] = tangent(branch.jacobian, w, previous)
         ds_next = ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6)
         if step_bound is not None and ratio > 0.0:
             ds_next = min(ds_next, 0.95 * ds / ratio)

@@ -49,6 +49,8 @@ def _central_difference(rhs, P: np.ndarray, value: float, scale: float) -> np.nd
 class ComplexStepDerivatives:
     """Derivatives of an analytic, column-vectorised ``rhs(X, p, q)`` that accepts complex X and p."""
 
+    costly_jacobian = False     # one vectorised call gives f and df/dx together
+
     def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
         """f (M, n) and df/dx (M, n, n) at the states P (M, n)."""
         return values_and_jacobians(lambda Z: self.rhs(Z, p, q), P)
@@ -66,6 +68,8 @@ class ComplexStepDerivatives:
 
 class DifferenceDerivatives:
     """Derivatives of a ``rhs(x, p, q)`` known at real states only, from the family's ``jacobian`` and differences."""
+
+    costly_jacobian = True      # df/dx costs about 2 n evaluations of f: continuation runs chord iterations
 
     def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
         P = np.asarray(P, dtype=float)

@@ -69,6 +69,8 @@ class Family(Protocol):
         """Raise where the family is meaningless at q."""
 
     # How the derivatives are formed: inherit one of :mod:`reduced_model.bifurcation.derivatives`.
+    costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)
+
     def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
         """f (M, n) and df/dx (M, n, n) at the states P (M, n)."""
 

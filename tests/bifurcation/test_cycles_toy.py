@@ -208,3 +208,40 @@ def test_torus_and_fold_between_the_hopf_start_and_the_first_cycle():
         assert point.status is PointStatus.LOCATED and point.data["end_segment"]
         assert point.p == pytest.approx(expected, abs=1e-12)
         assert point.bracket[1] <= 0.0          # before the first cycle on the branch's arclength
+
+
+class CountingToy(ToyFamily):
+    """A toy family that counts how often its Jacobians are formed."""
+
+    def __init__(self, field, n):
+        super().__init__(field, n)
+        self.jacobian_batches = 0
+
+    def rhs_and_jacobians(self, P, p, q):
+        self.jacobian_batches += 1
+        return super().rhs_and_jacobians(P, p, q)
+
+
+class CostlyToy(CountingToy):
+    """The same field, flagged as having costly Jacobians (as a family of difference derivatives is): the
+    continuation then corrects by chord iterations with the last point's Jacobian."""
+
+    costly_jacobian = True
+
+
+@pytest.mark.parametrize("field, n, kind, at", [(subcritical, 2, PointKind.CYCLE_FOLD, -1.0),
+                                               (with_oscillator, 4, PointKind.TORUS, C_TORUS)])
+def test_chord_iterations_find_the_known_points_with_fewer_jacobians(field, n, kind, at):
+    newton, chord = CountingToy(field, n), CostlyToy(field, n)
+    branches = [branch_from_hopf(f, first_hopf(f), SHIFT - 2.0, SHIFT + 1.0) for f in (newton, chord)]
+    for b in branches:
+        assert b.complete
+        (point,) = b.points_of(kind)
+        assert point.status is PointStatus.LOCATED and point.p - SHIFT == pytest.approx(at, abs=1e-8)
+    # Every cycle of the chord branch is a solution of the same discretisation to Newton's tolerance.
+    if field is subcritical:
+        for p in branches[1].points:
+            r2 = p.amplitude[0] ** 2
+            assert p.p - SHIFT == pytest.approx(r2 * r2 - 2 * r2, abs=1e-7)
+    per_cycle = [f.jacobian_batches / len(b.points) for f, b in zip((newton, chord), branches)]
+    assert per_cycle[1] < 0.7 * per_cycle[0]

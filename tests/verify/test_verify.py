@@ -165,6 +165,7 @@ def axle_report(tmp_path_factory):
     return run_quick_verify(folder / "rep", "--no-recordings", "--axle", str(axle))
 
 
+@pytest.mark.slow      # a minute: the plan alone is checked in CI by tests/verify/test_plan.py
 def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
     proc, out = axle_report
     assert proc.returncode == 0, proc.stderr

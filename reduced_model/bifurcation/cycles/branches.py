@@ -259,7 +259,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             return abs(u_new[ip] - u_old[ip]) / max_step
 
     branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
-                            renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound)
+                            renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound,
+                            value=problem.value if problem.family.costly_jacobian else None)
     # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from that
     # cycle shrunk towards the Hopf point as the square root of the distance (amp^2 affine near a Hopf point).
     for hopf_end, near in ((start, records[0] if records else None), (end[0] if end else None,

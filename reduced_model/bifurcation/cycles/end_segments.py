@@ -78,6 +78,8 @@ class EndSegment:
         self.normal = normal / np.linalg.norm(normal * self.w)
         self.P1 = float(np.dot(self.normal * self.w, self.u1 * self.w))    # <t_end, u(1)>_W
         self.solved: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+        self._jacobians: dict[float, object] = {}        # at each solved c, for the chord iterations nearby
+        self._multipliers: dict[float, np.ndarray] = {}  # taken while the solution's Jacobian is at hand
         self.side = hopf_side(family, hopf)
 
     def solve(self, c: float) -> tuple[np.ndarray, np.ndarray]:
@@ -95,17 +97,24 @@ class EndSegment:
         # The hyperplane is <t_end, u>_W = c <t_end, u(1)>_W: shift the predictor onto it along the normal.
         u_pred += (c * self.P1 - float(np.dot(self.normal * self.w, u_pred * self.w))) * self.normal
         st = self.settings
+        chord = self.problem.value if self.family.costly_jacobian else None
         result = correct(self.problem, u_pred, self.normal, self.w, st.continuation,
-                         blocks=self.problem.blocks_of_unknowns())
+                         blocks=self.problem.blocks_of_unknowns(), value=chord, frozen=self._jacobians.get(c0))
         if result is None:
             raise RuntimeError(f"no cycle at c = {c:.6g} of the end segment at the Hopf point")
         u, J, _ = result
         self.solved[c] = (u, tangent(J, self.w, self.normal))
+        self._jacobians[c] = J
+        self._multipliers[c] = self.problem.multipliers(u)
         return self.solved[c]
 
     def multipliers(self, c: float) -> np.ndarray:
         """Non-trivial multipliers at c (c = 0: exactly those of the Hopf point)."""
-        mu = hopf_multipliers(self.family, self.hopf) if c == 0.0 else self.problem.multipliers(self.solve(c)[0])
+        if c == 0.0:
+            mu = hopf_multipliers(self.family, self.hopf)
+        else:
+            self.solve(c)
+            mu = self._multipliers[c]
         return classify_multipliers(mu)[0]
 
     def fold_test(self, c: float) -> float:

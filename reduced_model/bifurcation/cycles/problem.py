@@ -230,6 +230,8 @@ class CycleProblem:
 
     def set_reference(self, orbit: col.Orbit) -> None:
         """Mesh and phase reference from ``orbit`` (the reference's derivative at the collocation points)."""
+        if self._cache is not None and not np.array_equal(orbit.mesh, self.mesh):
+            self._cache = None      # f and its Jacobian do not depend on the reference, only on the mesh
         self.mesh = orbit.mesh.copy()
         self.widths = np.diff(self.mesh)
         self.reference = orbit
@@ -240,28 +242,45 @@ class CycleProblem:
         per_interval = np.einsum("jk,ki,jkn->jin", gw, self.sch.L, self.ref_derivative)   # (N, m+1, n)
         self.phase_gradient = np.zeros_like(orbit.nodes)
         np.add.at(self.phase_gradient, col.node_index(len(self.widths), self.degree), per_interval)
-        self._cache = None
 
     # --- evaluation ----------------------------------------------------------------------------------
     def _parameter_derivative(self, P: np.ndarray, p: float, q: float) -> np.ndarray:
         """df/d(free) at the points P (M, n), as the family forms it."""
         return self.family.parameter_derivative(P, p, q, self.free, self.p_scale)
 
+    def _unpack(self, u: np.ndarray) -> dict:
+        """Node values per interval, states at the collocation points, period and parameters of u."""
+        X = u[:self.size].reshape(-1, self.n)
+        T, p = float(u[self.size]), float(u[self.size + 1])
+        V, q = self.parameters(p)
+        Y = X[col.node_index(self.intervals, self.degree)]
+        return {"Y": Y, "Xc": col.collocation_states(Y, self.sch),
+                "dX": col.collocation_derivatives(Y, self.widths, self.sch),
+                "T": T, "V": V, "q": q, "p": p}
+
+    def _phase(self, Xc: np.ndarray) -> float:
+        gw = self.widths[:, None] * self.sch.weights[None, :]                       # (N, m) quadrature
+        return float(np.einsum("jk,jkn,jkn->", gw, Xc, self.ref_derivative))
+
     def evaluate(self, u: np.ndarray) -> dict:
         if self._cache is not None and np.array_equal(self._cache[0], u):
             return self._cache[1]
         N, m, n = self.intervals, self.degree, self.n
-        X = u[:self.size].reshape(-1, n)
-        T, p = float(u[self.size]), float(u[self.size + 1])
-        V, q = self.parameters(p)
-        Y = X[col.node_index(N, m)]
-        Xc = col.collocation_states(Y, self.sch)
-        dX = col.collocation_derivatives(Y, self.widths, self.sch)
-        f, Jf = self.family.rhs_and_jacobians(Xc.reshape(-1, n), V, q)
-        out = {"Y": Y, "Xc": Xc, "dX": dX, "f": f.reshape(N, m, n), "Jf": Jf.reshape(N, m, n, n),
-               "T": T, "V": V, "q": q, "p": p}
+        out = self._unpack(u)
+        f, Jf = self.family.rhs_and_jacobians(out["Xc"].reshape(-1, n), out["V"], out["q"])
+        out.update(f=f.reshape(N, m, n), Jf=Jf.reshape(N, m, n, n))
         self._cache = (u.copy(), out)
         return out
+
+    def value(self, u: np.ndarray) -> np.ndarray:
+        """G(u) alone (f without its Jacobian), for the corrector's chord iterations."""
+        N, m, n = self.intervals, self.degree, self.n
+        e = self._unpack(u)
+        try:
+            f = np.asarray(self.family.rhs(e["Xc"].reshape(-1, n).T, e["V"], e["q"])).T.reshape(N, m, n)
+        except ProblemError:
+            return np.full(self.size + 1, np.nan)
+        return np.concatenate([(e["dX"] - e["T"] * f).ravel(), [self._phase(e["Xc"])]])
 
     def blocks(self, u: np.ndarray) -> np.ndarray:
         e = self.evaluate(u)
@@ -278,10 +297,7 @@ class CycleProblem:
             return (np.full(self.size + 1, np.nan),
                     col.CondensedJacobian(np.full((N, m, n, m + 1, n), np.nan), nan, nan, nan.reshape(-1, n)))
         T = e["T"]
-        R = e["dX"] - T * e["f"]
-        gw = self.widths[:, None] * self.sch.weights[None, :]                       # (N, m) quadrature
-        phase = np.einsum("jk,jkn,jkn->", gw, e["Xc"], self.ref_derivative)
-        G = np.concatenate([R.ravel(), [phase]])
+        G = np.concatenate([(e["dX"] - T * e["f"]).ravel(), [self._phase(e["Xc"])]])
         dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["V"], e["q"]).reshape(N, m, n)
         return G, col.CondensedJacobian(self.blocks(u), -e["f"], -T * dfdp, self.phase_gradient)
 
@@ -357,8 +373,11 @@ class CycleProblem:
         self.set_reference(moved)
         u_new = self.pack(moved, u[-1])
         t_new = np.concatenate([mesh_adaptation.remesh(t_orbit, mesh).nodes.ravel(), t[-2:]])
+        # Where Jacobians are costly, the one at the interpolated orbit serves every chord iteration.
+        chord = self.value if self.family.costly_jacobian else None
         result = correct(self, u_new, t_new, self.weights(), self.settings.continuation,
-                         blocks=self.blocks_of_unknowns())
+                         blocks=self.blocks_of_unknowns(), value=chord,
+                         frozen=self(u_new)[1] if chord is not None else None)
         if result is None:
             self.set_reference(old_reference)
             return u, t
