@@ -24,6 +24,7 @@ def zero_amplitude_end(curve):
     return ends[0]
 
 
+@pytest.mark.slow    # 35 s; in CI: T2 and S2 by test_cycle_curve_ends.py, HH and DH1/DH2 digits by test_hopf.py
 def test_figure8_curves_end_at_the_hopf_hopf_and_bautin_points():
     """t0 at 1.5 bar: T1 and T2 are born at the Hopf-Hopf point HH, S1 and S2 at DH1 and DH2."""
     family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
