@@ -42,5 +42,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"{r.name:24s} median {r.median_s * 1e3:9.2f} ms over {len(r.runs)} runs "
               f"({r.ratio:7.2f} x baseline){target}   {r.description}")
         if r.counts:
-            print(" " * 26 + ", ".join(f"{k.replace('_', ' ')} {v:,.0f}" for k, v in r.counts.items()))
+            print(" " * 26 + ", ".join(f"{k.replace('_', ' ')} {_count_text(v)}" for k, v in r.counts.items()))
     return 0
+
+
+def _count_text(value) -> str:
+    """Counts as integers with thousands separators; small measured values (us per stage) to 0.1."""
+    if isinstance(value, float) and abs(value) < 100 and value != int(value):
+        return f"{value:.1f}"
+    return f"{value:,.0f}"
