@@ -133,6 +133,14 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
     return None
 
 
+@dataclass(frozen=True)
+class Stop:
+    """What an ``accept`` callback of :func:`continue_curve` returns to end a curve: its status and where."""
+
+    status: BranchStatus
+    message: str = ""
+
+
 @dataclass
 class Branch:
     """Accepted points u_k with tangents t_k; the branch stopped with ``status`` (``message`` says where)."""
@@ -177,14 +185,14 @@ def locate_on_step(branch: Branch, k: int, s_hi: float, fun: Callable[[np.ndarra
 
 def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | None, weights,
                    settings: ContinuationSettings = ContinuationSettings(),
-                   accept: Callable[[Branch], str | None] | None = None,
+                   accept: Callable[[Branch], Stop | None] | None = None,
                    renormalize: Callable[[np.ndarray], object] | None = None, blocks=None,
                    step_bound: Callable[[np.ndarray, np.ndarray], float] | None = None,
                    value: Value | None = None) -> Branch:
     """Follow G(u) = 0 from u0 (already a solution) in ``direction``.
 
-    ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`BranchStatus`
-    value name (with optional ': message') to stop.  ``renormalize`` maps an accepted point to an equivalent
+    ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`Stop` to end the
+    curve with its status and message.  ``renormalize`` maps an accepted point to an equivalent
     one (same solution, new phase/normalisation or a new discretisation), or returns None to keep it; it may
     return (u, previous tangent in u's layout) when the number of unknowns changed.  The residual must be
     consistent with the renormalised point.  ``weights`` and ``blocks`` (slices of u for the Newton test, see
@@ -236,10 +244,9 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
         branch.steps.append(ds)
         branch.jacobian = J_new
         if accept is not None:
-            verdict = accept(branch)
-            if verdict is not None:
-                name, _, message = verdict.partition(":")
-                branch.status, branch.message = BranchStatus(name), message.strip()
+            stop = accept(branch)
+            if stop is not None:
+                branch.status, branch.message = stop.status, stop.message
                 return branch
         if renormalize is not None:
             # After the events of this step are located: they need the residual the step was computed with.

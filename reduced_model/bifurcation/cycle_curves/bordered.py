@@ -12,7 +12,7 @@ import scipy.optimize
 import scipy.sparse
 import scipy.sparse.linalg
 
-from reduced_model.bifurcation.continuation import ContinuationSettings, continue_curve, locate_on_step, tangent
+from reduced_model.bifurcation.continuation import ContinuationSettings, Stop, continue_curve, locate_on_step, tangent
 from reduced_model.bifurcation.cycles.multipliers import (
     complex_outside,
     critical_multipliers,
@@ -28,7 +28,7 @@ from reduced_model.bifurcation.cycles.problem import (
     CycleSettings,
 )
 from reduced_model.bifurcation.problem import clip_window, describe
-from reduced_model.bifurcation.special_points import PointKind, PointStatus, SpecialPoint
+from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
 
 FD_RELATIVE = 1e-6          # central differences: step relative to the scale of the direction
 FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps=300, newton_tol=1e-8,
@@ -98,7 +98,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
         ends: list = []
         arclength = [0.0]
 
-        def accept(branch, points=points, ends=ends, kappas=kappas) -> str | None:
+        def accept(branch, points=points, ends=ends, kappas=kappas) -> Stop | None:
             U, U_old = branch.points[-1], branch.points[-2]
             V, q = U[iV], U[iq]
             a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
@@ -127,9 +127,10 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                             data={"cycle": where, "period": where.period, "multipliers": where.multipliers,
                                   "end_segment": True}))
                 if found is None:
-                    return (f"complete: the amplitude vanishes near {describe(family, *guess)} "
-                            f"(extrapolated; no {what} point located there)")
-                return f"complete: ends at the {what} point located at {describe(family, found.p, found.q)}"
+                    return Stop(BranchStatus.COMPLETE, f"the amplitude vanishes near {describe(family, *guess)} "
+                                f"(extrapolated; no {what} point located there)")
+                return Stop(BranchStatus.COMPLETE,
+                            f"ends at the {what} point located at {describe(family, found.p, found.q)}")
             for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, p_min, -1), (iV, p_max, 1)):
                 if side * (U[index] - bound) <= 0.0:
                     continue
@@ -144,7 +145,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                     pass    # keep the point just outside
                 points.append(system.point(U))
                 kappas.append(system.kappa(U))
-                return f"complete: left the window at {describe(family, U[iV], U[iq])}"
+                return Stop(BranchStatus.COMPLETE, f"left the window at {describe(family, U[iV], U[iq])}")
             p_new = system.point(U)
             k = len(branch.points) - 2
             step = branch.steps[-1]

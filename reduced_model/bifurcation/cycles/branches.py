@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 import scipy.optimize
 
-from reduced_model.bifurcation.continuation import Branch, continue_curve, correct, locate_on_step
+from reduced_model.bifurcation.continuation import Branch, Stop, continue_curve, correct, locate_on_step
 from reduced_model.bifurcation.cycles import collocation as col
 from reduced_model.bifurcation.cycles import mesh_adaptation
 from reduced_model.bifurcation.cycles.end_segments import end_segment_points
@@ -154,7 +154,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     def nontrivial(u):
         return classify_multipliers(problem.multipliers(u))[0]
 
-    def accept(branch: Branch) -> str | None:
+    def accept(branch: Branch) -> Stop | None:
         k = len(branch.points) - 2
         u_new = branch.points[-1]
         step = branch.steps[-1]
@@ -165,13 +165,13 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                 continue
             if side * (branch.points[k][ip] - bound) >= 0.0:
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-                return f"complete: ends on the window boundary at {where(branch.points[-1])}"
+                return Stop(BranchStatus.COMPLETE, f"ends on the window boundary at {where(branch.points[-1])}")
             s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][ip] - bound, 0.0, step, xtol=1e-12)
             u_new, t_new = branch.point_at(k, s)
             branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
             problem.last_tangent = t_new
             step = s
-            verdict = f"complete: left the window at {where(u_new)}"
+            verdict = Stop(BranchStatus.COMPLETE, f"left the window at {where(u_new)}")
             break
         amp = problem.scaled_rms(u_new)
         # Through zero amplitude, i.e. through a Hopf point: the branch goes on as the same orbits shifted by
@@ -179,9 +179,9 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         X_old, X_new = branch.points[k][:problem.size], u_new[:problem.size]
         if np.dot(X_old, X_new) < 0.0:
             branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-            return _hopf_end(branch.points, amplitudes, records[-1]) or (
-                f"complete: amplitude vanishes near {where(branch.points[-1])} (a Hopf point the defining "
-                f"system of the equilibrium did not converge to)")
+            return _hopf_end(branch.points, amplitudes, records[-1]) or Stop(
+                BranchStatus.COMPLETE, f"amplitude vanishes near {where(branch.points[-1])} (a Hopf point the "
+                f"defining system of the equilibrium did not converge to)")
         p_old = branch.points[k][ip]
         for target in targets:
             if (p_old - target) * (u_new[ip] - target) < 0.0 or u_new[ip] == target:
@@ -215,11 +215,11 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             if ended is not None:
                 return ended
         if u_new[iT] > PERIOD_LIMIT * start_period:
-            return (f"degenerate: the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
+            return Stop(BranchStatus.DEGENERATE, f"the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
                     f"(approach to a homoclinic orbit)")
         return None
 
-    def _hopf_end(points, amps, last: CyclePoint) -> str | None:
+    def _hopf_end(points, amps, last: CyclePoint) -> Stop | None:
         """The branch shrinks onto the equilibrium: solve the Hopf defining system from the extrapolated zero of
         amp^2 and the orbit's first harmonic; None when it does not converge near there."""
         u1, u2 = points[-2], points[-1]
@@ -236,7 +236,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                  and abs(h.omega - located.omega) <= 1e-6 * h.omega]
         h = match[0] if match else located
         end.append(h)
-        return f"complete: returns to the Hopf point at {describe(problem.family, h.p)}"
+        return Stop(BranchStatus.COMPLETE, f"returns to the Hopf point at {describe(problem.family, h.p)}")
 
     def renormalize(u):
         # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.optimize
 
-from reduced_model.bifurcation.continuation import Branch, ContinuationSettings, continue_curve, tangent
+from reduced_model.bifurcation.continuation import Branch, ContinuationSettings, Stop, continue_curve, tangent
 from reduced_model.bifurcation.equilibria.hopf import (
     HopfPoint,
     hopf_jacobian,
@@ -174,7 +174,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         found.append(SpecialPoint(kind=kind, p=float(u[iV]), q=float(u[iq]),
                                   bracket=(s0, s0 + s_hi), status=status, data=data))
 
-    def accept(branch: Branch) -> str | None:
+    def accept(branch: Branch) -> Stop | None:
         k = len(branch.points) - 2
         u_new = branch.points[-1]
         step = branch.steps[-1]
@@ -187,7 +187,8 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                 # Started on the boundary and moved out: nothing of this step is inside the window.
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
                 u_end = branch.points[-1]
-                return f"complete: ends on the window boundary at {describe(problem.family, u_end[iV], u_end[iq])}"
+                return Stop(BranchStatus.COMPLETE,
+                            f"ends on the window boundary at {describe(problem.family, u_end[iV], u_end[iq])}")
             else:
                 s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][idx] - bound, 0.0, step,
                                           xtol=1e-13)
@@ -195,7 +196,8 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                 u_new[idx] = bound  # exact, not 1e-13 outside
                 branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
                 step = s
-                verdict = f"complete: left the window at {describe(problem.family, u_new[iV], u_new[iq])}"
+                verdict = Stop(BranchStatus.COMPLETE,
+                               f"left the window at {describe(problem.family, u_new[iV], u_new[iq])}")
                 break
         arclength.append(arclength[-1] + step)
         l1_new = problem.first_lyapunov(u_new)
@@ -217,14 +219,14 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         if verdict is not None:
             return verdict
         if abs(u_new[iw]) < MIN_OMEGA:
-            return f"degenerate: frequency vanished at {describe(problem.family, u_new[iV])}"
+            return Stop(BranchStatus.DEGENERATE, f"frequency vanished at {describe(problem.family, u_new[iV])}")
         if len(branch.points) > 4:
             a, b = branch.points[-2], branch.points[-1]
             seg = (b - a)[[iV, iq, iw]] * w[[iV, iq, iw]]
             rel = (branch.points[0] - a)[[iV, iq, iw]] * w[[iV, iq, iw]]
             lam = np.clip(np.dot(rel, seg) / max(np.dot(seg, seg), 1e-300), 0.0, 1.0)
             if np.linalg.norm(rel - lam * seg) < 1e-3:
-                return "closed: the curve returned to its start"
+                return Stop(BranchStatus.CLOSED, "the curve returned to its start")
         return None
 
     branch = continue_curve(problem, start, direction, w, settings, accept=accept,
