@@ -3,7 +3,6 @@
 import json
 import subprocess
 import sys
-import time
 
 import matplotlib.image
 import numpy as np
@@ -41,9 +40,7 @@ def make_and_check(tmp_path, capsys, only):
     args = ["figures", "--out", str(tmp_path), "--json", "--jobs", "2"]
     if only is not None:
         args += ["--only", ",".join(map(str, only))]
-    start = time.perf_counter()
     code = main(args)
-    elapsed = time.perf_counter() - start
     out = json.loads(capsys.readouterr().out)
     assert code == 0
     made = {f["number"]: f for f in out["figures"]}
@@ -55,18 +52,17 @@ def make_and_check(tmp_path, capsys, only):
         assert np.std(image[..., :3]) > 0.05, f"figure {n} is blank"
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
         f"fig{n:02d}_{figures.REGISTRY[n].name}.png" for n in made)  # no temporary files left
-    return out, made, elapsed
+    return out, made
 
 
 def test_representative_figures(tmp_path, capsys):
-    out, made, elapsed = make_and_check(tmp_path, capsys, CI_SUBSET)
+    out, made = make_and_check(tmp_path, capsys, CI_SUBSET)
     assert out["unavailable"] == []
     # Figure 5 names the fold where the last (yaw) mode ends, as the paper's F1.
     assert any(note.startswith("F1 (yaw mode vanishes): 57.") for note in made[5]["notes"])
     # Figure 17's Z2 names the paper's cusp (+HCL) and HH1 (+PT).
     assert "+HCL: cusp (HB2 meets HB3) at 220.6" in " ".join(made[17]["notes"])
     assert "+PT: HH1 (HB2 crosses HB3) at 163.11 km/h, 0.5320 bar" in " ".join(made[17]["notes"])
-    assert elapsed < 60.0
 
 
 # Periodic-orbit figures in CI: figure 3 (one branch, peak amplitudes) and figure 9 (folds and torus points on
@@ -81,7 +77,7 @@ def note(made, n, prefix):
 
 
 def test_cycle_figures(tmp_path, capsys):
-    out, made, elapsed = make_and_check(tmp_path, capsys, CI_CYCLES)
+    out, made = make_and_check(tmp_path, capsys, CI_CYCLES)
     assert note(made, 3, "Hopf points").startswith("Hopf points [km/h]: HB1 46.14 (paper 46.14), HB2 70.50")
     assert "peak max|theta1| 3.449 deg (paper 3.45)" in note(made, 3, "yaw mode")
     assert "peak max|psi| 0.137 deg (paper 0.14)" in note(made, 3, "yaw mode")
@@ -94,7 +90,6 @@ def test_cycle_figures(tmp_path, capsys):
     assert len([x for x in made[9]["notes"] if x.startswith("(b) merged mode")]) == 1
     assert {x.split(" ")[1] for x in made[9]["notes"] if "(cycle_fold)" in x or "(torus)" in x} == \
         {"S1", "S2", "T1", "T2"}
-    assert elapsed < 40.0
 
 
 def test_hopf_names_follow_the_paper():
@@ -107,7 +102,7 @@ def test_hopf_names_follow_the_paper():
 
 @pytest.mark.slow
 def test_all_available_figures(tmp_path, capsys):
-    out, made, elapsed = make_and_check(tmp_path, capsys, None)
+    out, made = make_and_check(tmp_path, capsys, None)
     assert {u["number"] for u in out["unavailable"]} == set(figures.UNAVAILABLE)
     # Figure 10: the jumps after S1 (ramp up) and before T2, near S2 (ramp down; paper_reference explains why).
     assert "yaw -> tramp at" in note(made, 10, "(a) switch") and "190.75 km/h" in note(made, 10, "(a) switch")
@@ -125,7 +120,6 @@ def test_all_available_figures(tmp_path, capsys):
     for name, dh in (("S1", "DH1"), ("S2", "DH2")):
         v, t = note(made, 8, dh).split(": ")[1].split(" km/h, ")
         assert f"amplitude vanishes at {v} km/h, {float(t.split(' ')[0]):.4f} m" in note(made, 8, name + " ")
-    assert elapsed < 240.0   # about 95 s on two idle cores plus figure 8's cycle curves
 
 
 def test_unavailable_figure_is_refused_with_exit_4(tmp_path):
