@@ -245,3 +245,22 @@ def test_chord_iterations_find_the_known_points_with_fewer_jacobians(field, n, k
             assert p.p - SHIFT == pytest.approx(r2 * r2 - 2 * r2, abs=1e-7)
     per_cycle = [f.jacobian_batches / len(b.points) for f, b in zip((newton, chord), branches)]
     assert per_cycle[1] < 0.7 * per_cycle[0]
+
+
+def test_a_corrector_failure_at_the_window_boundary_ends_the_branch_and_says_so(monkeypatch):
+    """When the corrector fails while the crossing of the window's edge is located, the branch ends on the
+    accepted cycle just beyond the edge, with a message that says so; it never raises."""
+    from reduced_model.bifurcation import continuation
+
+    fam = ToyFamily(supercritical, 2)
+    h = first_hopf(fam)
+
+    def failing(self, k, s):
+        raise RuntimeError(f"corrector failed at s = {s:.3g} after point {k}")
+
+    monkeypatch.setattr(continuation.Branch, "point_at", failing)
+    b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0)
+    assert b.status is BranchStatus.COMPLETE and "crossing itself was not located" in b.message
+    assert b.points[-1].p > SHIFT + 1.0 and b.points[-2].p < SHIFT + 1.0
+    for p in b.points:
+        assert p.amplitude[0] == pytest.approx(np.sqrt(p.p - SHIFT), rel=1e-8)

@@ -166,10 +166,18 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             if side * (branch.points[k][ip] - bound) >= 0.0:
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
                 return Stop(BranchStatus.COMPLETE, f"ends on the window boundary at {where(branch.points[-1])}")
-            s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][ip] - bound, 0.0, step, xtol=1e-12)
-            u_new, t_new = branch.point_at(k, s)
-            branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
-            problem.last_tangent = t_new
+            try:
+                s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][ip] - bound, 0.0, step, xtol=1e-12)
+                u_cut, t_cut = branch.point_at(k, s)
+            except (RuntimeError, ValueError):
+                # The corrector failed on the way to the boundary: the accepted point just beyond it ends the
+                # branch (a solution all the same), and the message says that the crossing was not located.
+                verdict = Stop(BranchStatus.COMPLETE, f"left the window (last cycle at {where(u_new)}, just "
+                                                      f"beyond it; the crossing itself was not located)")
+                break
+            u_new = u_cut
+            branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_cut, s
+            problem.last_tangent = t_cut
             step = s
             verdict = Stop(BranchStatus.COMPLETE, f"left the window at {where(u_new)}")
             break
