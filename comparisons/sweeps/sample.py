@@ -33,8 +33,11 @@ RATIO_SPLIT = 0.22
 FREQUENCY_SPLIT_HZ = 8.8
 # Rough cost of one sample (s, one core) for batch sizing; measured on the paper's axle at 1.5 bar.
 COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assumptions": 0.3, "cycles": 1.5}
-# MBS cycle branches (--compute cycles --mbs F), per fidelity; measured on the paper's axle at 1.5 bar, 0-400 km/h
-MBS_CYCLES_COST_S = {"reduced": 10.0, "full": 40.0}
+# MBS cycle branches (--compute cycles --mbs F), per fidelity, mean over samples.  full: 16 plausible axles of the
+# paper's truck at 1.5 bar, 0-400 km/h, 1538 s of CPU in all (96 s each; 9 without a Hopf point took seconds, the
+# others minutes; docs/sweeps.md).  reduced: not measured, taken as full's (any value above 1 s gives one sample
+# per batch).
+MBS_CYCLES_COST_S = {"reduced": 95.0, "full": 95.0}
 # The MBS Hopf points' l1 (with --lyapunov, and always with MBS cycles, whose branch switching needs it)
 MBS_LYAPUNOV_COST_S = 0.1
 
@@ -186,9 +189,16 @@ class SweepTask:
                 mbs_families[f] = mf
                 if self.mbs_cycles:
                     # the branches start at the diagram's own Hopf points (l1 included): those are the columns
-                    diagram = _cycle_diagram(mf, vmax)
-                    mp = diagram.hopf
-                    row.update(cycle_columns(c, mf, diagram))
+                    try:
+                        diagram = _cycle_diagram(mf, vmax)
+                    except (RuntimeError, np.linalg.LinAlgError) as exc:
+                        # a continuation that raised instead of ending its branch with a status: the sample keeps
+                        # its Hopf points, its cycles are unknown (null), never an empty set of branches
+                        mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
+                        row.update(failed_cycle_columns(c, f"{type(exc).__name__}: {interface_text(str(exc))}"))
+                    else:
+                        mp = diagram.hopf
+                        row.update(cycle_columns(c, mf, diagram))
                 else:
                     mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.mbs_l1(f))
                 row.update(_hopf_columns(c, mp))
@@ -283,12 +293,21 @@ def _branch_peak(family, branch):
         return branch.peak("theta1")
 
 
+CYCLE_LISTS = ("from_kmh", "to_kmh", "status", "mode", "peak_kmh", "peak_theta1_deg", "peak_psi_deg", "peak_hz")
+
+
+def failed_cycle_columns(prefix: str, error: str) -> dict:
+    """The cycle columns of a continuation that failed as a whole: branches unknown (null), not complete."""
+    return {**{f"{prefix}cycle_{k}": None for k in CYCLE_LISTS}, f"{prefix}cycles_complete": False,
+            f"{prefix}cycles_message": f"cycle continuation failed: {error}",
+            f"{prefix}peak_yaw_theta1_deg": None, f"{prefix}peak_tramp_theta1_deg": None}
+
+
 def cycle_columns(prefix: str, family, diagram) -> dict:
     """Per cycle branch: its Hopf ends, status, and its cycle of largest max |theta1| (speed, amplitudes in
     degrees, frequency, mode by the same thresholds as the Hopf points); per mode the largest amplitude, null
     where a branch of that mode did not complete (its amplitudes are then a lower bound only)."""
-    out = {k: [] for k in ("from_kmh", "to_kmh", "status", "mode", "peak_kmh", "peak_theta1_deg", "peak_psi_deg",
-                           "peak_hz")}
+    out = {k: [] for k in CYCLE_LISTS}
     for b in diagram.branches:
         out["from_kmh"].append(kmh(b.start.p) if b.start else None)
         out["to_kmh"].append(kmh(b.end.p) if b.end else None)

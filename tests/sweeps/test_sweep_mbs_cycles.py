@@ -81,3 +81,31 @@ def test_a_branch_that_stops_is_marked_and_gives_no_mode_peak():
     assert cols["x_peak_yaw_theta1_deg"] is None
     whole = cycle_columns("x_", family, cycle_diagram(family, family.nominal, 0.0, from_kmh(60.0)))
     assert whole["x_cycles_complete"] and whole["x_peak_yaw_theta1_deg"] == max(whole["x_cycle_peak_theta1_deg"])
+
+
+def test_a_continuation_that_raises_keeps_the_hopf_points_and_marks_the_cycles_unknown(monkeypatch):
+    """A cycle continuation of the MBS that raises (as the toolkit's boundary location can) fails its cycles, not
+    the sample: the Hopf points and their l1 stay, the branch lists are null (unknown), not empty (none)."""
+    import numpy as np
+
+    from comparisons.axles.axle import Axle
+    from comparisons.sweeps import sample
+    from mbs_shimmy.linearisation import MbsFamily
+
+    real = sample._cycle_diagram
+
+    def diagram(family, vmax):
+        if isinstance(family, MbsFamily):
+            raise RuntimeError("corrector failed at s = 0.38 after point 82")
+        return real(family, vmax)
+
+    monkeypatch.setattr(sample, "_cycle_diagram", diagram)
+    task = sample.SweepTask(axle=Axle(), effects=(), pressure_right_bar=1.5, pressure_left_bar=1.5,
+                            names=("pressure",), compute=("cycles",), mbs=("full",), vmax_kmh=VMAX_KMH)
+    (row,) = sample.evaluate_batch(task, 0, 0, np.array([[1.5]])).to_pylist()
+    assert row["status"] == "ok" and row["cycles_complete"]
+    assert row["mbs_full_cycles_complete"] is False and row["mbs_full_cycle_status"] is None
+    assert row["mbs_full_cycles_message"] == "cycle continuation failed: RuntimeError: corrector failed at s = 0.38 " \
+                                             "after point 82"
+    assert row["mbs_full_peak_yaw_theta1_deg"] is None
+    assert len(row["mbs_full_hopf_kmh"]) == 1 and row["mbs_full_hopf_criticality"] == ["supercritical"]
