@@ -33,6 +33,13 @@ RATIO_SPLIT = 0.22
 FREQUENCY_SPLIT_HZ = 8.8
 # Rough cost of one sample (s, one core) for batch sizing; measured on the paper's axle at 1.5 bar.
 COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assumptions": 0.3, "cycles": 1.5}
+# MBS cycle branches (--compute cycles --mbs F), per fidelity, mean over samples.  full: 16 plausible axles of the
+# paper's truck at 1.5 bar, 0-400 km/h, 1538 s of CPU in all (96 s each; 9 without a Hopf point took seconds, the
+# others minutes; docs/sweeps.md).  reduced: not measured, taken as full's (any value above 1 s gives one sample
+# per batch).
+MBS_CYCLES_COST_S = {"reduced": 95.0, "full": 95.0}
+# The MBS Hopf points' l1 (with --lyapunov, and always with MBS cycles, whose branch switching needs it)
+MBS_LYAPUNOV_COST_S = 0.1
 
 
 def mode_of(ratio: float, frequency_hz: float) -> str:
@@ -61,9 +68,21 @@ class SweepTask:
     vmax_kmh: float = 400.0
     lyapunov: bool = False
     margin_speeds: int = MARGIN_SPEEDS      # speeds of the margins output
+    mbs_lyapunov: tuple[str, ...] = ()      # MBS fidelities whose Hopf points get l1 without ``lyapunov`` too
+
+    @property
+    def mbs_cycles(self) -> bool:
+        """The MBS fidelities' own cycle branches (``--compute cycles --mbs F``)."""
+        return "cycles" in self.compute and bool(self.mbs)
+
+    def mbs_l1(self, fidelity: str) -> bool:
+        """Whether this MBS fidelity's Hopf points carry l1 (columns ``mbs_<fidelity>_hopf_l1``)."""
+        return self.lyapunov or self.mbs_cycles or fidelity in self.mbs_lyapunov
 
     def cost_s(self) -> float:
         cost = COST_S["hopf"] + (COST_S["lyapunov"] if self.lyapunov else 0.0) + COST_S["mbs"] * len(self.mbs)
+        cost += MBS_LYAPUNOV_COST_S * sum(self.mbs_l1(f) for f in self.mbs)
+        cost += sum(MBS_CYCLES_COST_S[f] for f in self.mbs) if self.mbs_cycles else 0.0
         margins = (COST_S["margins"] * (1 + len(self.mbs)) * self.margin_speeds / MARGIN_SPEEDS
                    if "margins" in self.compute else 0.0)
         return cost + margins + sum(COST_S[c] for c in self.compute if c not in ("hopf", "margins"))
@@ -72,7 +91,8 @@ class SweepTask:
         return {"axle": self.axle.describe(), "effects": list(self.effects),
                 "pressure_right_bar": self.pressure_right_bar, "pressure_left_bar": self.pressure_left_bar,
                 "compute": list(self.compute), "mbs": list(self.mbs), "vmax_kmh": self.vmax_kmh,
-                "lyapunov": self.lyapunov, "margin_speeds": self.margin_speeds}
+                "lyapunov": self.lyapunov, "margin_speeds": self.margin_speeds,
+                **({"mbs_lyapunov": list(self.mbs_lyapunov)} if self.mbs_lyapunov else {})}
 
     # --- schema -------------------------------------------------------------------------------------------
     def assumption_names(self) -> list[str]:
@@ -88,16 +108,18 @@ class SweepTask:
         if "hopf" in self.compute:
             fields += [pa.field("hopf_kmh", floats), pa.field("hopf_hz", floats), pa.field("hopf_mode", strings)]
             if self.lyapunov:
-                fields.append(pa.field("hopf_l1", floats))
+                fields += [pa.field("hopf_l1", floats), pa.field("hopf_criticality", strings)]
             fields += [pa.field("n_hopf", pa.int32()), pa.field("onset_kmh", pa.float64()),
                        pa.field("unstable_from_kmh", floats), pa.field("unstable_to_kmh", floats)]
+        if "hopf" in self.compute or self.mbs_cycles:
             for f in self.mbs:
                 c = f"mbs_{_column_safe(f)}"
                 fields += [pa.field(f"{c}_hopf_kmh", floats), pa.field(f"{c}_hopf_hz", floats),
-                           pa.field(f"{c}_hopf_mode", strings), pa.field(f"{c}_onset_kmh", pa.float64()),
-                           pa.field(f"{c}_shift_kmh", floats)]
-                if self.lyapunov:
-                    fields.append(pa.field(f"{c}_hopf_l1", floats))
+                           pa.field(f"{c}_hopf_mode", strings), pa.field(f"{c}_onset_kmh", pa.float64())]
+                if "hopf" in self.compute:
+                    fields.append(pa.field(f"{c}_shift_kmh", floats))
+                if self.mbs_l1(f):
+                    fields += [pa.field(f"{c}_hopf_l1", floats), pa.field(f"{c}_hopf_criticality", strings)]
         if "margins" in self.compute:
             for c in [""] + [f"mbs_{_column_safe(f)}_" for f in self.mbs]:
                 fields += [pa.field(f"{c}margin", pa.float64()), pa.field(f"{c}margin_kmh", pa.float64()),
@@ -106,10 +128,14 @@ class SweepTask:
             for name in self.assumption_names():
                 fields += [pa.field(f"shift_{name}_kmh", floats), pa.field(f"only_{name}_kmh", floats)]
         if "cycles" in self.compute:
-            fields += [pa.field("cycle_mode", strings), pa.field("cycle_peak_kmh", floats),
-                       pa.field("cycle_peak_theta1_deg", floats), pa.field("cycle_peak_psi_deg", floats),
-                       pa.field("cycles_complete", pa.bool_()),
-                       pa.field("peak_yaw_theta1_deg", pa.float64()), pa.field("peak_tramp_theta1_deg", pa.float64())]
+            for c in [""] + [f"mbs_{_column_safe(f)}_" for f in self.mbs]:
+                fields += [pa.field(f"{c}cycle_from_kmh", floats), pa.field(f"{c}cycle_to_kmh", floats),
+                           pa.field(f"{c}cycle_status", strings), pa.field(f"{c}cycle_mode", strings),
+                           pa.field(f"{c}cycle_peak_kmh", floats), pa.field(f"{c}cycle_peak_theta1_deg", floats),
+                           pa.field(f"{c}cycle_peak_psi_deg", floats), pa.field(f"{c}cycle_peak_hz", floats),
+                           pa.field(f"{c}cycles_complete", pa.bool_()), pa.field(f"{c}cycles_message", pa.string()),
+                           pa.field(f"{c}peak_yaw_theta1_deg", pa.float64()),
+                           pa.field(f"{c}peak_tramp_theta1_deg", pa.float64())]
         return pa.schema(fields)
 
     # --- one sample ---------------------------------------------------------------------------------------
@@ -152,22 +178,37 @@ class SweepTask:
             points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
             row.update(_hopf_columns("", points))
             if self.lyapunov:
-                row["hopf_l1"] = [h.first_lyapunov for h in points]
+                row.update(_criticality_columns("", points))
             row["unstable_from_kmh"], row["unstable_to_kmh"] = _unstable_intervals(family, points, vmax)
-            if self.mbs:
-                from mbs_shimmy.assumption_study import match_hopf
-                from mbs_shimmy.fidelity import Fidelity
-                from mbs_shimmy.linearisation import MbsFamily
-                for f in self.mbs:
-                    mf = MbsFamily.of(axle.params, effects, Fidelity.parse(f), dims=axle.dims, pressure=pressure)
-                    mbs_families[f] = mf
-                    mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.lyapunov)
-                    row.update(_hopf_columns(f"mbs_{_column_safe(f)}_", mp))
-                    if self.lyapunov:
-                        row[f"mbs_{_column_safe(f)}_hopf_l1"] = [h.first_lyapunov for h in mp]
+        if self.mbs and ("hopf" in self.compute or self.mbs_cycles):
+            from mbs_shimmy.fidelity import Fidelity
+            from mbs_shimmy.linearisation import MbsFamily
+            for f in self.mbs:
+                c = f"mbs_{_column_safe(f)}_"
+                mf = MbsFamily.of(axle.params, effects, Fidelity.parse(f), dims=axle.dims, pressure=pressure)
+                mbs_families[f] = mf
+                if self.mbs_cycles:
+                    # the branches start at the diagram's own Hopf points (l1 included): those are the columns
+                    try:
+                        diagram = _cycle_diagram(mf, vmax)
+                    except (RuntimeError, np.linalg.LinAlgError) as exc:
+                        # a continuation that raised instead of ending its branch with a status: the sample keeps
+                        # its Hopf points, its cycles are unknown (null), never an empty set of branches
+                        mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
+                        row.update(failed_cycle_columns(c, f"{type(exc).__name__}: {interface_text(str(exc))}"))
+                    else:
+                        mp = diagram.hopf
+                        row.update(cycle_columns(c, mf, diagram))
+                else:
+                    mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.mbs_l1(f))
+                row.update(_hopf_columns(c, mp))
+                if self.mbs_l1(f):
+                    row.update(_criticality_columns(c, mp))
+                if "hopf" in self.compute:
+                    from mbs_shimmy.assumption_study import match_hopf
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
                     shifts = {m.reduced_speed: shift_kmh(m) for m in match_hopf(points, mp)}
-                    row[f"mbs_{_column_safe(f)}_shift_kmh"] = [shifts.get(h.p) for h in points]
+                    row[f"{c}shift_kmh"] = [shifts.get(h.p) for h in points]
         if "margins" in self.compute:
             speeds = np.linspace(family.primary_min, vmax, self.margin_speeds)
             row.update(_margin_columns("", family, speeds))
@@ -180,7 +221,7 @@ class SweepTask:
                 row[f"shift_{r.assumption}_kmh"] = [shift_kmh(h) for h in r.hopf if h.reduced_speed is not None]
                 row[f"only_{r.assumption}_kmh"] = [mbs_kmh(h) for h in r.hopf if h.reduced_speed is None]
         if "cycles" in self.compute:
-            row.update(_cycle_columns(family, vmax))
+            row.update(cycle_columns("", family, _cycle_diagram(family, vmax)))
         return row
 
 
@@ -230,21 +271,72 @@ def _unstable_intervals(family, points, vmax: float) -> tuple[list[float], list[
     return lo, hi
 
 
-def _cycle_columns(family, vmax: float) -> dict:
+def _criticality_columns(prefix: str, points) -> dict:
+    """Each Hopf point's first Lyapunov coefficient and what its sign says (null where l1 is undetermined)."""
+    return {f"{prefix}hopf_l1": [h.first_lyapunov for h in points],
+            f"{prefix}hopf_criticality": [h.criticality.value if h.criticality else None for h in points]}
+
+
+def _cycle_diagram(family, vmax: float):
     from reduced_model.bifurcation.cycles.branches import cycle_diagram
-    diagram = cycle_diagram(family, family.nominal, 0.0, vmax)
-    modes, speeds, th, ps = [], [], [], []
+    return cycle_diagram(family, family.nominal, 0.0, vmax)
+
+
+def _branch_peak(family, branch):
+    """The cycle of largest max |theta1| on the branch, refined as ``shimmy cycles`` refines it (the computed
+    point where the refinement does not converge)."""
+    from reduced_model.bifurcation.cycles.branches import branch_peak
+    from reduced_model.bifurcation.special_points import ConvergenceError
+    try:
+        return branch_peak(family, branch, "theta1")
+    except ConvergenceError:
+        return branch.peak("theta1")
+
+
+CYCLE_LISTS = ("from_kmh", "to_kmh", "status", "mode", "peak_kmh", "peak_theta1_deg", "peak_psi_deg", "peak_hz")
+
+
+def failed_cycle_columns(prefix: str, error: str) -> dict:
+    """The cycle columns of a continuation that failed as a whole: branches unknown (null), not complete."""
+    return {**{f"{prefix}cycle_{k}": None for k in CYCLE_LISTS}, f"{prefix}cycles_complete": False,
+            f"{prefix}cycles_message": f"cycle continuation failed: {error}",
+            f"{prefix}peak_yaw_theta1_deg": None, f"{prefix}peak_tramp_theta1_deg": None}
+
+
+def cycle_columns(prefix: str, family, diagram) -> dict:
+    """Per cycle branch: its Hopf ends, status, and its cycle of largest max |theta1| (speed, amplitudes in
+    degrees, frequency, mode by the same thresholds as the Hopf points); per mode the largest amplitude, null
+    where a branch of that mode did not complete (its amplitudes are then a lower bound only)."""
+    out = {k: [] for k in CYCLE_LISTS}
     for b in diagram.branches:
-        p = b.peak("theta1")
+        out["from_kmh"].append(kmh(b.start.p) if b.start else None)
+        out["to_kmh"].append(kmh(b.end.p) if b.end else None)
+        out["status"].append(b.status.value)
+        if not b.points:       # stopped before its first cycle: the mode of its Hopf point, no amplitude
+            h = b.start
+            out["mode"].append(mode_of(abs(h.eigenvector[4]) / abs(h.eigenvector[0]), h.frequency_hz) if h else None)
+            for k in ("peak_kmh", "peak_theta1_deg", "peak_psi_deg", "peak_hz"):
+                out[k].append(None)
+            continue
+        p = _branch_peak(family, b)
         t1, psi = p.max_abs("theta1"), p.max_abs("psi")
-        modes.append(mode_of(psi / t1 if t1 > 0 else math.nan, p.frequency_hz))
-        speeds.append(kmh(p.p))
-        th.append(math.degrees(t1))
-        ps.append(math.degrees(psi))
-    peak = {m: max((t for t, mm in zip(th, modes) if mm == m), default=None) for m in ("yaw", "tramp")}
-    return {"cycle_mode": modes, "cycle_peak_kmh": speeds, "cycle_peak_theta1_deg": th, "cycle_peak_psi_deg": ps,
-            "cycles_complete": diagram.complete, "peak_yaw_theta1_deg": peak["yaw"],
-            "peak_tramp_theta1_deg": peak["tramp"]}
+        out["mode"].append(mode_of(psi / t1 if t1 > 0 else math.nan, p.frequency_hz))
+        out["peak_kmh"].append(kmh(p.p))
+        out["peak_theta1_deg"].append(math.degrees(t1))
+        out["peak_psi_deg"].append(math.degrees(psi))
+        out["peak_hz"].append(p.frequency_hz)
+    row = {f"{prefix}cycle_{k}": v for k, v in out.items()}
+    for m in ("yaw", "tramp"):
+        mine = [(b, t) for b, t, mm in zip(diagram.branches, out["peak_theta1_deg"], out["mode"]) if mm == m]
+        whole = all(b.complete for b, _ in mine)
+        row[f"{prefix}peak_{m}_theta1_deg"] = (max((t for _, t in mine if t is not None), default=None)
+                                               if whole else None)
+    stopped = [b for b in diagram.branches if not b.complete]
+    row[f"{prefix}cycles_complete"] = not stopped
+    row[f"{prefix}cycles_message"] = ("; ".join(
+        f"branch from {kmh(b.start.p):.3f} km/h stopped ({b.status.value}): {interface_text(b.message)}"
+        for b in stopped) if stopped else None)
+    return row
 
 
 def _inputs(task: SweepTask, batch: int, start: int, values: np.ndarray) -> list[dict]:

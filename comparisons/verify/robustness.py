@@ -6,7 +6,8 @@ geometry entries join automatically through :func:`comparisons.axles.axle.entrie
 computed with every assumption on (``reduced``) and off (``full``) by ``shimmy sweep`` on Dask.  Check: with every
 assumption on, the MBS reproduces the reduced model's Hopf points in every plausible axle (the dimensions must not
 enter then).  Information: in what fraction of plausible axles each mode exists with the full geometry, and each
-reduced-model Hopf point's shift (median and 5-95 % range) and the dimension it depends on most (SRC).
+reduced-model Hopf point's shift (median and 5-95 % range) and the dimension it depends on most (SRC), and whether
+the full geometry's shimmy sets in softly or jumps in (the sign of l1 at its lowest Hopf point).
 """
 
 from __future__ import annotations
@@ -70,6 +71,7 @@ class PressureStudy:
     design: Design
     table: pa.Table
     file: str
+    reduced_onset_l1: float | None = None   # l1 of the reduced model's lowest Hopf point (None: no Hopf point)
 
     @property
     def label(self) -> str:
@@ -115,6 +117,15 @@ class PressureStudy:
             worst = max([worst] + [abs(a - b) for a, b in zip(red, mbs)])
         return worst
 
+    def onsets(self) -> dict[str, int]:
+        """How the full geometry's shimmy sets in, counted over the axles that exist: ``soft`` (its lowest Hopf
+        point supercritical, l1 < 0: the amplitude grows from zero), ``hard`` (subcritical, l1 > 0: it jumps to a
+        large cycle), ``none`` (no Hopf point in 0-400 km/h), ``undetermined`` (l1 not a number)."""
+        out = dict.fromkeys(ONSETS, 0)
+        for l1 in self.column("mbs_full_hopf_l1"):
+            out[onset_kind(l1[0] if l1 else None, bool(l1))] += 1
+        return out
+
     def margins(self, prefix: str) -> np.ndarray:
         """The minimum margin of each sampled axle (NaN: nothing oscillates)."""
         return np.array([math.nan if m is None else m for m in self.column(f"{prefix}margin")])
@@ -139,6 +150,29 @@ class PressureStudy:
         return self.design.names[j], float(src[j])
 
 
+ONSETS = ("soft", "hard", "none", "undetermined")
+
+
+def onset_kind(l1: float | None, has_hopf: bool) -> str:
+    if not has_hopf:
+        return "none"
+    if l1 is None or not math.isfinite(l1) or l1 == 0.0:
+        return "undetermined"
+    return "soft" if l1 < 0.0 else "hard"
+
+
+def reduced_onset_l1(axle: Axle, right: float, left: float) -> float | None:
+    """l1 of the reduced model's lowest Hopf point in 0-400 km/h (the same in every plausible axle)."""
+    from comparisons.axles.units import BAR, KMH
+    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+    family = SpeedFamily(ShimmyModel(params=axle.params), pressure=right * BAR if right == left else
+                         (right * BAR, left * BAR))
+    points = hopf_points(family, family.nominal, 0.0, 400.0 * KMH)
+    return points[0].first_lyapunov if points else None
+
+
 def run_robustness(axle: Axle, out_dir: str, samples: int, *,
                    pressures: tuple[tuple[float, float], ...] | None = None, seed: int = SEED,
                    margin_speeds: int = MARGIN_SPEEDS_FULL,
@@ -155,13 +189,14 @@ def run_robustness(axle: Axle, out_dir: str, samples: int, *,
             message(f"Robustness: {samples} plausible axles at {label}")
             task = SweepTask(axle=axle, effects=(), pressure_right_bar=right, pressure_left_bar=left,
                              names=design.names, compute=("hopf", "margins"), mbs=("reduced", "full"),
-                             margin_speeds=margin_speeds)
+                             margin_speeds=margin_speeds, mbs_lyapunov=("full",))
             tag = f"{right:g}" if right == left else f"R{right:g}_L{left:g}"
             path = os.path.join(out_dir, f"robustness_{tag.replace('.', 'p')}bar.parquet")
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
                 shutil.rmtree(path + ".parts")
             run = run_sweep(task, design, path, scheduler=cluster.address)
-            studies.append(PressureStudy(right, left, design, run.table, os.path.basename(path)))
+            studies.append(PressureStudy(right, left, design, run.table, os.path.basename(path),
+                                         reduced_onset_l1(axle, right, left)))
     return studies
 
 
@@ -187,6 +222,7 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
                         "" if ok else (f"{s.failed} samples failed" if s.failed else
                                        f"differs by more than {HOPF_TOL_KMH} km/h")))
         rows += margin_rows(s)
+        rows.append(onset_row(s))
         present = {m for _, m in s.reduced_points()}
         for mode in ("yaw", "tramp"):
             rows.append(Row({"case": s.label, "quantity": f"{mode} mode present (full geometry)",
@@ -208,6 +244,30 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
                 note = ""
             rows.append(Row(cells, CheckStatus.INFO, note))
     return rows
+
+
+def onset_row(s: PressureStudy) -> Row:
+    """Soft or hard onset of the full geometry's shimmy over the plausible axles, from l1 of its lowest Hopf
+    point; the reduced model's for comparison (one verdict: it does not depend on the dimensions)."""
+    counts = s.onsets()
+    n = sum(counts.values())
+    l1 = s.reduced_onset_l1
+    kind = onset_kind(l1, l1 is not None)
+    reduced = {"soft": "soft (HB1 supercritical", "hard": "hard (HB1 subcritical", "none": "no Hopf point",
+               "undetermined": "undetermined (l1"}[kind] + (f", l1 = {l1:.3g})" if l1 is not None else "")
+    share = {k: (v / n if n else math.nan) for k, v in counts.items()}
+    text = ", ".join(f"{label} in {_pct(share[k])}" for k, label in
+                     (("soft", "soft"), ("hard", "hard"), ("none", "no Hopf point"),
+                      ("undetermined", "l1 undetermined")) if k != "undetermined" or counts[k]) + f" of {n} axles"
+    with_hopf = counts["soft"] + counts["hard"]
+    note = (f"of the {with_hopf} axles whose straight running loses stability: {_pct(counts['soft'] / with_hopf)} "
+            f"soft, {_pct(counts['hard'] / with_hopf)} hard" if with_hopf else "")
+    # the counts as numbers too (verify --json); reduced_* are the reduced model's, the same in every axle
+    return Row({"case": s.label, "quantity": "onset of shimmy, full geometry: soft (supercritical) or hard "
+                                             "(subcritical)", "reduced_value": reduced, "plausible_axles": text,
+                "samples": n, **{f"{k}_count": v for k, v in counts.items()},
+                **{f"{k}_share": share[k] for k in ("soft", "hard")},
+                "reduced_onset": kind, "reduced_onset_l1": l1}, CheckStatus.INFO, note)
 
 
 def margin_rows(s: PressureStudy) -> list[Row]:
@@ -297,4 +357,7 @@ def robustness_section(ctx: Context) -> Section:
               f"straight running on {margin_speeds} speeds in 0.5-400 km/h) to {MARGIN_TOL:g} in every axle. "
               f"Information: how often each mode exists with the full geometry, each Hopf point's shift (median, "
               f"5-95 %) and the dimension its shift depends on most (standardized regression coefficient), and the "
-              f"full geometry's minimum margin (median, 5-95 %, share of axles where it is negative)."))
+              f"full geometry's minimum margin (median, 5-95 %, share of axles where it is negative), and in what "
+              f"share of the axles its shimmy sets in softly (its lowest Hopf point supercritical, first Lyapunov "
+              f"coefficient l1 < 0: the amplitude grows from zero) or jumps in (subcritical, l1 > 0), from l1 of the "
+              f"full geometry's Hopf points on Exudyn in every sample, beside the reduced model's."))

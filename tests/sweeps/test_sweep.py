@@ -65,6 +65,8 @@ def test_grid_is_full_factorial_first_input_slowest():
     (["--vary", "t0=uniform:0.1:0.3"], "need --samples"),
     (["--vary", "t0=uniform:0.1:0.3", "--vary", "pressure=1:2:3", "--samples", "4"], "mixes grids"),
     (["--vary", "t0=0.1:0.3:3", "--compute", "hopf,cycels"], "unknown output 'cycels'"),
+    (["--vary", "t0=0.1:0.3:3", "--compute", "margins", "--mbs", "full"], "it needs --compute hopf or cycles"),
+    (["--vary", "t0=0.1:0.3:3", "--compute", "cycles", "--mbs", "fulll"], "unknown fidelity 'fulll'"),
     (["--vary", "t0=0.1:0.3:3", "--output", "hopf_kmh"], "needs an index"),
     (["--vary", "t0=0.1:0.3:3", "--vary", "t0=0.1:0.2:2"], "given twice"),
 ])

@@ -54,3 +54,40 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     spread = next(x for x in rows if x.cells["quantity"].startswith("minimum margin, full geometry"))
     margins = [x["mbs_full_margin"] for x in ok]
     assert f"{float(np.median(margins)):+.4f} (5-95 %" in spread.cells["plausible_axles"]
+
+
+def test_onset_shares_add_up_and_l1_agrees_with_shimmy_hopf(capsys):
+    """The soft/hard onset row: its counts add up to the axles that exist, its shares are the counts', and the
+    sign (and value) of l1 at one sampled axle's lowest full-geometry Hopf point is `shimmy hopf --model mbs`'s
+    for that axle; the reduced model's onset l1 is `shimmy hopf`'s."""
+    import json
+    import tempfile
+
+    from comparisons.cli.main import main
+    from comparisons.verify.robustness import onset_kind, onset_row
+
+    axle = Axle()
+    (study,) = run_robustness(axle, tempfile.mkdtemp(), 16, pressures=((1.5, 1.5),), processes=False)
+    row = onset_row(study)
+    n = len(study.column("status"))
+    counts = [row.cells[f"{k}_count"] for k in ("soft", "hard", "none", "undetermined")]
+    assert row.cells["samples"] == n == sum(counts) and n + len(study.impossible) == 16
+    assert row.cells["soft_share"] == row.cells["soft_count"] / n
+    assert row.cells["hard_share"] == row.cells["hard_count"] / n
+    assert f"of {n} axles" in row.cells["plausible_axles"]
+    assert row.cells["soft_count"] + row.cells["hard_count"] > 0      # some sampled axle shimmies (seed 2024)
+    ok = [r for r in study.table.to_pylist() if r["status"] == "ok"]
+    assert sum(onset_kind(r["mbs_full_hopf_l1"][0] if r["mbs_full_hopf_l1"] else None,
+                          bool(r["mbs_full_hopf_l1"])) == "soft" for r in ok) == row.cells["soft_count"]
+    r = next(r for r in ok if r["mbs_full_hopf_kmh"])
+    sets = [a for n_ in study.design.names for a in ("--set", f"{n_}={r[n_]!r}")]
+    assert main(["hopf", "--model", "mbs", "--fidelity", "full", "--pressure", "1.5", *sets, "--json"]) == 0
+    direct = json.loads(capsys.readouterr().out)["hopf"]
+    assert [h["speed_kmh"] for h in direct] == r["mbs_full_hopf_kmh"]
+    assert direct[0]["first_lyapunov"] == r["mbs_full_hopf_l1"][0]
+    assert (direct[0]["criticality"] == "supercritical") == (r["mbs_full_hopf_l1"][0] < 0.0)
+    assert r["mbs_full_hopf_criticality"][0] == direct[0]["criticality"]
+    assert main(["hopf", "--pressure", "1.5", "--json"]) == 0
+    reduced = json.loads(capsys.readouterr().out)["hopf"]
+    assert row.cells["reduced_onset_l1"] == reduced[0]["first_lyapunov"]
+    assert row.cells["reduced_onset"] == ("soft" if reduced[0]["first_lyapunov"] < 0 else "hard")

@@ -111,6 +111,17 @@ def test_verify_robustness_over_plausible_dimensions(quick_report):
     assert (out / "robustness.png").stat().st_size > 10_000
 
 
+def test_verify_robustness_onsets(quick_report):
+    """Soft or hard onset of the full geometry's shimmy over all 32 quick axles, at both cases: the counts add up."""
+    rows = [r for r in section(quick_report, "robustness")["rows"] if r["quantity"].startswith("onset of shimmy")]
+    assert [r["case"] for r in rows] == ["1.5 bar", "2.5 bar"]
+    for r in rows:
+        counts = [r[f"{k}_count"] for k in ("soft", "hard", "none", "undetermined")]
+        assert sum(counts) == r["samples"] == 32 and r["soft_share"] == r["soft_count"] / 32
+        assert r["reduced_onset"] == "soft" and r["reduced_onset_l1"] < 0.0
+        assert r["plausible_axles"].endswith("of 32 axles")
+
+
 def test_failed_row_makes_report_fail():
     section = Section("x", "X", ("a",), (Row({"a": 1.0}, CheckStatus.PASS), Row({"a": 2.0}, CheckStatus.FAIL)))
     report = Report((section,), quick=True)

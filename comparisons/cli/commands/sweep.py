@@ -51,7 +51,9 @@ def add_parser(sub) -> None:
                         "assumptions (each assumption's Hopf-speed shift, MBS), cycles (peak limit-cycle amplitude "
                         "of each mode); default hopf")
     p.add_argument("--mbs", default="", metavar="FIDELITIES",
-                   help="also the MBS Hopf points at these fidelities, comma list of reduced, full (with hopf)")
+                   help="also the MBS at these fidelities, comma list of reduced, full: its Hopf points (with "
+                        "hopf), its own cycle branches with each Hopf point's l1 (with cycles; tens of seconds "
+                        "per sample)")
     p.add_argument("--lyapunov", action="store_true", help="also each Hopf point's first Lyapunov coefficient "
                                                            "(reduced model; about doubles the Hopf cost)")
     add_model_options(p, pressure_required=False)
@@ -86,8 +88,9 @@ def _compute(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]
     for f in mbs:
         if f not in ("reduced", "full"):
             raise UsageError(f"--mbs: unknown fidelity '{f}' (known: reduced, full)")
-    if mbs and "hopf" not in compute:
-        raise UsageError("--mbs adds MBS Hopf points: it needs --compute hopf")
+    if mbs and not {"hopf", "cycles"} & set(compute):
+        raise UsageError("--mbs adds MBS Hopf points (hopf) or the MBS's own cycle branches (cycles): it needs "
+                         "--compute hopf or cycles")
     return compute, mbs
 
 
