@@ -8,7 +8,7 @@ import math
 from comparisons.axles.axle import interface_text
 from comparisons.axles.units import BAR, kmh
 from mbs_shimmy.assumption_study import AssumptionRow, AssumptionStudy, HopfShift
-from mbs_shimmy.cycle_peak import BranchPeak, CyclePeak
+from mbs_shimmy.cycle_peak import BranchPeak, CyclePeak, Refinement
 
 
 def _kmh(speed: float | None) -> float | None:
@@ -77,8 +77,10 @@ def peak_text(peak: CyclePeak | None) -> str:
             failed = [b for b in peak.branches if not b.complete]
             return f"incomplete: {interface_text(failed[0].message)}"
         return "no cycle (no Hopf point)"
+    # an unrefined peak is the continuation's own cycle: a branch end (often the window's boundary) or a fold
+    how = "" if peak.refinement is Refinement.PARABOLA else ", a computed cycle at a branch end or fold"
     return (f"{math.degrees(peak.theta1):.3f} deg at {kmh(peak.speed):.2f} km/h "
-            f"({peak.mode}, {'stable' if peak.stable else 'unstable'}, {peak.frequency_hz:.2f} Hz)")
+            f"({peak.mode}, {'stable' if peak.stable else 'unstable'}, {peak.frequency_hz:.2f} Hz{how})")
 
 
 def study_json(study: AssumptionStudy) -> dict:

@@ -62,6 +62,14 @@ def test_tramp_branch_is_labelled_tramp():
     assert modes == ["tramp", "yaw"]
 
 
+def test_peak_on_the_window_boundary_is_the_computed_cycle_there():
+    """Up to 30 km/h the yaw branch is still growing: its largest cycle is its last, on the boundary, unrefined."""
+    peak, _ = continued_peak(reduced_family(1.5), 1.5 * BAR, 0.0, 30 * KMH)
+    assert peak.status is PeakStatus.FOUND and peak.refinement is Refinement.COMPUTED
+    assert peak.speed == pytest.approx(30 * KMH, rel=1e-9)
+    assert shifts.peak_text(peak).endswith("a computed cycle at a branch end or fold)")
+
+
 def test_window_without_a_hopf_point_has_no_cycle():
     family = reduced_family(2.5)
     peak, diagram = continued_peak(family, 2.5 * BAR, 80 * KMH, 150 * KMH)
@@ -100,6 +108,7 @@ def test_one_row_on_a_short_window_equals_the_reduced_model():
     assert mbs.theta1 == pytest.approx(at_speed.max_abs("theta1"), rel=1e-6)
     assert mbs.mode == reduced.mode == "yaw" and mbs.stable and reduced.stable
     assert math.degrees(mbs.theta1) == pytest.approx(9.8538, abs=1e-4)
+    assert shifts.peak_text(mbs).startswith("9.854 deg at 48.14 km/h (yaw, stable, 5.76 Hz)")
     out = json.loads(json.dumps(shifts.study_json(study)))
     (r,) = out["rows"]
     assert r["mbs_peak"]["status"] == "found" and r["mbs_peak"]["mode"] == "yaw"
