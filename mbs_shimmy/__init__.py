@@ -10,7 +10,8 @@ Exudyn.  The models live in their modules (SI inside; pressures in Pa, speeds in
   speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` (``lyapunov=False``);
 * :func:`mbs_shimmy.simulation.simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
 * :func:`mbs_shimmy.assumption_study.assumption_study` - Hopf-speed and limit-cycle shifts of each assumption;
-  :mod:`mbs_shimmy.limit_cycle` - steady amplitudes of both models.
+  :func:`mbs_shimmy.cycle_peak.continued_peak` - a model's largest limit cycle from its continued branches;
+  :mod:`mbs_shimmy.limit_cycle` - steady amplitudes of both models by simulation.
 
 Every module that imports Exudyn imports :mod:`mbs_shimmy.engine` first, which chooses Exudyn's compiled module.
 """

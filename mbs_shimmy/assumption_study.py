@@ -2,34 +2,36 @@
 
 For one pressure (and pressure effects, Table 1 overrides), rows are each assumption of the paper switched off
 alone (all others on) and ``full`` (all off), each against the reduced model; then each new geometric element
-(kingpin inclination, raised roll axis, lateral mounts, Ackermann arms, steering gear), measured as ``full``
+(kingpin inclination, raised roll axis, lateral mounts, Ackermann arms, steering gear, ...), measured as ``full``
 against ``full`` without that element (its "reduced" side is then the MBS without the element).  Per row: every
-Hopf point of the MBS against the reduced model's, matched
-one-to-one by speed and frequency (a mode that vanishes or appears is unmatched: the other side is None), and
-the steady theta1 amplitude of the MBS at the speed where the reduced model's limit cycle is largest, against the
-reduced model's there (:mod:`mbs_shimmy.limit_cycle`).  The Hopf points of both models come from the same
-defining system (:func:`reduced_model.bifurcation.equilibria.hopf.hopf_points`).
+Hopf point of the MBS against the reduced model's, matched one-to-one by speed and frequency (a mode that vanishes
+or appears is unmatched: the other side is None), and the largest limit cycle of each side, each from its own
+continued cycle branches over the speed window (:mod:`mbs_shimmy.cycle_peak`: the MBS variant's branches on
+Exudyn, the reduced model's on its equations), with the speed where it occurs, its mode and stability.  The Hopf
+points of both models come from the same defining system
+(:func:`reduced_model.bifurcation.equilibria.hopf.hopf_points`).
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-from typing import Sequence
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
 
 import numpy as np
 import scipy.optimize
 
+from mbs_shimmy.cycle_peak import CyclePeak, continued_peak
 from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import ASSUMPTIONS, Fidelity
+from mbs_shimmy.limit_cycle import VMAX
+from mbs_shimmy.linearisation import MbsFamily, MbsModel
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import ShimmyParameters
 
 ELEMENTS = frozenset(info.name for info in ASSUMPTIONS if info.element)
-from mbs_shimmy.limit_cycle import VMAX, SteadyAmplitude, mbs_steady_amplitude, reduced_peak
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
 
 MATCH_FREQUENCY = 0.3     # relative frequency difference above which two Hopf points are different modes
 # Speed difference (m/s) that weighs as much as a relative frequency difference of 1 when pairing Hopf points.
@@ -49,11 +51,24 @@ class HopfShift:
 
 @dataclass(frozen=True)
 class AssumptionRow:
+    """One switch: the Hopf points of both sides, matched, and each side's largest cycle (None: not computed).
+    The reference side is the reduced model, or for an element's row the full geometry without the element; the
+    MBS side the variant of the row, or for an element's row the full geometry."""
+
     assumption: str                  # an assumption's name, or "full"
     hopf: tuple[HopfShift, ...]
-    peak_theta1_mbs: float | None       # rad
-    peak_theta1_reduced: float | None   # rad
-    peak_settled: bool | None
+    peak_mbs: CyclePeak | None = None
+    peak_reference: CyclePeak | None = None
+    seconds: float = field(default=0.0, compare=False)   # cost of the row (its Hopf search, continuation)
+
+    @property
+    def peak_theta1_mbs(self) -> float | None:
+        """rad; 0 where the side has no cycle, None when not computed or incomplete."""
+        return None if self.peak_mbs is None else self.peak_mbs.theta1
+
+    @property
+    def peak_theta1_reduced(self) -> float | None:
+        return None if self.peak_reference is None else self.peak_reference.theta1
 
 
 @dataclass(frozen=True)
@@ -61,9 +76,17 @@ class AssumptionStudy:
     pressure: float                  # Pa (the nominal pressure of the study's family)
     effects: tuple[str, ...]
     reduced_hopf_speeds: tuple[float, ...]   # m/s
-    peak_speed: float | None         # m/s, where the reduced model's limit cycle is largest (None: no cycle)
-    peak_theta1: float | None        # rad
+    reduced_peak: CyclePeak | None   # the reduced model's largest cycle (None: cycles not computed)
     rows: tuple[AssumptionRow, ...]
+
+    @property
+    def peak_speed(self) -> float | None:
+        """m/s, where the reduced model's limit cycle is largest (None: no cycle, or not computed)."""
+        return None if self.reduced_peak is None else self.reduced_peak.speed
+
+    @property
+    def peak_theta1(self) -> float | None:
+        return None if self.reduced_peak is None else self.reduced_peak.theta1
 
 
 def match_hopf(reduced: Sequence[HopfPoint], mbs: Sequence[HopfPoint]) -> tuple[HopfShift, ...]:
@@ -99,39 +122,56 @@ def study_fidelities() -> list[tuple[str, Fidelity]]:
 
 def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float, *,
                      dims: AxleDimensions = DEFAULT_DIMENSIONS, vmax: float = VMAX, cycles: bool = True,
-                     settle: float = 12.0, progress=None) -> AssumptionStudy:
-    """The shifts table at one pressure (Pa, or (right, left)).  ``cycles=False`` skips the cycle amplitudes (None)."""
+                     only: Sequence[str] | None = None,
+                     progress: Callable[[int, int, str], None] | None = None) -> AssumptionStudy:
+    """The shifts table at one pressure (Pa, or (right, left)) over speeds up to ``vmax`` (m/s).
+
+    ``cycles=False`` skips the continuation of cycles (peaks None).  ``only``: the names of the rows wanted (an
+    element's row brings ``full`` with it, whose peak it needs).  ``progress(done, total, name)`` after each row
+    (the reduced model's continuation counts as one)."""
+    names = [n for n, _ in study_fidelities()]
+    wanted = set(names if only is None else only)
+    unknown = wanted - set(names)
+    if unknown:
+        raise ValueError(f"no row named {', '.join(sorted(unknown))} (rows: {', '.join(names)})")
+    if wanted & ELEMENTS:
+        wanted.add("full")
+    fidelities = [(n, f) for n, f in study_fidelities() if n in wanted]
+    total = len(fidelities) + (1 if cycles else 0)
+    done = 0
     model = ShimmyModel(params, effects)
-    q = SpeedFamily(model, pressure=pressure).nominal
-    reduced = hopf_points(SpeedFamily(model, pressure=pressure), q, 0.0, vmax, lyapunov=False)
-    peak: SteadyAmplitude | None = reduced_peak(model, pressure, vmax, settle) if cycles else None
+    family = SpeedFamily(model, pressure=pressure)
+    q = family.nominal
+    peak = None
+    if cycles:
+        peak, diagram = continued_peak(family, q, 0.0, vmax)
+        reduced = diagram.hopf
+        done += 1
+        if progress is not None:
+            progress(done, total, "reduced model")
+    else:
+        reduced = hopf_points(family, q, 0.0, vmax, lyapunov=False)
     rows = []
-    full_points = full_amp = full_settled = None
-
-    def amplitude(fidelity):
-        # start from the reduced model's cycle: the MBS's own one, if it has one there, is close
-        r = mbs_steady_amplitude(params, effects, fidelity, pressure, peak.speed, peak.final_state, settle,
-                                 dims=dims)
-        return (r.theta1 if math.isfinite(r.theta1) else None), r.settled
-
-    for k, (name, fidelity) in enumerate(study_fidelities()):
-        family = MbsFamily(MbsModel(params, effects, fidelity, dims), pressure=pressure)
-        mbs = hopf_points(family, q, 0.0, vmax, lyapunov=False)
-        mbs_amp = red_amp = settled = None
+    full_points = full_peak = None
+    for name, fidelity in fidelities:
+        start = time.perf_counter()
+        mbs_family = MbsFamily(MbsModel(params, effects, fidelity, dims), pressure=pressure)
+        if cycles:
+            mbs_peak, mbs_diagram = continued_peak(mbs_family, q, 0.0, vmax)
+            mbs = mbs_diagram.hopf
+        else:
+            mbs_peak, mbs = None, hopf_points(mbs_family, q, 0.0, vmax, lyapunov=False)
+        seconds = time.perf_counter() - start
         if name in ELEMENTS:
             # the element's worth: full geometry (mbs side) against full geometry without it (reference side)
-            if peak is not None:
-                red_amp, _ = amplitude(fidelity)
-                mbs_amp, settled = full_amp, full_settled
-            rows.append(AssumptionRow(name, match_hopf(mbs, full_points), mbs_amp, red_amp, settled))
+            rows.append(AssumptionRow(name, match_hopf(mbs, full_points), full_peak, mbs_peak, seconds))
         else:
-            if peak is not None:
-                mbs_amp, settled = amplitude(fidelity)
-                red_amp = peak.theta1
-            rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_amp, red_amp, settled))
+            rows.append(AssumptionRow(name, match_hopf(reduced, mbs), mbs_peak, peak, seconds))
             if name == "full":
-                full_points, full_amp, full_settled = mbs, mbs_amp, settled
+                full_points, full_peak = mbs, mbs_peak
+        done += 1
         if progress is not None:
-            progress(k + 1)
-    return AssumptionStudy(q, effects.names, tuple(h.p for h in reduced),
-                           peak.speed if peak else None, peak.theta1 if peak else None, tuple(rows))
+            progress(done, total, name)
+    rows = [r for r in rows if only is None or r.assumption in only]
+    return AssumptionStudy(q, effects.names, tuple(h.p for h in reduced), peak, tuple(rows))
+

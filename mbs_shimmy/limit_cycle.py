@@ -1,15 +1,15 @@
 """Steady limit-cycle amplitudes by brute-force simulation, for the reduced model and the MBS.
 
-This is the one place where limit-cycle amplitudes are measured; when the reduced model's periodic-orbit
-continuation is available, :func:`reduced_peak` and :func:`reduced_steady_amplitude` can be replaced by it without
-touching the callers.  Method: simulate from a state near the cycle for ``settle`` seconds, then take the largest
-|theta1| (and |psi|, and the frequency of theta1 from its upward zero crossings) over the last ``window`` seconds; the run has settled when that maximum changed by less than
-:data:`SETTLED_TOL` (relative) against the window before, or fell below :data:`DECAYED` (straight running
-attracts: no cycle there, amplitude 0 to that accuracy).  Otherwise the run is continued, ``settle`` seconds at a
-time, up to :data:`MAX_TIME`.  The reduced model is integrated by scipy's DOP853 (rtol 1e-9, atol 1e-12) on
+The continued cycle branches (:mod:`mbs_shimmy.cycle_peak`) give the amplitudes; these runs are their independent
+check (an attractor reached by time integration) and serve the kick searches. Method: simulate from a state near the
+cycle for ``settle`` seconds, then take the largest |theta1| (and |psi|, and the frequency of theta1 from its upward
+zero crossings) over the last ``window`` seconds; the run has settled when that maximum changed by less than
+:data:`SETTLED_TOL` (relative) against the window before, or fell below :data:`DECAYED` (straight running attracts:
+no cycle there, amplitude 0 to that accuracy). Otherwise the run is continued, ``settle`` seconds at a time, up to
+:data:`MAX_TIME`. The reduced model is integrated by scipy's DOP853 (rtol 1e-9, atol 1e-12) on
 :meth:`reduced_model.model.ShimmyModel.rhs`; the MBS by :func:`mbs_shimmy.simulation.simulate` with the fixed-step
-setting (RK67 at 1/240 s, within 1e-4 of every state's amplitude), sampled at every step; the maxima are refined by a
-parabola through the largest sample and its neighbours (:func:`peak`).
+setting (RK67 at 1/240 s, within 1e-4 of every state's amplitude), sampled at every step; the maxima are refined by
+a parabola through the largest sample and its neighbours (:func:`peak`).
 """
 
 from __future__ import annotations
@@ -24,8 +24,6 @@ import scipy.integrate
 from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP, extended_states, simulate
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.family import SpeedFamily
 from reduced_model.model import N_STATES, STATE_NAMES, Effects, ShimmyModel
 from reduced_model.modes import crossing_frequency
 from reduced_model.parameters import ShimmyParameters
@@ -39,7 +37,6 @@ DECAYED = 1e-5           # rad
 MAX_TIME = 72.0          # s
 RTOL, ATOL = 1e-9, 1e-12
 TH1, PSI = STATE_NAMES.index("theta1"), STATE_NAMES.index("psi")
-GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 
 
 @dataclass(frozen=True)
@@ -127,50 +124,3 @@ def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: F
         if settled or total >= MAX_TIME:
             return SteadyAmplitude(speed, a1, ap, settled, x, f"{traj.integrator}, {total:g} s", hz)
 
-
-def unstable_windows(model: ShimmyModel, pressure: float, vmax: float) -> list[tuple[float, float]]:
-    """Speed intervals (m/s) between consecutive Hopf points where straight running is unstable."""
-    family = SpeedFamily(model, pressure=pressure)
-    points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=False)
-    edges = [0.0] + [h.p for h in points] + [vmax]
-    windows = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        mid = 0.5 * (a + b)
-        if b - a > 1e-6 and np.max(np.linalg.eigvals(family.linear_matrix(mid, family.nominal)).real) > 0.0:
-            windows.append((a, b))
-    return windows
-
-
-def reduced_peak(model: ShimmyModel, pressure: float, vmax: float = VMAX, settle: float = SETTLE,
-                 iterations: int = 8) -> SteadyAmplitude | None:
-    """The largest steady theta1 amplitude of the reduced model over its unstable speed windows.
-
-    Golden-section search for the maximum in each window (the amplitude rises from zero at each end), starting
-    every run from the state the previous one ended in.  None if straight running is stable everywhere.
-    """
-    best: SteadyAmplitude | None = None
-    for a, b in unstable_windows(model, pressure, vmax):
-        lo, hi = a + 0.05 * (b - a), b - 0.05 * (b - a)
-        state = None
-        cache: dict[float, SteadyAmplitude] = {}
-
-        def amp(v: float) -> SteadyAmplitude:
-            nonlocal state
-            if v not in cache:
-                r = reduced_steady_amplitude(model, pressure, v, state, settle)
-                state = r.final_state
-                cache[v] = r
-            return cache[v]
-
-        x1, x2 = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
-        for _ in range(iterations):
-            if amp(x1).theta1 >= amp(x2).theta1:
-                hi, x2 = x2, x1
-                x1 = hi - GOLDEN * (hi - lo)
-            else:
-                lo, x1 = x1, x2
-                x2 = lo + GOLDEN * (hi - lo)
-        top = max(cache.values(), key=lambda r: r.theta1)
-        if best is None or top.theta1 > best.theta1:
-            best = top
-    return best

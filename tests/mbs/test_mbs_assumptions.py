@@ -134,9 +134,11 @@ def test_cli_json(capsys):
     assert [r["assumption"] for r in out["rows"]][-1] == study_fidelities()[-1][0]
     assert "full" in [r["assumption"] for r in out["rows"]]
     for row in out["rows"]:
-        assert set(row) == {"assumption", "hopf", "peak_theta1_shift_deg"}
+        assert set(row) == {"assumption", "hopf", "peak_theta1_shift_deg", "mbs_peak", "reference_peak"}
+        assert row["mbs_peak"] is row["reference_peak"] is row["peak_theta1_shift_deg"] is None
         for h in row["hopf"]:
             assert set(h) == {"reduced_kmh", "mbs_kmh", "shift_kmh"}
+    assert out["reduced_peak"] is None
 
 
 @pytest.mark.parametrize("argv,message", [
@@ -153,43 +155,57 @@ def test_cli_bad_input(argv, message, capsys):
     assert message in capsys.readouterr().err
 
 
-@pytest.mark.slow
-def test_peak_amplitude_shifts_at_1_5_bar():
-    """The limit-cycle column of the README table: steady theta1 amplitude of the MBS at the speed of the reduced
-    model's largest cycle (48.15 km/h, 9.854 deg), each assumption dropped, each element taken out of the full
-    geometry."""
-    study = assumption_study(MbsModel().params, Effects(), 1.5 * BAR, cycles=True)
-    assert kmh(study.peak_speed) == pytest.approx(48.15, abs=0.05)
-    assert np.degrees(study.peak_theta1) == pytest.approx(9.854, abs=0.002)
-    peak_shifts = {r.assumption: shifts.peak_theta1_shift_deg(r) for r in study.rows}
-    expected = {"small_angles": 0.1909, "fixed_static_load_arms": 0.0595, "uncoupled_inertia": 0.2557,
-                "slip_heading_only": -1.0778, "load_tramp_only": -0.2317, "lateral_stiffness_tramp_only": -0.1616,
-                "constant_load": -0.621, "quasi_steady_speed": 0.0, "separate_lateral_spring": 0.1675,
-                "full": -3.5077, "no_kingpin_inclination": -0.7834, "roll_axis_at_wheel_centre": -2.2833,
-                "rigid_axle_mounts": -2.6791, "parallel_steering_arms": -0.0056, "rigid_steering_gear": 6.346,
-                "no_axle_roll_steer": -2.514, "no_camber_force": 0.3769, "rigid_vertical_mounts": 0.1689,
-                "massless_links": 4.7531}
-    for name, value in expected.items():
-        assert peak_shifts[name] == pytest.approx(value, abs=0.005), name
+# The continued peak cycle of each row's own model (max|theta1| deg, km/h): the MBS variant, or for an element's row
+# the full geometry without that element; None: no Hopf point, so no cycle born at one.  Every one is a stable yaw
+# cycle on a branch that completed.  The reduced model's: 9.8538 deg at 48.14 km/h (1.5 bar), 3.4490 deg at 56.64 km/h
+# (2.5 bar, paper 3.45 deg at 56.34 km/h, a flat maximum); the full geometry's 6.9510 deg at 56.25 km/h (1.5 bar).
+REDUCED_PEAK = {1.5: (9.8538, 48.14), 2.5: (3.4490, 56.64)}
+PEAKS = {
+    1.5: {"small_angles": (10.0448, 47.98), "fixed_static_load_arms": (9.9134, 48.03),
+          "uncoupled_inertia": (10.1094, 48.15), "slip_heading_only": (8.8908, 52.64),
+          "load_tramp_only": (9.6226, 47.81), "lateral_stiffness_tramp_only": (9.6923, 48.04),
+          "constant_load": (9.2504, 50.07), "quasi_steady_speed": (9.8538, 48.14),
+          "separate_lateral_spring": (10.0237, 47.45), "full": (6.9510, 56.25),
+          "no_kingpin_inclination": (7.5443, 55.13), "roll_axis_at_wheel_centre": (8.9336, 54.67),
+          "rigid_axle_mounts": (9.1280, 44.18), "parallel_steering_arms": (6.9576, 56.35), "rigid_steering_gear": None,
+          "no_axle_roll_steer": (9.0745, 53.44), "no_camber_force": (6.7123, 56.85),
+          "rigid_vertical_mounts": (6.8373, 56.60), "massless_links": (3.9104, 59.18)},
+    2.5: {"small_angles": (3.4339, 56.68), "fixed_static_load_arms": (3.6039, 56.47),
+          "uncoupled_inertia": (4.1723, 56.57), "slip_heading_only": None, "load_tramp_only": (2.5109, 56.36),
+          "lateral_stiffness_tramp_only": (2.8487, 56.58), "constant_load": (3.1338, 56.88),
+          "quasi_steady_speed": (3.4490, 56.64), "separate_lateral_spring": (3.7629, 55.66), "full": None,
+          "no_kingpin_inclination": None, "roll_axis_at_wheel_centre": None, "rigid_axle_mounts": (1.8586, 51.90),
+          "parallel_steering_arms": None, "rigid_steering_gear": None, "no_axle_roll_steer": None,
+          "no_camber_force": None, "rigid_vertical_mounts": None, "massless_links": None},
+}
 
 
 @pytest.mark.slow
-def test_peak_amplitude_shifts_at_2_5_bar():
-    """As above at 2.5 bar: the reduced model's cycle peaks at 3.449 deg near 56.8 km/h (paper: 3.45 deg at
-    56.34 km/h, a flat maximum); without the slip assumption, and in full, straight running attracts there."""
-    study = assumption_study(MbsModel().params, Effects(), 2.5 * BAR, cycles=True)
-    assert kmh(study.peak_speed) == pytest.approx(56.78, abs=0.05)
-    assert np.degrees(study.peak_theta1) == pytest.approx(3.4488, abs=0.001)
-    peak_shifts = {r.assumption: shifts.peak_theta1_shift_deg(r) for r in study.rows}
-    expected = {"small_angles": -0.014, "fixed_static_load_arms": 0.1502, "uncoupled_inertia": 0.7231,
-                "slip_heading_only": -3.4485, "load_tramp_only": -0.9372, "lateral_stiffness_tramp_only": -0.6001,
-                "constant_load": -0.3146, "quasi_steady_speed": 0.0, "separate_lateral_spring": 0.3006,
-                "full": -3.4487, "no_kingpin_inclination": 0.0, "roll_axis_at_wheel_centre": -0.0004,
-                "rigid_axle_mounts": -1.4138, "parallel_steering_arms": 0.0, "rigid_steering_gear": 0.0,
-                "no_axle_roll_steer": -0.0608, "no_camber_force": 0.0, "rigid_vertical_mounts": 0.0,
-                "massless_links": 0.0}
-    for name, value in expected.items():
-        assert peak_shifts[name] == pytest.approx(value, abs=0.005), name
+@pytest.mark.parametrize("pressure", [1.5, 2.5])
+def test_continued_peak_of_every_row(pressure):
+    """The limit-cycle column of the docs' table: each side's largest cycle from its own continued branches (the
+    reduced model's, each MBS variant's on Exudyn), and the shift MBS minus reference, each at its own speed."""
+    from mbs_shimmy.assumption_study import ELEMENTS
+    from mbs_shimmy.cycle_peak import PeakStatus
+    study = assumption_study(MbsModel().params, Effects(), pressure * BAR, cycles=True)
+    theta, speed = REDUCED_PEAK[pressure]
+    assert np.degrees(study.peak_theta1) == pytest.approx(theta, abs=5e-4)
+    assert kmh(study.peak_speed) == pytest.approx(speed, abs=0.02)
+    full = next(r for r in study.rows if r.assumption == "full").peak_mbs
+    for row in study.rows:
+        own = row.peak_reference if row.assumption in ELEMENTS else row.peak_mbs
+        expected = PEAKS[pressure][row.assumption]
+        if expected is None:
+            assert own.status is PeakStatus.NO_CYCLE and own.theta1 == 0.0, row.assumption
+        else:
+            assert own.status is PeakStatus.FOUND, row.assumption
+            assert all(b.complete for b in own.branches) and own.mode == "yaw" and own.stable, row.assumption
+            assert np.degrees(own.theta1) == pytest.approx(expected[0], abs=5e-4), row.assumption
+            assert kmh(own.speed) == pytest.approx(expected[1], abs=0.02), row.assumption
+        # an element's row: full geometry (MBS side) against full geometry without it; the others: the reduced model
+        assert (row.peak_mbs is full) if row.assumption in ELEMENTS else (row.peak_reference is study.reduced_peak)
+        assert shifts.peak_theta1_shift_deg(row) == pytest.approx(
+            np.degrees(row.peak_mbs.theta1 - row.peak_reference.theta1), abs=1e-12)
 
 
 @pytest.mark.parametrize("dims,expected", [

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 
 from comparisons import assumption_shifts as shifts
 from comparisons.axles.units import KMH, kmh
@@ -18,7 +17,7 @@ from comparisons.cli.options import (
     operating_pressure,
     pressure_label,
 )
-from comparisons.cli.progress import progress
+from comparisons.cli.progress import StepProgress
 from mbs_shimmy import assumptions_table
 from mbs_shimmy.assumption_study import assumption_study, study_fidelities
 
@@ -30,7 +29,8 @@ def add_parser(sub) -> None:
     add_model_options(p)
     add_speed_window(p)
     p.add_argument("--no-cycles", action="store_true",
-                   help="skip the limit-cycle amplitudes (long simulations); peak shifts are then null")
+                   help="skip the limit cycles (a continuation of every cycle branch of each row's model, about "
+                        "10-30 s a row); peaks and their shifts are then null")
     add_output_options(p)
     p.set_defaults(run=run)
 
@@ -45,11 +45,12 @@ def _fmt(value: float | None, spec: str) -> str:
 
 def run(args: argparse.Namespace) -> int:
     model = build_model(args)
-    rows = len(study_fidelities())
-    with progress(rows, "assumptions", args.json) as bar:
+    cycles = not args.no_cycles
+    rows = len(study_fidelities()) + (1 if cycles else 0)
+    # one line per row on stderr (a bar on a terminal): the continuation takes 10-30 s a row
+    with StepProgress(total=rows, job="assumptions") as bar:
         study = assumption_study(model.params, model.effects, operating_pressure(args), dims=build_axle(args).dims,
-                                 vmax=args.vmax * KMH,
-                                 cycles=not args.no_cycles, progress=lambda k: bar.update(1))
+                                 vmax=args.vmax * KMH, cycles=cycles, progress=bar)
     if args.json:
         out = shifts.study_json(study)
         del out["pressure_bar"], out["effects"]
@@ -60,25 +61,25 @@ def run(args: argparse.Namespace) -> int:
     print(f"  {build_axle(args).label()}")
     print("reduced-model Hopf speeds: " + (", ".join(f"{kmh(v):.2f}" for v in study.reduced_hopf_speeds) or "none")
           + " km/h")
-    if study.peak_speed is not None:
-        print(f"largest limit cycle of the reduced model: theta1 = {math.degrees(study.peak_theta1):.3f} deg at "
-              f"{kmh(study.peak_speed):.2f} km/h")
+    if cycles:
+        print(f"largest limit cycle of the reduced model (continued): {shifts.peak_text(study.reduced_peak)}")
+        print("peaks: max|theta1| of each side's largest cycle over its own continued branches")
     summary = {r.name: r.summary for r in assumptions_table().rows}
     elements = {r.name for r in assumptions_table().rows if r.element}
     for row in study.rows:
         if row.assumption in elements:
             # a new element: full geometry without it (left) -> full geometry (right)
             print(f"\n{row.assumption} (full geometry without -> with the element): {summary[row.assumption]}")
+            sides = ("without", "with")
         else:
             label = row.assumption if row.assumption == "full" else f"{row.assumption} off"
             print(f"\n{label}: {summary.get(row.assumption, 'all assumptions off')}")
+            sides = ("reduced", "MBS")
         for h in row.hopf:
             print(f"  Hopf {_fmt(shifts.reduced_kmh(h), '9.3f')} -> {_fmt(shifts.mbs_kmh(h), '9.3f')} km/h"
                   f"   shift {_fmt(shifts.shift_kmh(h), '+9.3f')}")
-        peak_shift = shifts.peak_theta1_shift_deg(row)
-        if peak_shift is not None or study.peak_speed is not None:
-            reduced_deg, mbs_deg = shifts.peak_theta1_deg(row)
-            print(f"  peak theta1 {_fmt(reduced_deg, '.3f')} -> {_fmt(mbs_deg, '.3f')}"
-                  f" deg   shift {_fmt(peak_shift, '+.3f')}"
-                  + ("" if row.peak_settled in (None, True) else "   (not settled)"))
+        if cycles:
+            print(f"  peak {sides[0]}: {shifts.peak_text(row.peak_reference)}")
+            print(f"  peak {sides[1]}: {shifts.peak_text(row.peak_mbs)}")
+            print(f"  peak theta1 shift {_fmt(shifts.peak_theta1_shift_deg(row), '+.3f')} deg")
     return 0
