@@ -72,8 +72,8 @@ def test_verify_cycles_jumps_assumptions(quick_report):
         assert (out / name).stat().st_size > 100_000
     rows = section(quick_report, "assumptions")["rows"]
     assert {"full", "small_angles", "slip_heading_only"} <= {r["assumption_off"] for r in rows}
-    # quick keeps the study on its Hopf points (cycles=False) and says so in every row
-    assert all(r["peak_theta1_shift_deg"] is None and r["note"].startswith("quick: peaks not computed") for r in rows)
+    # verify keeps the study on its Hopf points (cycles=False) and every row names the command with the peaks
+    assert all(r["peak_theta1_shift_deg"] is None and "shimmy assumptions --pressure" in r["note"] for r in rows)
 
 
 def test_verify_report_html_figures_recordings_progress(quick_report):
