@@ -231,7 +231,7 @@ def assumptions_section(ctx: Context) -> Section:
               "two planned cases with shimmy. Rows named after a geometric element of the full axle "
               "(no_kingpin_inclination, ..., rigid_steering_gear): full geometry minus full geometry without that "
               "element. The peak limit-cycle amplitudes per row come from every row's own continued cycle branches "
-              "(the MBS variant's on Exudyn), which take 5-30 s a row: `shimmy assumptions --pressure P` computes "
+              "(the MBS variant's on Exudyn), which take 5-30 s a row: `.venv/bin/shimmy assumptions --pressure BAR` computes "
               "them; the report keeps to the Hopf shifts."))
 
 
