@@ -47,6 +47,7 @@ def test_figure8_curves_end_at_the_hopf_hopf_and_bautin_points():
     assert agrees_to_printed_digits(paper.SECTION4["t0_dh2_1.5bar_m"], dh2.q)
 
 
+@pytest.mark.slow    # 15-30 s; in CI the torus curves at 0.5 bar by tests/cli/test_cycles_cli.py
 def test_figure18_torus_and_fold_curves_in_the_pressure_plane():
     """Extended model with half contact length and trail effects (the paper's green curves): T1 and T2 are born
     at HH1 (paper: 0.53 bar), S1 at the generalized Hopf point DH of HB3."""
