@@ -56,12 +56,7 @@ class Refinement(enum.Enum):
 def cycle_mode(cycle: CyclePoint, classifier: ModeClassifier = ModeClassifier()) -> str:
     """"yaw", "tramp" or "mixed", by the classifier's ratio and frequency splits."""
     theta1, psi = cycle.max_abs("theta1"), cycle.max_abs("psi")
-    ratio = psi / theta1 if theta1 > 0.0 else math.nan
-    if ratio < classifier.ratio_split and cycle.frequency_hz < classifier.frequency_split_hz:
-        return "yaw"
-    if ratio > classifier.ratio_split and cycle.frequency_hz > classifier.frequency_split_hz:
-        return "tramp"
-    return "mixed"
+    return classifier.mode_name(psi / theta1 if theta1 > 0.0 else math.nan, cycle.frequency_hz)
 
 
 @dataclass(frozen=True)

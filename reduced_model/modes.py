@@ -112,6 +112,15 @@ class ModeClassifier:
     amplitude_floor: float = math.radians(0.05)    # rad of theta1: below this, no shimmy
     persistence: int = 3                           # voting windows a new mode must hold
 
+    def mode_name(self, ratio: float, frequency_hz: float) -> str:
+        """"yaw" below both splits (max|psi| / max|theta1| and frequency), "tramp" above both, else "mixed": how
+        Hopf points, cycles and margins are labelled outside a time history."""
+        if ratio > self.ratio_split and frequency_hz > self.frequency_split_hz:
+            return "tramp"
+        if ratio < self.ratio_split and frequency_hz < self.frequency_split_hz:
+            return "yaw"
+        return "mixed"
+
     def classify_window(self, t: np.ndarray, theta1: np.ndarray, psi: np.ndarray, speed: float) -> ModeWindow:
         a_theta, a_psi = peak_abs(t, theta1), peak_abs(t, psi)
         freq = crossing_frequency(t, theta1)

@@ -22,15 +22,12 @@ from comparisons.assumption_shifts import mbs_kmh, shift_kmh
 from comparisons.axles.axle import Axle, entry, interface_text
 from comparisons.axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
+from reduced_model.modes import ModeClassifier
 
 COMPUTE = ("hopf", "margins", "assumptions", "cycles")
 # margins: the least damping ratio of straight running on this many even speeds from 0.5 km/h to vmax (default)
 MARGIN_SPEEDS = 41
 PRESSURE_LIMITS_BAR = (0.05, 20.0)
-# Hopf points and cycles are labelled with the mode they belong to by the thresholds of
-# reduced_model.modes.ModeClassifier: tramp above both the psi/theta1 ratio and the frequency split, yaw below both.
-RATIO_SPLIT = 0.22
-FREQUENCY_SPLIT_HZ = 8.8
 # Rough cost of one sample (s, one core) for batch sizing; measured on the paper's axle at 1.5 bar.
 COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assumptions": 0.3, "cycles": 1.5}
 # MBS cycle branches (--compute cycles --mbs F), per fidelity, mean over samples.  full: 16 plausible axles of the
@@ -42,12 +39,13 @@ MBS_CYCLES_COST_S = {"reduced": 95.0, "full": 95.0}
 MBS_LYAPUNOV_COST_S = 0.1
 
 
+_MODES = ModeClassifier()
+
+
 def mode_of(ratio: float, frequency_hz: float) -> str:
-    if ratio > RATIO_SPLIT and frequency_hz > FREQUENCY_SPLIT_HZ:
-        return "tramp"
-    if ratio < RATIO_SPLIT and frequency_hz < FREQUENCY_SPLIT_HZ:
-        return "yaw"
-    return "mixed"
+    """Hopf points, margins and cycles are labelled by the thresholds of :class:`reduced_model.modes.ModeClassifier`
+    (:meth:`~reduced_model.modes.ModeClassifier.mode_name`)."""
+    return _MODES.mode_name(ratio, frequency_hz)
 
 
 def _column_safe(text: str) -> str:
