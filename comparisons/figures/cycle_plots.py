@@ -53,10 +53,25 @@ def branch_lines(branch: CycleBranch, name: str):
         yield stable, v, a
 
 
-def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None) -> None:
+def kick_marks(kicks) -> list[tuple[float, float, str]]:
+    """(speed km/h, kick deg, label) of each bracketed kick threshold (:class:`mbs_shimmy.kick.KickThreshold`):
+    the initial theta1 that leaves the lower state, drawn on the max |theta1| axis because it is the same angle."""
+    return [(kmh(k.speed), float(np.degrees(k.kick)), f"kick {np.degrees(k.kick):.2f} deg")
+            for k in kicks if k.status.is_complete]
+
+
+def _draw_kicks(ax, kicks, color: str, items: list) -> None:
+    for v, a, text in kick_marks(kicks):
+        ax.plot(v, a, "v", color=color, ms=7, zorder=6)
+        items.append((v, a, text, color))
+
+
+def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None,
+                       kicks=()) -> None:
     """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
     max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
-    point) pairs; default HB1, HB2, ... by speed).  Labels are placed so that they do not collide."""
+    point) pairs; default HB1, HB2, ... by speed); the ``kicks`` that leave the lower state of a bistable window
+    as triangles in the theta1 panel.  Labels are placed so that they do not collide."""
     speeds = np.linspace(diagram.p_min, diagram.p_max, 801)
     unstable = stability_grid(family, speeds, np.array([diagram.q]))[0] > 0
     labels = special_point_labels(diagram)
@@ -79,6 +94,8 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
             marker = LABELS.get(p.kind, ("", "x"))[1]
             ax.plot(kmh(p.p), amp, marker, color="C3", ms=6, mfc="none")
             items.append((kmh(p.p), amp, text, "C3"))
+        if name == "theta1":
+            _draw_kicks(ax, kicks, "C2", items)
         ax.set_xlim(kmh(diagram.p_min), kmh(diagram.p_max))
         ax.set_ylabel(ylabel)
         top = max(ax.get_ylim()[1], 1e-3)
@@ -87,10 +104,11 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
     axes[-1].set_xlabel("speed V [km/h]")
 
 
-def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, title: str | None = None) -> None:
+def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, title: str | None = None,
+                       kicks=()) -> None:
     fig = Figure(figsize=(6.4, 6.4))
     axes = fig.subplots(2, 1, sharex=True)
-    draw_cycle_diagram(axes, diagram, family)
+    draw_cycle_diagram(axes, diagram, family, kicks=kicks)
     effects = ",".join(family.model.effects.names) or "section 3 model"
     axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar ({effects}); "
                                f"solid stable, dashed unstable", fontsize=10)
@@ -192,13 +210,14 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
 def plot_model_branches(models, path: str, title: str | None = None) -> None:
     """Several models' cycle branches at one case in one panel: max |theta1| (deg) against speed (km/h), stable
     solid, unstable dashed, Hopf points as dots on the axis and cycle folds, torus and period-doubling points
-    marked and named like the paper (S1, T1, ... per model).  ``models``: (name, CycleDiagram, colour)."""
+    marked and named like the paper (S1, T1, ... per model), kick thresholds as triangles.  ``models``: (name,
+    CycleDiagram, colour) or (name, CycleDiagram, colour, kicks)."""
     from matplotlib.lines import Line2D
     fig = Figure(figsize=(7.2, 4.4))
     ax = fig.subplots()
     items, handles = [], []
     vmin, vmax = [], []
-    for label, diagram, color in models:
+    for label, diagram, color, *kicks in models:
         vmin.append(kmh(diagram.p_min))
         vmax.append(kmh(diagram.p_max))
         for branch in diagram.branches:
@@ -210,6 +229,7 @@ def plot_model_branches(models, path: str, title: str | None = None) -> None:
             amp = np.degrees(p.data["amplitude"][STATE_NAMES.index("theta1")])
             ax.plot(kmh(p.p), amp, LABELS.get(p.kind, ("", "x"))[1], color=color, ms=7, mfc="none")
             items.append((kmh(p.p), amp, text, color))
+        _draw_kicks(ax, kicks[0] if kicks else (), color, items)
         handles.append(Line2D([], [], color=color, lw=1.5, label=f"{label} ({len(diagram.hopf)} Hopf points)"))
     handles += [Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--",
                                                                             label="unstable")]

@@ -354,6 +354,21 @@ def run_start(setup: JumpSetup, speed_kmh: float, x0, duration: float) -> list:
             for traj in _run_both(setup.case, SpeedSchedule.constant(from_kmh(speed_kmh)), x0, duration)]
 
 
+def _kick_rows(ctx: Context, setup: JumpSetup) -> list[Row]:
+    """The reduced model's kick threshold in the middle of each bistable window of its diagram."""
+    from comparisons.verify.kick_rows import kick_verdict
+    from mbs_shimmy.kick import kicks
+    ctx.progress("Bistable jumps: kick threshold of the reduced model (tens of runs)")
+    family = SpeedFamily(ShimmyModel(params=setup.case.axle.params), pressure=setup.diagram.q)
+    rows = []
+    for kick in kicks(family, setup.diagram):
+        cells, status, text = kick_verdict(kick, "reduced model")
+        rows.append(Row({"run": f"kick at {kmh(kick.speed):.2f} km/h: {kick.lower.label} -> {kick.upper.label}",
+                         **cells}, status, text))
+    return rows or [Row({"run": "kick threshold"}, CheckStatus.FAIL, "no two stable states coexist in the "
+                                                                      "reduced model's diagram")]
+
+
 def settled_apart(first, second) -> bool:
     """Two starts ended on different cycles (neither on straight running)."""
     from reduced_model.modes import Mode
@@ -434,14 +449,19 @@ def jumps_section(ctx: Context) -> Section:
         else:
             rows.append(Row({"run": "two starts"}, CheckStatus.FAIL, "fewer than two stable cycles found inside the "
                                                                      "window to start from"))
+        if ctx.quick:
+            rows.append(Row({"run": "kick threshold"}, CheckStatus.INFO, "skipped in quick mode (tens of runs)"))
+        else:
+            rows += _kick_rows(ctx, setup)
     title = "Bistable jumps" + (" at t0 = 0.25 m, 1.5 bar" if ctx.axle.is_paper and ctx.plan.bistable and
                                 not math.isfinite(ctx.plan.bistable[0].low_kmh) else "")
     return Section(
         key="jumps", title=title,
         columns=("run", "paper_kmh", "continuation_kmh", "reduced_kmh", "mbs_reduced_kmh", "model_diff_kmh",
-                 "final_1", "final_2"),
+                 "final_1", "final_2", "kick_deg"),
         rows=tuple(rows), recordings=tuple(recordings), figures=tuple(figures),
         text=("Cycle folds (S) and torus points (T) from continuation; speed ramps up and down through the window "
               "where two stable cycles coexist, in both models, with the detected mode switches (the jump lags the "
               "window's end because the state passes a slowly changing instability: the lag depends on the ramp "
-              "rate); two starts inside the window, one near each cycle."))
+              "rate); two starts inside the window, one near each cycle; the kick that leaves the lower state (the "
+              "smallest initial theta1 from straight running, bracketed by two runs of the reduced model)."))

@@ -183,11 +183,11 @@ def branch_rows(family, case, diagram, settle) -> list[Row]:
     return rows
 
 
-def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], list[str]]:
+def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], list[str], list]:
     """The full geometry's bistable windows with the ramps through them and their kick thresholds, or why there
-    is none; (rows, recording names)."""
+    is none; (rows, recording names, kick thresholds)."""
     from comparisons.verify.full_jumps import jump_rows
-    from mbs_shimmy.kick import KickStatus, bistable_windows, kicks
+    from mbs_shimmy.kick import bistable_windows, kicks
     windows = bistable_windows(diagram, family)
     if not windows:
         crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"
@@ -196,7 +196,7 @@ def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], 
         fold_text = ", ".join(f"{kmh(s.p):.2f} km/h" for s in folds) or "none"
         return [Row({"case": case.label, "what": "bistable window: none"}, CheckStatus.INFO,
                     f"no two stable states coexist at any speed: Hopf points {crit}; cycle folds {fold_text}; "
-                    f"no two stable stretches of the branches overlap")], []
+                    f"no two stable stretches of the branches overlap")], [], []
     rows = [Row({"case": case.label, "what": f"bistable window {kmh(a):.2f}-{kmh(b):.2f} km/h",
                  "speed_kmh": kmh(0.5 * (a + b))}, CheckStatus.INFO,
                 "two stable states coexist (from the full geometry's own branches)") for a, b in windows]
@@ -209,25 +209,31 @@ def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], 
                                 "the full geometry's window", diagram)
         more, recordings = jump_rows(ctx, case.label, bistable, family, diagram, windows)
         rows += more
-    for kick in kicks(family, diagram):
-        found = kick.status is KickStatus.FOUND
-        rows.append(Row({"case": case.label, "what": f"kick threshold: {kick.lower.label} -> {kick.upper.label}",
-                         "speed_kmh": kmh(kick.speed), "continuation_theta1_deg": math.degrees(kick.unstable_theta1),
-                         "kick_deg": math.degrees(kick.kick)},
-                        CheckStatus.PASS if found else CheckStatus.INFO if kick.status is KickStatus.NOT_LEFT
-                        else CheckStatus.FAIL,
-                        (f"an initial theta1 of {math.degrees(kick.stays):.3f} deg stays on {kick.lower.label}, "
-                         f"{math.degrees(kick.leaves):.3f} deg leaves for {kick.upper.label} ({kick.runs} runs; "
-                         f"continuation column: the unstable cycle between them)") if found else
-                        f"kick not bracketed: {kick.status.value}"))
-    return rows, recordings
+    found = kicks(family, diagram)
+    rows += kick_rows(case, found, "full geometry", "continuation_theta1_deg")
+    return rows, recordings, found
 
 
-def _figure(ctx: Context, case: Where, reduced, full) -> str:
+def kick_rows(case: Where, found, model: str, unstable_column: str | None = None) -> list[Row]:
+    """A row per kick threshold of one model at this case (:mod:`comparisons.verify.kick_rows`)."""
+    from comparisons.verify.kick_rows import kick_verdict
+    rows = []
+    for kick in found:
+        cells, status, text = kick_verdict(kick, model)
+        cells = {"case": case.label, "what": f"kick threshold ({model}): {kick.lower.label} -> {kick.upper.label}",
+                 "speed_kmh": kmh(kick.speed), **cells}
+        if unstable_column:
+            cells[unstable_column] = math.degrees(kick.unstable_theta1)
+        rows.append(Row(cells, status, text))
+    return rows
+
+
+def _figure(ctx: Context, case: Where, reduced, full, reduced_kicks=(), full_kicks=()) -> str:
     from comparisons.figures.cycle_plots import plot_model_branches
     tag = "".join(c for c in case.label.replace(".", "p").replace("/", "_") if c.isalnum() or c in "_p")
     name = f"full_geometry_{tag}.png"
-    plot_model_branches([("reduced model", reduced, "C0"), ("full geometry, MBS", full, "C3")],
+    plot_model_branches([("reduced model", reduced, "C0", reduced_kicks),
+                         ("full geometry, MBS", full, "C3", full_kicks)],
                         os.path.join(ctx.out, name),
                         title=f"Limit cycles at {case.label}: reduced model and full geometry")
     return name
@@ -246,12 +252,15 @@ def other_axle_rows(ctx: Context) -> list[Row]:
         rows += hopf_rows(family, where, hopf_points(family, family.nominal, *where.speeds), DURATION)
         rows.append(Row({"case": where.label, "what": "cycle branches"}, CheckStatus.INFO,
                         "not continued at the plan's bistable case on another axle: its full-geometry branches cost "
-                        "more than verify's budget (over 30 min under load)"))
+                        "more than verify's budget (190-210 km/h alone: 36 cycles in 22 min, the stable ones below "
+                        "194 km/h on up to 413 intervals); its window near the subcritical Hopf point and its kick: "
+                        "'.venv/bin/shimmy cycles --model mbs --fidelity full --pressure 1.5 --set t0=0.25 "
+                        "--vmin 194.5 --vmax 206 --tolerance 1e-5 --kick' (about 3 min)"))
     return rows
 
 
 def full_geometry_section(ctx: Context) -> Section:
-    from mbs_shimmy.kick import settle_function
+    from mbs_shimmy.kick import kicks, settle_function
     from reduced_model.bifurcation.cycles.branches import cycle_diagram
     rows, figures, recordings = [], [], []
     wheres = [Where.of_case(ctx.axle, c) for c in ctx.plan.cases]
@@ -275,10 +284,13 @@ def full_geometry_section(ctx: Context) -> Section:
         full = cycle_diagram(family, family.nominal, *case.speeds)
         rows += branch_rows(family, case, full, lambda v, f=family: settle_function(f, v))
         ctx.progress(f"Full geometry: bistable windows at {case.label}")
-        more, recorded = window_rows(ctx, family, case, full)
+        more, recorded, full_kicks = window_rows(ctx, family, case, full)
         rows += more
         recordings += recorded
-        figures.append(_figure(ctx, case, cycle_diagram(reduced, reduced.nominal, *case.speeds), full))
+        reduced_diagram = cycle_diagram(reduced, reduced.nominal, *case.speeds)
+        reduced_kicks = kicks(reduced, reduced_diagram)     # none unless the reduced model is bistable here
+        rows += kick_rows(case, reduced_kicks, "reduced model")
+        figures.append(_figure(ctx, case, reduced_diagram, full, reduced_kicks, full_kicks))
     if not ctx.quick:
         rows += other_axle_rows(ctx)
     if not cases:

@@ -264,3 +264,21 @@ def test_a_corrector_failure_at_the_window_boundary_ends_the_branch_and_says_so(
     assert b.points[-1].p > SHIFT + 1.0 and b.points[-2].p < SHIFT + 1.0
     for p in b.points:
         assert p.amplitude[0] == pytest.approx(np.sqrt(p.p - SHIFT), rel=1e-8)
+
+
+def test_a_trivial_multiplier_split_into_a_pair_is_no_torus():
+    """Beside a Hopf point the trivial multiplier and the one born there are both near +1; the discretisation can
+    split them into 1 +- i eps (measured on the full geometry's subcritical onset at t0 = 0.25 m, where it was
+    reported as two torus points 0.001 km/h from the Hopf point).  Both are real: no complex multiplier is left
+    to cross the unit circle, and a genuine pair elsewhere is kept."""
+    from reduced_model.bifurcation.cycles.multipliers import complex_outside, torus_test
+    pair = np.array([-0.888 + 0.13j, -0.888 - 0.13j])
+    for split in (np.array([1.0 + 3e-6j, 1.0 - 3e-6j]), np.array([1.000011 + 2e-6j, 1.000011 - 2e-6j])):
+        rest, trivial = classify_multipliers(np.concatenate([split, pair]))
+        assert trivial in split
+        assert complex_outside(rest) == 0
+        assert np.isclose(torus_test(rest), np.abs(pair[0]) - 1.0)      # the test reads the genuine pair
+        assert sorted(rest.imag) == pytest.approx([-0.13, 0.0, 0.13])
+    # A genuine pair near the unit circle away from +1 stays complex.
+    rest, trivial = classify_multipliers(np.array([1.0 + 0j, 0.6 + 0.81j, 0.6 - 0.81j]))
+    assert trivial == 1.0 and complex_outside(rest) == 2 and np.all(rest.imag != 0.0)

@@ -47,3 +47,30 @@ def test_mbs_with_every_assumption_on_has_the_same_kick(reduced):
     assert other.lower == kick.lower
     # The two brackets overlap: the same threshold to the bisection's tolerance.
     assert other.stays < kick.leaves and kick.stays < other.leaves
+
+
+@pytest.mark.slow
+def test_full_geometry_kick_in_its_own_window_at_t0_0_25():
+    """The full geometry's subcritical onset at t0 = 0.25 m, 1.5 bar: straight running and a large stable cycle
+    coexist between its Hopf point (about 194.6 km/h) and the cycle fold (about 204 km/h); the kick between them is
+    bracketed by two full-MBS runs.  The window is continued narrowly at 1e-5 (about 2 min on 2 cores): below
+    194 km/h the stable cycles need hundreds of intervals (docs/results.md)."""
+    from mbs_shimmy.kick import bistable_windows
+    from reduced_model.bifurcation.cycles.problem import CycleSettings
+    from reduced_model.bifurcation.special_points import PointKind
+    family = MbsFamily(MbsModel(PARAMS, fidelity=Fidelity.full()), pressure=PRESSURE)
+    diagram = cycle_diagram(family, PRESSURE, 194.5 * KMH, 206.0 * KMH, settings=CycleSettings(tolerance=1e-5))
+    assert diagram.complete
+    (hopf,) = diagram.hopf
+    assert hopf.first_lyapunov > 0.0                       # subcritical: the unstable cycles lie where it is stable
+    (fold,) = diagram.points_of(PointKind.CYCLE_FOLD)
+    ((low, high),) = bistable_windows(diagram, family)
+    assert low == hopf.p and hopf.p < high < fold.p
+    assert not diagram.points_of(PointKind.TORUS)           # (the double multiplier near +1 is no torus)
+    (kick,) = kicks(family, diagram)
+    assert kick.status is KickStatus.FOUND and low < kick.speed < high
+    assert kick.lower.label == "straight running"
+    states = (kick.lower, kick.upper)
+    assert settled_on(kick.stays_run, states) == 0 and settled_on(kick.leaves_run, states) == 1
+    # The separating unstable cycle is smaller than the kick needs: its other states carry the rest.
+    assert kick.unstable_theta1 < kick.kick < kick.upper.theta1

@@ -29,7 +29,8 @@ from mbs_shimmy.limit_cycle import SteadyAmplitude
 from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
 from reduced_model.bifurcation.equilibria.hopf import HopfPoint
 from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
-from reduced_model.model import STATE_NAMES
+from reduced_model.family import SpeedFamily
+from reduced_model.model import STATE_NAMES, ShimmyModel
 
 
 def cycle(speed_kmh: float, theta1: float, stable: bool, hz: float = 6.0) -> CyclePoint:
@@ -139,12 +140,28 @@ def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
     assert not decides_within(slow, 12.0) and decides_within(branch.points[5], 12.0)
 
 
-def test_figure_of_both_models_branches(tmp_path):
-    from comparisons.figures.cycle_plots import plot_model_branches
+def _kick(status):
+    from mbs_shimmy.kick import Attractor, KickThreshold
+    return KickThreshold(60.0 * KMH, Attractor("straight running", 0.0, 0.0), Attractor("cycle of branch 0", 0.1, 0.05),
+                         0.03, status, 0.04, 0.0408, None, None, 9)
+
+
+def test_figure_of_both_models_branches_with_their_kicks(tmp_path):
+    from comparisons.figures.cycle_plots import kick_marks, plot_cycle_diagram, plot_model_branches
+    from mbs_shimmy.kick import KickStatus
+    found, not_left = _kick(KickStatus.FOUND), _kick(KickStatus.NOT_LEFT)
+    # Only a bracketed threshold is drawn, at its speed and at the geometric middle of its bracket.
+    ((v, a, text),) = kick_marks([found, not_left])
+    assert v == pytest.approx(60.0) and a == pytest.approx(np.degrees(np.sqrt(0.04 * 0.0408)))
+    assert text == f"kick {a:.2f} deg"
     path = tmp_path / "both.png"
     d = subcritical_diagram()
-    plot_model_branches([("reduced model", d, "C0"), ("full geometry, MBS", d, "C3")], str(path), title="test")
+    plot_model_branches([("reduced model", d, "C0", [found]), ("full geometry, MBS", d, "C3")], str(path),
+                        title="test")
     assert path.stat().st_size > 10_000
+    one = tmp_path / "one.png"
+    plot_cycle_diagram(d, SpeedFamily(ShimmyModel()), str(one), kicks=[found])
+    assert one.stat().st_size > 10_000
 
 
 @pytest.mark.slow
@@ -196,3 +213,20 @@ def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
     where = Where.of_bistable(BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
     assert where.label == "1.5 bar, t0 = 0.25" and where.pressure == pytest.approx(1.5e5)
     assert where.family.model.params.t0 == 0.25 and where.reduced_family.model.params.t0 == 0.25
+
+
+def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
+    """verify's bistable jumps (full mode) carry the reduced model's kick, bracketed by two of its runs."""
+    from comparisons.axles.axle import Axle
+    from comparisons.verify.context import Context
+    from comparisons.verify.cycles import _kick_rows, jump_setup
+    from comparisons.verify.plan import BistableCase, Plan
+    from comparisons.verify.report import CheckStatus
+    case = BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "figures 9a-11")
+    setup = jump_setup(case, True)
+    (row,) = _kick_rows(Context(out=str(tmp_path), quick=False, plan=Plan((), ()), recordings=False), setup)
+    assert row.status is CheckStatus.PASS, row.note
+    assert setup.low < float(row.cells["run"].split()[2]) < setup.high     # in the middle of the window
+    stays = float(row.note.split("theta1 of ")[1].split(" deg")[0])
+    leaves = float(row.note.split("deg stays on ")[1].split(", ")[1].split(" deg")[0])
+    assert stays < row.cells["kick_deg"] < leaves and leaves / stays < 1.03

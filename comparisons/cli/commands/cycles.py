@@ -296,7 +296,10 @@ def run(args: argparse.Namespace) -> int:
                               args.plot)
         else:
             from comparisons.figures.cycle_plots import plot_cycle_diagram
-            plot_cycle_diagram(diagram, family, args.plot)
+            effects = ",".join(model.effects.names) or "section 3 tyre"
+            plot_cycle_diagram(diagram, family, args.plot, kicks=found_kicks,
+                               title=f"Limit cycles at {pressure_label(args)} ({model_text(args, family)}, "
+                                     f"{effects}); solid stable, dashed unstable")
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
     if args.json:
         out = diagram_json(diagram, family, args.pressure, model.effects.names)
@@ -418,13 +421,17 @@ def print_curves(curves, labels, name: str) -> None:
                   f"({p.status.value})")
 
 
+def model_text(args: argparse.Namespace, family) -> str:
+    """Which model the command ran, for its header and its plot."""
+    return f"MBS, fidelity {family.model.fidelity.label}" if args.model == "mbs" else "reduced model"
+
+
 def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Namespace) -> None:
     from comparisons.figures.cycle_plots import special_point_labels
 
     effects = ",".join(build_model(args).effects.names) or "none (section 3 model)"
-    what = f"MBS, fidelity {family.model.fidelity.label}" if args.model == "mbs" else "reduced model"
-    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h ({what}), pressure effects: "
-          f"{effects}")
+    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h ({model_text(args, family)}), "
+          f"pressure effects: {effects}")
     print(f"  {build_axle(args).label()}")
     if not diagram.hopf:
         unstable = unstable_without_hopf(diagram, family, diagram.q)

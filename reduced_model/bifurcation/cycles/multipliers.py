@@ -11,9 +11,20 @@ COMPLEX_TOL = 1e-7          # |Im mu| below this: a real multiplier
 
 
 def classify_multipliers(mu: np.ndarray) -> tuple[np.ndarray, complex]:
-    """(non-trivial multipliers, trivial multiplier): the trivial one is the multiplier nearest +1."""
+    """(non-trivial multipliers, trivial multiplier): the trivial one is the multiplier nearest +1.
+
+    The trivial multiplier is exactly 1, so real.  Where a second multiplier is near +1 too (beside a Hopf point,
+    at a fold) the discretisation can split the two into a conjugate pair 1 +- i eps; the partner of a complex
+    trivial multiplier is then real as well and is returned without its imaginary part (otherwise it would be a
+    lone complex multiplier crossing the unit circle: a spurious torus point)."""
     k = int(np.argmin(np.abs(mu - 1.0)))
-    return np.delete(mu, k), complex(mu[k])
+    trivial = complex(mu[k])
+    rest = np.delete(mu, k)
+    if abs(trivial.imag) > COMPLEX_TOL and len(rest):
+        j = int(np.argmin(np.abs(rest - trivial.conjugate())))
+        rest = rest.astype(complex)
+        rest[j] = rest[j].real
+    return rest, trivial
 
 
 def complex_outside(mu: np.ndarray) -> int:

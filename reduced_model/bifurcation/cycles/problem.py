@@ -87,8 +87,8 @@ class CyclePoint:
 
     @property
     def nontrivial(self) -> np.ndarray:
-        k = int(np.argmin(np.abs(self.multipliers - self.trivial)))
-        return np.delete(self.multipliers, k)
+        """The multipliers without the trivial one, as :func:`classify_multipliers` reads them."""
+        return classify_multipliers(self.multipliers)[0]
 
 
 @dataclass(frozen=True)
