@@ -137,7 +137,7 @@ def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, A
     if eigenvalues(family, speed, diagram.q)[0].real < 0.0:
         stable.append(Attractor("straight running", 0.0, 0.0))
     unstable: list[float] = []
-    for i, b in enumerate(diagram.branches):
+    for i, b in enumerate(diagram.branches, 1):   # numbered as the reports number branches
         pts = list(b.points)
         for a, c in zip(pts[:-1], pts[1:]):
             if not min(a.p, c.p) <= speed <= max(a.p, c.p) or a.stable != c.stable:
@@ -200,10 +200,10 @@ def bistable_windows(diagram, family=None, min_width: float = 0.0) -> list[tuple
     return [(a, b) for a, b in windows if b - a > min_width]
 
 
-def bistable_speeds(family, diagram) -> list[float]:
-    """The middle speed (m/s) of every window of the diagram where two stable states coexist
-    (:func:`bistable_windows`, straight running included)."""
-    return [0.5 * (a + b) for a, b in bistable_windows(diagram, family)]
+def bistable_speeds(family, diagram, min_width: float = 0.0) -> list[float]:
+    """The middle speed (m/s) of every window of the diagram wider than ``min_width`` where two stable states
+    coexist (:func:`bistable_windows`, straight running included)."""
+    return [0.5 * (a + b) for a, b in bistable_windows(diagram, family, min_width)]
 
 
 def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplitude]:
@@ -218,10 +218,10 @@ def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplit
     return lambda x0: reduced_steady_amplitude(family.model, family.pressure, speed, x0)
 
 
-def kicks(family, diagram) -> list[KickThreshold]:
-    """The kick threshold in the middle of every bistable window of the diagram."""
+def kicks(family, diagram, min_width: float = 0.0) -> list[KickThreshold]:
+    """The kick threshold in the middle of every bistable window of the diagram wider than ``min_width`` (m/s)."""
     out = []
-    for speed in bistable_speeds(family, diagram):
+    for speed in bistable_speeds(family, diagram, min_width):
         found = coexisting_states(family, diagram, speed)
         if found is not None:
             out.append(kick_threshold(settle_function(family, speed), speed, *found))

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from comparisons.axles.axle import Axle
+from comparisons.verify.background import Background
 from comparisons.verify.plan import VMAX, Plan
 from comparisons.verify.report import CheckStatus
 from reduced_model.bifurcation.equilibria.hopf import hopf_points
@@ -28,6 +29,7 @@ class Context:
     plan: Plan | None = None
     recordings: bool = True
     progress: Callable[[str], None] = field(default=lambda message: None, compare=False)
+    background: Background | None = field(default=None, compare=False)   # jobs started early, collected later
 
 
 def printed_decimals(value: float) -> int:

@@ -9,8 +9,9 @@ sampled (:func:`decides_within`: not those next to a Hopf point or a fold, where
 * A simulation leaves an unstable orbit: from the same start, it ends more than :data:`LEFT_TOL` away from the
   orbit's max |theta1| (on another state: straight running or another cycle).
 * A cycle fold, torus or period-doubling point is bracketed by the branch's computed cycles nearest to it on either
-  side of its change of stability, each checked as above; beyond a fold (where no cycle of the branch exists) a run
-  started on the fold's orbit must leave it.
+  side of its change of stability (among the few next to it, one a run can decide), each checked as above; beyond
+  a fold (where no cycle of the branch exists) a run started on the fold's orbit must leave it.  A side with no
+  cycle a run can decide gets no run: :func:`undecided_sides` names it.
 
 ``settle(speed)`` gives a function x0 -> :class:`~mbs_shimmy.limit_cycle.SteadyAmplitude` that runs the model at
 that speed until it settles (:func:`mbs_shimmy.kick.settle_function`): the checks are the same for the reduced
@@ -100,9 +101,10 @@ def sample_orbits(branch, count: int, stable: bool, seconds: float = SETTLE) -> 
     return [inner[round(i * step)] for i in range(count)]
 
 
-def bracketing_cycles(branch, point) -> tuple[object | None, object | None]:
+def bracketing_cycles(branch, point, seconds: float = SETTLE) -> tuple[object | None, object | None]:
     """The computed cycles of ``branch`` nearest to the special ``point`` on its stable and on its unstable side
-    (by speed, among the cycles next to it along the branch)."""
+    (by speed, among the cycles next to it along the branch), those a run of ``seconds`` can decide
+    (:func:`decides_within`) first."""
     pts = list(branch.points)
     if not pts:
         return None, None
@@ -110,9 +112,11 @@ def bracketing_cycles(branch, point) -> tuple[object | None, object | None]:
     k = min(range(len(pts)), key=lambda i: abs(pts[i].p - point.p)
             + (0.0 if located is None else abs(pts[i].max_abs("theta1") - located.max_abs("theta1"))))
     near = pts[max(0, k - 2):k + 3]
-    stable = min((p for p in near if p.stable), key=lambda p: abs(p.p - point.p), default=None)
-    unstable = min((p for p in near if not p.stable), key=lambda p: abs(p.p - point.p), default=None)
-    return stable, unstable
+
+    def nearest(stable: bool):
+        return min((p for p in near if p.stable == stable), default=None,
+                   key=lambda p: (not decides_within(p, seconds), abs(p.p - point.p)))
+    return nearest(True), nearest(False)
 
 
 def beyond_fold(branch, point) -> float:
@@ -126,10 +130,22 @@ def bracket_special_point(settle, branch, point) -> list[tuple[str, OrbitCheck]]
     """(what, check) pairs that bracket a special point by simulations on either side."""
     stable, unstable = bracketing_cycles(branch, point)
     out = []
-    if stable is not None:
+    if stable is not None and decides_within(stable, SETTLE):
         out.append(("stable side", check_orbit(settle, stable)))
     if point.kind is PointKind.CYCLE_FOLD and "cycle" in point.data:
         out.append(("past the fold", check_orbit(settle, point.data["cycle"], beyond_fold(branch, point))))
-    elif unstable is not None:
+    elif unstable is not None and decides_within(unstable, SETTLE):
         out.append(("unstable side", check_orbit(settle, unstable)))
+    return out
+
+
+def undecided_sides(branch, point) -> list[str]:
+    """The sides of a special point that :func:`bracket_special_point` leaves unchecked: those whose nearest
+    computed cycles are all too close to |mu| = 1 for a run to decide."""
+    stable, unstable = bracketing_cycles(branch, point)
+    out = []
+    if stable is not None and not decides_within(stable, SETTLE):
+        out.append("stable side")
+    if point.kind is not PointKind.CYCLE_FOLD and unstable is not None and not decides_within(unstable, SETTLE):
+        out.append("unstable side")
     return out

@@ -8,7 +8,9 @@ import dataclasses
 from typing import Callable
 
 from comparisons.axles.axle import Axle, interface_text
+from comparisons.verify.background import Background
 from comparisons.verify.context import Context
+from comparisons.verify.other_axle import start_other_axles
 from comparisons.verify.plan import BOTH, Plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section
 from comparisons.verify.sections import (
@@ -48,23 +50,13 @@ def make_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None, f
     return axle_plan(axle, quick, asymmetric, progress=progress, models=models)
 
 
-def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric: tuple[float, float] | None = None,
-                     from_file: bool = False, recordings: bool = True,
-                     progress: Callable[[str], None] | None = None) -> Report:
-    """Plan, then run every section; a section that raises is reported as a FAIL row with its error.
-
-    ``progress(message)`` is called as each step starts (and with "done: ..." as it ends)."""
-    from comparisons.verify.verdict import verdict_of
-    progress = progress or (lambda message: None)
-    axle = axle or Axle()
-    plan = make_plan(axle, quick, asymmetric, from_file, progress)
-    verdict = verdict_of(plan)
-    ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress)
+def run_sections(ctx: Context) -> list[Section]:
+    """Every section in turn; one that raises becomes a FAIL row with its error."""
     sections = []
     steps = sections_for(ctx)
-    getattr(progress, "set_steps", lambda names: None)([title for title, _ in steps])
+    getattr(ctx.progress, "set_steps", lambda names: None)([title for title, _ in steps])
     for title, make in steps:
-        progress(f"{title}")
+        ctx.progress(f"{title}")
         try:
             section = make(ctx)
             if not section.rows:       # never an empty table that reads as passed
@@ -76,7 +68,26 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
             sections.append(Section(key=title.lower().replace(" ", "_"), title=title, columns=("error",),
                                     rows=(Row({"error": error}, CheckStatus.FAIL),),
                                     text="This part of the verification could not be completed."))
-        progress(f"done: {title}")
+        ctx.progress(f"done: {title}")
+    return sections
+
+
+def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric: tuple[float, float] | None = None,
+                     from_file: bool = False, recordings: bool = True,
+                     progress: Callable[[str], None] | None = None) -> Report:
+    """Plan, then run every section; a section that raises is reported as a FAIL row with its error.
+
+    ``progress(message)`` is called as each step starts (and with "done: ..." as it ends)."""
+    from comparisons.verify.verdict import verdict_of
+    progress = progress or (lambda message: None)
+    axle = axle or Axle()
+    plan = make_plan(axle, quick, asymmetric, from_file, progress)
+    verdict = verdict_of(plan)
+    with Background() as background:   # jobs that overlap the sections on a second core
+        ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress,
+                      background=background)
+        start_other_axles(ctx)
+        sections = run_sections(ctx)
     facts = tuple(f for s in sections for f in s.verdict_facts)
     return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle,
                   verdict=dataclasses.replace(verdict, margins=verdict.margins + facts))

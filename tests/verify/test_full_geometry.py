@@ -22,6 +22,7 @@ from comparisons.verify.orbit_checks import (
     check_orbit,
     decides_within,
     sample_orbits,
+    undecided_sides,
 )
 from comparisons.verify.plan import bistable_windows as plan_windows
 from mbs_shimmy.kick import bistable_speeds, bistable_windows, stable_straight_running, stable_stretches
@@ -128,6 +129,34 @@ def test_fold_is_bracketed_by_a_stable_cycle_and_a_run_past_it():
     assert check_orbit(settle, branch.points[5]).ok
 
 
+def slow_cycle(c: CyclePoint) -> CyclePoint:
+    """The same cycle with its largest nontrivial multiplier at 0.999: a 12 s run cannot decide it."""
+    return CyclePoint(c.p, c.q, c.period, c.amplitude, np.array([1.0, 0.999] + [0.1] * 6), stable=c.stable,
+                      orbit=c.orbit, names=STATE_NAMES)
+
+
+def test_a_fold_side_no_run_can_decide_is_named_not_run():
+    d = subcritical_diagram()
+    branch = d.branches[0]
+    (fold,) = branch.special_points
+    settle = lambda speed: (lambda x0: run(0.0 if speed < 30.0 * KMH else 0.03))   # noqa: E731
+    assert undecided_sides(branch, fold) == []
+    # The nearest stable cycle undecidable: the next decidable one along the branch brackets the fold instead.
+    points = list(branch.points)
+    points[4] = slow_cycle(points[4])            # the stable 30.5 km/h cycle
+    nearer = CycleBranch("speed", tuple(points), branch.special_points, branch.status, branch.message,
+                         start=branch.start)
+    checks = dict(bracket_special_point(settle, nearer, fold))
+    assert checks["stable side"].cycle.p == pytest.approx(35.0 * KMH) and undecided_sides(nearer, fold) == []
+    # Every stable cycle next to it undecidable: no run on that side, and the side is named.
+    points[5] = slow_cycle(points[5])
+    points[6] = slow_cycle(points[6])
+    none = CycleBranch("speed", tuple(points), branch.special_points, branch.status, branch.message,
+                       start=branch.start)
+    assert set(dict(bracket_special_point(settle, none, fold))) == {"past the fold"}
+    assert undecided_sides(none, fold) == ["stable side"]
+
+
 def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
     branch = subcritical_diagram().branches[0]
     stable = sample_orbits(branch, 3, stable=True)
@@ -142,7 +171,7 @@ def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
 
 def _kick(status):
     from mbs_shimmy.kick import Attractor, KickThreshold
-    return KickThreshold(60.0 * KMH, Attractor("straight running", 0.0, 0.0), Attractor("cycle of branch 0", 0.1, 0.05),
+    return KickThreshold(60.0 * KMH, Attractor("straight running", 0.0, 0.0), Attractor("cycle of branch 1", 0.1, 0.05),
                          0.03, status, 0.04, 0.0408, None, None, 9)
 
 
@@ -208,7 +237,7 @@ def test_ramps_through_a_subcritical_window_start_on_straight_running():
 
 def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
     from comparisons.axles.axle import Axle
-    from comparisons.verify.full_geometry import Where
+    from comparisons.verify.full_geometry_rows import Where
     from comparisons.verify.plan import BistableCase
     where = Where.of_bistable(BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
     assert where.label == "1.5 bar, t0 = 0.25" and where.pressure == pytest.approx(1.5e5)
@@ -230,3 +259,25 @@ def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
     stays = float(row.note.split("theta1 of ")[1].split(" deg")[0])
     leaves = float(row.note.split("deg stays on ")[1].split(", ")[1].split(" deg")[0])
     assert stays < row.cells["kick_deg"] < leaves and leaves / stays < 1.03
+
+
+def test_a_window_too_narrow_to_resolve_gets_no_ramps_and_no_kick(tmp_path):
+    """Next to a degenerate Hopf point the fold lies within a hair of it (the full geometry at t0 = 0.25 m: 6e-5
+    km/h at 3.56 km/h): the window is reported, but no ramp or kick can resolve it."""
+    from comparisons.axles.axle import Axle
+    from comparisons.verify.context import Context
+    from comparisons.verify.full_geometry_rows import MIN_WINDOW_KMH, Where, window_rows
+    d = subcritical_diagram()
+    branch = d.branches[0]
+    near = 40.0 - 0.4 * MIN_WINDOW_KMH
+    points = [c for c in branch.points if not c.stable] + [cycle(near, 0.03, True), cycle(80.0, 0.05, True)]
+    narrow = CycleDiagram(d.q, d.p_min, d.p_max, d.hopf, (CycleBranch("speed", tuple(points), branch.special_points,
+                                                                     branch.status, branch.message,
+                                                                     start=branch.start),))
+    ((a, b),) = bistable_windows(narrow, StraightRunning())
+    assert (b - a) / KMH < MIN_WINDOW_KMH
+    rows, recordings, found = window_rows(Context(out=str(tmp_path), quick=False), StraightRunning(),
+                                          Where("test", Axle(), 1.5e5, 1.5), narrow)
+    (row,) = rows
+    assert row.cells["what"].startswith("bistable window") and "neither is run" in row.note
+    assert recordings == [] and found == []
