@@ -56,24 +56,39 @@ class CamberTerms:
     def neutral(self) -> bool:
         return not any((self.p_ky3, self.p_ky6, self.p_ky7, self.p_vy3, self.p_vy4, self.q_dz8, self.q_dz9))
 
+    @property
+    def coefficients(self) -> tuple[float, ...]:
+        """The fields in order: the first argument of :func:`camber_terms`."""
+        return (self.p_ky3, self.p_ky6, self.p_ky7, self.p_vy3, self.p_vy4, self.q_dz8, self.q_dz9, self.q_bz9,
+                self.Fz0, self.R)
+
     def terms(self, mf, alpha: float, load: float, gamma: float, plain: float) -> tuple[float, float]:
-        """(F_y with camber less F_y without, camber moment M_zr) at slip alpha, vertical load and camber gamma;
-        ``mf`` has the paper's B, C, D, E at that load and ``plain`` is its F_y(alpha) (already computed by the
-        tyre element: one Magic-Formula evaluation less per stage)."""
-        if load <= 0.0:
-            return 0.0, 0.0
-        dfz = (load - self.Fz0) / self.Fz0
-        B, C, D, E = mf.B, mf.C, mf.D, mf.E
-        # MF 6.1's factor would reach zero at |gamma| = 1 / p_Ky3 (2.7 rad for this tyre, beyond the model's 1 rad
-        # divergence limit); it is kept positive so that the cornering stiffness never changes sign
-        reduction = 1.0 - self.p_ky3 * (gamma if gamma >= 0.0 else -gamma)
-        if reduction < 0.05:
-            reduction = 0.05
-        Br = B * reduction
-        K = Br * C * D
-        s_v = load * (self.p_vy3 + self.p_vy4 * dfz) * gamma
-        s_h = (s_v - load * (self.p_ky6 + self.p_ky7 * dfz) * gamma) / K
-        shifted = _force(Br, C, D, E, alpha + s_h, math.sin, math.atan) + s_v
-        fade = self.q_bz9 * (alpha + s_h - s_v / K)         # cos(arctan(x)) = 1 / sqrt(1 + x^2)
-        mzr = load * self.R * (self.q_dz8 + self.q_dz9 * dfz) * gamma / math.sqrt(1.0 + fade * fade)
-        return shifted - plain, mzr
+        """:func:`camber_terms` with ``mf`` holding the paper's B, C, D, E at that load."""
+        return camber_terms(self.coefficients, mf.B, mf.C, mf.D, mf.E, alpha, load, gamma, plain)
+
+
+def camber_terms(coefficients: tuple, B: float, C: float, D: float, E: float, alpha: float, load: float,
+                 gamma: float, plain: float) -> tuple[float, float]:
+    """(F_y with camber less F_y without, camber moment M_zr) at slip alpha, vertical load and camber gamma;
+    ``coefficients`` are :attr:`CamberTerms.coefficients`, B, C, D, E the paper's factors at that load and ``plain``
+    its F_y(alpha) (already computed by the tyre element: one Magic-Formula evaluation less per stage).
+
+    A plain function of floats with :mod:`math`: the tyre element calls it, and the compiled solver stage
+    (:mod:`mbs_shimmy.compiled_stage`) compiles it."""
+    if load <= 0.0:
+        return 0.0, 0.0
+    p_ky3, p_ky6, p_ky7, p_vy3, p_vy4, q_dz8, q_dz9, q_bz9, Fz0, R = coefficients
+    dfz = (load - Fz0) / Fz0
+    # MF 6.1's factor would reach zero at |gamma| = 1 / p_Ky3 (2.7 rad for this tyre, beyond the model's 1 rad
+    # divergence limit); it is kept positive so that the cornering stiffness never changes sign
+    reduction = 1.0 - p_ky3 * (gamma if gamma >= 0.0 else -gamma)
+    if reduction < 0.05:
+        reduction = 0.05
+    Br = B * reduction
+    K = Br * C * D
+    s_v = load * (p_vy3 + p_vy4 * dfz) * gamma
+    s_h = (s_v - load * (p_ky6 + p_ky7 * dfz) * gamma) / K
+    shifted = _force(Br, C, D, E, alpha + s_h, math.sin, math.atan) + s_v
+    fade = q_bz9 * (alpha + s_h - s_v / K)         # cos(arctan(x)) = 1 / sqrt(1 + x^2)
+    mzr = load * R * (q_dz8 + q_dz9 * dfz) * gamma / math.sqrt(1.0 + fade * fade)
+    return shifted - plain, mzr

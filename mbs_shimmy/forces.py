@@ -22,6 +22,11 @@ are virtual work on the tree's joints: a force F at P on a knuckle gives u.((P -
 through O: x, or sloped in side view with the roll steer), e.((P - K) x F) on its theta, y.F on the lateral travel
 and z.F on the bounce.  With the first-order kinematics
 (``small_angles``) the lever arms are the constant straight-running ones (:meth:`TyreElement.linear`).
+
+With the exact kinematics a stage runs compiled (:mod:`mbs_shimmy.compiled_stage`: numba compiles the same functions
+the Python path of :meth:`AxleForces.evaluate` calls, those of :mod:`mbs_shimmy.tyre_element`,
+:mod:`mbs_shimmy.knuckle`, :mod:`mbs_shimmy.camber` and :mod:`reduced_model.tyre`), one call per stage for both
+wheels; the first-order kinematics stay in Python.
 """
 
 from __future__ import annotations
@@ -39,6 +44,7 @@ from mbs_shimmy.camber import CamberTerms
 from mbs_shimmy.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.geometry import SIDES, AxleGeometry
+from mbs_shimmy.knuckle import knuckle_pose, ramp_moments, rotor_moment
 from mbs_shimmy.tyre_element import TyreElement
 from reduced_model.model import Effects, ShimmyModel
 from reduced_model.parameters import ParameterError, ShimmyParameters
@@ -108,6 +114,7 @@ class AxleForces:
         # inertia is the distributed one (lumped, the mass sits on the kingpin axis and does no virtual work).
         self.wheel_mass = 0.0 if Assumption.UNCOUPLED_INERTIA in fidelity else dims.wheel_mass
         self.I2, self.R = params.I2, params.R
+        self.ramp_constants = (params.l, params.I2, params.R, self.wheel_mass)
         self.speed = speed
         self.acceleration = acceleration
         self.steady = self.quasi_steady or acceleration is None
@@ -123,6 +130,8 @@ class AxleForces:
         self.alignment = [0.0] * (L.n_mech + 2)
         self.system = None
         self.markers = ()
+        # the exact kinematics' stage compiled (mbs_shimmy.compiled_stage), set by attach
+        self.stage = None
         # spin axis (y of the axle frame) in each knuckle's joint frame: s = R_link s_local
         rows = [self.g_exact.joint_rotation(side) for side in SIDES]
         self.spin_local = tuple((r[1][0], r[1][1], r[1][2]) for r in rows)
@@ -130,6 +139,7 @@ class AxleForces:
     def attach(self, system) -> None:
         """Read poses from this assembled system; set the alignment at straight running (zero state)."""
         self.system = system
+        self.stage = None          # the alignment from the Python path; the compiled stage reads it
         mbs = system.mbs
         self.get = mbs.GetMarkerOutput
         if system.markers is not None:
@@ -143,6 +153,10 @@ class AxleForces:
         self.alignment = [-float(v) for v in Q[:self.n_mech]] + [0.0, 0.0]
         sd.SetODE2Coordinates(q0)
         sd.SetODE2Coordinates_t(v0)
+        if not self.linear and len(self.markers) == 2:
+            from mbs_shimmy import compiled_stage  # numba's import only where a compiled stage is used
+            self.stage_constants, self.stage_tables = compiled_stage.constants(self)
+            self.stage = compiled_stage.STAGE
 
     def knuckle_poses(self, q, qd) -> tuple:
         """(K, v_K, e, s, omega) of both knuckles at the tree state (q, q') written in Exudyn's current
@@ -158,22 +172,23 @@ class AxleForces:
         Oy, yd = (q[self.i_lat], qd[self.i_lat]) if self.i_lat >= 0 else (0.0, 0.0)
         Oz, zd = (self.Oz + q[self.i_vert], qd[self.i_vert]) if self.i_vert >= 0 else (self.Oz, 0.0)
         wx, wz = psid * self.ux, psid * self.uz      # the axle's angular velocity psi' u
-        for m, (a, b, c), thd in zip(self.markers, self.spin_local, (qd[self.i_th1], qd[self.i_th2])):
-            Rm = get(m, _ROT).tolist()
-            K = get(m, _POS).tolist()
-            e = (Rm[2], Rm[5], Rm[8])
-            ry, rz = K[1] - Oy, K[2] - Oz
-            out.append((K, (-wz * ry, yd + wz * K[0] - wx * rz, zd + wx * ry),
-                        e, (Rm[0] * a + Rm[1] * b + Rm[2] * c, Rm[3] * a + Rm[4] * b + Rm[5] * c,
-                            Rm[6] * a + Rm[7] * b + Rm[8] * c),
-                        (wx + thd * e[0], thd * e[1], wz + thd * e[2])))
+        for m, spin, thd in zip(self.markers, self.spin_local, (qd[self.i_th1], qd[self.i_th2])):
+            out.append(knuckle_pose(get(m, _ROT).tolist(), get(m, _POS).tolist(), spin, Oy, Oz, yd, zd, wx, wz, thd))
         return tuple(out)
 
     # ------------------------------------------------------------------------------------------------------
-    def evaluate(self, t: float, q, qd, states: list | None = None):
+    def evaluate(self, t: float, q, qd, states: list | None = None, python: bool = False):
         """Generalized forces on the tree's coordinates, then (alpha1', alpha2'), at time t and tree state
         (q, q'); the slip angles are the last two velocities.  ``states``, if a list, receives the two wheels'
-        :class:`~mbs_shimmy.tyre_element.ContactState`."""
+        :class:`~mbs_shimmy.tyre_element.ContactState`.
+
+        The exact kinematics run compiled (:meth:`compiled`) unless ``python``; the Python path below calls the
+        functions the compiled stage is built from, and serves the first-order kinematics, ``states`` and loads
+        outside the load table."""
+        if self.stage is not None and states is None and not python:
+            out = self.compiled(t, q, qd)
+            if out is not None:
+                return out
         ip, i1, i2 = self.i_psi, self.i_th1, self.i_th2
         psi, th1, th2 = q[ip], q[i1], q[i2]
         psid, thd1, thd2 = qd[ip], qd[i1], qd[i2]
@@ -236,42 +251,31 @@ class AxleForces:
         out[m + 1] = r2[2]
         return out
 
+    def compiled(self, t: float, q, qd) -> list | None:
+        """:meth:`evaluate` by the compiled stage (:mod:`mbs_shimmy.compiled_stage`), or None where it cannot
+        (a load outside the load table) or there is none (first-order kinematics, no system attached)."""
+        if self.stage is None:
+            return None
+        get = self.get
+        m1, m2 = self.markers
+        out = self.stage(self.stage_constants, self.stage_tables, get(m1, _ROT), get(m1, _POS), get(m2, _ROT),
+                         get(m2, _POS), tuple(q), tuple(qd), self.speed(t),
+                         0.0 if self.steady else self.acceleration(t))
+        return None if out is None else out.tolist()
+
     def rotor_moments(self, p1: tuple, p2: tuple, speed: float) -> tuple[float, float, float]:
-        """(Q_psi, Q_theta1, Q_theta2) of the wheels' spin Omega = V/R: the moment -I2 Omega (omega x s) of each
-        wheel, its component along the roll axis u on psi and along the kingpin axis e on theta (poses as
+        """(Q_psi, Q_theta1, Q_theta2) of the wheels' spin Omega = V/R (:func:`rotor_moment`; poses as
         :meth:`knuckle_poses`)."""
         kg = self.I2 * speed / self.R
-        out = [0.0, 0.0, 0.0]
-        for k, p in enumerate((p1, p2)):
-            e, s, w = p[2], p[3], p[4]
-            Mx = -kg * (w[1] * s[2] - w[2] * s[1])
-            My = -kg * (w[2] * s[0] - w[0] * s[2])
-            Mz = -kg * (w[0] * s[1] - w[1] * s[0])
-            out[0] += self.ux * Mx + self.uz * Mz
-            out[1 + k] = e[0] * Mx + e[1] * My + e[2] * Mz
-        return out[0], out[1], out[2]
+        a1, b1 = rotor_moment(kg, self.ux, self.uz, p1)
+        a2, b2 = rotor_moment(kg, self.ux, self.uz, p2)
+        return 0.0 + a1 + a2, b1, b2
 
     # --- speed changes (assumption quasi_steady_speed off) ------------------------------------------------
     def _ramp_exact(self, side: float, pose: tuple, Oy: float, Oz: float, acc: float) -> tuple[float, float]:
-        """Wheel spin-up by the road: force -I2 Omega'/|P - C| along the heading at P with the reaction
-        -I2 Omega' s on the knuckle, which together are that force moved to the wheel centre C; plus the
-        d'Alembert force -m_w dV/dt at C.  Both act at C along the heading / x."""
-        K, _, e, s, _ = pose
-        hl = side * self.params.l
-        sx, sy, sz = s
-        Cx, Cy, Cz = K[0] + hl * sx, K[1] + hl * sy, K[2] + hl * sz
-        cphi = math.sqrt(1.0 - sz * sz)
-        depth = Cz / cphi
-        fs = -self.I2 * (acc / self.R) / depth
-        Fx, Fy = fs * sy / cphi - self.wheel_mass * acc, -fs * sx / cphi
-        ex, ey, ez = e
-        rx, ry, rz = Cx - K[0], Cy - K[1], Cz - K[2]
-        # F has no vertical component; about the roll axis u = (ux, 0, uz) through O = (0, Oy, Oz)
-        q_psi = self.ux * (-(Cz - Oz) * Fy) + self.uz * (Cx * Fy - (Cy - Oy) * Fx)
-        q_theta = ex * (-rz * Fy) + ey * (rz * Fx) + ez * (rx * Fy - ry * Fx)
-        return q_psi, q_theta
+        return ramp_moments(self.ramp_constants, side, pose, Oy, Oz, self.ux, self.uz, acc)
 
     def _ramp_linear(self, side: float, acc: float) -> float:
-        """First-order form of :meth:`_ramp_exact`: both forces along x at lever -side*l about the kingpin."""
+        """First-order form of :func:`ramp_moments`: both forces along x at lever -side*l about the kingpin."""
         fx = -self.I2 * acc / self.R ** 2 - self.wheel_mass * acc
         return -side * self.params.l * fx

@@ -24,7 +24,10 @@ Per wheel, from the pose of its knuckle (the wheel is carried by the knuckle; it
 The element is written twice over the same steps: :meth:`TyreElement.exact` from the exact pose, and
 :meth:`TyreElement.linear` with every kinematic quantity to first order in the states and in the caster angle,
 which is how the reduced model's tyre terms of (2.1)-(2.3) and (2.10)-(2.11) arise; which one runs is the
-``small_angles`` switch.  Both are scalar arithmetic on purpose: they run at every solver stage.
+``small_angles`` switch.  Both are scalar arithmetic on purpose: they run at every solver stage.  The exact
+element's steps are plain functions of floats and tuples (:func:`wheel_contact`, :func:`vertical_load`,
+:func:`table_values`, :func:`slip_forces`, :func:`contact_forces`): :meth:`TyreElement.exact` calls them, and the
+compiled solver stage of the full geometry (:mod:`mbs_shimmy.compiled_stage`) compiles the same functions.
 
 Load dependence (assumption ``constant_load`` off): the Magic-Formula factors, the trail factors, a and sigma
 follow the actual vertical force.  They are the reduced model's own formulas (:mod:`reduced_model.tyre`) evaluated
@@ -40,6 +43,7 @@ import math
 import types
 from dataclasses import dataclass
 
+from mbs_shimmy.camber import camber_terms
 from mbs_shimmy.geometry import Vec
 from reduced_model import tyre
 from reduced_model.model import Effects, WheelTyre, contact_lengths
@@ -55,18 +59,6 @@ class ContactState:
     vertical_force: float
     lateral_force: float  # Magic-Formula F_y
     slip_rate: float
-
-
-class _MF:
-    """Mutable stand-in for :class:`reduced_model.tyre.MagicFormula` (same attributes) for its ``force``."""
-
-    __slots__ = ("B", "C", "D", "E")
-
-
-class _Trail:
-    """Mutable stand-in for :class:`reduced_model.tyre.TrailFormula` for its ``trail``."""
-
-    __slots__ = ("Bt", "Ct", "Dt", "Et0", "q_ez4")
 
 
 class LoadTable:
@@ -124,12 +116,7 @@ class LoadTable:
         if k < 0 or k > self.n - 4:
             values = self.direct(load)
             return [values[i] for i in self.columns]
-        x -= k + 1.0                  # in [0, 1): between nodes k+1 and k+2
-        xm, x1, x2 = x + 1.0, x - 1.0, x - 2.0
-        w0 = -x * x1 * x2 / 6.0       # cubic Lagrange weights on the nodes k .. k+3
-        w1 = xm * x1 * x2 / 2.0
-        w2 = -xm * x * x2 / 2.0
-        w3 = xm * x * x1 / 6.0
+        w0, w1, w2, w3 = lagrange_weights(x - (k + 1.0))
         r = self.rows
         if self._short:               # (B, D/F_z, E): the section 3 model, unrolled
             p, q, u, v = r[k], r[k + 1], r[k + 2], r[k + 3]
@@ -147,6 +134,135 @@ class LoadTable:
         return tuple(got.get(k, math.nan) for k in ("B", "D", "E", "Bt", "Dt", "Et0", "a", "sigma"))
 
 
+def lagrange_weights(x: float) -> tuple[float, float, float, float]:
+    """Cubic Lagrange weights on the nodes k .. k+3 at x in [0, 1) between nodes k+1 and k+2."""
+    xm, x1, x2 = x + 1.0, x - 1.0, x - 2.0
+    return -x * x1 * x2 / 6.0, xm * x1 * x2 / 2.0, -xm * x * x2 / 2.0, xm * x * x1 / 6.0
+
+
+def table_values(v, static: tuple, pt: bool, hcl: int, rl: bool) -> tuple[float, ...]:
+    """(B, D, E, Bt, Dt, Et0, a, sigma) from the :attr:`LoadTable.layout` values ``v`` at a load, the rest from the
+    static wheel's ``static`` (same order)."""
+    B, D, E = v[0], v[1], v[2]
+    if pt:
+        Bt, Dt, Et0 = v[3], v[4], v[5]
+        i = 6
+    else:
+        Bt, Dt, Et0 = static[3], static[4], static[5]
+        i = 3
+    a = v[i] if hcl else static[6]
+    sigma = v[i + hcl] if rl else static[7]
+    return B, D, E, Bt, Dt, Et0, a, sigma
+
+
+def wheel_contact(hl: float, K, s) -> tuple[float, ...]:
+    """(C_x, C_y, C_z, P_x, P_y, |P - C|, cos(camber)): wheel centre C = K + hl s on the spin axis s, and the
+    contact point P (:func:`~mbs_shimmy.geometry.disc_contact`, inlined) with the loaded radius |P - C|."""
+    Kx, Ky, Kz = K[0], K[1], K[2]
+    sx, sy, sz = s
+    Cx, Cy, Cz = Kx + hl * sx, Ky + hl * sy, Kz + hl * sz
+    cphi2 = 1.0 - sz * sz
+    cphi = math.sqrt(cphi2)
+    depth = Cz / cphi
+    k = Cz / cphi2
+    return Cx, Cy, Cz, Cx + k * sz * sx, Cy + k * sz * sy, depth, cphi
+
+
+def vertical_load(el: tuple, contact: tuple, Oy: float, Oz: float, h: float, cpsi: float,
+                  spsi: float) -> tuple[float, float, float]:
+    """(F_z, F_z - F_z,static, P0_y) of the exact element (``el`` = :attr:`TyreElement.constants`, ``contact`` of
+    :func:`wheel_contact`); P0_y is the contact point's y of the same wheel with theta = 0 (for ``load_tramp_only``
+    and ``k4_tramp_only``, else 0)."""
+    side, R, L, k5, Fs, load_tramp, k4_tramp = el[0], el[1], el[3], el[4], el[7], el[10], el[11]
+    depth = contact[5]
+    P0y = 0.0
+    if load_tramp or k4_tramp:
+        # the same wheel with theta = 0: centre O + Rx(psi) (0, side L/2, -h), axis (0, cos, sin)
+        hw = side * 0.5 * L
+        C0z = Oz + hw * spsi - h * cpsi
+        P0y = Oy + hw * cpsi + h * spsi + C0z * spsi / cpsi
+        if load_tramp:
+            depth = C0z / cpsi
+    dFz = k5 * (R - depth)
+    return Fs + dFz, dFz, P0y
+
+
+def slip_forces(tc: tuple, camber: tuple, values: tuple, alpha: float, load: float,
+                sz: float) -> tuple[float, float, float]:
+    """(F_y, M_z, F_y without camber) at slip alpha and vertical load: the Magic Formula and the trail moment
+    -t F_y of :mod:`reduced_model.tyre`, with the camber terms (:func:`~mbs_shimmy.camber.camber_terms`, camber
+    asin(s_z)) when ``tc`` says so; ``tc`` = :attr:`TyreElement.slip_constants`, ``values`` of :func:`table_values`."""
+    C, Ct, q_ez4, t0, pt, with_camber = tc
+    B, D, E, Bt, Dt, Et0 = values[0], values[1], values[2], values[3], values[4], values[5]
+    if load <= 0.0:                 # lifted wheel: no grip
+        return 0.0, 0.0, 0.0
+    Fy = tyre.mf_force(B, C, D, E, alpha, math.sin, math.atan)
+    t = tyre.mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha, math.cos, math.atan) if pt else t0
+    mz = -t * Fy          # the trail moment about the road normal (on the slip force alone)
+    if with_camber:
+        # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels
+        dFy, mzr = camber_terms(camber, B, C, D, E, alpha, load, math.asin(sz), Fy)
+        return Fy + dFy, mz + mzr, Fy
+    return Fy, mz, Fy
+
+
+def contact_forces(el: tuple, contact: tuple, pose: tuple, Oy: float, Oz: float, ux: float, uz: float, Fz: float,
+                   dFz: float, P0y: float, Fy: float, mz: float, a: float, sigma: float, alpha: float,
+                   speed: float) -> tuple[float, ...]:
+    """(Q_psi, Q_theta, alpha_dot, Q_y, Q_z, lateral force) of the exact element from the forces at the contact
+    (arguments as :meth:`TyreElement.exact` and the functions above)."""
+    side, l, L, k4, f = el[0], el[2], el[3], el[5], el[6]
+    fixed_arms, heading_only, k4_tramp, separate = el[8], el[9], el[11], el[12]
+    Cx, Cy, Cz, Px, Py, _, cphi = contact
+    K, vK, e, s, w = pose
+    Kx, Ky, Kz = K[0], K[1], K[2]
+    ex, ey, ez = e
+    sx, sy, sz = s
+    hl = side * l
+    xwx, xwy = sy / cphi, -sx / cphi              # heading x_w (horizontal)
+    ywx, ywy = sx / cphi, sy / cphi               # lateral y_w (horizontal)
+    if not separate:
+        lat = Fy          # the lateral compliance is the relaxation equation's carcass spring (K/sigma)
+    elif k4_tramp:
+        lat = Fy - k4 * (P0y - side * 0.5 * L) * ywy
+    else:
+        lat = Fy - k4 * (Px * ywx + (Py - side * 0.5 * L) * ywy)
+    # The static load acts through the actual lever arms (its geometric stiffness included) or, as in
+    # (2.1)-(2.3), through the straight-running ones, where it is a constant balanced by the alignment.
+    vert = dFz if fixed_arms else Fz
+    # The wheel rolls freely on its bearing, which carries no moment about the spin axis: the rolling
+    # resistance reaches the knuckle as the same force at the wheel centre C (at P it would brake the knuckle
+    # by f Fz |P - C| about s).  The lateral and vertical forces act at P.
+    Frx, Fry = -f * vert * xwx, -f * vert * xwy
+    Fx, Fy_lat = lat * ywx, lat * ywy
+    Fyv = Fry + Fy_lat
+    # generalized forces: psi about u through O (x and z components of the moments about O, the trail moment's
+    # -t F_y about z included); theta about e through K (P_z = 0)
+    q_psi = ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
+    if uz != 0.0:
+        q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx + mz)
+    rx, ry, rz = Px - Kx, Py - Ky, -Kz
+    cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
+    q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)
+               + ez * (rx * Fy_lat - ry * Fx + cx * Fry - cy * Frx) + mz * ez)
+    # slip: road-relative velocity of the leading contact point P + a x_w
+    wz = w[2]          # only the yaw component of the wheel's angular velocity turns the contact line
+    lx = speed - a * wz * xwy
+    ly = a * wz * xwx
+    if not heading_only:
+        # carrier velocity at P as a point of the knuckle: v_K + omega x (P - K)
+        lx += vK[0] + w[1] * rz - w[2] * ry
+        ly += vK[1] + w[2] * rx - w[0] * rz
+    vx = lx * xwx + ly * xwy
+    vy = lx * ywx + ly * ywy
+    alpha_d = (vy - abs(vx) * alpha) / sigma
+    return q_psi, q_theta, alpha_d, Fyv, vert, lat
+
+
+# the first-order element's lateral() runs at every stage of the reduced fidelity: no attribute look-ups
+_mf_force, _sin, _atan = tyre.mf_force, math.sin, math.atan
+
+
 @functools.lru_cache(maxsize=16)
 def load_table(params: ShimmyParameters, effects: Effects, wheel: WheelTyre) -> LoadTable:
     """One table per (parameters, effects, pressure): both wheels and successive runs share it."""
@@ -157,7 +273,8 @@ class TyreElement:
     """One wheel's tyre: pose -> contact forces, their generalized forces and the slip-angle rate.
 
     ``side``: -1 right (wheel 1), +1 left (wheel 2).  Geometry constants come from the axle geometry in use
-    (exact caster or linearised, see :class:`~mbs_shimmy.geometry.AxleGeometry`).
+    (exact caster or linearised, see :class:`~mbs_shimmy.geometry.AxleGeometry`).  Not to be changed after
+    construction: the compiled stage copies :attr:`constants`, :attr:`slip_constants` and the load table once.
     """
 
     def __init__(self, side: float, params: ShimmyParameters, effects: Effects, wheel: WheelTyre,
@@ -183,42 +300,37 @@ class TyreElement:
         self.ky = side * (0.5 * params.L - params.l)
         self.load_dependent = load_dependent
         self.table = load_table(params, effects, wheel) if load_dependent else None
-        self._mf = _MF()
-        self._mf.B, self._mf.C, self._mf.D, self._mf.E = wheel.force.B, wheel.force.C, wheel.force.D, wheel.force.E
-        self._tr = _Trail()
-        tf = wheel.trail
-        if tf is not None:
-            self._tr.Bt, self._tr.Ct, self._tr.Dt, self._tr.Et0, self._tr.q_ez4 = tf.Bt, tf.Ct, tf.Dt, tf.Et0, tf.q_ez4
+        mf, tf = wheel.force, wheel.trail
         self.a, self.sigma = wheel.a, wheel.sigma
+        # (B, D, E, Bt, Dt, Et0, a, sigma) of the static wheel: the properties without load dependence
+        self.static = (mf.B, mf.D, mf.E) + ((tf.Bt, tf.Dt, tf.Et0) if tf is not None else (math.nan,) * 3) + (
+            wheel.a, wheel.sigma)
         self.pt, self.hcl, self.rl = effects.pt, int(effects.hcl), effects.rl
         self.t0 = params.t0
-        self._force = tyre.MagicFormula.force_scalar
-        self._trail = tyre.TrailFormula.trail_scalar
+        # the arguments of the plain functions above (see :func:`vertical_load`, :func:`contact_forces`)
+        self.constants = (side, self.R, self.l, self.L, self.k5, self.k4, self.f, self.static_load, self.fixed_arms,
+                          self.heading_only, self.load_tramp, self.k4_tramp, self.separate)
+        self.C, self.Ct, self.q_ez4 = mf.C, (tf.Ct if tf is not None else math.nan), (
+            tf.q_ez4 if tf is not None else math.nan)
+        self.slip_constants = (self.C, self.Ct, self.q_ez4, self.t0, self.pt, camber is not None)
+        self.camber_coefficients = camber.coefficients if camber is not None else (0.0,) * 10
+
+    def properties(self, load: float) -> tuple[float, ...]:
+        """(B, D, E, Bt, Dt, Et0, a, sigma) at this vertical load (the static wheel's with ``constant_load``)."""
+        if self.table is None:
+            return self.static
+        if load <= 0.0:                        # lifted wheel: the properties at 1 % of the load (no grip)
+            return self.table.direct(0.01 * self.static_load)
+        return table_values(self.table.at(load), self.static, self.pt, self.hcl, self.rl)
 
     def lateral(self, alpha: float, load: float) -> tuple[float, float, float, float]:
-        """(F_y, t, a, sigma) at slip alpha and vertical load (the static-load values with ``constant_load``)."""
-        if self.table is None:
-            Fy = self._force(self._mf, alpha)
-            t = self._trail(self._tr, alpha) if self.pt else self.t0
-            return Fy, t, self.a, self.sigma
-        if load <= 0.0:                        # lifted wheel: no grip; the other properties at 1 % of the load
-            B, D, E, Bt, Dt, Et0, a, sigma = self.table.direct(0.01 * self.static_load)
-            return 0.0, (Dt if self.pt else self.t0), a, sigma
-        v = self.table.at(load)
-        mf = self._mf
-        mf.B, mf.D, mf.E = v[0], v[1], v[2]
-        Fy = self._force(mf, alpha)
-        i = 3
-        if self.pt:
-            tr = self._tr
-            tr.Bt, tr.Dt, tr.Et0 = v[3], v[4], v[5]
-            t = self._trail(tr, alpha)
-            i = 6
-        else:
-            t = self.t0
-        a = v[i] if self.hcl else self.a
-        sigma = v[i + self.hcl] if self.rl else self.sigma
-        return Fy, t, a, sigma
+        """(F_y, t, a, sigma) at slip alpha and vertical load, without camber (the first-order element's)."""
+        v = self.static if self.table is None else self.properties(load)
+        if load <= 0.0:
+            return 0.0, (v[4] if self.pt else self.t0), v[6], v[7]
+        Fy = _mf_force(v[0], self.C, v[1], v[2], alpha, _sin, _atan)
+        t = tyre.mf_trail(v[3], self.Ct, v[4], v[5], self.q_ez4, alpha, math.cos, _atan) if self.pt else self.t0
+        return Fy, t, v[6], v[7]
 
     # --- exact kinematics ----------------------------------------------------------------------------------
     def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
@@ -228,78 +340,20 @@ class TyreElement:
         ``pose`` = (K, v_K, e, s, omega): kingpin point and its velocity, kingpin axis, spin axis and angular
         velocity of the knuckle (vehicle frame); the roll axis runs along u = (ux, 0, uz) (x without roll steer)
         through O = (0, Oy, Oz), h above the wheel centres at straight running; Q_y, Q_z are the forces on the axle's
-        lateral travel and bounce."""
-        side, R = self.side, self.R
-        K, vK, e, s, w = pose
-        Kx, Ky, Kz = K
-        ex, ey, ez = e
-        sx, sy, sz = s
-        hl = side * self.l
-        Cx, Cy, Cz = Kx + hl * sx, Ky + hl * sy, Kz + hl * sz
-        # contact point (disc_contact, inlined)
-        cphi2 = 1.0 - sz * sz
-        cphi = math.sqrt(cphi2)
-        depth = Cz / cphi
-        k = Cz / cphi2
-        Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
-        xwx, xwy = sy / cphi, -sx / cphi              # heading x_w (horizontal)
-        ywx, ywy = sx / cphi, sy / cphi               # lateral y_w (horizontal)
-
-        load_tramp, k4_tramp = self.load_tramp, self.k4_tramp
-        if load_tramp or k4_tramp:
-            # the same wheel with theta = 0: centre O + Rx(psi) (0, side L/2, -h), axis (0, cos, sin)
-            hw = side * 0.5 * self.L
-            C0z = Oz + hw * spsi - h * cpsi
-            depth0 = C0z / cpsi
-            P0y = Oy + hw * cpsi + h * spsi + C0z * spsi / cpsi
-        dFz = self.k5 * (R - (depth0 if load_tramp else depth))
-        Fz = self.static_load + dFz
-        Fy, t, a, sigma = self.lateral(alpha, Fz)
-        mz = -t * Fy          # the trail moment about the road normal (on the slip force alone)
-        if self.camber is not None:
-            # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels; lateral() has left
-            # the Magic-Formula factors at this load in self._mf
-            dFy, mzr = self.camber.terms(self._mf, alpha, Fz, math.asin(sz), Fy)
-            Fy += dFy
-            mz += mzr
-        if not self.separate:
-            lat = Fy          # the lateral compliance is the relaxation equation's carcass spring (K/sigma)
-        elif k4_tramp:
-            lat = Fy - self.k4 * (P0y - side * 0.5 * self.L) * ywy
-        else:
-            lat = Fy - self.k4 * (Px * ywx + (Py - side * 0.5 * self.L) * ywy)
-        # The static load acts through the actual lever arms (its geometric stiffness included) or, as in
-        # (2.1)-(2.3), through the straight-running ones, where it is a constant balanced by the alignment.
-        vert = dFz if self.fixed_arms else Fz
-        # The wheel rolls freely on its bearing, which carries no moment about the spin axis: the rolling
-        # resistance reaches the knuckle as the same force at the wheel centre C (at P it would brake the knuckle
-        # by f Fz |P - C| about s).  The lateral and vertical forces act at P.
-        Frx, Fry = -self.f * vert * xwx, -self.f * vert * xwy
-        Fx, Fy_lat = lat * ywx, lat * ywy
-        Fyv = Fry + Fy_lat
-        # generalized forces: psi about u through O (x and z components of the moments about O, the trail moment's
-        # -t F_y about z included); theta about e through K (P_z = 0)
-        q_psi = ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
-        if uz != 0.0:
-            q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx + mz)
-        rx, ry, rz = Px - Kx, Py - Ky, -Kz
-        cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
-        q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)
-                   + ez * (rx * Fy_lat - ry * Fx + cx * Fry - cy * Frx) + mz * ez)
-        # slip: road-relative velocity of the leading contact point P + a x_w
-        wz = w[2]          # only the yaw component of the wheel's angular velocity turns the contact line
-        lx = speed - a * wz * xwy
-        ly = a * wz * xwx
-        if not self.heading_only:
-            # carrier velocity at P as a point of the knuckle: v_K + omega x (P - K)
-            lx += vK[0] + w[1] * rz - w[2] * ry
-            ly += vK[1] + w[2] * rx - w[0] * rz
-        vx = lx * xwx + ly * xwy
-        vy = lx * ywx + ly * ywy
-        alpha_d = (vy - abs(vx) * alpha) / sigma
+        lateral travel and bounce.  The steps are the module's plain functions, which the compiled stage shares."""
+        el, s = self.constants, pose[3]
+        contact = wheel_contact(self.side * self.l, pose[0], s)
+        Fz, dFz, P0y = vertical_load(el, contact, Oy, Oz, h, cpsi, spsi)
+        values = self.properties(Fz)
+        Fy, mz, _ = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2])
+        q_psi, q_theta, alpha_d, Fyv, vert, lat = contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y,
+                                                                 Fy, mz, values[6], values[7], alpha, speed)
         if record:
+            cphi = contact[6]
+            xwx, xwy, ywx, ywy = s[1] / cphi, -s[0] / cphi, s[0] / cphi, s[1] / cphi
             total = (-self.f * Fz * xwx + lat * ywx, -self.f * Fz * xwy + lat * ywy, Fz)
-            return q_psi, q_theta, alpha_d, Fyv, vert, ContactState((Px, Py, 0.0), total, Fz, Fy, alpha_d)
+            return (q_psi, q_theta, alpha_d, Fyv, vert,
+                    ContactState((contact[3], contact[4], 0.0), total, Fz, Fy, alpha_d))
         return q_psi, q_theta, alpha_d, Fyv, vert
 
     # --- first-order kinematics (the reduced model's) --------------------------------------------------------
@@ -341,11 +395,7 @@ class TyreElement:
         K, _, e, s, _ = pose
         sx, sy, sz = s
         hl = self.side * self.l
-        Cx, Cy, Cz = K[0] + hl * sx, K[1] + hl * sy, K[2] + hl * sz
-        cphi2 = 1.0 - sz * sz
-        cphi = math.sqrt(cphi2)
-        k = Cz / cphi2
-        Px, Py = Cx + k * sz * sx, Cy + k * sz * sy
+        _, _, Cz, Px, Py, _, cphi = wheel_contact(hl, K, s)
         Fs = self.static_load
         # the rolling resistance at the wheel centre (free-rolling wheel, as in :meth:`exact`)
         Fx, Fyv = -self.f * Fs * sy / cphi, self.f * Fs * sx / cphi

@@ -30,12 +30,14 @@ def load_increment(params: ShimmyParameters) -> float:
 
 
 def mf_force(B, C, D, E, alpha, sin, atan):
-    """F_y of eqs. (2.4)-(2.5) with the given sin and atan (numpy's for arrays, math's for one float)."""
+    """F_y of eqs. (2.4)-(2.5) with the given sin and atan (numpy's for arrays, math's for one float; the MBS's
+    compiled solver stage, :mod:`mbs_shimmy.compiled_stage`, compiles this function itself with math's)."""
     ba = B * alpha
     return -D * sin(C * atan(ba - E * (ba - atan(ba))))
 
 
-def _trail(Bt, Ct, Dt, Et0, q_ez4, alpha, cos, atan):
+def mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha, cos, atan):
+    """t(alpha) of eqs. (4.2)-(4.3) with E_t from (4.7)-(4.8), with the given cos and atan (as :func:`mf_force`)."""
     bta = Bt * alpha
     Et = Et0 * (1.0 + 2.0 * q_ez4 / math.pi * atan(Bt * Ct * alpha))
     return Dt * cos(Ct * atan(bta - Et * (bta - atan(bta))))
@@ -101,11 +103,11 @@ class TrailFormula:
 
     def trail(self, alpha):
         """t(alpha), eqs. (4.2)-(4.3) with E_t from (4.7)-(4.8)."""
-        return _trail(self.Bt, self.Ct, self.Dt, self.Et0, self.q_ez4, alpha, np.cos, np.arctan)
+        return mf_trail(self.Bt, self.Ct, self.Dt, self.Et0, self.q_ez4, alpha, np.cos, np.arctan)
 
     def trail_scalar(self, alpha: float) -> float:
         """:meth:`trail` of one real float with :mod:`math` (see :meth:`MagicFormula.force_scalar`)."""
-        return _trail(self.Bt, self.Ct, self.Dt, self.Et0, self.q_ez4, alpha, math.cos, math.atan)
+        return mf_trail(self.Bt, self.Ct, self.Dt, self.Et0, self.q_ez4, alpha, math.cos, math.atan)
 
 
 def trail_formula(params: ShimmyParameters, pressure: float) -> TrailFormula:

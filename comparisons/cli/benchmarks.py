@@ -164,11 +164,13 @@ STAGE_SAMPLES = 2000     # force evaluations per timed piece of a stage
 def _mbs_stage_costs(trajectory) -> dict:
     """Where the time of one solver stage goes (us, the fastest of 5 rounds of ``STAGE_SAMPLES`` calls at the
     run's last state, CPU time): the whole stage, the force user function, and in it the four Exudyn marker reads
-    of the knuckle poses, both tyre elements (the Magic Formula, its load table and the camber terms included)
-    and the camber terms alone; the rest of the stage is Exudyn's own (mass matrix, connectors, solver)."""
+    of the knuckle poses and the compiled stage (both tyre elements, rotor moments; :mod:`mbs_shimmy.compiled_stage`,
+    numba's call included); the rest of the stage is Exudyn's own (mass matrix, connectors, solver).  For
+    comparison the same force function in Python (``python_force_function_us``)."""
     import math
 
     from mbs_shimmy.fidelity import Fidelity
+    from mbs_shimmy.forces import _POS, _ROT
     from mbs_shimmy.linearisation import ConstantSpeed, MbsModel
     from mbs_shimmy.simulation import extended_states
 
@@ -178,13 +180,12 @@ def _mbs_stage_costs(trajectory) -> dict:
     y = extended_states(trajectory)[-1][layout.x_to_y]
     system.set_state(y)
     m = layout.n_mech
-    q, qd = list(y[:m]) + [0.0, 0.0], list(y[m:2 * m]) + [y[2 * m], y[2 * m + 1]]
-    p1, p2 = forces.knuckle_poses(q, qd)
-    t1, t2 = forces.tyres
-    cpsi, spsi = math.cos(q[forces.i_psi]), math.sin(q[forces.i_psi])
-    Oy = q[forces.i_lat] if forces.i_lat >= 0 else 0.0
-    Oz = forces.Oz + (q[forces.i_vert] if forces.i_vert >= 0 else 0.0)
-    alpha1, alpha2 = qd[m], qd[m + 1]
+    q, qd = [float(v) for v in y[:m]] + [0.0, 0.0], [float(v) for v in y[m:2 * m]] + [float(y[2 * m]),
+                                                                                      float(y[2 * m + 1])]
+    get, (m1, m2) = forces.get, forces.markers
+    outputs = (get(m1, _ROT), get(m1, _POS), get(m2, _ROT), get(m2, _POS))
+    tq, tqd = tuple(q), tuple(qd)
+    assert forces.compiled(0.0, q, qd) is not None      # the run's last state is inside the load table
 
     def per_call(fn) -> float:
         best = math.inf
@@ -195,13 +196,8 @@ def _mbs_stage_costs(trajectory) -> dict:
             best = min(best, (time.process_time() - t0) / STAGE_SAMPLES)
         return 1e6 * best
 
-    def tyres():
-        t1.exact(p1, Oy, Oz, forces.roll_height, alpha1, speed, cpsi, spsi, forces.ux, forces.uz)
-        t2.exact(p2, Oy, Oz, forces.roll_height, alpha2, speed, cpsi, spsi, forces.ux, forces.uz)
-
-    def camber():
-        for t, alpha, pose in ((t1, alpha1, p1), (t2, alpha2, p2)):
-            t.camber.terms(t._mf, alpha, t.static_load, math.asin(pose[3][2]), 0.0)
+    def compiled():
+        forces.stage(forces.stage_constants, forces.stage_tables, *outputs, tq, tqd, speed, 0.0)
 
     t0 = time.process_time()
     _mbs_simulation("full")()()
@@ -209,8 +205,10 @@ def _mbs_stage_costs(trajectory) -> dict:
     stage = 1e6 * (time.process_time() - t0) / evaluations
     callback = per_call(lambda: forces.evaluate(0.0, q, qd))
     return {"force_evaluations": evaluations, "stage_us": stage, "force_function_us": callback,
-            "marker_reads_us": per_call(lambda: forces.knuckle_poses(q, qd)), "tyre_elements_us": per_call(tyres),
-            "camber_terms_us": per_call(camber), "exudyn_us": stage - callback}
+            "marker_reads_us": per_call(lambda: (get(m1, _ROT), get(m1, _POS), get(m2, _ROT), get(m2, _POS))),
+            "compiled_stage_us": per_call(compiled),
+            "python_force_function_us": per_call(lambda: forces.evaluate(0.0, q, qd, python=True)),
+            "exudyn_us": stage - callback}
 
 
 def _mbs_cycle_branch():

@@ -1,0 +1,190 @@
+"""The full geometry's force user function compiled: both tyre elements, rotor moments and speed ramp in one call.
+
+A solver stage of the exact kinematics (:meth:`mbs_shimmy.forces.AxleForces.evaluate`) is scalar arithmetic on a
+few dozen floats; in Python it costs about 13 us a stage besides the Exudyn calls, most of it the interpreter's.
+Here numba compiles the *same* functions the Python path calls (:func:`~reduced_model.tyre.mf_force`,
+:func:`~reduced_model.tyre.mf_trail`, :func:`~mbs_shimmy.camber.camber_terms`, the element's steps in
+:mod:`mbs_shimmy.tyre_element`, the knuckle pose, rotor moment and ramp of :mod:`mbs_shimmy.knuckle`;
+``register_jitable`` leaves them plain Python functions for their other callers) into one entry point
+(:data:`STAGE`) with few arguments: numba's call overhead grows with the number of arguments (about 0.7 us for 20
+floats), and compiling the small functions one by one was slower than Python.  What the entry point adds is glue
+only: reading the constants array, the load table's cubic interpolation on an array (the Python path's
+:meth:`~mbs_shimmy.tyre_element.LoadTable.at` on lists, same weights
+:func:`~mbs_shimmy.tyre_element.lagrange_weights`), and the sums of
+:meth:`~mbs_shimmy.forces.AxleForces.evaluate`.  No fastmath: results equal the Python path's to the last bit
+(``tests/mbs/test_mbs_compiled_stage.py``).
+
+Where the compiled stage cannot follow the Python one it returns ``None`` and the caller evaluates that stage in
+Python: a load outside the load table (a lifted wheel, or beyond 3 times the static load), where the properties
+come from the reduced model's formulas directly.  The first-order element (``small_angles``) stays in Python.
+
+Numba's cache (``cache=True``, next to this file in ``__pycache__``) is checked against this file only; the
+functions it compiles live in other files.  :func:`_build` therefore closes the entry point over a hash of all
+those sources, which numba's cache index includes, so that a changed formula is compiled anew.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+
+import numba
+import numpy as np
+from numba.extending import register_jitable
+
+from mbs_shimmy import camber, knuckle, tyre_element
+from reduced_model import tyre
+
+_SHARED = (tyre.mf_force, tyre.mf_trail, camber.camber_terms, tyre_element.lagrange_weights,
+           tyre_element.table_values, tyre_element.wheel_contact, tyre_element.vertical_load,
+           tyre_element.slip_forces, tyre_element.contact_forces, knuckle.knuckle_pose, knuckle.rotor_moment,
+           knuckle.ramp_moments)
+for _f in _SHARED:
+    register_jitable(_f)
+_SOURCES = (tyre, camber, tyre_element, knuckle)
+
+# --- layout of the constants array ---------------------------------------------------------------------------
+# axle: coordinate indices (psi, theta1, theta2, lateral, bounce; -1 if absent), Oz at rest, roll height h,
+# roll axis (ux, uz), I2, R, l, wheel mass, the two spin axes in the joint frames
+I_PSI, I_TH1, I_TH2, I_LAT, I_VERT, OZ, H, UX, UZ, I2, RADIUS, ARM, WHEEL_MASS = range(13)
+SPIN = (13, 16)
+WHEELS = (19, 64)               # where each wheel's constants start
+# per wheel, from its start: TyreElement.constants (13), static (8), slip_constants (6), camber coefficients
+# (10), load table: load dependent, log of the first node, node spacing, nodes, pt, hcl, rl, columns
+EL, STATIC, SLIP, CAMBER, TABLE = 0, 13, 21, 27, 37
+WHEEL_SIZE = 45
+ALIGNMENT = WHEELS[1] + WHEEL_SIZE
+
+
+def constants(forces) -> tuple[np.ndarray, np.ndarray]:
+    """(constants, tables) of this axle for :data:`STAGE`: the array laid out as above (the alignment at the
+    end) and both wheels' load tables, shape (2, nodes, columns)."""
+    f = forces
+    c = [float(f.i_psi), float(f.i_th1), float(f.i_th2), float(f.i_lat), float(f.i_vert), f.Oz, f.roll_height,
+         f.ux, f.uz, f.I2, f.R, f.params.l, f.wheel_mass]
+    for spin in f.spin_local:
+        c += [float(v) for v in spin]
+    tables = []
+    for element in f.tyres:
+        t = element.table
+        c += [float(v) for v in element.constants]
+        c += [float(v) for v in element.static]
+        c += [float(v) for v in element.slip_constants]
+        c += [float(v) for v in element.camber_coefficients]
+        if t is None:
+            c += [0.0, 0.0, 1.0, 4.0, 0.0, 0.0, 0.0, 3.0]
+            tables.append(np.zeros((4, 3)))
+        else:
+            c += [1.0, t.s0, t.ds, float(t.n), float(element.pt), float(element.hcl), float(element.rl),
+                  float(len(t.layout))]
+            tables.append(np.array(t.rows, dtype=float))
+    assert len(c) == ALIGNMENT
+    c += [float(v) for v in f.alignment]
+    return np.array(c), np.ascontiguousarray(np.stack(tables))
+
+
+@register_jitable
+def _wheel(c, b, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, speed):
+    """(ok, Q_psi, Q_theta, alpha_dot, Q_y, Q_z) of the wheel whose constants start at c[b]: the steps of
+    :meth:`~mbs_shimmy.tyre_element.TyreElement.exact` with the load table on an array; ok False where the load
+    is outside the table."""
+    e = b + EL
+    el = (c[e], c[e + 1], c[e + 2], c[e + 3], c[e + 4], c[e + 5], c[e + 6], c[e + 7], c[e + 8] != 0.0,
+          c[e + 9] != 0.0, c[e + 10] != 0.0, c[e + 11] != 0.0, c[e + 12] != 0.0)
+    s = b + STATIC
+    static = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4], c[s + 5], c[s + 6], c[s + 7])
+    s = b + SLIP
+    tc = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4] != 0.0, c[s + 5] != 0.0)
+    s = b + CAMBER
+    cam = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4], c[s + 5], c[s + 6], c[s + 7], c[s + 8], c[s + 9])
+    contact = tyre_element.wheel_contact(el[0] * el[2], pose[0], pose[3])
+    Fz, dFz, P0y = tyre_element.vertical_load(el, contact, Oy, Oz, h, cpsi, spsi)
+    t = b + TABLE
+    values = static
+    if c[t] != 0.0:
+        if not Fz > 0.0:
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0
+        x = (math.log(Fz) - c[t + 1]) / c[t + 2]
+        if not (x >= 1.0 and x < c[t + 3] - 2.0):    # LoadTable.at's grid test, k = int(x) - 1 in [0, n - 4]
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0
+        k = int(x) - 1
+        w0, w1, w2, w3 = tyre_element.lagrange_weights(x - (k + 1.0))
+        pt = c[t + 4] != 0.0
+        v = np.empty(table.shape[1])
+        for j in range(table.shape[1]):
+            v[j] = table[k, j] * w0 + table[k + 1, j] * w1 + table[k + 2, j] * w2 + table[k + 3, j] * w3
+        v[1] *= Fz                                    # D and D_t are tabulated divided by the load
+        if pt:
+            v[4] *= Fz
+        values = tyre_element.table_values(v, static, pt, int(c[t + 5]), c[t + 6] != 0.0)
+    Fy, mz, _ = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2])
+    r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], values[7],
+                                    alpha, speed)
+    return True, r[0], r[1], r[2], r[3], r[4]
+
+
+def _build(stamp: str):
+    """The entry point, closed over ``stamp`` (the sources' hash) so that numba's cache index depends on it."""
+    def stage(c, tables, R1, K1, R2, K2, q, qd, speed, acc):
+        """The generalized forces and slip rates of :meth:`AxleForces.evaluate` (a new array), or None (the Python
+        path must evaluate this stage), from both knuckle markers' Exudyn outputs (rotation matrix, position),
+        the tree state (q, q') as tuples, the speed and the acceleration (0 with a steady speed)."""
+        if len(stamp) == 0:          # never: it makes the stamp part of the compiled function (module doc)
+            return None
+        ip, i1, i2, ilat, ivert = int(c[I_PSI]), int(c[I_TH1]), int(c[I_TH2]), int(c[I_LAT]), int(c[I_VERT])
+        m = len(q) - 2
+        psi, psid = q[ip], qd[ip]
+        Oy, yd = 0.0, 0.0
+        if ilat >= 0:
+            Oy, yd = q[ilat], qd[ilat]
+        Oz, zd = c[OZ], 0.0
+        if ivert >= 0:
+            Oz, zd = c[OZ] + q[ivert], qd[ivert]
+        ux, uz, h = c[UX], c[UZ], c[H]
+        wx, wz = psid * ux, psid * uz
+        a = SPIN[0]
+        p1 = knuckle.knuckle_pose(R1, K1, (c[a], c[a + 1], c[a + 2]), Oy, Oz, yd, zd, wx, wz, qd[i1])
+        a = SPIN[1]
+        p2 = knuckle.knuckle_pose(R2, K2, (c[a], c[a + 1], c[a + 2]), Oy, Oz, yd, zd, wx, wz, qd[i2])
+        cpsi, spsi = math.cos(psi), math.sin(psi)
+        r1 = _wheel(c, WHEELS[0], tables[0], p1, Oy, Oz, h, cpsi, spsi, ux, uz, qd[m], speed)
+        if not r1[0]:
+            return None
+        r2 = _wheel(c, WHEELS[1], tables[1], p2, Oy, Oz, h, cpsi, spsi, ux, uz, qd[m + 1], speed)
+        if not r2[0]:
+            return None
+        kg = c[I2] * speed / c[RADIUS]
+        g1, b1 = knuckle.rotor_moment(kg, ux, uz, p1)
+        g2, b2 = knuckle.rotor_moment(kg, ux, uz, p2)
+        Qp, Q1, Q2 = r1[1] + r2[1] + (0.0 + g1 + g2), r1[2] + b1, r2[2] + b2
+        if acc != 0.0:
+            rc = (c[ARM], c[I2], c[RADIUS], c[WHEEL_MASS])
+            a1 = knuckle.ramp_moments(rc, -1.0, p1, Oy, Oz, ux, uz, acc)
+            a2 = knuckle.ramp_moments(rc, 1.0, p2, Oy, Oz, ux, uz, acc)
+            Qp += a1[0] + a2[0]
+            Q1 += a1[1]
+            Q2 += a2[1]
+        out = c[ALIGNMENT:ALIGNMENT + m + 2].copy()
+        out[ip] += Qp
+        out[i1] += Q1
+        out[i2] += Q2
+        if ilat >= 0:
+            out[ilat] += r1[4] + r2[4]
+        if ivert >= 0:
+            out[ivert] += r1[5] + r2[5]
+        out[m] = r1[3]
+        out[m + 1] = r2[3]
+        return out
+    return numba.njit(cache=True)(stage)
+
+
+def sources_stamp() -> str:
+    """Hash of the sources the compiled stage is built from."""
+    digest = hashlib.sha256()
+    for module in _SOURCES:
+        with open(module.__file__, "rb") as fh:
+            digest.update(fh.read())
+    return digest.hexdigest()
+
+
+STAGE = _build(sources_stamp())

@@ -1,0 +1,108 @@
+"""The compiled solver stage (:mod:`mbs_shimmy.compiled_stage`) against the Python path it is compiled from.
+
+Both evaluate the same functions (numba compiles the Python ones, no fastmath), so they must agree to rounding at
+every state and for every switch the stage reads: the tyre element's switches in all combinations, each geometry
+and layout switch, each set of pressure effects, unequal pressures, a speed ramp, and a state outside the load
+table, where the stage hands back to Python.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from comparisons.axles.units import BAR
+from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
+from mbs_shimmy.linearisation import ConstantSpeed, MbsModel
+from reduced_model.model import Effects
+
+# the switches the tyre elements read (ElementFlags), the load dependence and the camber terms
+ELEMENT_SWITCHES = (Assumption.FIXED_STATIC_LOAD_ARMS, Assumption.SLIP_HEADING_ONLY, Assumption.LOAD_TRAMP_ONLY,
+                    Assumption.LATERAL_STIFFNESS_TRAMP_ONLY, Assumption.SEPARATE_LATERAL_SPRING,
+                    Assumption.CONSTANT_LOAD, Assumption.NO_CAMBER_FORCE)
+OTHER_SWITCHES = tuple(a for a in Assumption if a not in ELEMENT_SWITCHES and a is not Assumption.SMALL_ANGLES)
+
+
+def _states(system, count, seed, amplitude=0.004):
+    """Random states (q, q' as Exudyn passes them: lists of floats) written into the system's current
+    configuration; the slip angles and rates up to 0.05 rad, 2 rad/s."""
+    rng = np.random.default_rng(seed)
+    m = system.layout.n_mech
+    for _ in range(count):
+        y = np.concatenate([rng.uniform(-amplitude, amplitude, m), rng.uniform(-0.1, 0.1, m),
+                            rng.uniform(-0.05, 0.05, 2)])
+        system.set_state(y)
+        yield [float(v) for v in y[:m]] + [0.0, 0.0], [float(v) for v in y[m:]]
+
+
+def _compare(fidelity, effects=Effects.parse("all"), pressure=1.5 * BAR, acceleration=None, count=12, seed=0):
+    """Compiled against Python at ``count`` random states; returns how many the compiled stage evaluated."""
+    system = MbsModel(effects=effects, fidelity=fidelity).system(pressure, ConstantSpeed(20.0), acceleration)
+    forces = system.forces
+    assert forces.stage is not None
+    used = 0
+    for t, (q, qd) in enumerate(_states(system, count, seed)):
+        compiled = forces.compiled(0.1 * t, q, qd)
+        python = forces.evaluate(0.1 * t, q, qd, python=True)
+        if compiled is None:
+            continue
+        used += 1
+        assert all(isinstance(v, float) for v in compiled)
+        np.testing.assert_allclose(compiled, python, rtol=1e-12, atol=1e-9)
+        assert forces.evaluate(0.1 * t, q, qd) == compiled
+    return used
+
+
+@pytest.mark.parametrize("on", [c for k in range(len(ELEMENT_SWITCHES) + 1)
+                                for c in itertools.combinations(ELEMENT_SWITCHES, k)],
+                         ids=lambda c: ",".join(a.value for a in c) or "full")
+def test_every_element_switch_combination(on):
+    assert _compare(Fidelity(frozenset(on)), count=6, seed=len(on)) >= 5
+
+
+@pytest.mark.parametrize("switch", OTHER_SWITCHES, ids=lambda a: a.value)
+def test_each_geometry_switch(switch):
+    assert _compare(Fidelity(frozenset({switch}))) >= 10
+
+
+@pytest.mark.parametrize("names", ["", "hcl", "pt", "rl", "vs", "hcl,pt", "pt,rl", "hcl,rl", "all"])
+def test_each_pressure_effect_set_and_unequal_pressures(names):
+    assert _compare(Fidelity.full(), effects=Effects.parse(names) if names else Effects(),
+                    pressure=(1.2 * BAR, 2.6 * BAR)) >= 10
+
+
+def test_speed_ramp_and_rigid_layouts():
+    """A braking ramp (the spin-up moments and the d'Alembert force), with the tree's layouts without the lateral
+    mounts, the steering gear or the bounce."""
+    assert _compare(Fidelity.full(), acceleration=lambda t: -1.5 - t) >= 10
+    rigid = (Assumption.RIGID_AXLE_MOUNTS, Assumption.RIGID_STEERING_GEAR, Assumption.RIGID_VERTICAL_MOUNTS)
+    for k in (2, 3):
+        for on in itertools.combinations(rigid, k):
+            assert _compare(Fidelity(frozenset(on)), acceleration=lambda t: 2.0, count=6) >= 5
+
+
+def test_a_load_outside_the_table_is_evaluated_in_python():
+    """A wheel lifted off the road (zero load: no grip, properties at 1 % of the load): the compiled stage
+    declines and :meth:`evaluate` gives the Python path's forces."""
+    system = MbsModel(fidelity=Fidelity.full()).system(1.5 * BAR, ConstantSpeed(20.0))
+    forces = system.forces
+    m = system.layout.n_mech
+    y = np.zeros(2 * m + 2)
+    y[forces.i_psi] = 0.2               # rolled far enough to lift the right wheel
+    y[2 * m] = 0.01
+    system.set_state(y)
+    q, qd = [float(v) for v in y[:m]] + [0.0, 0.0], [float(v) for v in y[m:]]
+    states = []
+    python = forces.evaluate(0.0, q, qd, states, python=True)
+    assert min(s.vertical_force for s in states) <= 0.0
+    assert forces.compiled(0.0, q, qd) is None
+    assert forces.evaluate(0.0, q, qd) == python
+
+
+def test_first_order_kinematics_stay_in_python():
+    """small_angles has no compiled stage: evaluate is the Python path."""
+    for fidelity in (Fidelity.reduced(), Fidelity(frozenset(ELEMENT_ASSUMPTIONS + (Assumption.SMALL_ANGLES,)))):
+        system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(20.0))
+        assert system.forces.stage is None
