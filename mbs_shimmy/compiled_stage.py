@@ -117,7 +117,7 @@ def _wheel(c, b, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, speed):
         if pt:
             v[4] *= Fz
         values = tyre_element.table_values(v, static, pt, int(c[t + 5]), c[t + 6] != 0.0)
-    Fy, mz, _ = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2])
+    Fy, mz, _ = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2], c[t] != 0.0)
     r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], values[7],
                                     alpha, speed)
     return True, r[0], r[1], r[2], r[3], r[4]

@@ -187,14 +187,16 @@ def vertical_load(el: tuple, contact: tuple, Oy: float, Oz: float, h: float, cps
     return Fs + dFz, dFz, P0y
 
 
-def slip_forces(tc: tuple, camber: tuple, values: tuple, alpha: float, load: float,
-                sz: float) -> tuple[float, float, float]:
+def slip_forces(tc: tuple, camber: tuple, values: tuple, alpha: float, load: float, sz: float,
+                load_dependent: bool) -> tuple[float, float, float]:
     """(F_y, M_z, F_y without camber) at slip alpha and vertical load: the Magic Formula and the trail moment
     -t F_y of :mod:`reduced_model.tyre`, with the camber terms (:func:`~mbs_shimmy.camber.camber_terms`, camber
-    asin(s_z)) when ``tc`` says so; ``tc`` = :attr:`TyreElement.slip_constants`, ``values`` of :func:`table_values`."""
+    asin(s_z)) when ``tc`` says so; ``tc`` = :attr:`TyreElement.slip_constants`, ``values`` of :func:`table_values`.
+    A lifted wheel (load <= 0) has no grip only where the properties follow the load: with ``constant_load`` the
+    slip force is the reduced model's, whatever the load."""
     C, Ct, q_ez4, t0, pt, with_camber = tc
     B, D, E, Bt, Dt, Et0 = values[0], values[1], values[2], values[3], values[4], values[5]
-    if load <= 0.0:                 # lifted wheel: no grip
+    if load_dependent and load <= 0.0:
         return 0.0, 0.0, 0.0
     Fy = tyre.mf_force(B, C, D, E, alpha, math.sin, math.atan)
     t = tyre.mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha, math.cos, math.atan) if pt else t0
@@ -325,9 +327,12 @@ class TyreElement:
 
     def lateral(self, alpha: float, load: float) -> tuple[float, float, float, float]:
         """(F_y, t, a, sigma) at slip alpha and vertical load, without camber (the first-order element's)."""
-        v = self.static if self.table is None else self.properties(load)
-        if load <= 0.0:
-            return 0.0, (v[4] if self.pt else self.t0), v[6], v[7]
+        if self.table is None:      # constant_load: the reduced model's slip force, whatever the load
+            v = self.static
+        else:
+            v = self.properties(load)
+            if load <= 0.0:         # lifted wheel: no grip
+                return 0.0, (v[4] if self.pt else self.t0), v[6], v[7]
         Fy = _mf_force(v[0], self.C, v[1], v[2], alpha, _sin, _atan)
         t = tyre.mf_trail(v[3], self.Ct, v[4], v[5], self.q_ez4, alpha, math.cos, _atan) if self.pt else self.t0
         return Fy, t, v[6], v[7]
@@ -345,7 +350,8 @@ class TyreElement:
         contact = wheel_contact(self.side * self.l, pose[0], s)
         Fz, dFz, P0y = vertical_load(el, contact, Oy, Oz, h, cpsi, spsi)
         values = self.properties(Fz)
-        Fy, mz, _ = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2])
+        Fy, mz, _ = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2],
+                                self.table is not None)
         q_psi, q_theta, alpha_d, Fyv, vert, lat = contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y,
                                                                  Fy, mz, values[6], values[7], alpha, speed)
         if record:
