@@ -18,6 +18,8 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 
+import numpy as np
+
 from mbs_shimmy.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import Assumption, Fidelity
 from reduced_model.parameters import ShimmyParameters
@@ -224,22 +226,25 @@ def axle_rotation(psi: float) -> tuple[Vec, Vec, Vec]:
     return ((1.0, 0.0, 0.0), (0.0, c, -s), (0.0, s, c))
 
 
-def quaternion_xyzw(m: tuple[Vec, Vec, Vec]) -> tuple[float, float, float, float]:
-    """Unit quaternion (x, y, z, w) of a rotation matrix given by rows (Shepperd's method)."""
-    tr = m[0][0] + m[1][1] + m[2][2]
-    if tr > 0.0:
-        s = math.sqrt(tr + 1.0) * 2.0
-        return ((m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, 0.25 * s)
-    if m[0][0] > m[1][1] and m[0][0] > m[2][2]:
-        s = math.sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]) * 2.0
-        return (0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s)
-    if m[1][1] > m[2][2]:
-        s = math.sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]) * 2.0
-        return ((m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s)
-    s = math.sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]) * 2.0
-    return ((m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s)
-
-
-def matmul(a: tuple[Vec, Vec, Vec], b: tuple[Vec, Vec, Vec]) -> tuple[Vec, Vec, Vec]:
-    cols = ((b[0][0], b[1][0], b[2][0]), (b[0][1], b[1][1], b[2][1]), (b[0][2], b[1][2], b[2][2]))
-    return tuple(tuple(dot(row, col) for col in cols) for row in a)  # type: ignore[return-value]
+def quaternions_xyzw(m: np.ndarray) -> np.ndarray:
+    """Unit quaternions (x, y, z, w), shape (N, 4), of rotation matrices m, shape (N, 3, 3) (Shepperd's method:
+    each matrix by the largest of its trace and diagonal, so that the square root never nears zero)."""
+    m = np.asarray(m, dtype=float)
+    m00, m11, m22 = m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]
+    tr = m00 + m11 + m22
+    with np.errstate(invalid="ignore", divide="ignore"):   # the branches not taken
+        s0 = np.sqrt(tr + 1.0) * 2.0
+        s1 = np.sqrt(1.0 + m00 - m11 - m22) * 2.0
+        s2 = np.sqrt(1.0 + m11 - m00 - m22) * 2.0
+        s3 = np.sqrt(1.0 + m22 - m00 - m11) * 2.0
+        a, b, c = m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]
+        d, e, f = m[:, 0, 1] + m[:, 1, 0], m[:, 0, 2] + m[:, 2, 0], m[:, 1, 2] + m[:, 2, 1]
+        forms = (np.stack([a / s0, b / s0, c / s0, 0.25 * s0], axis=1),
+                 np.stack([0.25 * s1, d / s1, e / s1, a / s1], axis=1),
+                 np.stack([d / s2, 0.25 * s2, f / s2, b / s2], axis=1),
+                 np.stack([e / s3, f / s3, 0.25 * s3, c / s3], axis=1))
+    first = tr > 0.0
+    second = ~first & (m00 > m11) & (m00 > m22)
+    third = ~first & ~second & (m11 > m22)
+    pick = np.where(first, 0, np.where(second, 1, np.where(third, 2, 3)))
+    return np.stack(forms)[pick, np.arange(len(m))]

@@ -31,7 +31,7 @@ import numpy as np
 
 from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
-from mbs_shimmy.geometry import SIDES, matmul, quaternion_xyzw
+from mbs_shimmy.geometry import SIDES, quaternions_xyzw
 from mbs_shimmy.linearisation import MbsModel
 from reduced_model.model import N_STATES, STATE_NAMES, Effects
 from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
@@ -249,40 +249,45 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     OV = exu.OutputVariableType
     layout = system.layout
     m = layout.n_mech
-    T = [np.array(system.forces.g_exact.joint_rotation(side)) for side in SIDES]
     n = len(t)
     names = ("axle", "knuckle_right", "knuckle_left", "wheel_right", "wheel_left")
-    pos = {k: np.zeros((n, 3)) for k in names}
-    quat = {k: np.zeros((n, 4)) for k in names}
+    # Exudyn's outputs are read per sample; the rotations, quaternions and wheel points after the loop, for all
+    # samples at once
+    axle_pos, axle_rot = np.zeros((n, 3)), np.zeros((n, 9))
+    knuckle_pos, knuckle_rot = np.zeros((2, n, 3)), np.zeros((2, n, 9))
     tie = np.zeros((n, 2, 3))
     drag = np.zeros((n, 2, 3))
     cpoint = {k: np.zeros((n, 3)) for k in ("right", "left")}
     cforce = {k: np.zeros((n, 3)) for k in ("right", "left")}
-    roll_frame = np.array(forces.g_exact.roll_joint_rotation)
+    labels = ["right" if side < 0 else "left" for side in SIDES]
     for k in range(n):
         system.set_state(y[k])
-        pos["axle"][k] = get(mk.axle, OV.Position)
-        # the roll link's frame is turned onto the (sloped) roll axis: undo that for the axle's own frame
-        axle_rot = np.reshape(get(mk.axle, OV.RotationMatrix), (3, 3)) @ roll_frame.T
-        quat["axle"][k] = quaternion_xyzw(tuple(map(tuple, axle_rot)))
+        axle_pos[k] = get(mk.axle, OV.Position)
+        axle_rot[k] = get(mk.axle, OV.RotationMatrix)
         states: list = []
         forces.evaluate(float(t[k]), list(y[k, 0:m]) + [0.0, 0.0], list(y[k, m:2 * m + 2]), states=states)
-        c, s = math.cos(spin_angle[k]), math.sin(spin_angle[k])
-        spin = ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))    # rotation about the wheel axis (y)
-        for i, side in enumerate(SIDES):
-            label = "right" if side < 0 else "left"
-            K = np.asarray(get(mk.knuckles[i], OV.Position))
-            rot = np.reshape(get(mk.knuckles[i], OV.RotationMatrix), (3, 3)) @ T[i].T   # axle frame at zero steer
-            rows = tuple(map(tuple, rot))
-            pos[f"knuckle_{label}"][k] = K
-            quat[f"knuckle_{label}"][k] = quaternion_xyzw(rows)
-            pos[f"wheel_{label}"][k] = K + rot @ np.array([0.0, side * model.params.l, 0.0])
-            quat[f"wheel_{label}"][k] = quaternion_xyzw(matmul(rows, spin))
+        for i, label in enumerate(labels):
+            knuckle_pos[i, k] = get(mk.knuckles[i], OV.Position)
+            knuckle_rot[i, k] = get(mk.knuckles[i], OV.RotationMatrix)
             tie[k, i] = get(mk.tie_rod[i], OV.Position)
             cpoint[label][k] = states[i].point
             cforce[label][k] = states[i].force
         drag[k, 0] = get(mk.drag_link[0], OV.Position)
         drag[k, 1] = get(mk.drag_link[1], OV.Position)
+    # the roll link's frame is turned onto the (sloped) roll axis: undo that for the axle's own frame
+    roll_frame = np.array(forces.g_exact.roll_joint_rotation)
+    pos = {"axle": axle_pos}
+    quat = {"axle": quaternions_xyzw(axle_rot.reshape(n, 3, 3) @ roll_frame.T)}
+    c, s = np.cos(spin_angle), np.sin(spin_angle)
+    spin = np.zeros((n, 3, 3))       # rotation about the wheel axis (y) by the spin angle
+    spin[:, 0, 0], spin[:, 0, 2], spin[:, 1, 1], spin[:, 2, 0], spin[:, 2, 2] = c, s, 1.0, -s, c
+    for i, (side, label) in enumerate(zip(SIDES, labels)):
+        T = np.array(forces.g_exact.joint_rotation(side))
+        rot = knuckle_rot[i].reshape(n, 3, 3) @ T.T             # the axle frame at zero steer
+        pos[f"knuckle_{label}"] = knuckle_pos[i]
+        quat[f"knuckle_{label}"] = quaternions_xyzw(rot)
+        pos[f"wheel_{label}"] = knuckle_pos[i] + side * model.params.l * rot[:, :, 1]
+        quat[f"wheel_{label}"] = quaternions_xyzw(rot @ spin)
     return {"bodies": {k: {"position": pos[k], "quaternion_xyzw": quat[k]} for k in names},
             "links": {"tie_rod": tie, "drag_link": drag},
             "contact": {k: {"point": cpoint[k], "force": cforce[k]} for k in ("right", "left")},

@@ -331,7 +331,7 @@ def test_limit_cycle_amplitude(axle, pressure, quick, cycle_diagrams):
 def jump_setup_of_axle(axle, quick):
     """verify's bistable case of this axle (its plan: the paper's t0 = 0.25 m window for the paper's truck without
     a file, a window searched by the plan for an axle file) and the jump experiments' setup."""
-    from comparisons.verify.cycles import jump_setup
+    from comparisons.verify.jump_experiments import jump_setup
     from comparisons.verify.run import make_plan
     from comparisons.verify.scan import Model
     plan = make_plan(axle, quick, None, from_file=axle.file is not None, progress=lambda message: None,
@@ -348,7 +348,7 @@ def jump_setup_of_axle(axle, quick):
 def test_bistable_ramp(jump_setup_of_axle, quick, direction):
     """A speed ramp through the bistable window (1 km/h per s) in both models: each jumps to the other cycle at or
     past the end of the window it leaves through (delayed loss of stability of a slow passage)."""
-    from comparisons.verify.cycles import ramps, run_ramp
+    from comparisons.verify.jump_experiments import ramps, run_ramp
     if quick:
         pytest.skip("the speed ramps through the bistable window run without --quick (a minute of simulated time in "
                     "each model)")
@@ -364,7 +364,8 @@ def test_bistable_ramp(jump_setup_of_axle, quick, direction):
 def test_bistable_two_starts(jump_setup_of_axle, quick):
     """Two starts inside the bistable window, one near each stable cycle: in both models they settle on different
     cycles, and each start ends on the same cycle in both models."""
-    from comparisons.verify.cycles import run_start, settled_apart, two_start_states
+    from comparisons.verify.cycles import settled_apart
+    from comparisons.verify.jump_experiments import run_start, two_start_states
     setup = jump_setup_of_axle
     speed, starts = two_start_states(setup)
     assert len(starts) == 2, (f"fewer than two stable cycles found inside the window "

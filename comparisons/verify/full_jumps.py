@@ -14,15 +14,16 @@ from __future__ import annotations
 
 from comparisons.axles.units import from_kmh, kmh
 from comparisons.verify.context import Context
-from comparisons.verify.cycles import (
+from comparisons.verify.cycles import _record_both
+from comparisons.verify.jump_experiments import (
+    RAMP_KMH_S,
     JumpSetup,
-    _classifier_for,
-    _record_both,
-    _snap,
-    _stable_cycles_at,
-    _stable_reach,
+    classifier_for,
     ramps,
     run_ramp,
+    snap,
+    stable_cycles_at,
+    stable_reach,
     window_points,
 )
 from comparisons.verify.plan import BistableCase
@@ -44,11 +45,11 @@ def full_jump_setup(case: BistableCase, family, diagram, window: tuple[float, fl
     from reduced_model.modes import Mode, ModeClassifier
     named = window_points(diagram)
     ends = list(named.values()) + [kmh(h.p) for h in diagram.hopf]
-    low, high = _snap(kmh(window[0]), ends), _snap(kmh(window[1]), ends)
+    low, high = snap(kmh(window[0]), ends), snap(kmh(window[1]), ends)
     mid = from_kmh(0.5 * (low + high))
-    cycles = list({id(c): c for c in _stable_cycles_at(diagram, mid)}.values())   # one per stable stretch
-    classifier = _classifier_for(cycles) if len(cycles) >= 2 else ModeClassifier()
-    states = [(_stable_reach(diagram, c), cycle_mode(classifier, c)) for c in cycles]
+    cycles = list({id(c): c for c in stable_cycles_at(diagram, mid)}.values())   # one per stable stretch
+    classifier = classifier_for(cycles) if len(cycles) >= 2 else ModeClassifier()
+    states = [(stable_reach(diagram, c), cycle_mode(classifier, c)) for c in cycles]
     states += [(a, Mode.NONE) for a, b in stable_straight_running(family, diagram) if a <= mid <= b]
     if len(states) < 2:
         return None
@@ -73,7 +74,7 @@ def jump_rows(ctx: Context, label: str, case: BistableCase, family, diagram,
             rows.append(Row({"case": label, "what": f"{where}: ramps"}, CheckStatus.INFO,
                             "not run: the window's two states are of one mode (a ramp cannot tell them apart)"))
             continue
-        for ramp in ramps(setup, 2.0 if ctx.quick else 1.0):
+        for ramp in ramps(setup, RAMP_KMH_S[ctx.quick]):
             ctx.progress(f"Full geometry: {ramp.name} {setup.v_lo:.0f}-{setup.v_hi:.0f} km/h, {where}")
             found, both = run_ramp(setup, ramp, Fidelity.full())
             ok = ramp.beyond(found["mbs"])

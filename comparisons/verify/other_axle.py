@@ -61,8 +61,8 @@ def onset_windows(family, q: float, hopf, p_min: float, p_max: float, past: floa
 
 def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxleResult:
     """Everything the section reports at one bistable case on another axle; the background job."""
-    from comparisons.verify.cycles import _bistable_diagram
     from comparisons.verify.full_geometry_rows import Where, branch_rows, branches_figure, hopf_rows, window_rows
+    from comparisons.verify.jump_experiments import bistable_diagram
     from comparisons.verify.plan import VMAX
     from mbs_shimmy.growth import DURATION
     from mbs_shimmy.kick import kicks, settle_function
@@ -83,7 +83,7 @@ def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxl
                         f"no bistable window beside straight running"))
         return OtherAxleResult(tuple(rows), (), ())
     reduced = where.reduced_family
-    reduced_diagram = _bistable_diagram(case)
+    reduced_diagram = bistable_diagram(case)
     reduced_kicks = kicks(reduced, reduced_diagram)
     found_recordings, figures, full = [], [], []
     for a, b in windows:

@@ -10,6 +10,7 @@ from typing import Callable
 from comparisons.axles.axle import Axle, interface_text
 from comparisons.verify.background import Background
 from comparisons.verify.context import Context
+from comparisons.verify.jump_experiments import start_jump_runs
 from comparisons.verify.other_axle import start_other_axles
 from comparisons.verify.plan import BOTH, Plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section
@@ -86,6 +87,7 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
     with Background() as background:   # jobs that overlap the sections on a second core
         ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress,
                       background=background)
+        start_jump_runs(ctx)
         start_other_axles(ctx)
         sections = run_sections(ctx)
     facts = tuple(f for s in sections for f in s.verdict_facts)

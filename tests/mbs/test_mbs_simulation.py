@@ -151,3 +151,17 @@ def test_benchmark_step_keeps_1e4_accuracy():
     assert coarse.max_relative_difference < 1e-4
     # RK67 is sixth order: h -> h/2 cuts the error ~64x, so (h vs h/4) / (h/2 vs h/4) is about 65
     assert 30 < coarse.max_relative_difference / middle.max_relative_difference < 130
+
+
+def test_quaternions_of_rotation_matrices_in_every_branch_of_shepperds_method():
+    """Against scipy's rotations (an independent implementation): random rotations, and half turns about x, y and
+    z, where the trace is -1 and each of the other three branches must serve."""
+    from scipy.spatial.transform import Rotation
+
+    from mbs_shimmy.geometry import quaternions_xyzw
+    rotations = Rotation.concatenate([Rotation.random(200, random_state=3),
+                                      Rotation.from_rotvec(np.array([[math.pi, 0, 0], [0, math.pi, 0], [0, 0, math.pi],
+                                                                     [3.1, 0.1, 0], [0, 3.1, 0.1], [0.1, 0, 3.1]]))])
+    q = quaternions_xyzw(rotations.as_matrix())
+    assert np.allclose(np.linalg.norm(q, axis=1), 1.0)
+    assert np.allclose(Rotation.from_quat(q).as_matrix(), rotations.as_matrix(), atol=1e-12)

@@ -219,8 +219,8 @@ def test_ramps_through_a_subcritical_window_start_on_straight_running():
     """Below the window straight running is the state (its stable stretch reaches lower), above it the cycle:
     the ramp up must leave straight running at or past the Hopf point, the ramp down the cycle at the fold."""
     from comparisons.axles.axle import Axle
-    from comparisons.verify.cycles import ramps
     from comparisons.verify.full_jumps import full_jump_setup
+    from comparisons.verify.jump_experiments import ramps
     from comparisons.verify.plan import BistableCase
     from reduced_model.modes import Mode
     d = subcritical_diagram()
@@ -248,7 +248,8 @@ def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
     """verify's bistable jumps (full mode) carry the reduced model's kick, bracketed by two of its runs."""
     from comparisons.axles.axle import Axle
     from comparisons.verify.context import Context
-    from comparisons.verify.cycles import _kick_rows, jump_setup
+    from comparisons.verify.cycles import _kick_rows
+    from comparisons.verify.jump_experiments import jump_setup
     from comparisons.verify.plan import BistableCase, Plan
     from comparisons.verify.report import CheckStatus
     case = BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "figures 9a-11")

@@ -97,7 +97,7 @@ def test_verify_report_html_figures_recordings_progress(quick_report):
     lines = proc.stderr.splitlines()
     done = [line for line in lines if line.startswith("verify: [")]
     assert len(done) == len(summary["sections"]) and all(" done in " in line for line in done)
-    assert any(line.startswith("verify:   Bistable jumps: ramp up") for line in lines)
+    assert any(line.startswith("verify:   Bistable jumps: waiting for the ramps and starts") for line in lines)
 
 
 def test_verify_robustness_over_plausible_dimensions(quick_report):
