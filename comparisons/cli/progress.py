@@ -5,7 +5,7 @@ Two ways to drive it:
 
 * ``progress(message)``: a message names the step that starts now; ``"done: <step>"`` ends one of the top-level
   steps announced with :meth:`StepProgress.set_steps` (the bar counts those).  This is what
-  :func:`comparisons.verify.sections.run_verification` calls.
+  :func:`comparisons.verify.run.run_verification` calls (its ``announce`` is :meth:`StepProgress.set_steps`).
 * ``with progress.step(name): ...`` around a piece of work, or ``progress(done, total)`` for code that counts.
 """
 

@@ -51,11 +51,13 @@ def make_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None, f
     return axle_plan(axle, quick, asymmetric, progress=progress, models=models)
 
 
-def run_sections(ctx: Context) -> list[Section]:
-    """Every section in turn; one that raises becomes a FAIL row with its error."""
+def run_sections(ctx: Context, announce: Callable[[list[str]], None] | None = None) -> list[Section]:
+    """Every section in turn; one that raises becomes a FAIL row with its error.  ``announce(titles)`` is told the
+    sections to come before the first starts."""
     sections = []
     steps = sections_for(ctx)
-    getattr(ctx.progress, "set_steps", lambda names: None)([title for title, _ in steps])
+    if announce is not None:
+        announce([title for title, _ in steps])
     for title, make in steps:
         ctx.progress(f"{title}")
         try:
@@ -75,10 +77,12 @@ def run_sections(ctx: Context) -> list[Section]:
 
 def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric: tuple[float, float] | None = None,
                      from_file: bool = False, recordings: bool = True,
-                     progress: Callable[[str], None] | None = None) -> Report:
+                     progress: Callable[[str], None] | None = None,
+                     announce: Callable[[list[str]], None] | None = None) -> Report:
     """Plan, then run every section; a section that raises is reported as a FAIL row with its error.
 
-    ``progress(message)`` is called as each step starts (and with "done: ..." as it ends)."""
+    ``progress(message)`` is called as each step starts (and with "done: ..." as it ends); ``announce(titles)``
+    with the sections' titles once the plan is made (a progress bar's total)."""
     from comparisons.verify.verdict import verdict_of
     progress = progress or (lambda message: None)
     axle = axle or Axle()
@@ -89,7 +93,7 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
                       background=background)
         start_jump_runs(ctx)
         start_other_axles(ctx)
-        sections = run_sections(ctx)
+        sections = run_sections(ctx, announce)
     facts = tuple(f for s in sections for f in s.verdict_facts)
     return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle,
                   verdict=dataclasses.replace(verdict, margins=verdict.margins + facts))

@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
     with StepProgress(job="verify") as progress:
         report = run_verification(args.out, args.quick, axle=axle, asymmetric=asymmetric,
                                   from_file=args.axle is not None or bool(args.overrides),
-                                  recordings=not args.no_recordings, progress=progress)
+                                  recordings=not args.no_recordings, progress=progress,
+                                  announce=progress.set_steps)
     command = "shimmy " + " ".join(shlex.quote(a) for a in args.argv)
     report = dataclasses.replace(report, metadata=run_metadata(args.quick, axle, time.perf_counter() - start,
                                                                command))
