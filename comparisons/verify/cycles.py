@@ -192,7 +192,7 @@ def jumps_section(ctx: Context) -> Section:
     rows, recordings, figures = [], [], []
     from comparisons.verify.jump_experiments import jump_runs_of, paper_window
     for i, case in enumerate(ctx.plan.bistable):
-        paper = paper_window(ctx, case)
+        paper = paper_window(ctx.axle, case)
         runs = jump_runs_of(ctx, i, case)
         setup = runs.setup
         named = setup.named
@@ -262,8 +262,8 @@ def jumps_section(ctx: Context) -> Section:
             rows.append(Row({"run": "kick threshold"}, CheckStatus.INFO, "skipped in quick mode (tens of runs)"))
         else:
             rows += _kick_rows(ctx, setup)
-    title = "Bistable jumps" + (" at t0 = 0.25 m, 1.5 bar" if ctx.axle.is_paper and ctx.plan.bistable and
-                                not math.isfinite(ctx.plan.bistable[0].low_kmh) else "")
+    title = "Bistable jumps" + (" at t0 = 0.25 m, 1.5 bar" if ctx.plan.bistable and
+                                paper_window(ctx.axle, ctx.plan.bistable[0]) else "")
     return Section(
         key="jumps", title=title,
         columns=("run", "paper_kmh", "continuation_kmh", "reduced_kmh", "mbs_reduced_kmh", "model_diff_kmh",

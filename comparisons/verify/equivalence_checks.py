@@ -331,7 +331,7 @@ def test_limit_cycle_amplitude(axle, pressure, quick, cycle_diagrams):
 def jump_setup_of_axle(axle, quick):
     """verify's bistable case of this axle (its plan: the paper's t0 = 0.25 m window for the paper's truck without
     a file, a window searched by the plan for an axle file) and the jump experiments' setup."""
-    from comparisons.verify.jump_experiments import jump_setup
+    from comparisons.verify.jump_experiments import jump_setup, paper_window
     from comparisons.verify.run import make_plan
     from comparisons.verify.scan import Model
     plan = make_plan(axle, quick, None, from_file=axle.file is not None, progress=lambda message: None,
@@ -341,7 +341,7 @@ def jump_setup_of_axle(axle, quick):
         notes = "; ".join(n for n in plan.notes if "bistable" in n) or "none found"
         pytest.skip(f"no bistable window of this axle in {lo:g}-{hi:g} bar ({notes})")
     case = plan.bistable[0]
-    return jump_setup(case, paper=axle.is_paper and not math.isfinite(case.low_kmh))
+    return jump_setup(case, paper=paper_window(axle, case))
 
 
 @pytest.mark.parametrize("direction", ["up", "down"])

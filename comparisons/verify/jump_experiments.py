@@ -221,9 +221,10 @@ class JumpRuns:
     starts: tuple                  # ((label, both), ...)
 
 
-def paper_window(ctx: Context, case: BistableCase) -> bool:
-    """Whether the case is the paper's figure 9a window (its ends the printed S1 and T2)."""
-    return ctx.axle.is_paper and not math.isfinite(case.low_kmh)
+def paper_window(axle, case: BistableCase) -> bool:
+    """Whether the case is the paper's figure 9a window (its ends the printed S1 and T2): the paper's truck, whose
+    plan leaves the window to the continuation."""
+    return axle.is_paper and not math.isfinite(case.low_kmh)
 
 
 def jump_runs(case: BistableCase, paper: bool, quick: bool) -> JumpRuns:
@@ -243,7 +244,7 @@ def start_jump_runs(ctx: Context) -> None:
     if ctx.background is None:
         return
     for i, case in enumerate(ctx.plan.bistable):
-        ctx.background.submit(_key(i), jump_runs, case, paper_window(ctx, case), ctx.quick)
+        ctx.background.submit(_key(i), jump_runs, case, paper_window(ctx.axle, case), ctx.quick)
 
 
 def jump_runs_of(ctx: Context, i: int, case: BistableCase) -> JumpRuns:
@@ -253,4 +254,4 @@ def jump_runs_of(ctx: Context, i: int, case: BistableCase) -> JumpRuns:
         ctx.progress("Bistable jumps: waiting for the ramps and starts (run in a second process)")
         return ctx.background.result(_key(i))
     ctx.progress(f"Bistable jumps: ramps and starts at {case.pressure_bar:g} bar in both models")
-    return jump_runs(case, paper_window(ctx, case), ctx.quick)
+    return jump_runs(case, paper_window(ctx.axle, case), ctx.quick)
