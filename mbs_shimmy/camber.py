@@ -62,10 +62,6 @@ class CamberTerms:
         return (self.p_ky3, self.p_ky6, self.p_ky7, self.p_vy3, self.p_vy4, self.q_dz8, self.q_dz9, self.q_bz9,
                 self.Fz0, self.R)
 
-    def terms(self, mf, alpha: float, load: float, gamma: float, plain: float) -> tuple[float, float]:
-        """:func:`camber_terms` with ``mf`` holding the paper's B, C, D, E at that load."""
-        return camber_terms(self.coefficients, mf.B, mf.C, mf.D, mf.E, alpha, load, gamma, plain)
-
 
 def camber_terms(coefficients: tuple, B: float, C: float, D: float, E: float, alpha: float, load: float,
                  gamma: float, plain: float) -> tuple[float, float]:

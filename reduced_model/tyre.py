@@ -60,11 +60,6 @@ class MagicFormula:
         """Lateral force, eqs. (2.4)-(2.5): F_y = -D sin(C arctan(B a - E (B a - arctan(B a))))."""
         return mf_force(self.B, self.C, self.D, self.E, alpha, np.sin, np.arctan)
 
-    def force_scalar(self, alpha: float) -> float:
-        """:meth:`force` of one real float with :mod:`math` (no numpy scalars; the MBS calls it at every solver
-        stage, where numpy's per-call overhead was a tenth of the run)."""
-        return mf_force(self.B, self.C, self.D, self.E, alpha, math.sin, math.atan)
-
 
 def cornering_stiffness(params: ShimmyParameters, pressure: float) -> float:
     """K_ya of eq. (2.8), N/rad."""
@@ -104,10 +99,6 @@ class TrailFormula:
     def trail(self, alpha):
         """t(alpha), eqs. (4.2)-(4.3) with E_t from (4.7)-(4.8)."""
         return mf_trail(self.Bt, self.Ct, self.Dt, self.Et0, self.q_ez4, alpha, np.cos, np.arctan)
-
-    def trail_scalar(self, alpha: float) -> float:
-        """:meth:`trail` of one real float with :mod:`math` (see :meth:`MagicFormula.force_scalar`)."""
-        return mf_trail(self.Bt, self.Ct, self.Dt, self.Et0, self.q_ez4, alpha, math.cos, math.atan)
 
 
 def trail_formula(params: ShimmyParameters, pressure: float) -> TrailFormula:

@@ -215,7 +215,7 @@ class JumpRuns:
     """One bistable case's experiments: its setup, each ramp with the jump speeds found in both models and the two
     runs ({model: km/h or None}, [(trajectory, mode history)]), and the two starts at ``start_kmh``."""
 
-    setup: object                  # cycles.JumpSetup
+    setup: JumpSetup
     ramps: tuple                   # ((Ramp, found, both), ...)
     start_kmh: float
     starts: tuple                  # ((label, both), ...)

@@ -55,11 +55,16 @@ def test_bad_tolerances(tol):
 
 
 def test_scalar_tyre_formulas_equal_the_numpy_ones():
-    """The MBS evaluates the Magic Formula and the trail with :mod:`math` on floats (``force_scalar``,
-    ``trail_scalar``): the same formula as the numpy form, equal to rounding over the slip range."""
+    """The MBS evaluates the Magic Formula and the trail with :mod:`math` on floats (``mf_force``, ``mf_trail``
+    with math's functions, as its tyre elements and compiled stage call them): the same formula as the numpy form,
+    equal to rounding over the slip range."""
+    import math
+
     from reduced_model import tyre
     from reduced_model.parameters import YANG2024
     mf, tr = tyre.magic_formula(YANG2024, 1.5e5), tyre.trail_formula(YANG2024, 1.5e5)
     alphas = np.linspace(-0.5, 0.5, 201)
-    assert np.allclose([mf.force_scalar(float(a)) for a in alphas], mf.force(alphas), rtol=1e-14, atol=1e-9)
-    assert np.allclose([tr.trail_scalar(float(a)) for a in alphas], tr.trail(alphas), rtol=1e-14, atol=1e-15)
+    force = [tyre.mf_force(mf.B, mf.C, mf.D, mf.E, float(a), math.sin, math.atan) for a in alphas]
+    trail = [tyre.mf_trail(tr.Bt, tr.Ct, tr.Dt, tr.Et0, tr.q_ez4, float(a), math.cos, math.atan) for a in alphas]
+    assert np.allclose(force, mf.force(alphas), rtol=1e-14, atol=1e-9)
+    assert np.allclose(trail, tr.trail(alphas), rtol=1e-14, atol=1e-15)
