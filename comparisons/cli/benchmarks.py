@@ -159,14 +159,16 @@ def _mbs_simulation(fidelity: str):
 
 
 STAGE_SAMPLES = 2000     # force evaluations per timed piece of a stage
+STAGE_ROUNDS = 25        # rounds of every piece, taking turns
 
 
 def _mbs_stage_costs(trajectory) -> dict:
-    """Where the time of one solver stage goes (us, the fastest of 5 rounds of ``STAGE_SAMPLES`` calls at the
-    run's last state, CPU time): the whole stage, the force user function, and in it the four Exudyn marker reads
-    of the knuckle poses and the compiled stage (both tyre elements, rotor moments; :mod:`mbs_shimmy.compiled_stage`,
-    numba's call included); the rest of the stage is Exudyn's own (mass matrix, connectors, solver).  For
-    comparison the same force function in Python (``python_force_function_us``)."""
+    """Where the time of one solver stage goes (us, CPU time; each part the fastest of ``STAGE_ROUNDS`` rounds of
+    ``STAGE_SAMPLES`` calls at the run's last state, the parts taking turns): the whole stage, the force user
+    function, and in it the four Exudyn marker reads of the knuckle poses and the compiled stage (both tyre
+    elements, rotor moments; :mod:`mbs_shimmy.compiled_stage`, numba's call included); the rest of the stage is
+    Exudyn's own (mass matrix, connectors, solver).  For comparison the same force function in Python
+    (``python_force_function_us``)."""
     import math
 
     from mbs_shimmy.fidelity import Fidelity
@@ -187,28 +189,30 @@ def _mbs_stage_costs(trajectory) -> dict:
     tq, tqd = tuple(q), tuple(qd)
     assert forces.compiled(0.0, q, qd) is not None      # the run's last state is inside the load table
 
-    def per_call(fn) -> float:
-        best = math.inf
-        for _ in range(5):
+    def compiled():
+        forces.stage(forces.stage_constants, forces.stage_tables, *outputs, tq, tqd, speed, 0.0)
+
+    parts = {"force_function_us": lambda: forces.evaluate(0.0, q, qd),
+             "marker_reads_us": lambda: (get(m1, _ROT), get(m1, _POS), get(m2, _ROT), get(m2, _POS)),
+             "compiled_stage_us": compiled,
+             "python_force_function_us": lambda: forces.evaluate(0.0, q, qd, python=True)}
+    best = dict.fromkeys(parts, math.inf)
+    # The parts take turns within each round, so that a burst of load on the machine hits all of them alike;
+    # the fastest round of each part counts.
+    for _ in range(STAGE_ROUNDS):
+        for name, fn in parts.items():
             t0 = time.process_time()
             for _ in range(STAGE_SAMPLES):
                 fn()
-            best = min(best, (time.process_time() - t0) / STAGE_SAMPLES)
-        return 1e6 * best
-
-    def compiled():
-        forces.stage(forces.stage_constants, forces.stage_tables, *outputs, tq, tqd, speed, 0.0)
+            best[name] = min(best[name], (time.process_time() - t0) / STAGE_SAMPLES)
+    costs = {name: 1e6 * t for name, t in best.items()}
 
     t0 = time.process_time()
     _mbs_simulation("full")()()
     evaluations = trajectory.extra["force_evaluations"]
     stage = 1e6 * (time.process_time() - t0) / evaluations
-    callback = per_call(lambda: forces.evaluate(0.0, q, qd))
-    return {"force_evaluations": evaluations, "stage_us": stage, "force_function_us": callback,
-            "marker_reads_us": per_call(lambda: (get(m1, _ROT), get(m1, _POS), get(m2, _ROT), get(m2, _POS))),
-            "compiled_stage_us": per_call(compiled),
-            "python_force_function_us": per_call(lambda: forces.evaluate(0.0, q, qd, python=True)),
-            "exudyn_us": stage - callback}
+    return {"force_evaluations": evaluations, "stage_us": stage, **costs,
+            "exudyn_us": stage - costs["force_function_us"]}
 
 
 def _mbs_cycle_branch():
