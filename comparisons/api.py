@@ -16,7 +16,7 @@ result's fields; results show themselves in interface units (:mod:`comparisons.r
 * jobs: :func:`hopf_points`, :func:`cycle_branches`, :func:`stability_margins`, :func:`simulate` (one signature
   for both models).
 
-Bad input raises :class:`~reduced_model.parameters.ParameterError` with a one-line message naming the range.
+Bad input raises :class:`~axles.parameters.ParameterError` with a one-line message naming the range.
 Reading an axle loads no Exudyn: the multibody model is imported when its family or a simulation is made.  The
 ``shimmy`` command builds its models through this module (:mod:`comparisons.cli.options`).
 """
@@ -31,9 +31,9 @@ from typing import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from comparisons.axles import axle as axle_data
-from comparisons.axles.axle_file import axle_from_path_or_paper
-from comparisons.axles.limits import (
+from axles import axle as axle_data
+from axles.axle_file import axle_from_path_or_paper
+from axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
     PRESSURE_RANGE_BAR,
@@ -41,14 +41,14 @@ from comparisons.axles.limits import (
     RATE_RANGE_DEG_S,
     SPEED_RANGE_KMH,
 )
-from comparisons.axles.units import to_si
+from axles.units import to_si
 from comparisons.results import CycleBranches, HopfPoint, HopfResult, Simulation, StabilityMargins, cycle_branch
-from mbs_shimmy.dimensions import AxleDimensions
+from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
-from reduced_model.bifurcation.special_points import BranchStatus
+from bifurcation.special_points import BranchStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import STATE_NAMES, STATE_UNITS, Effects, ShimmyModel
-from reduced_model.parameters import ParameterError, ShimmyParameters
+from axles.parameters import ParameterError, ShimmyParameters
 from reduced_model.simulation import initial_state
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
@@ -157,7 +157,7 @@ class Axle:
     @classmethod
     def from_file(cls, path: str | os.PathLike) -> "Axle":
         """An axle file (``shimmy params --write FILE.toml`` writes one); a bad file raises
-        :class:`~comparisons.axles.axle_file.AxleFileError` naming the file and the entry."""
+        :class:`~axles.axle_file.AxleFileError` naming the file and the entry."""
         return cls(axle_from_path_or_paper(os.fspath(path)))
 
     def with_values(self, values: Mapping[str, float] | None = None, **named: float) -> "Axle":
@@ -176,12 +176,12 @@ class Axle:
 
     @property
     def params(self) -> ShimmyParameters:
-        """Table 1 (:class:`~reduced_model.parameters.ShimmyParameters`, SI)."""
+        """Table 1 (:class:`~axles.parameters.ShimmyParameters`, SI)."""
         return self.data.params
 
     @property
     def dims(self) -> AxleDimensions:
-        """The multibody dimensions (:class:`~mbs_shimmy.dimensions.AxleDimensions`, SI)."""
+        """The multibody dimensions (:class:`~axles.dimensions.AxleDimensions`, SI)."""
         return self.data.dims
 
     def value(self, name: str) -> float:
@@ -272,8 +272,8 @@ class MultibodyModel:
 
     @cached_property
     def model(self):
-        """:class:`mbs_shimmy.linearisation.MbsModel`."""
-        from mbs_shimmy.linearisation import MbsModel
+        """:class:`mbs_shimmy.model.MbsModel`."""
+        from mbs_shimmy.model import MbsModel
         return MbsModel(self.axle.params, self.effects, self.fidelity, self.axle.dims)
 
     def label(self) -> str:
@@ -326,7 +326,7 @@ class Family:
 # --- jobs -----------------------------------------------------------------------------------------------------
 
 def speed_window(vmin_kmh: float, vmax_kmh: float) -> tuple[float, float]:
-    """(vmin, vmax) m/s of a window in km/h inside :data:`~comparisons.axles.limits.SPEED_RANGE_KMH`."""
+    """(vmin, vmax) m/s of a window in km/h inside :data:`~axles.limits.SPEED_RANGE_KMH`."""
     lo = check_range("vmin_kmh", vmin_kmh, *SPEED_RANGE_KMH, "km/h")
     hi = check_range("vmax_kmh", vmax_kmh, *SPEED_RANGE_KMH, "km/h")
     if not lo < hi:
@@ -342,7 +342,7 @@ def hopf_points(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) 
     >>> [round(p.speed_kmh, 1) for p in hopf_points(family, vmax_kmh=100).points]
     [46.1, 70.5]
     """
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points as find
+    from bifurcation.equilibria.hopf import hopf_points as find
     vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
     found = find(family.problem, family.q, vmin, vmax)
     return HopfResult(family.label(), vmin, vmax, tuple(HopfPoint.of(p) for p in found))
@@ -357,7 +357,7 @@ def cycle_branches(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.
     >>> [round(b.start.speed_kmh, 2) for b in result.branches], result.status.value
     ([16.11], 'complete')
     """
-    from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_diagram
+    from bifurcation.cycles.branches import branch_peak, cycle_diagram
     vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
     diagram = cycle_diagram(family.problem, family.q, vmin, vmax)
     branches = tuple(cycle_branch(b, branch_peak(family.problem, b, "theta1")) for b in diagram.branches

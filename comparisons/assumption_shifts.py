@@ -1,14 +1,14 @@
-"""The assumption study of :mod:`mbs_shimmy.assumption_study` (SI) in interface units: what ``shimmy
+"""The assumption study of :mod:`comparisons.studies.assumption_study` (SI) in interface units: what ``shimmy
 assumptions``, the verify report and the sweeps show of it."""
 
 from __future__ import annotations
 
 import math
 
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import BAR, kmh
-from mbs_shimmy.assumption_study import AssumptionRow, AssumptionStudy, HopfShift
-from mbs_shimmy.cycle_peak import BranchPeak, CyclePeak, Refinement
+from axles.axle import interface_text
+from axles.units import BAR, kmh
+from comparisons.studies.assumption_study import AssumptionRow, AssumptionStudy, HopfShift
+from comparisons.studies.cycle_peak import BranchPeak, CyclePeak, Refinement
 
 
 def _kmh(speed: float | None) -> float | None:

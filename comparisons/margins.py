@@ -1,5 +1,5 @@
 """Stability margins of straight running for either model: the toolkit's least damping ratio
-(:mod:`reduced_model.bifurcation.equilibria.margins`) on a grid of speed and tyre pressure (both tyres alike), each
+(:mod:`bifurcation.equilibria.margins`) on a grid of speed and tyre pressure (both tyres alike), each
 least-damped mode named as ``shimmy modes`` names it (:mod:`reduced_model.mode_shapes`: yaw, tramp, lateral, gear
 by its share of the kinetic energy).
 
@@ -16,8 +16,8 @@ from typing import Callable
 
 import numpy as np
 
-from comparisons.axles.units import BAR, kmh
-from reduced_model.bifurcation.equilibria.margins import Margin, MarginMap, MarginStatus, margin_map
+from axles.units import BAR, kmh
+from bifurcation.equilibria.margins import Margin, MarginMap, MarginStatus, margin_map
 from reduced_model.family import SpeedFamily
 from reduced_model.mode_shapes import mode_shape, reduced_inertias
 

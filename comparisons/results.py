@@ -2,7 +2,7 @@
 
 Each result shows itself in the interface units (km/h, bar, degrees, every column labelled): ``print(result)``
 gives a text table, a notebook renders ``_repr_html_``, and ``result.table()`` is the :class:`Table` behind both.
-The fields stay SI, as everywhere inside the code; the conversions go through :mod:`comparisons.axles.units`.
+The fields stay SI, as everywhere inside the code; the conversions go through :mod:`axles.units`.
 
 >>> from comparisons.results import Table
 >>> print(Table(("speed km/h", "frequency Hz"), (("16.106", "4.662"),)))
@@ -19,13 +19,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import BAR, KMH, to_interface
+from axles.axle import interface_text
+from axles.units import BAR, KMH, to_interface
 from comparisons.margins import MarginPoint, MarginStudy
-from reduced_model.bifurcation.cycles.problem import CycleBranch as ToolkitCycleBranch
-from reduced_model.bifurcation.cycles.problem import CycleDiagram
-from reduced_model.bifurcation.equilibria.hopf import HopfPoint as ToolkitHopfPoint
-from reduced_model.bifurcation.special_points import BranchStatus, Criticality, PointKind
+from bifurcation.cycles.problem import CycleBranch as ToolkitCycleBranch
+from bifurcation.cycles.problem import CycleDiagram
+from bifurcation.equilibria.hopf import HopfPoint as ToolkitHopfPoint
+from bifurcation.special_points import BranchStatus, Criticality, PointKind
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.trajectory import SimulationStatus, Trajectory
 
@@ -120,7 +120,7 @@ class HopfPoint:
 @dataclass(frozen=True)
 class HopfResult(Shown):
     """Every Hopf point in the speed window [vmin, vmax] (m/s), by speed.  The search seeds every candidate
-    speed exactly (:mod:`reduced_model.bifurcation.equilibria.hopf`), so a returned result is complete; a point
+    speed exactly (:mod:`bifurcation.equilibria.hopf`), so a returned result is complete; a point
     that does not converge raises instead."""
 
     title: str
@@ -214,7 +214,7 @@ class CycleBranches(Shown):
 
 def cycle_branch(branch: ToolkitCycleBranch, peak) -> CycleBranch:
     """The summary of a toolkit branch; ``peak`` is its cycle of largest max|theta1|
-    (:func:`reduced_model.bifurcation.cycles.branches.branch_peak`)."""
+    (:func:`bifurcation.cycles.branches.branch_peak`)."""
     speeds = [p.p for p in branch.points]
     special = tuple(CyclePointOnBranch(s.kind, s.p, float(s.data["amplitude"][0]))
                     for s in sorted(branch.special_points, key=lambda s: s.bracket[0]))

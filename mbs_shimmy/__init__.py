@@ -1,24 +1,19 @@
 """Geometrically full multibody model of the truck front axle in Exudyn (issues 4 and 9).
 
-This package face is light: it names the switches and the dimensions, which reading an axle needs, and loads no
-Exudyn.  The models live in their modules (SI inside; pressures in Pa, speeds in m/s), imported from there:
+This package face is light: it names the switches, which reading an axle needs, and loads no Exudyn.  The
+dimensions it needs beyond Table 1 are axle entries (:mod:`axles.dimensions`).  The models live in their modules (SI inside; pressures in Pa, speeds in m/s), imported from there:
 
 * :class:`Fidelity` (``Fidelity.parse("reduced" | "full" | "name,name")``), :class:`Assumption`,
   :func:`assumptions_table` - the reduced model's assumptions as switches (here);
-* :class:`AxleDimensions`, :data:`DEFAULT_DIMENSIONS` - what the paper does not give (here);
-* :class:`mbs_shimmy.linearisation.MbsModel`, :class:`mbs_shimmy.linearisation.MbsFamily` - the model and its
-  speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` (``lyapunov=False``);
+* :class:`mbs_shimmy.model.MbsModel`, :class:`mbs_shimmy.linearisation.MbsFamily` - the model and its
+  speed family for :func:`bifurcation.equilibria.hopf.hopf_points` (``lyapunov=False``);
 * :func:`mbs_shimmy.simulation.simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
-* :func:`mbs_shimmy.assumption_study.assumption_study` - Hopf-speed and limit-cycle shifts of each assumption;
-  :func:`mbs_shimmy.cycle_peak.continued_peak` - a model's largest limit cycle from its continued branches;
-  :mod:`mbs_shimmy.limit_cycle` - steady amplitudes of both models by simulation.
 
 Every module that imports Exudyn imports :mod:`mbs_shimmy.engine` first, which chooses Exudyn's compiled module.
 """
 
 from dataclasses import dataclass
 
-from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import ASSUMPTIONS, Assumption, AssumptionInfo, Fidelity
 
 
@@ -40,5 +35,5 @@ def assumptions_table() -> AssumptionsTable:
     return AssumptionsTable(ASSUMPTIONS)
 
 
-__all__ = ["Assumption", "AssumptionInfo", "AssumptionsTable", "AxleDimensions", "DEFAULT_DIMENSIONS", "Fidelity",
+__all__ = ["Assumption", "AssumptionInfo", "AssumptionsTable", "Fidelity",
            "assumptions_table"]

@@ -14,7 +14,7 @@ import enum
 from dataclasses import dataclass
 from typing import Iterable
 
-from reduced_model.parameters import ParameterError
+from axles.parameters import ParameterError
 
 
 class Assumption(enum.Enum):

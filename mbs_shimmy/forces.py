@@ -41,13 +41,13 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 import exudyn as exu
 
 from mbs_shimmy.camber import CamberTerms
-from mbs_shimmy.dimensions import AxleDimensions
+from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.geometry import SIDES, AxleGeometry
 from mbs_shimmy.knuckle import knuckle_pose, ramp_moments, rotor_moment
 from mbs_shimmy.tyre_element import TyreElement
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import ParameterError, ShimmyParameters
+from axles.parameters import ParameterError, ShimmyParameters
 
 _POS, _VEL = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
 _ROT, _OMEGA = exu.OutputVariableType.RotationMatrix, exu.OutputVariableType.AngularVelocity

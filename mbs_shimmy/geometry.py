@@ -20,9 +20,9 @@ from functools import cached_property
 
 import numpy as np
 
-from mbs_shimmy.dimensions import AxleDimensions
+from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import Assumption, Fidelity
-from reduced_model.parameters import ShimmyParameters
+from axles.parameters import ShimmyParameters
 
 Vec = tuple[float, float, float]
 SIDES = (-1.0, 1.0)   # wheel 1 (right), wheel 2 (left)

@@ -41,15 +41,16 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 import exudyn as exu
 import numpy as np
 
-from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.forces import AxleForces, layout_of
 from mbs_shimmy.layout import Layout
-from mbs_shimmy.system import MbsSystem, build_system
-from reduced_model.bifurcation.derivatives import DifferenceDerivatives
+from mbs_shimmy.model import MbsModel
+from mbs_shimmy.system import MbsSystem
+from bifurcation.derivatives import DifferenceDerivatives
 from reduced_model.family import PRESSURE_PARAMS, ShimmyFamily, pressure_at
 from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.parameters import YANG2024, ParameterError, ShimmyParameters
 
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
@@ -128,30 +129,8 @@ class MbsEvaluator:
 
 
 @dataclass
-class MbsModel:
-    """The multibody axle with its parameters, pressure effects, fidelity switches and chosen dimensions."""
-
-    params: ShimmyParameters = YANG2024
-    effects: Effects = field(default_factory=Effects)
-    fidelity: Fidelity = field(default_factory=Fidelity.reduced)
-    dims: AxleDimensions = DEFAULT_DIMENSIONS
-
-    def forces(self, pressure, speed, acceleration=None) -> AxleForces:
-        return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressure, speed, acceleration)
-
-    def system(self, pressure, speed, acceleration=None, y0=None, output_interval=None,
-               drawing: bool = False) -> MbsSystem:
-        return build_system(self.params, self.effects, self.fidelity, self.dims,
-                            self.forces(pressure, speed, acceleration), y0, output_interval, drawing)
-
-    @property
-    def layout(self) -> Layout:
-        return layout_of(self.fidelity, self.dims)
-
-
-@dataclass
 class MbsFamily(DifferenceDerivatives, ShimmyFamily):
-    """The MBS as a speed family for :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` (with ``lyapunov=False``).
+    """The MBS as a speed family for :func:`bifurcation.equilibria.hopf.hopf_points` (with ``lyapunov=False``).
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as

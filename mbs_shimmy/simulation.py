@@ -29,12 +29,12 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 import exudyn as exu
 import numpy as np
 
-from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.geometry import SIDES, quaternions_xyzw
-from mbs_shimmy.linearisation import MbsModel
+from mbs_shimmy.model import MbsModel
 from reduced_model.model import N_STATES, STATE_NAMES, Effects
-from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.parameters import YANG2024, ParameterError, ShimmyParameters
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 DEFAULT_METHOD = "RK44"

@@ -67,13 +67,13 @@ from exudyn.itemInterface import (
     SensorNode,
 )
 
-from mbs_shimmy.dimensions import AxleDimensions
+from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import Assumption, Fidelity
 from mbs_shimmy.forces import AxleForces
 from mbs_shimmy.geometry import AxleGeometry, cross, dot
 from mbs_shimmy.layout import Layout
 from reduced_model.model import Effects
-from reduced_model.parameters import ParameterError, ShimmyParameters
+from axles.parameters import ParameterError, ShimmyParameters
 
 CURRENT = exu.ConfigurationType.Current
 REFERENCE = exu.ConfigurationType.Reference

@@ -47,7 +47,7 @@ from mbs_shimmy.camber import camber_terms
 from mbs_shimmy.geometry import Vec
 from reduced_model import tyre
 from reduced_model.model import Effects, WheelTyre, contact_lengths
-from reduced_model.parameters import ShimmyParameters
+from axles.parameters import ShimmyParameters
 
 
 @dataclass(frozen=True)

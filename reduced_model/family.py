@@ -1,9 +1,9 @@
 """The shimmy model as a two-parameter family: speed V and one more named parameter q.
 
 This is the "problem" in BifurcationKit's sense: it only evaluates the vector field and its Jacobian; the
-continuation algorithms in :mod:`reduced_model.bifurcation.equilibria.hopf` and :mod:`reduced_model.bifurcation.equilibria.hopf_curves` never see the physics.
+continuation algorithms in :mod:`bifurcation.equilibria.hopf` and :mod:`bifurcation.equilibria.hopf_curves` never see the physics.
 q is ``"pressure"`` (both tyres, Pa), ``"pressure_right"`` / ``"pressure_left"`` (one tyre, the other held at its
-operating pressure) or any entry of :class:`~reduced_model.parameters.ShimmyParameters`.  With different left and
+operating pressure) or any entry of :class:`~axles.parameters.ShimmyParameters`.  With different left and
 right operating pressures, ``"pressure"`` moves both by the same amount and q is their mean.
 """
 
@@ -14,9 +14,10 @@ from typing import Sequence
 
 import numpy as np
 
-from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
+from bifurcation.derivatives import ComplexStepDerivatives
+from axles.pressures import PRESSURE_PARAMS
 from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel, pressure_pair
-from reduced_model.parameters import ParameterError, ShimmyParameters
+from axles.parameters import ParameterError, ShimmyParameters
 
 # Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
 # unit of arclength, and the size of an oscillation per unit of arclength for each coordinate (rates scale with
@@ -28,7 +29,7 @@ COORDINATE_SCALES = {"theta1": 0.1, "theta2": 0.1, "psi": 0.1, "alpha1": 0.1, "a
 # eigenvalues are zero and the Hopf defining system is singular: a Hopf curve that runs down to V -> 0 turns back
 # on itself there instead of ending, and Newton near V = 0 is ill-conditioned.  Shimmy below walking pace is moot.
 MIN_SPEED = 0.1388888888888889   # 0.5 km/h
-PRESSURE_PARAMS = ("pressure", "pressure_right", "pressure_left")
+
 
 
 def oscillation_scales(state_names: tuple[str, ...], omega: float) -> np.ndarray:
@@ -68,7 +69,7 @@ def pressure_value(param: str, operating: float | Sequence[float]) -> float:
 
 
 class ShimmyFamily:
-    """What both shimmy models' families share (:class:`reduced_model.bifurcation.problem.Family`): the first
+    """What both shimmy models' families share (:class:`bifurcation.problem.Family`): the first
     parameter is the speed V (m/s, from :data:`MIN_SPEED`), the second ``param`` a pressure or a Table 1 entry.
     A subclass provides ``model`` (with ``params``), ``param``, ``pressure`` and ``state_names``."""
 

@@ -8,7 +8,7 @@ on, each on its own, the pressure dependence of the half contact length (``hcl``
 depends on pressure (2.4-2.9).  Left and right tyre may have different pressures.
 
 Straight running x = 0 is an equilibrium for every speed and pressure because F_y(0) = 0; the Jacobian there is
-affine in the speed (V enters only through V/R and V/sigma), which :mod:`reduced_model.bifurcation.equilibria.hopf` exploits.
+affine in the speed (V enters only through V/R and V/sigma), which :mod:`bifurcation.equilibria.hopf` exploits.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from reduced_model import tyre
-from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.parameters import YANG2024, ParameterError, ShimmyParameters
 
 STATE_NAMES = ("theta1", "theta1_dot", "theta2", "theta2_dot", "psi", "psi_dot", "alpha1", "alpha2")
 STATE_UNITS = ("rad", "rad/s", "rad", "rad/s", "rad", "rad/s", "rad", "rad")

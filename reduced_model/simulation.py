@@ -19,7 +19,7 @@ import numpy as np
 import scipy.integrate
 
 from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
-from reduced_model.parameters import ParameterError
+from axles.parameters import ParameterError
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 METHOD = "LSODA"

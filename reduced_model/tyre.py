@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from reduced_model.parameters import ShimmyParameters
+from axles.parameters import ShimmyParameters
 
 
 def pressure_increment(params: ShimmyParameters, pressure: float) -> float:

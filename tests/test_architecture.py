@@ -1,12 +1,13 @@
-"""The layout's rules, read from the source: no import circle, no library package importing the CLI, a toolkit
-that knows no problem, and no facades."""
+"""The layout's rules, read from the source: the packages' layering, no import circle, no library package importing
+the CLI, a toolkit that knows no problem, one construction path per model family, no facades."""
 
 import ast
 import pathlib
 import re
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-PACKAGES = ("reduced_model", "mbs_shimmy", "comparisons")
+# The layering, lowest first: a module imports only modules of its own package or of a package before it.
+PACKAGES = ("bifurcation", "axles", "reduced_model", "mbs_shimmy", "comparisons")
 
 
 def modules() -> dict[str, pathlib.Path]:
@@ -80,11 +81,28 @@ def test_no_library_package_imports_the_command_line():
 
 def test_the_toolkit_imports_nothing_of_the_models():
     graph = import_graph()
-    toolkit = {m: targets for m, targets in graph.items() if m.startswith("reduced_model.bifurcation")}
+    toolkit = {m: targets for m, targets in graph.items() if m.split(".")[0] == "bifurcation"}
     assert toolkit, "the toolkit package is missing"
-    outside = {m: sorted(t for t in targets if not t.startswith("reduced_model.bifurcation"))
+    outside = {m: sorted(t for t in targets if t.split(".")[0] != "bifurcation")
                for m, targets in toolkit.items()}
     assert {m: t for m, t in outside.items() if t} == {}
+
+
+def test_the_packages_are_layered():
+    """bifurcation <- axles <- reduced_model <- mbs_shimmy <- comparisons: no import runs up the stack."""
+    rank = {package: k for k, package in enumerate(PACKAGES)}
+    upward = {m: sorted(t for t in targets if rank[t.split(".")[0]] > rank[m.split(".")[0]])
+              for m, targets in import_graph().items()}
+    assert {m: t for m, t in upward.items() if t} == {}
+
+
+def test_each_package_is_where_the_layout_says():
+    for package in PACKAGES:
+        assert (ROOT / package / "__init__.py").is_file(), package
+    # the toolkit is no longer inside the paper's model, the studies over both models not inside the MBS
+    assert not (ROOT / "reduced_model" / "bifurcation").exists()
+    assert not any((ROOT / "mbs_shimmy" / f"{m}.py").exists()
+                   for m in ("kick", "cycle_peak", "limit_cycle", "growth", "assumption_study", "dimensions"))
 
 
 def test_no_module_level_getattr_facade():
@@ -108,9 +126,9 @@ def test_the_pattern_of_problem_words_finds_them():
 
 def test_the_toolkit_names_no_speed():
     """The toolkit continues in a named first parameter p, whatever it means to the problem: no identifier,
-    comment or docstring under ``reduced_model/bifurcation/`` says speed, vmin/vmax or km/h."""
+    comment or docstring under ``bifurcation/`` says speed, vmin/vmax or km/h."""
     found = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}"
-             for path in sorted((ROOT / "reduced_model" / "bifurcation").rglob("*.py"))
+             for path in sorted((ROOT / "bifurcation").rglob("*.py"))
              for n, line in enumerate(path.read_text().splitlines(), 1) if PROBLEM_WORDS.search(line)]
     assert found == []
 

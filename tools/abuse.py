@@ -187,7 +187,7 @@ def _finish(case, verdict, code, start, err, detail) -> Outcome:
 # --- the catalogue ---------------------------------------------------------------------------------------------
 
 def set_cases(quick: bool) -> list[Case]:
-    from comparisons.axles.axle import entries
+    from axles.axle import entries
     cases = []
     values = ["1e308", "1e-300", "-1e308", "nan", "inf", "abc", ""] if not quick else ["1e308", "1e-300", "nan"]
     for name, e in entries().items():

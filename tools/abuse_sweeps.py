@@ -145,7 +145,7 @@ def _foreign_part(out: str) -> None:
     """Put a part written by shimmy for another sweep in place of a kept one (the kept one moved aside)."""
     import numpy as np
 
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.sweeps.design import make_design, parse_vary
     from comparisons.sweeps.parts import part_path, write_part
     from comparisons.sweeps.sample import SweepTask, evaluate_batch

@@ -128,10 +128,10 @@ def find(root: Path = ROOT) -> list[Command]:
 
 def check_syntax(cmd: Command) -> str | None:
     """None when the line parses and passes the pre-work pressure rules; else the CLI's one-line message."""
-    from comparisons.axles.limits import UsageError
+    from axles.limits import UsageError
     from comparisons.cli.main import build_parser
     from comparisons.cli.options import resolve_pressures
-    from reduced_model.parameters import ParameterError
+    from axles.parameters import ParameterError
     err = io.StringIO()
     try:
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):

@@ -36,7 +36,7 @@ def _range(lo: float, hi: float) -> str:
 
 def axle_entries() -> str:
     """Every axle entry as ``shimmy params --json`` reports it for the paper's axle."""
-    from comparisons.axles.axle import paper_axle
+    from axles.axle import paper_axle
     from comparisons.cli.commands.params import rows_of
     rows = []
     for r in rows_of(paper_axle()):
@@ -47,8 +47,8 @@ def axle_entries() -> str:
 
 
 def input_ranges() -> str:
-    """The command-line inputs that are not axle entries, from :mod:`comparisons.axles.limits` and the commands."""
-    from comparisons.axles.limits import (
+    """The command-line inputs that are not axle entries, from :mod:`axles.limits` and the commands."""
+    from axles.limits import (
         ANGLE_RANGE_DEG,
         DURATION_RANGE_S,
         PRESSURE_RANGE_BAR,

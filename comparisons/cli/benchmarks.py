@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from comparisons.axles.units import from_kmh
+from axles.units import from_kmh
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, tuple[fl
 
 
 def _hopf_one_pressure():
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import hopf_points
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
 
@@ -88,7 +88,7 @@ def _hopf_one_pressure():
 
 
 def _figure5():
-    from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
+    from bifurcation.equilibria.hopf_curves import hopf_diagram
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
 
@@ -98,8 +98,8 @@ def _figure5():
 
 
 def _cycle_branch_nominal():
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.equilibria.hopf import hopf_points
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
 
@@ -113,7 +113,7 @@ def _cycle_branch_nominal():
 
 
 def _figure9a_cycles():
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.branches import cycle_diagram
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
 
@@ -125,7 +125,7 @@ def _figure9a_cycles():
 
 
 def _error_controlled_cycles():
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.branches import cycle_diagram
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
 
@@ -173,7 +173,8 @@ def _mbs_stage_costs(trajectory) -> dict:
 
     from mbs_shimmy.fidelity import Fidelity
     from mbs_shimmy.forces import _POS, _ROT
-    from mbs_shimmy.linearisation import ConstantSpeed, MbsModel
+    from mbs_shimmy.linearisation import ConstantSpeed
+    from mbs_shimmy.model import MbsModel
     from mbs_shimmy.simulation import extended_states
 
     speed = from_kmh(100)
@@ -216,11 +217,12 @@ def _mbs_stage_costs(trajectory) -> dict:
 
 
 def _mbs_cycle_branch():
-    from comparisons.axles.units import BAR, KMH
+    from axles.units import BAR, KMH
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily, MbsModel
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from mbs_shimmy.linearisation import MbsFamily
+    from mbs_shimmy.model import MbsModel
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.equilibria.hopf import hopf_points
 
     hb1, hb2 = hopf_points(MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=1.5 * BAR), 1.5 * BAR, 0.0,
                            400 * KMH)
@@ -246,7 +248,7 @@ def _sweep(samples: int, mbs: tuple[str, ...] = (), in_process: bool = False):
         import os
         import tempfile
 
-        from comparisons.axles.axle import Axle
+        from axles.axle import Axle
         from comparisons.sweeps.design import make_design, parse_vary
         from comparisons.sweeps.run import run_sweep
         from comparisons.sweeps.sample import SweepTask, evaluate_batch

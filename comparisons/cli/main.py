@@ -207,7 +207,7 @@ def _where(exc: BaseException) -> str:
 
 def check_output_options(args: argparse.Namespace) -> None:
     """Every output file option of the command, before the work (see :func:`comparisons.files.check_outputs`)."""
-    from comparisons.axles.limits import UsageError
+    from axles.limits import UsageError
     items = [(flag, getattr(args, attr)) for attr, flag in OUTPUT_OPTIONS if getattr(args, attr, None) is not None]
     try:
         check_outputs(items, RECORDING_OPTIONS)
@@ -254,10 +254,10 @@ def main(argv: list[str] | None = None) -> int:
             raise OutputFault("stdout is closed")
         import numpy as np
 
-        from comparisons.axles.axle import interface_text
-        from comparisons.axles.limits import UsageError
-        from reduced_model.bifurcation.special_points import ConvergenceError
-        from reduced_model.parameters import ParameterError
+        from axles.axle import interface_text
+        from axles.limits import UsageError
+        from bifurcation.special_points import ConvergenceError
+        from axles.parameters import ParameterError
         try:
             with signals.while_loading():
                 parser = build_parser()

@@ -9,12 +9,12 @@ import sys
 from typing import Any
 
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import ParameterError
+from axles.parameters import ParameterError
 
 # Second parameters of two-parameter diagrams: pressures and the four tyre properties.
 SECOND_PARAMETERS = ("pressure", "pressure_left", "pressure_right", "a0", "t0", "sigma0", "k5_0")
-from comparisons.axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH, UsageError
-from reduced_model.family import PRESSURE_PARAMS
+from axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH, UsageError
+from axles.pressures import PRESSURE_PARAMS
 
 
 def parse_number(text: str, what: str, lo: float, hi: float, unit: str, lo_open: bool = False) -> float:
@@ -72,7 +72,7 @@ def check_window(lo: float, hi: float, name: str, unit: str) -> None:
     if name in PRESSURE_PARAMS:
         a, b = PRESSURE_RANGE_BAR
     else:
-        from comparisons.axles.axle import entry
+        from axles.axle import entry
         a, b = entry(name).range
     for v in (lo, hi):
         if not math.isfinite(v) or not a <= v <= b:
@@ -187,7 +187,7 @@ def api_axle(args: argparse.Namespace):
 
 
 def build_axle(args: argparse.Namespace):
-    """The axle's entries (:class:`comparisons.axles.axle.Axle`) of :func:`api_axle`."""
+    """The axle's entries (:class:`axles.axle.Axle`) of :func:`api_axle`."""
     return api_axle(args).data
 
 

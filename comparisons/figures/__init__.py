@@ -15,7 +15,7 @@ asking for one raises :class:`FigureUnavailable`.  Making such a figure availabl
 function with :func:`register` (and removing its entry from :data:`UNAVAILABLE`).
 """
 
-from comparisons.axles import paper_reference as paper  # noqa: F401  (figures.paper: the printed values the notes cite)
+from axles import paper_reference as paper  # noqa: F401  (figures.paper: the printed values the notes cite)
 from comparisons.figures import (  # noqa: F401
     cumulative,
     cycle_curve_figures,

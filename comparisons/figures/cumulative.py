@@ -6,8 +6,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, kmh
+from axles import paper_reference as paper
+from axles.units import BAR, kmh
 from comparisons.figures.drawing import (
     _draw_curves,
     _incomplete_notes,
@@ -19,8 +19,8 @@ from comparisons.figures.drawing import (
 from comparisons.figures.hopf_figures import pressure_key
 from comparisons.figures.plots import place_labels
 from comparisons.figures.registry import EFFECT_STYLES, DiagramStore, Drawing, register
-from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram
-from reduced_model.bifurcation.special_points import PointKind
+from bifurcation.equilibria.hopf_curves import HopfDiagram
+from bifurcation.special_points import PointKind
 from reduced_model.model import Effects
 
 ZOOM_SEEDS = 41   # a curve lying between two seed lines of a zoom window would be missed: see uncovered

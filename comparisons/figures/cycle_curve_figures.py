@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import BAR, KMH, kmh
+from axles import paper_reference as paper
+from axles.axle import interface_text
+from axles.units import BAR, KMH, kmh
 from comparisons.figures.cycle_plots import CURVE_STYLES, special_point_labels
 from comparisons.figures.drawing import (
     _draw_curves,
@@ -29,12 +29,12 @@ from comparisons.figures.registry import (
     Drawing,
     register,
 )
-from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-from reduced_model.bifurcation.cycle_curves.result import CycleCurve
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.special_points import ConvergenceError, PointKind, PointStatus
+from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from bifurcation.cycle_curves.result import CycleCurve
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.special_points import ConvergenceError, PointKind, PointStatus
 from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 # Figure 18: the window of the two-parameter cycle continuation (tests/test_cycles_curves.py).  Below 0.2 bar T1
 # and T2 run on to 0.05 bar without meeting (tests/test_cycle_curve_ends.py, slow): the paper's HH2 is not there.
@@ -119,7 +119,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
         notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
     # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
     # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
-    from reduced_model.bifurcation.cycle_curves.switching import curves_from_codimension_two
+    from bifurcation.cycle_curves.switching import curves_from_codimension_two
 
     items: list = []
     named: dict[str, int] = {}

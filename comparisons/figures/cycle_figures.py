@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import kmh
+from axles import paper_reference as paper
+from axles.axle import interface_text
+from axles.units import kmh
 from comparisons.figures.cycle_plots import draw_cycle_diagram, special_point_labels
 from comparisons.figures.registry import (
     FIG9_VMAX_KMH,
@@ -20,9 +20,9 @@ from comparisons.figures.registry import (
     register,
     store_cycles,
 )
-from reduced_model.bifurcation.cycles.branches import branch_peak
-from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram
-from reduced_model.bifurcation.special_points import ConvergenceError, PointStatus
+from bifurcation.cycles.branches import branch_peak
+from bifurcation.cycles.problem import CycleBranch, CycleDiagram
+from bifurcation.special_points import ConvergenceError, PointStatus
 from reduced_model.family import SpeedFamily
 
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles.units import BAR, kmh
+from axles.units import BAR, kmh
 from comparisons.figures.plots import place_labels, save_figure, stability_grid
-from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram
-from reduced_model.bifurcation.special_points import PointKind
+from bifurcation.cycles.problem import CycleBranch, CycleDiagram
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import STATE_NAMES
 from reduced_model.modes import ModeHistory
@@ -54,7 +54,7 @@ def branch_lines(branch: CycleBranch, name: str):
 
 
 def kick_marks(kicks) -> list[tuple[float, float, str]]:
-    """(speed km/h, kick deg, label) of each bracketed kick threshold (:class:`mbs_shimmy.kick.KickThreshold`):
+    """(speed km/h, kick deg, label) of each bracketed kick threshold (:class:`comparisons.studies.kick.KickThreshold`):
     the initial theta1 that leaves the lower state, drawn on the max |theta1| axis because it is the same angle."""
     return [(kmh(k.speed), float(np.degrees(k.kick)), f"kick {np.degrees(k.kick):.2f} deg")
             for k in kicks if k.status.is_complete]
@@ -161,7 +161,7 @@ CURVE_STYLES = {PointKind.CYCLE_FOLD: ("-.", "C2"), PointKind.TORUS: (":", "C1")
 def plot_cycle_curves(hopf, curves, labels, family: SpeedFamily, path: str, title: str | None = None) -> None:
     """Figure 8/18 style: Hopf curves of straight running (shaded where it is stable) with the curves of cycle
     folds (S, dash-dotted) and torus points (T, dotted) in the (V, q) plane; ends at zero amplitude marked."""
-    from comparisons.axles.axle import interface_unit
+    from axles.axle import interface_unit
     from comparisons.figures.plots import draw_hopf_diagram
 
     unit, factor = interface_unit(family.param)

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import KMH, kmh
+from axles.axle import interface_text
+from axles.units import KMH, kmh
 from comparisons.figures.plots import stability_grid
 from comparisons.figures.registry import MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.equilibria.hopf_curves import HopfCurve, HopfDiagram
-from reduced_model.bifurcation.special_points import PointKind, PointStatus
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf_curves import HopfCurve, HopfDiagram
+from bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 
 

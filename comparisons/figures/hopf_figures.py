@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles.units import BAR, kmh
+from axles.units import BAR, kmh
 from comparisons.figures.drawing import (
     SPECIAL_MARKERS,
     _curve_of,
@@ -35,9 +35,9 @@ from comparisons.figures.registry import (
     Drawing,
     register,
 )
-from reduced_model.bifurcation.special_points import PointKind
+from bifurcation.special_points import PointKind
 from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 
 def pressure_key(effects: Effects = Effects(), lo_bar=0.05, hi_bar=3.0, vmin_kmh=0.0, vmax_kmh=VMAX_KMH,

@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 from matplotlib.figure import Figure
 
-from comparisons.axles.units import BAR, kmh
+from axles.units import BAR, kmh
 from comparisons.figures.plots import save_figure
 
 CMAP = "RdBu"     # red: negative damping (shimmy), blue: damped

@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles.axle import interface_unit
-from comparisons.axles.units import kmh
+from axles.axle import interface_unit
+from axles.units import kmh
 from comparisons.files import atomic_path
-from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram
-from reduced_model.bifurcation.special_points import PointKind
+from bifurcation.equilibria.hopf_curves import HopfDiagram
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 
 MARKERS = {PointKind.HOPF_FOLD: ("o", "F"), PointKind.HOPF_HOPF: ("s", "HH"),
@@ -29,7 +29,7 @@ def stability_grid(family: SpeedFamily, speeds: np.ndarray, values: np.ndarray) 
     for i, q in enumerate(values):
         A0 = family.linear_matrix(0.0, q)
         A1 = family.linear_matrix(1.0, q) - A0
-        stack = A0[None] + speeds[:, None, None] * A1[None]  # affine in V (see reduced_model.bifurcation.equilibria.hopf)
+        stack = A0[None] + speeds[:, None, None] * A1[None]  # affine in V (see bifurcation.equilibria.hopf)
         count[i] = np.sum(np.linalg.eigvals(stack).real > 0.0, axis=1)
     return count
 

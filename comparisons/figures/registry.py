@@ -8,15 +8,15 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable
 
-from comparisons.axles.units import BAR, KMH
+from axles.units import BAR, KMH
 from comparisons.figures.plots import save_figure
 from comparisons.files import interrupts_blocked, worker_signals
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.cycles.problem import CycleDiagram
-from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.cycles.problem import CycleDiagram
+from bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 P_I0_BAR = YANG2024.pi0 / BAR
 VMAX_KMH = 400.0                            # speed window of every (V, q) figure

@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import BAR, KMH, kmh
+from axles import paper_reference as paper
+from axles.axle import interface_text
+from axles.units import BAR, KMH, kmh
 from comparisons.figures.cycle_figures import _trail_key
 from comparisons.figures.cycle_plots import special_point_labels
 from comparisons.figures.registry import DiagramStore, Drawing, register, store_cycles
-from reduced_model.bifurcation.cycles.branches import cycle_at
-from reduced_model.bifurcation.special_points import ConvergenceError
+from bifurcation.cycles.branches import cycle_at
+from bifurcation.special_points import ConvergenceError
 from reduced_model.modes import ModeClassifier, ModeHistory
 from reduced_model.simulation import initial_state, simulate
 from reduced_model.trajectory import SpeedSchedule, Trajectory

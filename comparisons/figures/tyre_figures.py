@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from comparisons.axles.units import BAR
+from axles.units import BAR
 from comparisons.figures.drawing import _pressure_label
 from comparisons.figures.registry import (
     P_I0_BAR,
@@ -16,7 +16,7 @@ from comparisons.figures.registry import (
     register,
 )
 from reduced_model import tyre
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 
 @register(2, "lateral_force")

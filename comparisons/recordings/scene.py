@@ -44,7 +44,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from reduced_model.model import ShimmyModel
-from reduced_model.parameters import YANG2024, ShimmyParameters
+from axles.parameters import YANG2024, ShimmyParameters
 from reduced_model.trajectory import Trajectory
 
 BODY_NAMES = ("axle", "knuckle_right", "knuckle_left", "wheel_right", "wheel_left")
@@ -72,7 +72,7 @@ def rotate(q: np.ndarray, v) -> np.ndarray:
 @dataclass(frozen=True)
 class AxleGeometry:
     """Dimensions of the displayed shapes (m).  R, L, l and gamma are the model's; the arm lengths are the
-    multibody model's defaults (``mbs_shimmy.dimensions``), so both scenes look alike; the rest only draws."""
+    multibody model's defaults (``axles.dimensions``), so both scenes look alike; the rest only draws."""
 
     R: float
     L: float

@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from comparisons.axles.units import kmh
+from axles.units import kmh
 from comparisons.files import atomic_path
 from comparisons.recordings.layout import STATE_LEAVES, STATE_UNIT_LABELS
 from comparisons.recordings.writer import mode_label

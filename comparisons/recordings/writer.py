@@ -37,8 +37,8 @@ from typing import Sequence
 
 import numpy as np
 
-from comparisons.axles.axle import interface_text
-from comparisons.axles.units import kmh
+from axles.axle import interface_text
+from axles.units import kmh
 from comparisons.files import atomic_path, run_writer
 from comparisons.recordings.decimation import envelope_indices, uniform_indices
 from comparisons.recordings.layout import (

@@ -9,7 +9,7 @@ much of the variance a linear model explains (SRC_j^2 sums to about R^2 for inde
 The tornado chart shows for each input the change of the output, by that linear fit, as the input goes from its
 5th to its 95th percentile with the others at their means.  The stability map shades, over the first varied
 input and speed, the fraction of samples whose straight running is unstable (0 or 1 on a one-input grid), with
-the reduced model's Hopf curves from continuation (:func:`reduced_model.bifurcation.equilibria.hopf_curves.hopf_diagram`, other inputs at
+the reduced model's Hopf curves from continuation (:func:`bifurcation.equilibria.hopf_curves.hopf_diagram`, other inputs at
 the base axle) drawn over it; with two or more inputs a second map shows the shimmy onset speed over the first two.
 """
 
@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pyarrow as pa
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 from comparisons.sweeps.design import Design
 from comparisons.sweeps.sample import SweepTask
 
@@ -159,16 +159,16 @@ def sensitivity(table: pa.Table, design: Design, output: OutputChoice) -> Sensit
 # --- figures ------------------------------------------------------------------------------------------------
 
 def _unit(name: str) -> str:
-    from comparisons.axles.axle import interface_unit
+    from axles.axle import interface_unit
     return interface_unit(name)[0]
 
 
 def _continuation_curves(task: SweepTask, name: str, lo: float, hi: float):
     """Hopf curves of the reduced model over input ``name`` (interface units) at the base axle, or None when the
     reduced model does not depend on it (a multibody dimension)."""
-    from comparisons.axles.axle import entry
-    from comparisons.axles.units import BAR, KMH
-    from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
+    from axles.axle import entry
+    from axles.units import BAR, KMH
+    from bifurcation.equilibria.hopf_curves import hopf_diagram
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
     if name in ("pressure", "pressure_left", "pressure_right"):

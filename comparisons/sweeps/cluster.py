@@ -21,7 +21,7 @@ import sys
 import time
 import warnings
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 
 CONNECT_TIMEOUT_S = 10.0
 WAIT_FOR_WORKERS_S = 60.0

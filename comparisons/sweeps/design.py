@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comparisons.axles.axle import interface_unit
-from comparisons.axles.limits import UsageError
-from reduced_model.family import PRESSURE_PARAMS
+from axles.axle import interface_unit
+from axles.limits import UsageError
+from axles.pressures import PRESSURE_PARAMS
 
 DISTRIBUTIONS = ("uniform", "normal")
 DESIGNS = ("sobol", "saltelli")
@@ -95,7 +95,7 @@ def parse_vary(text: str) -> Variation:
     if not sep or not name or not spec.strip():
         raise UsageError(f"--vary expects NAME=LO:HI:N, NAME=uniform:LO:HI or NAME=normal:MEAN:SD, got '{text}'")
     if name not in PRESSURE_PARAMS:
-        from comparisons.axles.axle import entries
+        from axles.axle import entries
         if name not in entries():
             import difflib
             close = difflib.get_close_matches(name, [*PRESSURE_PARAMS, *entries()], n=1)

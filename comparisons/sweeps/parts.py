@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 from comparisons.files import atomic_path, write_atomically
 
 MANIFEST = "manifest.json"

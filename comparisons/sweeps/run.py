@@ -29,7 +29,7 @@ from typing import Callable
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 from comparisons.sweeps.cluster import (
     DaskCluster,
     StopReason,

@@ -4,9 +4,9 @@ A :class:`SweepTask` is everything a worker needs (the base axle, pressures, eff
 sent to each worker once.  :func:`evaluate_batch` evaluates consecutive samples and returns one Arrow table: a
 sample that fails (a meaningless value, a Newton iteration that does not converge) is a row with status
 ``failed`` and its error message, never a lost batch.  The numbers come from the same calls as the single-point
-commands: :func:`reduced_model.bifurcation.equilibria.hopf.hopf_points` on the same family as ``shimmy hopf``,
-:func:`mbs_shimmy.assumption_study.assumption_study` (without cycles) as ``shimmy assumptions --no-cycles``, and
-:func:`reduced_model.bifurcation.cycles.problem.cycle_diagram` as ``shimmy cycles``.
+commands: :func:`bifurcation.equilibria.hopf.hopf_points` on the same family as ``shimmy hopf``,
+:func:`comparisons.studies.assumption_study.assumption_study` (without cycles) as ``shimmy assumptions --no-cycles``, and
+:func:`bifurcation.cycles.problem.cycle_diagram` as ``shimmy cycles``.
 """
 
 from __future__ import annotations
@@ -19,8 +19,8 @@ import numpy as np
 import pyarrow as pa
 
 from comparisons.assumption_shifts import mbs_kmh, shift_kmh
-from comparisons.axles.axle import Axle, entry, interface_text
-from comparisons.axles.units import BAR, KMH, kmh
+from axles.axle import Axle, entry, interface_text
+from axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
 from reduced_model.modes import ModeClassifier
 
@@ -94,7 +94,7 @@ class SweepTask:
 
     # --- schema -------------------------------------------------------------------------------------------
     def assumption_names(self) -> list[str]:
-        from mbs_shimmy.assumption_study import study_fidelities
+        from comparisons.studies.assumption_study import study_fidelities
         return [name for name, _ in study_fidelities()]
 
     def schema(self) -> pa.Schema:
@@ -139,7 +139,7 @@ class SweepTask:
     # --- one sample ---------------------------------------------------------------------------------------
     def sample_inputs(self, values: np.ndarray) -> tuple[Axle, float, float]:
         """(axle, right bar, left bar) of one sample; :class:`ParameterError` for a meaningless value."""
-        from reduced_model.parameters import ParameterError
+        from axles.parameters import ParameterError
         right, left = self.pressure_right_bar, self.pressure_left_bar
         si = {}
         given = dict(zip(self.names, (float(v) for v in values)))
@@ -161,7 +161,7 @@ class SweepTask:
 
     def evaluate(self, values: np.ndarray) -> dict:
         """The output columns of one sample (raises on failure)."""
-        from reduced_model.bifurcation.equilibria.hopf import hopf_points
+        from bifurcation.equilibria.hopf import hopf_points
         from reduced_model.family import SpeedFamily
         from reduced_model.model import ShimmyModel
         axle, right, left = self.sample_inputs(values)
@@ -203,7 +203,7 @@ class SweepTask:
                 if self.mbs_l1(f):
                     row.update(_criticality_columns(c, mp))
                 if "hopf" in self.compute:
-                    from mbs_shimmy.assumption_study import match_hopf
+                    from comparisons.studies.assumption_study import match_hopf
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
                     shifts = {m.reduced_speed: shift_kmh(m) for m in match_hopf(points, mp)}
                     row[f"{c}shift_kmh"] = [shifts.get(h.p) for h in points]
@@ -213,7 +213,7 @@ class SweepTask:
             for f, mf in mbs_families.items():     # the MBS Jacobians of the Hopf search are kept: only eigenvalues
                 row.update(_margin_columns(f"mbs_{_column_safe(f)}_", mf, speeds))
         if "assumptions" in self.compute:
-            from mbs_shimmy.assumption_study import assumption_study
+            from comparisons.studies.assumption_study import assumption_study
             study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
             for r in study.rows:
                 row[f"shift_{r.assumption}_kmh"] = [shift_kmh(h) for h in r.hopf if h.reduced_speed is not None]
@@ -235,7 +235,7 @@ def _hopf_columns(prefix: str, points) -> dict:
 def _margin_columns(prefix: str, family, speeds: np.ndarray) -> dict:
     """The least damping ratio of straight running over ``speeds`` (m/s): its minimum, where, its frequency and
     mode (labelled as the Hopf points are); null where nothing oscillates."""
-    from reduced_model.bifurcation.equilibria.margins import MarginStatus, least_damped
+    from bifurcation.equilibria.margins import MarginStatus, least_damped
     # The family was validated at this q by the Hopf search (margin_map would validate again: an Exudyn
     # linearisation per MBS fidelity, more than the eigenvalues cost).
     found = [m for m in (least_damped(family, v, family.nominal, vector=False) for v in speeds)
@@ -253,7 +253,7 @@ def _margin_columns(prefix: str, family, speeds: np.ndarray) -> dict:
 def _unstable_intervals(family, points, vmax: float) -> tuple[list[float], list[float]]:
     """Speed intervals (km/h) where straight running is unstable: between Hopf points, decided by the eigenvalues
     at each interval's midpoint."""
-    from reduced_model.bifurcation.equilibria.hopf import eigenvalues
+    from bifurcation.equilibria.hopf import eigenvalues
     q = family.nominal
     edges = [family.primary_min] + [h.p for h in points] + [vmax]
     lo, hi = [], []
@@ -276,15 +276,15 @@ def _criticality_columns(prefix: str, points) -> dict:
 
 
 def _cycle_diagram(family, vmax: float):
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.branches import cycle_diagram
     return cycle_diagram(family, family.nominal, 0.0, vmax)
 
 
 def _branch_peak(family, branch):
     """The cycle of largest max |theta1| on the branch, refined as ``shimmy cycles`` refines it (the computed
     point where the refinement does not converge)."""
-    from reduced_model.bifurcation.cycles.branches import branch_peak
-    from reduced_model.bifurcation.special_points import ConvergenceError
+    from bifurcation.cycles.branches import branch_peak
+    from bifurcation.special_points import ConvergenceError
     try:
         return branch_peak(family, branch, "theta1")
     except ConvergenceError:

@@ -7,11 +7,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
-from comparisons.axles.axle import Axle
+from axles.axle import Axle
 from comparisons.verify.background import Background
 from comparisons.verify.plan import VMAX, Plan
 from comparisons.verify.report import CheckStatus
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 

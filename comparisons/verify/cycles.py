@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comparisons.axles.axle import interface_text
-from comparisons.axles.paper_reference import FIG9A, KNOWN_DIFFERENCES
-from comparisons.axles.units import BAR, kmh
+from axles.axle import interface_text
+from axles.paper_reference import FIG9A, KNOWN_DIFFERENCES
+from axles.units import BAR, kmh
 from comparisons.verify.context import Context, agrees_to_printed_digits, shimmy_cases
 from comparisons.verify.jump_experiments import JumpSetup
 from comparisons.verify.plan import VMAX, BistableCase
@@ -40,7 +40,7 @@ class CycleCheck:
     """The MBS (every assumption of the reduced model on) started on a continuation cycle and run until steady."""
 
     reference: float          # max|theta1| of the continuation's cycle, rad
-    mbs: object               # mbs_shimmy.limit_cycle.SteadyAmplitude
+    mbs: object               # comparisons.studies.limit_cycle.SteadyAmplitude
     relative_diff: float      # inf when the MBS run stopped
 
     @property
@@ -52,7 +52,7 @@ def cycle_amplitude_check(model: ShimmyModel, point, pressure, dims, settle: flo
     """The MBS steady amplitude at the speed of ``point`` (a continuation cycle of ``model``) against the cycle's
     max|theta1|; the run starts on the cycle unless ``x0`` is given."""
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.limit_cycle import mbs_steady_amplitude
+    from comparisons.studies.limit_cycle import mbs_steady_amplitude
     start = point.orbit.nodes[0] if x0 is None else x0
     got = mbs_steady_amplitude(model.params, model.effects, Fidelity.reduced(), pressure, point.p, start,
                                settle=settle, dims=dims)
@@ -64,8 +64,8 @@ def cycle_amplitude_check(model: ShimmyModel, point, pressure, dims, settle: flo
 def cycles_section(ctx: Context) -> Section:
     from comparisons.figures.cycle_plots import plot_cycle_overlay
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.limit_cycle import mbs_steady_amplitude
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from comparisons.studies.limit_cycle import mbs_steady_amplitude
+    from bifurcation.cycles.branches import cycle_diagram
     settle = 6.0 if ctx.quick else 12.0
     rows, figures = [], []
     model = ShimmyModel(params=ctx.axle.params)
@@ -170,7 +170,7 @@ def _jump_figure(ctx: Context, experiments, case: BistableCase, paper: bool) -> 
 def _kick_rows(ctx: Context, setup: JumpSetup) -> list[Row]:
     """The reduced model's kick threshold in the middle of each bistable window of its diagram."""
     from comparisons.verify.kick_rows import kick_verdict
-    from mbs_shimmy.kick import kicks
+    from comparisons.studies.kick import kicks
     ctx.progress("Bistable jumps: kick threshold of the reduced model (tens of runs)")
     family = SpeedFamily(ShimmyModel(params=setup.case.axle.params), pressure=setup.diagram.q)
     rows = []

@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH, kmh
+from axles.units import BAR, KMH, kmh
 from comparisons.verify.context import EIGEN_SPEEDS_KMH, EIGEN_TOL, HOPF_TOL_KMH
 from comparisons.verify.cycles import AMPLITUDE_TOL, cycle_amplitude_check, sample_stable
 from comparisons.verify.plan import VMAX
@@ -84,7 +84,8 @@ def label(pressure) -> str:
 def families(axle, pressure, effects=None):
     """(reduced model's family, MBS family at reduced fidelity) at one pressure."""
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily, MbsModel
+    from mbs_shimmy.linearisation import MbsFamily
+    from mbs_shimmy.model import MbsModel
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
     effects = effects or Effects()
@@ -109,8 +110,8 @@ def critical_real_part(family, speed: float, omega: float) -> float:
 def test_axle_file_round_trip(axle):
     """Writing the axle as an axle file and reading it back gives the same axle bit for bit; the file on disk
     (if any) reads back with its own hash."""
-    from comparisons.axles.axle import entries
-    from comparisons.axles.axle_file import format_axle, parse_axle, read_axle
+    from axles.axle import entries
+    from axles.axle_file import format_axle, parse_axle, read_axle
     again = parse_axle(format_axle(axle), source="<written>")
     assert again.params == axle.params, "Table 1 entries changed in the round trip"
     assert again.dims == axle.dims, "multibody dimensions changed in the round trip"
@@ -131,8 +132,8 @@ def test_axle_file_round_trip(axle):
 def test_axle_entries_in_range(axle):
     """Every entry lies in its physical range, every plausible range inside the physical one, the pressure window
     inside what the models take."""
-    from comparisons.axles.axle import check_pressure_range, entries
-    from reduced_model.parameters import ParameterError
+    from axles.axle import check_pressure_range, entries
+    from axles.parameters import ParameterError
     bad = []
     for name, e in entries().items():
         try:
@@ -185,7 +186,7 @@ def test_hopf_points_equal(axle, pressure):
     """Same Hopf points 0-400 km/h (speed to 0.01 km/h, frequency to 1e-6, first Lyapunov coefficient to 1e-4:
     the MBS's from multilinear forms by finite differences of Exudyn's right-hand side, the reduced model's from
     Cauchy integrals), crossing in the same direction; where the reduced model has none, the MBS has none either."""
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import hopf_points
     red_family, mbs_family = families(axle, pressure)
     red = hopf_points(red_family, red_family.nominal, 0.0, VMAX)
     mbs = hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX)
@@ -225,7 +226,7 @@ def first_stretch(branch, hopf) -> list:
 @pytest.fixture(scope="session")
 def cycle_diagrams(axle):
     """The reduced model's cycle branches from its Hopf points, by pressure (continued once per session)."""
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.branches import cycle_diagram
     cache = {}
 
     def diagram(pressure):
@@ -243,7 +244,7 @@ def test_criticality(axle, pressure, quick, cycle_diagrams):
     run started at half the first well-attracting stable cycle grows onto it (within verify's 0.5 %); for a
     subcritical one where straight running is stable, runs started inside and outside the unstable cycle stay on
     their side of it (it separates straight running from the rest).  Quick: the first branch only."""
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import hopf_points
     from reduced_model.model import ShimmyModel
     red, diagram = cycle_diagrams(pressure)
     points = hopf_points(red, red.nominal, 0.0, VMAX, lyapunov=True)

@@ -4,11 +4,11 @@ has a Hopf point.
 The MBS with every assumption off is continued on Exudyn by the toolkit code the reduced model uses
 (:class:`mbs_shimmy.linearisation.MbsFamily`), and what continuation finds is checked against the same model's
 simulations: each Hopf point (with its first Lyapunov coefficient) is bracketed by a small oscillation that decays
-on one side and grows on the other at the critical eigenvalue's real part (:mod:`mbs_shimmy.growth`); stable orbits
+on one side and grows on the other at the critical eigenvalue's real part (:mod:`comparisons.studies.growth`); stable orbits
 are what long runs settle on, unstable ones are left, special points are bracketed by runs on either side
 (:mod:`comparisons.verify.orbit_checks`).  The full geometry's bistable windows come from its own branches as the
-plan finds the reduced model's (:func:`mbs_shimmy.kick.bistable_windows`, straight running counted); in each, the
-kick threshold (:mod:`mbs_shimmy.kick`) is bracketed by two runs from straight running that end on the two
+plan finds the reduced model's (:func:`comparisons.studies.kick.bistable_windows`, straight running counted); in each, the
+kick threshold (:mod:`comparisons.studies.kick`) is bracketed by two runs from straight running that end on the two
 coexisting states.  Where there is none, the row says so with its evidence: criticality and folds.
 """
 
@@ -30,13 +30,13 @@ from comparisons.verify.full_geometry_rows import (
 from comparisons.verify.orbit_checks import LEFT_TOL, ORBIT_TOL
 from comparisons.verify.other_axle import ONSET_TOLERANCE
 from comparisons.verify.report import CheckStatus, Row, Section
-from mbs_shimmy.growth import DURATION
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from comparisons.studies.growth import DURATION
+from bifurcation.equilibria.hopf import hopf_points
 
 
 def full_geometry_section(ctx: Context) -> Section:
-    from mbs_shimmy.kick import kicks, settle_function
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from comparisons.studies.kick import kicks, settle_function
+    from bifurcation.cycles.branches import cycle_diagram
     rows, figures, recordings = [], [], []
     wheres = [Where.of_case(ctx.axle, c) for c in ctx.plan.cases]
     cases = []

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comparisons.axles.axle import Axle, interface_text
-from comparisons.axles.units import BAR, from_kmh, kmh
+from axles.axle import Axle, interface_text
+from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.orbit_checks import (
     bracket_special_point,
@@ -22,12 +22,12 @@ from comparisons.verify.orbit_checks import (
 )
 from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row
-from mbs_shimmy.limit_cycle import SETTLE
-from reduced_model.bifurcation.special_points import PointKind
+from comparisons.studies.limit_cycle import SETTLE
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 
-QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: mbs_shimmy.growth.DURATION)
+QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: comparisons.studies.growth.DURATION)
 HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two Hopf points are closer)
 STABLE_BUDGET = 12        # stable-orbit runs over all branches of a case (at most STABLE_PER_BRANCH each)
 STABLE_PER_BRANCH = 6
@@ -94,7 +94,7 @@ def hopf_offsets(speeds: list[float]) -> list[float]:
 def hopf_rows(family, case, points, duration: float) -> list[Row]:
     """Each Hopf point with l1, and the two simulations that bracket it: along the mode that crosses there, one
     decays and the other grows, each at the real part of that mode's eigenvalue."""
-    from mbs_shimmy.growth import RATE_TOL, envelope_rate
+    from comparisons.studies.growth import RATE_TOL, envelope_rate
     rows = []
     for i, (h, off) in enumerate(zip(points, hopf_offsets([h.p for h in points])), 1):
         rows.append(Row({"case": case.label, "what": f"HB{i}", "speed_kmh": kmh(h.p),
@@ -119,7 +119,7 @@ def hopf_rows(family, case, points, duration: float) -> list[Row]:
 
 def no_hopf_rows(family, case, duration: float) -> list[Row]:
     """No Hopf point of the full geometry: the least-damped mode at its weakest speed decays, at its rate."""
-    from mbs_shimmy.growth import envelope_rate
+    from comparisons.studies.growth import envelope_rate
     speeds = np.linspace(max(from_kmh(5.0), case.speeds[0]), case.speeds[1], 80)
     weakest = max(speeds, key=lambda v: max(np.linalg.eigvals(family.linear_matrix(v, family.nominal)).real))
     rate = envelope_rate(family, float(weakest), duration)
@@ -181,7 +181,7 @@ def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], 
     """The full geometry's bistable windows with the ramps through them and their kick thresholds, or why there
     is none; (rows, recording names, kick thresholds)."""
     from comparisons.verify.full_jumps import jump_rows
-    from mbs_shimmy.kick import bistable_windows, kicks
+    from comparisons.studies.kick import bistable_windows, kicks
     windows = bistable_windows(diagram, family)
     if not windows:
         crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"

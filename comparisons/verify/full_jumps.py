@@ -12,7 +12,7 @@ with its own windows.
 
 from __future__ import annotations
 
-from comparisons.axles.units import from_kmh, kmh
+from axles.units import from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.cycles import _record_both
 from comparisons.verify.jump_experiments import (
@@ -41,7 +41,7 @@ def cycle_mode(classifier, cycle):
 def full_jump_setup(case: BistableCase, family, diagram, window: tuple[float, float]) -> JumpSetup | None:
     """The jump experiments of one window (m/s) of the full geometry's diagram; None when its two states are not
     told apart by the mode classifier (two cycles of the same mode)."""
-    from mbs_shimmy.kick import stable_straight_running
+    from comparisons.studies.kick import stable_straight_running
     from reduced_model.modes import Mode, ModeClassifier
     named = window_points(diagram)
     ends = list(named.values()) + [kmh(h.p) for h in diagram.hopf]

@@ -12,10 +12,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from comparisons.axles.units import BAR, from_kmh, kmh
+from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.plan import VMAX, BistableCase
-from reduced_model.bifurcation.special_points import PointKind
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 
@@ -25,7 +25,7 @@ WINDOW_SLACK_KMH = 0.5       # a jump may come this much before the window's end
 
 
 def bistable_diagram(case: BistableCase):
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.branches import cycle_diagram
     if case.value_diagram is not None:
         return case.value_diagram
     family = SpeedFamily(ShimmyModel(params=case.axle.params))

@@ -1,4 +1,4 @@
-"""The kick threshold (:mod:`mbs_shimmy.kick`) as a row of ``shimmy verify``: the smallest initial theta1 that
+"""The kick threshold (:mod:`comparisons.studies.kick`) as a row of ``shimmy verify``: the smallest initial theta1 that
 leaves the lower of two coexisting stable states, and the two runs that bracket it."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ def kick_verdict(kick, model: str) -> tuple[dict, CheckStatus, str]:
     """(cells, status, text) of one threshold found in ``model`` (a label for the report): passed when two runs,
     just below and just above it, end on the two states; information when no kick up to the limit leaves the
     lower state; a failure when a run did not settle."""
-    from mbs_shimmy.kick import KickStatus
+    from comparisons.studies.kick import KickStatus
     found = kick.status is KickStatus.FOUND
     cells = {"kick_deg": math.degrees(kick.kick) if found else None}
     if found:

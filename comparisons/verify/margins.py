@@ -1,6 +1,6 @@
 """The ``shimmy verify`` section "Stability margins": how far straight running is from shimmy, for both models.
 
-The least damping ratio of straight running (:mod:`reduced_model.bifurcation.equilibria.margins`, the mode named
+The least damping ratio of straight running (:mod:`bifurcation.equilibria.margins`, the mode named
 as ``shimmy modes`` names it) is mapped over the axle's operating window: its pressures (axle file ``[operating]``,
 both tyres alike) and the plan's speeds (0.5-400 km/h), for the reduced model (section 3) and the MBS with the full
 geometry.  Checks, each of which can fail:
@@ -22,13 +22,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comparisons.axles.units import BAR, kmh
+from axles.units import BAR, kmh
 from comparisons.margins import MarginPoint
 from comparisons.verify.context import Context
 from comparisons.verify.plan import VMAX
 from comparisons.verify.report import CheckStatus, Column, Row, Section
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.equilibria.margins import least_damped, zero_level
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.margins import least_damped, zero_level
 from reduced_model.family import MIN_SPEED
 
 GRID_QUICK = (41, 5)        # speeds, pressures

@@ -1,11 +1,11 @@
 """Continued orbits and special points of a model checked against that model's own simulations (issue 16, item 4).
 
-Only orbits whose Floquet multipliers let a run of :data:`mbs_shimmy.limit_cycle.SETTLE` seconds decide are
+Only orbits whose Floquet multipliers let a run of :data:`comparisons.studies.limit_cycle.SETTLE` seconds decide are
 sampled (:func:`decides_within`: not those next to a Hopf point or a fold, where |mu| is near 1).
 
 * A stable orbit is what a long simulation settles on: started 2 % inside it (every state scaled by 0.98, so that
   it must attract to pass), the run's max |theta1| and frequency of theta1 over its last settled window must lie
-  within :data:`ORBIT_TOL` of the orbit's (:func:`mbs_shimmy.limit_cycle.mbs_steady_amplitude`).
+  within :data:`ORBIT_TOL` of the orbit's (:func:`comparisons.studies.limit_cycle.mbs_steady_amplitude`).
 * A simulation leaves an unstable orbit: from the same start, it ends more than :data:`LEFT_TOL` away from the
   orbit's max |theta1| (on another state: straight running or another cycle).
 * A cycle fold, torus or period-doubling point is bracketed by the branch's computed cycles nearest to it on either
@@ -13,8 +13,8 @@ sampled (:func:`decides_within`: not those next to a Hopf point or a fold, where
   a fold (where no cycle of the branch exists) a run started on the fold's orbit must leave it.  A side with no
   cycle a run can decide gets no run: :func:`undecided_sides` names it.
 
-``settle(speed)`` gives a function x0 -> :class:`~mbs_shimmy.limit_cycle.SteadyAmplitude` that runs the model at
-that speed until it settles (:func:`mbs_shimmy.kick.settle_function`): the checks are the same for the reduced
+``settle(speed)`` gives a function x0 -> :class:`~comparisons.studies.limit_cycle.SteadyAmplitude` that runs the model at
+that speed until it settles (:func:`comparisons.studies.kick.settle_function`): the checks are the same for the reduced
 model and the MBS.
 """
 
@@ -26,9 +26,9 @@ from typing import Callable
 
 import numpy as np
 
-from comparisons.axles.units import from_kmh
-from mbs_shimmy.limit_cycle import SETTLE
-from reduced_model.bifurcation.special_points import PointKind
+from axles.units import from_kmh
+from comparisons.studies.limit_cycle import SETTLE
+from bifurcation.special_points import PointKind
 
 ORBIT_TOL = 0.005        # relative: max |theta1| and frequency of a stable orbit against the simulation
 LEFT_TOL = 0.05          # relative: a run that ends farther than this from an unstable orbit has left it

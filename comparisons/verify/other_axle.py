@@ -22,7 +22,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-from comparisons.axles.units import from_kmh, kmh
+from axles.units import from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.plan import BistableCase
 from comparisons.verify.report import CheckStatus, Row
@@ -43,8 +43,8 @@ def onset_windows(family, q: float, hopf, p_min: float, p_max: float, past: floa
     """Parameter intervals (p_lo, p_hi) to continue the cycles of each subcritical Hopf point in: its side where
     the equilibrium is stable (by the eigenvalues halfway to the neighbouring Hopf point or window end), stopping
     ``past`` short of that neighbour (whose own branch stays out) and reaching ``past`` beyond the point itself."""
-    from reduced_model.bifurcation.equilibria.hopf import eigenvalues
-    from reduced_model.bifurcation.special_points import Criticality
+    from bifurcation.equilibria.hopf import eigenvalues
+    from bifurcation.special_points import Criticality
     points = sorted(hopf, key=lambda h: h.p)
     edges = [p_min] + [h.p for h in points] + [p_max]
     out = []
@@ -64,11 +64,11 @@ def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxl
     from comparisons.verify.full_geometry_rows import Where, branch_rows, branches_figure, hopf_rows, window_rows
     from comparisons.verify.jump_experiments import bistable_diagram
     from comparisons.verify.plan import VMAX
-    from mbs_shimmy.growth import DURATION
-    from mbs_shimmy.kick import kicks, settle_function
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
-    from reduced_model.bifurcation.cycles.problem import CycleSettings
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from comparisons.studies.growth import DURATION
+    from comparisons.studies.kick import kicks, settle_function
+    from bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.problem import CycleSettings
+    from bifurcation.equilibria.hopf import hopf_points
     ctx = Context(out=out, quick=False, axle=case.axle, recordings=recordings)
     where = Where.of_bistable(case)
     family = where.family

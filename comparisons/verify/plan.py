@@ -33,8 +33,8 @@ from typing import Callable
 
 import numpy as np
 
-from comparisons.axles.axle import Axle
-from comparisons.axles.units import BAR, from_kmh, kmh
+from axles.axle import Axle
+from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.scan import (
     TRAMP_SHARE,
     VMAX,
@@ -245,9 +245,9 @@ def _overlapping_pairs(family: SpeedFamily, q: float, windows: list[Window]) -> 
 
 
 def bistable_windows(diagram) -> list[tuple[float, float]]:
-    """Speed intervals (m/s) where two stable cycles coexist (:func:`mbs_shimmy.kick.bistable_windows`, straight
+    """Speed intervals (m/s) where two stable cycles coexist (:func:`comparisons.studies.kick.bistable_windows`, straight
     running not counted)."""
-    from mbs_shimmy.kick import bistable_windows as coexisting
+    from comparisons.studies.kick import bistable_windows as coexisting
     return coexisting(diagram, min_width=from_kmh(0.5))
 
 
@@ -299,7 +299,7 @@ def _boundary_cases(scan: ModelScan, cases: list[Case], notes: list[str]) -> Non
 def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = None,
               vmax: float = VMAX, progress=None, models=BOTH) -> Plan:
     """The cases to verify for any axle (see the module docstring for the rules)."""
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.branches import cycle_diagram
 
     lo, hi = axle.pressure_range_bar
     scans = scans_of(axle, quick, models, vmax, progress)

@@ -60,7 +60,7 @@ def checks_path() -> str:
 def load_axle(path: str, overrides: list[str] | None):
     """The axle of ``--axle`` with ``--axle-set`` on top; any problem is one usage line."""
     from comparisons.api import Axle
-    from reduced_model.parameters import ParameterError
+    from axles.parameters import ParameterError
     try:
         axle = Axle.from_file(path)
     except ParameterError as exc:                   # an AxleFileError among them
@@ -76,7 +76,7 @@ def axle_under_test(config: pytest.Config):
     """The axle the checks run on: ``--axle`` (with ``--axle-set``), else the paper's truck."""
     if AXLE_KEY in config.stash:
         return config.stash[AXLE_KEY]
-    from comparisons.axles.axle import paper_axle
+    from axles.axle import paper_axle
     return paper_axle()
 
 

@@ -216,7 +216,7 @@ class Report:
     notes: tuple[str, ...] = field(default=())
     metadata: RunMetadata | None = None
     plan: object = None          # comparisons.verify.plan.Plan
-    axle: object = None          # comparisons.axles.axle.Axle
+    axle: object = None          # axles.axle.Axle
     verdict: object = None       # comparisons.verify.verdict.Verdict
 
     @property
@@ -277,11 +277,11 @@ def axle_fingerprint(axle) -> tuple[str, str]:
     """(name, SHA-256) of an axle: the file's hash when it came from one, else a hash of every entry's SI value
     (so that two reports of the same axle carry the same hash)."""
     if axle is None:
-        from comparisons.axles.axle import paper_axle
+        from axles.axle import paper_axle
         axle = paper_axle()
     if getattr(axle, "sha256", None) and not getattr(axle, "overrides", ()):
         return axle.label(), axle.sha256
-    from comparisons.axles.axle import entries
+    from axles.axle import entries
     text = ";".join(f"{name}={axle.value(name)!r}" for name in entries())
     return axle.label(), hashlib.sha256(text.encode()).hexdigest()
 

@@ -1,7 +1,7 @@
 """How far the full-geometry verdicts hold over the plausible range of every dimension nobody measured.
 
-Each multibody entry of the axle with a plausible range (:meth:`comparisons.axles.axle.Axle.plausible_range`; new
-geometry entries join automatically through :func:`comparisons.axles.axle.entries`) is sampled uniformly on that range
+Each multibody entry of the axle with a plausible range (:meth:`axles.axle.Axle.plausible_range`; new
+geometry entries join automatically through :func:`axles.axle.entries`) is sampled uniformly on that range
 (scrambled Sobol' sequence, the same axles at every pressure), and for each sample the MBS Hopf points are
 computed with every assumption on (``reduced``) and off (``full``) by ``shimmy sweep`` on Dask.  Check: with every
 assumption on, the MBS reproduces the reduced model's Hopf points in every plausible axle (the dimensions must not
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import pyarrow as pa
 
-from comparisons.axles.axle import Axle, entries
+from axles.axle import Axle, entries
 from comparisons.sweeps.design import Design, Variation, make_design
 from comparisons.sweeps.sample import SweepTask
 from comparisons.verify.context import HOPF_TOL_KMH, Context, shimmy_cases
@@ -163,8 +163,8 @@ def onset_kind(l1: float | None, has_hopf: bool) -> str:
 
 def reduced_onset_l1(axle: Axle, right: float, left: float) -> float | None:
     """l1 of the reduced model's lowest Hopf point in 0-400 km/h (the same in every plausible axle)."""
-    from comparisons.axles.units import BAR, KMH
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from axles.units import BAR, KMH
+    from bifurcation.equilibria.hopf import hopf_points
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
     family = SpeedFamily(ShimmyModel(params=axle.params), pressure=right * BAR if right == left else

@@ -7,7 +7,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
-from comparisons.axles.axle import Axle, interface_text
+from axles.axle import Axle, interface_text
 from comparisons.verify.background import Background
 from comparisons.verify.context import Context
 from comparisons.verify.jump_experiments import start_jump_runs

@@ -9,7 +9,7 @@ the same functions scan both:
   an end of the speed window); its mode is named by the critical eigenvector's tramp share
   |psi| / max(|theta1|, |theta2|) against :data:`TRAMP_SHARE`;
 - the shimmy-free boundary is the highest pressure where a window exists: the highest fold of the Hopf curves in
-  (V, p) (:func:`reduced_model.bifurcation.equilibria.hopf_curves.hopf_diagram`), where a mode's window shrinks to
+  (V, p) (:func:`bifurcation.equilibria.hopf_curves.hopf_diagram`), where a mode's window shrinks to
   a point; without the curves (the full geometry in ``verify --quick``: its curves cost about two minutes of Exudyn
   Jacobians), the root in pressure of the largest growth rate of straight running over speed,
   ``g(p) = max_V max Re lambda(V, p)``, between the highest grid pressure that shimmies and the next one (the same
@@ -25,8 +25,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from comparisons.axles.units import BAR, from_kmh, kmh
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from axles.units import BAR, from_kmh, kmh
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import MIN_SPEED, SpeedFamily
 from reduced_model.model import STATE_NAMES, ShimmyModel
 from reduced_model.modes import ModeClassifier
@@ -196,8 +196,8 @@ def scan_model(axle, model: Model, grid, vmax: float = VMAX, curves: bool = True
                progress=None) -> ModelScan:
     """Scan one model of ``axle`` over ``grid`` (bar): windows at each pressure, Hopf curves (if ``curves``), the
     shimmy-free boundary (module docstring)."""
-    from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
-    from reduced_model.bifurcation.special_points import PointKind
+    from bifurcation.equilibria.hopf_curves import hopf_diagram
+    from bifurcation.special_points import PointKind
     say = progress or (lambda message: None)
     start = time.perf_counter()
     family = family_of(axle, model)

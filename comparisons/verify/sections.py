@@ -15,8 +15,8 @@ import os
 import numpy as np
 
 from comparisons import assumption_shifts as shifts
-from comparisons.axles.paper_reference import HOPF_SPEEDS_KMH, KNOWN_DIFFERENCES
-from comparisons.axles.units import BAR, from_kmh, kmh
+from axles.paper_reference import HOPF_SPEEDS_KMH, KNOWN_DIFFERENCES
+from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import (
     EIGEN_SPEEDS_KMH,
     EIGEN_TOL,
@@ -28,7 +28,7 @@ from comparisons.verify.context import (
 )
 from comparisons.verify.plan import VMAX, CaseKind
 from comparisons.verify.report import CheckStatus, Row, Section
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 
@@ -106,7 +106,7 @@ def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
 
 
 def hopf_section(ctx: Context) -> Section:
-    from mbs_shimmy.assumption_study import match_hopf
+    from comparisons.studies.assumption_study import match_hopf
     from mbs_shimmy.fidelity import Fidelity
     from mbs_shimmy.linearisation import MbsFamily
     rows = []
@@ -196,7 +196,7 @@ def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
 
 def assumptions_section(ctx: Context) -> Section:
     from comparisons.verify.report_figures import AssumptionShift, plot_assumption_tornado
-    from mbs_shimmy.assumption_study import assumption_study
+    from comparisons.studies.assumption_study import assumption_study
     model = ShimmyModel(params=ctx.axle.params)
     rows, tornado = [], []
     cases = [c for c in shimmy_cases(ctx) if c.kind is not CaseKind.ASYMMETRIC][:2]

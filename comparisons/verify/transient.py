@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from comparisons.axles.units import from_kmh
+from axles.units import from_kmh
 
 TRANSIENT_TOL = 1e-4        # of the amplitude of each state (the MBS's fixed-step RK67 against DOP853 at rtol 1e-12)
 KICK_RAD = 0.01             # initial yaw angle of wheel 1

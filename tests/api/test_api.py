@@ -17,11 +17,11 @@ import pytest
 import comparisons.api as api
 import comparisons.results as results
 from comparisons.api import Axle, TyrePressures, hopf_points, simulate
-from comparisons.axles.axle_file import write_axle
-from comparisons.axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH
-from comparisons.axles.units import KMH
-from reduced_model.bifurcation.special_points import BranchStatus
-from reduced_model.parameters import ParameterError
+from axles.axle_file import format_axle
+from axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH
+from axles.units import KMH
+from bifurcation.special_points import BranchStatus
+from axles.parameters import ParameterError
 from reduced_model.trajectory import SimulationStatus
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -106,7 +106,7 @@ def test_an_axle_with_values_in_interface_units_and_from_its_file(tmp_path):
     assert axle.value("gamma") == 4.0 and axle.params.gamma == pytest.approx(math.radians(4.0))
     assert axle.with_set("gamma=3", "k1=40000").params == Axle.paper().with_values(gamma=3.0, k1=4e4).params
     path = tmp_path / "truck.toml"
-    write_axle(axle.data, str(path))
+    path.write_text(format_axle(axle.data))
     read = Axle.from_file(path)
     assert read.params == axle.params and read.dims == axle.dims and read.data.file == str(path)
     with pytest.raises(ParameterError, match=r"gamma = 90 deg is outside its physical range \["):

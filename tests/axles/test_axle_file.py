@@ -5,11 +5,11 @@ import math
 
 import pytest
 
-from comparisons.axles.axle import Axle, entries, paper_axle
-from comparisons.axles.axle_file import AxleFileError, format_axle, parse_axle, read_axle
+from axles.axle import Axle, entries, paper_axle
+from axles.axle_file import AxleFileError, format_axle, parse_axle, read_axle
 from comparisons.cli.main import main
-from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS
-from reduced_model.parameters import YANG2024
+from axles.dimensions import DEFAULT_DIMENSIONS
+from axles.parameters import YANG2024
 
 
 @pytest.fixture

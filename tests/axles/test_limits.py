@@ -1,10 +1,10 @@
-"""The input ranges of comparisons.axles.limits against the models' own limits."""
+"""The input ranges of axles.limits against the models' own limits."""
 
 import ast
 import pathlib
 
-from comparisons.axles import limits
-from comparisons.axles.units import kmh
+from axles import limits
+from axles.units import kmh
 from reduced_model.family import MIN_SPEED
 
 

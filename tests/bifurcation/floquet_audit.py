@@ -2,7 +2,7 @@
 
 Along every branch a dense set of orbits is taken: the Hopf ends (multipliers exp(lambda_i T) of straight running,
 T = 2 pi / omega), every computed cycle, orbits between consecutive computed cycles and between the Hopf ends and
-the nearest cycles (Newton at fixed speed, :func:`reduced_model.bifurcation.cycles.branches.cycle_at`, from a
+the nearest cycles (Newton at fixed speed, :func:`bifurcation.cycles.branches.cycle_at`, from a
 nearby cycle).  On each orbit the Floquet multipliers are recomputed another way: the monodromy matrix M from the
 variational equation Phi' = f_x(x) Phi integrated with the state from x(0) over one period by scipy's DOP853 at
 rtol 1e-11, and the non-trivial multipliers as the eigenvalues of the Poincare map's Jacobian on the section
@@ -26,9 +26,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from reduced_model.bifurcation.cycles.branches import cycle_at
-from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
-from reduced_model.bifurcation.special_points import ConvergenceError, PointKind, PointStatus
+from bifurcation.cycles.branches import cycle_at
+from bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
+from bifurcation.special_points import ConvergenceError, PointKind, PointStatus
 
 RTOL = 1e-11
 COMPLEX = 1e-6           # |Im mu| above this: a complex multiplier

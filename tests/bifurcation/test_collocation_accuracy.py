@@ -11,14 +11,14 @@ import pytest
 from scipy.integrate import solve_ivp
 from test_cycles_toy import SHIFT, ToyFamily, W, first_hopf, supercritical
 
-from comparisons.axles.units import KMH, kmh
+from axles.units import KMH, kmh
 from comparisons.cli.main import main
-from reduced_model.bifurcation.cycles import collocation as col
-from reduced_model.bifurcation.cycles import mesh_adaptation
-from reduced_model.bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
-from reduced_model.bifurcation.cycles.problem import CycleSettings
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.special_points import BranchStatus
+from bifurcation.cycles import collocation as col
+from bifurcation.cycles import mesh_adaptation
+from bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
+from bifurcation.cycles.problem import CycleSettings
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.special_points import BranchStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 

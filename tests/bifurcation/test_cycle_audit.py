@@ -7,14 +7,14 @@ import numpy as np
 import pytest
 from floquet_audit import audit_diagram, hopf_end_multipliers, poincare_multipliers
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
-from reduced_model.bifurcation.special_points import PointKind, PointStatus
+from axles import paper_reference as paper
+from axles.units import BAR, KMH
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.cycles.multipliers import classify_multipliers
+from bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 VMAX = 400 * KMH
 SCALED = ("I1", "I2", "I3", "k1", "k2", "k3", "k4", "c1", "c2", "c3", "c4", "R", "L", "l", "gamma", "a0", "sigma0",

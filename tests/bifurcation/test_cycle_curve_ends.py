@@ -1,16 +1,16 @@
 """Curves of cycle folds and torus points end at codimension-two points of straight running that are located by
 their own test functions on the Hopf curves, not extrapolated: they must agree with the independent Hopf-curve
-continuation (:func:`reduced_model.bifurcation.equilibria.hopf_curves.hopf_diagram`) to 1e-6 in both parameters."""
+continuation (:func:`bifurcation.equilibria.hopf_curves.hopf_diagram`) to 1e-6 in both parameters."""
 
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH, kmh
-from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
-from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
-from reduced_model.bifurcation.special_points import PointKind, PointStatus
+from axles.units import BAR, KMH, kmh
+from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.derivatives import ComplexStepDerivatives
+from bifurcation.equilibria.hopf_curves import hopf_diagram
+from bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 
@@ -116,9 +116,9 @@ class Bautin(ComplexStepFamily):
 
 
 def test_fold_curve_of_the_bautin_normal_form_by_the_minimally_augmented_system():
-    from reduced_model.bifurcation.cycle_curves.fold import fold_curve
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.cycle_curves.fold import fold_curve
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.equilibria.hopf import hopf_points
 
     family = Bautin()
     (h,) = hopf_points(family, 2.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
@@ -164,9 +164,9 @@ class BautinWithBlock(Bautin):
 def test_fold_flip_and_fold_neimark_sacker_points_on_a_fold_curve(flip):
     from scipy.optimize import brentq
 
-    from reduced_model.bifurcation.cycle_curves.fold import fold_curve
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.cycle_curves.fold import fold_curve
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.equilibria.hopf import hopf_points
 
     family = BautinWithBlock(flip)
     (h,) = [h for h in hopf_points(family, 1.0, family.SHIFT - 0.5, family.SHIFT + 0.5)
@@ -205,8 +205,8 @@ class CycleWithOscillator(ComplexStepFamily):
 
 
 def test_torus_curve_and_strong_resonances_of_a_known_torus_curve():
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.equilibria.hopf import hopf_points
 
     family = CycleWithOscillator()
     (h,) = [h for h in hopf_points(family, 0.8, family.SHIFT - 0.2, family.SHIFT + 0.2)
@@ -225,7 +225,7 @@ def test_torus_curve_and_strong_resonances_of_a_known_torus_curve():
 def test_switching_from_the_hopf_hopf_point_gives_the_torus_curves_of_figure_8():
     """From HH alone (no one-parameter branch at t0 = 0.25 m): the two torus curves born there, which are the
     T1 and T2 curves through the torus points of the 0.25 m branches (same exit on the edge t0 = 0.26 m)."""
-    from reduced_model.bifurcation.cycle_curves.switching import torus_curves_from_hopf_hopf
+    from bifurcation.cycle_curves.switching import torus_curves_from_hopf_hopf
 
     family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
     lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
@@ -262,9 +262,9 @@ class CuspOfCycles(ComplexStepFamily):
 
 
 def test_cusp_of_cycles_on_the_fold_curve():
-    from reduced_model.bifurcation.cycle_curves.fold import fold_curve
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.cycle_curves.fold import fold_curve
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.equilibria.hopf import hopf_points
 
     family = CuspOfCycles()
     (h,) = hopf_points(family, 0.75, family.SHIFT - 1.0, family.SHIFT + 1.0)

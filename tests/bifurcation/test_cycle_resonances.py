@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from test_cycle_curve_ends import FLIP_BETA, BautinWithBlock, CycleWithOscillator
 
-from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.special_points import PointKind, PointStatus
+from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from bifurcation.cycles.branches import branch_from_hopf
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.special_points import PointKind, PointStatus
 
 
 def located(family, q, kind, lo, hi, near=None):
@@ -107,7 +107,7 @@ def test_cycle_curve_marks_the_points_that_miss_the_collocation_tolerance():
     the start's error estimate every point is marked as missing it."""
     from dataclasses import replace
 
-    from reduced_model.bifurcation.cycles.problem import CycleSettings
+    from bifurcation.cycles.problem import CycleSettings
 
     family = CycleWithBlock(2)
     torus = located(family, 0.5, PointKind.TORUS, 0.0, family.SHIFT + 1.0, near=family.SHIFT + family.C)
@@ -159,8 +159,8 @@ class FlipWithCubic(CycleWithOscillator):
 def test_period_doubling_coefficient_and_generalized_period_doubling_point():
     from scipy.optimize import brentq
 
-    from reduced_model.bifurcation.cycle_curves.fold import FoldSystem
-    from reduced_model.bifurcation.cycles.normal_forms import period_doubling_coefficient
+    from bifurcation.cycle_curves.fold import FoldSystem
+    from bifurcation.cycles.normal_forms import period_doubling_coefficient
 
     family = FlipWithCubic()
     q0 = 0.3
@@ -205,8 +205,8 @@ class TorusWithCubic(CycleWithOscillator):
 
 
 def test_neimark_sacker_coefficient_and_chenciner_point():
-    from reduced_model.bifurcation.cycle_curves.torus import TorusSystem
-    from reduced_model.bifurcation.cycles.normal_forms import neimark_sacker_coefficient
+    from bifurcation.cycle_curves.torus import TorusSystem
+    from bifurcation.cycles.normal_forms import neimark_sacker_coefficient
 
     family = TorusWithCubic()
     q0 = 0.35
@@ -226,10 +226,10 @@ def test_resonance_between_the_last_curve_point_and_the_hopf_hopf_end(monkeypatc
     cos(2 pi omega_2 / omega_1) of straight running.  A resonance value in that last stretch is located on the
     corrected curve, beyond the last point, like any other (issue 17).  The value is placed there on purpose (the
     real 1:4 lies elsewhere): the table of resonances is patched, not the locating code."""
-    import reduced_model.bifurcation.cycle_curves.torus as torus
-    from comparisons.axles.units import BAR, KMH
-    from reduced_model.bifurcation.cycles.branches import cycle_diagram
-    from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
+    import bifurcation.cycle_curves.torus as torus
+    from axles.units import BAR, KMH
+    from bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.cycles.multipliers import classify_multipliers
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
 

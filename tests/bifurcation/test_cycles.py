@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH, kmh
+from axles import paper_reference as paper
+from axles.units import BAR, KMH, kmh
 from comparisons.verify.context import agrees_to_printed_digits
-from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_at, cycle_diagram
-from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
-from reduced_model.bifurcation.cycles.problem import CycleDiagram
-from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus
+from bifurcation.cycles.branches import branch_peak, cycle_at, cycle_diagram
+from bifurcation.cycles.multipliers import classify_multipliers
+from bifurcation.cycles.problem import CycleDiagram
+from bifurcation.special_points import BranchStatus, PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 
@@ -204,7 +204,7 @@ def test_asymmetric_trail_effect_branches():
 
 def test_continuation_in_a_named_parameter(low):
     """A yaw cycle at 1.5 bar continued in the pneumatic trail t0 at fixed speed: the amplitude grows with t0."""
-    from reduced_model.bifurcation.cycles.branches import branch_from_cycle
+    from bifurcation.cycles.branches import branch_from_cycle
 
     family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
     _, d = low
@@ -235,7 +235,7 @@ def test_figure15a_low_vertical_stiffness_two_modes_at_nominal_pressure():
 def test_torus_point_between_the_last_cycle_and_the_hopf_end():
     """Issue 17: with hcl,pt at 0.5 bar the yaw branch's torus point lies between its last computed cycle and
     the Hopf point it returns to; it is located there on solved cycles like any other point."""
-    from reduced_model.bifurcation.cycles.end_segments import hopf_multipliers
+    from bifurcation.cycles.end_segments import hopf_multipliers
 
     family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressure=0.5 * BAR)
     d = cycle_diagram(family, 0.5 * BAR, 0.0, VMAX)

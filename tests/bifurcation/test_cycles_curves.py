@@ -3,13 +3,13 @@ vanishes, at the Hopf-Hopf and generalized Hopf points that the Hopf-curve conti
 
 import pytest
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH
+from axles import paper_reference as paper
+from axles.units import BAR, KMH
 from comparisons.verify.context import agrees_to_printed_digits
-from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
-from reduced_model.bifurcation.special_points import PointKind
+from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.equilibria.hopf_curves import hopf_diagram
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 

@@ -9,14 +9,14 @@ and a period-doubling point at known speeds.
 import numpy as np
 import pytest
 
-from reduced_model.bifurcation.continuation import ContinuationSettings
-from reduced_model.bifurcation.cycles import collocation as col
-from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
-from reduced_model.bifurcation.cycles.problem import CycleSettings
-from reduced_model.bifurcation.derivatives import ComplexStepDerivatives
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus
+from bifurcation.continuation import ContinuationSettings
+from bifurcation.cycles import collocation as col
+from bifurcation.cycles.branches import branch_from_hopf
+from bifurcation.cycles.multipliers import classify_multipliers
+from bifurcation.cycles.problem import CycleSettings
+from bifurcation.derivatives import ComplexStepDerivatives
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.special_points import BranchStatus, PointKind, PointStatus
 
 SHIFT = 3.0      # m/s, speed of the Hopf point
 W = 2.0          # rad/s, cycle frequency
@@ -250,7 +250,7 @@ def test_chord_iterations_find_the_known_points_with_fewer_jacobians(field, n, k
 def test_a_corrector_failure_at_the_window_boundary_ends_the_branch_and_says_so(monkeypatch):
     """When the corrector fails while the crossing of the window's edge is located, the branch ends on the
     accepted cycle just beyond the edge, with a message that says so; it never raises."""
-    from reduced_model.bifurcation import continuation
+    from bifurcation import continuation
 
     fam = ToyFamily(supercritical, 2)
     h = first_hopf(fam)
@@ -271,7 +271,7 @@ def test_a_trivial_multiplier_split_into_a_pair_is_no_torus():
     split them into 1 +- i eps (measured on the full geometry's subcritical onset at t0 = 0.25 m, where it was
     reported as two torus points 0.001 km/h from the Hopf point).  Both are real: no complex multiplier is left
     to cross the unit circle, and a genuine pair elsewhere is kept."""
-    from reduced_model.bifurcation.cycles.multipliers import complex_outside, torus_test
+    from bifurcation.cycles.multipliers import complex_outside, torus_test
     pair = np.array([-0.888 + 0.13j, -0.888 - 0.13j])
     for split in (np.array([1.0 + 3e-6j, 1.0 - 3e-6j]), np.array([1.000011 + 2e-6j, 1.000011 - 2e-6j])):
         rest, trivial = classify_multipliers(np.concatenate([split, pair]))

@@ -7,12 +7,12 @@ the computed value and the README's "Differences from the paper" table lists bot
 import numpy as np
 import pytest
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH, kmh
-from reduced_model.bifurcation.equilibria.hopf import bialternate, hopf_points
-from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
-from reduced_model.bifurcation.equilibria.normal_form import CauchyForms, DifferenceForms, first_lyapunov_coefficient
-from reduced_model.bifurcation.special_points import Criticality, PointKind, PointStatus
+from axles import paper_reference as paper
+from axles.units import BAR, KMH, kmh
+from bifurcation.equilibria.hopf import bialternate, hopf_points
+from bifurcation.equilibria.hopf_curves import hopf_diagram
+from bifurcation.equilibria.normal_form import CauchyForms, DifferenceForms, first_lyapunov_coefficient
+from bifurcation.special_points import Criticality, PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 

@@ -1,4 +1,4 @@
-"""The least damping ratio of the equilibrium (:mod:`reduced_model.bifurcation.equilibria.margins`) on families
+"""The least damping ratio of the equilibrium (:mod:`bifurcation.equilibria.margins`) on families
 whose damping ratios are known by hand, and its zero level against the Hopf points of the same family."""
 
 import math
@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, from_kmh
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.equilibria.margins import MarginStatus, least_damped, margin_map, zero_level
+from axles.units import BAR, from_kmh
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.margins import MarginStatus, least_damped, margin_map, zero_level
 
 W0 = 2.0        # rad/s, natural frequency of the oscillator whose damping is q - p
 W1 = 5.0        # rad/s, a second oscillator of fixed damping ratio Z1

@@ -11,9 +11,9 @@ import pytest
 import test_cycles_toy as toy
 from test_cycle_curve_ends import ComplexStepFamily
 
-from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-from reduced_model.bifurcation.cycles.period_doubling import branch_from_period_doubling
-from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus
+from bifurcation.cycles.branches import branch_from_hopf
+from bifurcation.cycles.period_doubling import branch_from_period_doubling
+from bifurcation.special_points import BranchStatus, PointKind, PointStatus
 
 
 def saturated_flip(X, V):
@@ -63,8 +63,8 @@ class FlipInTwoParameters(ComplexStepFamily):
 
 
 def test_period_doubling_curve_by_the_minimally_augmented_system():
-    from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+    from bifurcation.equilibria.hopf import hopf_points
 
     family = FlipInTwoParameters()
     (h,) = [h for h in hopf_points(family, 0.3, toy.SHIFT - 0.2, toy.SHIFT + 0.2) if abs(h.omega - toy.W) < 1e-9]

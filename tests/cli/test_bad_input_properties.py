@@ -11,13 +11,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from comparisons.axles.axle import entries, paper_axle
-from comparisons.axles.limits import UsageError
-from comparisons.axles.units import from_kmh
+from axles.axle import entries, paper_axle
+from axles.limits import UsageError
+from axles.units import from_kmh
 from comparisons.cli.main import main
 from comparisons.cli.options import parse_overrides
 from reduced_model.model import ShimmyModel
-from reduced_model.parameters import ParameterError
+from axles.parameters import ParameterError
 
 FAST = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -116,7 +116,7 @@ def test_speed_and_parameter_windows_refused_in_one_line(vmax, lo, hi):
     """Only the checks run: a valid window is replaced by the empty computation below (no continuation in CI)."""
     import argparse
 
-    from comparisons.axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH
+    from axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH
     from comparisons.cli.options import check_window, ranged
     v_lo, v_hi = SPEED_RANGE_KMH
     try:

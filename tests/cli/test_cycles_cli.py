@@ -8,8 +8,8 @@ import pytest
 
 from comparisons.cli.commands import cycles as cycles_command
 from comparisons.cli.main import main
-from reduced_model.bifurcation.continuation import ContinuationSettings
-from reduced_model.bifurcation.cycles.problem import CycleSettings
+from bifurcation.continuation import ContinuationSettings
+from bifurcation.cycles.problem import CycleSettings
 
 POINT_KEYS = {"speed_kmh", "frequency_hz", "max_theta1_deg", "max_psi_deg", "stable"}
 
@@ -151,8 +151,8 @@ def test_curve_end_messages_print_in_interface_units(capsys):
     """The toolkit writes curve ends in SI; the text output shows km/h and bar."""
     import numpy as np
 
-    from reduced_model.bifurcation.cycle_curves.result import CycleCurve
-    from reduced_model.bifurcation.special_points import BranchStatus, PointKind
+    from bifurcation.cycle_curves.result import CycleCurve
+    from bifurcation.special_points import BranchStatus, PointKind
 
     curve = CycleCurve(kind=PointKind.TORUS, param="pressure", ps=np.array([45.0, 46.0]),
                        qs=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),

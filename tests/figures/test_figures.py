@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from comparisons import figures
-from comparisons.axles.units import kmh
+from axles.units import kmh
 from comparisons.cli.main import main
 from reduced_model.model import Effects
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 
-from comparisons.axles.units import from_kmh
+from axles.units import from_kmh
 from mbs_shimmy import Fidelity
 from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states, simulate
 from reduced_model.model import Effects
@@ -49,7 +49,7 @@ def test_benchmark_settings_keep_1e4_accuracy(fidelity):
 
 @pytest.mark.parametrize("tol", [{"rtol": 0.0}, {"atol": -1e-7}, {"rtol": float("nan")}])
 def test_bad_tolerances(tol):
-    from reduced_model.parameters import ParameterError
+    from axles.parameters import ParameterError
     with pytest.raises(ParameterError, match="must be a positive number"):
         simulate(method="DOPRI5", **tol)
 
@@ -61,7 +61,7 @@ def test_scalar_tyre_formulas_equal_the_numpy_ones():
     import math
 
     from reduced_model import tyre
-    from reduced_model.parameters import YANG2024
+    from axles.parameters import YANG2024
     mf, tr = tyre.magic_formula(YANG2024, 1.5e5), tyre.trail_formula(YANG2024, 1.5e5)
     alphas = np.linspace(-0.5, 0.5, 201)
     force = [tyre.mf_force(mf.B, mf.C, mf.D, mf.E, float(a), math.sin, math.atan) for a in alphas]

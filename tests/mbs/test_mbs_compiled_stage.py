@@ -13,9 +13,10 @@ import itertools
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR
+from axles.units import BAR
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
-from mbs_shimmy.linearisation import ConstantSpeed, MbsModel
+from mbs_shimmy.linearisation import ConstantSpeed
+from mbs_shimmy.model import MbsModel
 from reduced_model.model import Effects
 
 # the switches the tyre elements read (ElementFlags), the load dependence and the camber terms

@@ -10,14 +10,15 @@ a minute per case on 2 cores: slow suite).
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from axles.units import BAR, KMH
 from mbs_shimmy import Fidelity
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
-from reduced_model.bifurcation.continuation import ContinuationSettings
-from reduced_model.bifurcation.cycles.branches import branch_from_hopf
-from reduced_model.bifurcation.cycles.problem import CycleSettings
-from reduced_model.bifurcation.equilibria.hopf import eigenvalues, hopf_points
-from reduced_model.bifurcation.special_points import Criticality
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.model import MbsModel
+from bifurcation.continuation import ContinuationSettings
+from bifurcation.cycles.branches import branch_from_hopf
+from bifurcation.cycles.problem import CycleSettings
+from bifurcation.equilibria.hopf import eigenvalues, hopf_points
+from bifurcation.special_points import Criticality
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 

@@ -12,12 +12,13 @@ import sys
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from axles.units import BAR, KMH
 from mbs_shimmy import Fidelity
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
-from reduced_model.bifurcation.equilibria.hopf import eigenvalues
-from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
-from reduced_model.bifurcation.special_points import PointKind
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.model import MbsModel
+from bifurcation.equilibria.hopf import eigenvalues
+from bifurcation.equilibria.hopf_curves import hopf_diagram
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 

@@ -15,14 +15,15 @@ import sys
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from axles.units import BAR, KMH
 from mbs_shimmy import Fidelity
-from mbs_shimmy.limit_cycle import mbs_steady_amplitude
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
+from comparisons.studies.limit_cycle import mbs_steady_amplitude
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.model import MbsModel
+from bifurcation.cycles.branches import cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 PRESSURE = 1.5 * BAR
 AT = tuple(v * KMH for v in (40.0, 60.0, 80.0))

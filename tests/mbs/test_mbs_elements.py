@@ -14,14 +14,16 @@ import math
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH, kmh
-from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity, tyre_element
+from axles.units import BAR, KMH, kmh
+from axles.dimensions import DEFAULT_DIMENSIONS
+from mbs_shimmy import Fidelity, tyre_element
 from mbs_shimmy.fidelity import ISSUE_18, Assumption
-from mbs_shimmy.linearisation import ConstantSpeed, MbsFamily, MbsModel
+from mbs_shimmy.linearisation import ConstantSpeed, MbsFamily
+from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 P, D = YANG2024, DEFAULT_DIMENSIONS
 

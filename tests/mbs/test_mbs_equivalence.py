@@ -9,15 +9,17 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from comparisons.axles.units import BAR, KMH, kmh
-from mbs_shimmy import AxleDimensions, Fidelity
-from mbs_shimmy.limit_cycle import mbs_steady_amplitude, reduced_steady_amplitude
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from axles.units import BAR, KMH, kmh
+from axles.dimensions import AxleDimensions
+from mbs_shimmy import Fidelity
+from comparisons.studies.limit_cycle import mbs_steady_amplitude, reduced_steady_amplitude
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.model import MbsModel
 from mbs_shimmy.simulation import simulate
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 from reduced_model.trajectory import SpeedSchedule
 
 
@@ -127,8 +129,8 @@ def test_limit_cycle_amplitude_matches_reduced_model():
 
 def test_limit_cycle_amplitude_matches_continuation():
     """60 km/h, 1.5 bar: the MBS cycle against the reduced model's periodic-orbit continuation
-    (:mod:`reduced_model.bifurcation.cycles.problem`, orthogonal collocation), to 0.5 %."""
-    from reduced_model.bifurcation.cycles.branches import branch_from_hopf, cycle_at
+    (:mod:`bifurcation.cycles.problem`, orthogonal collocation), to 0.5 %."""
+    from bifurcation.cycles.branches import branch_from_hopf, cycle_at
     V, p = 60 * KMH, 1.5 * BAR
     family = SpeedFamily(ShimmyModel())
     hopf = hopf_points(family, p, 0.0, 400 * KMH)

@@ -12,12 +12,14 @@ import exudyn as exu
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import DEFAULT_DIMENSIONS, Fidelity
+from axles.units import BAR, KMH
+from axles.dimensions import DEFAULT_DIMENSIONS
+from mbs_shimmy import Fidelity
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption
-from mbs_shimmy.linearisation import ConstantSpeed, MbsModel
+from mbs_shimmy.linearisation import ConstantSpeed
+from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 P, D = YANG2024, DEFAULT_DIMENSIONS
 

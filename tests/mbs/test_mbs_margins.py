@@ -4,14 +4,14 @@ of straight running over speed and pressure), on the paper's axle and on one wit
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, from_kmh
-from mbs_shimmy.dimensions import DEFAULT_DIMENSIONS
+from axles.units import BAR, from_kmh
+from axles.dimensions import DEFAULT_DIMENSIONS
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.linearisation import MbsFamily
-from reduced_model.bifurcation.equilibria.margins import margin_map
+from bifurcation.equilibria.margins import margin_map
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 
 TOL = 1e-9
 

@@ -8,15 +8,17 @@ import numpy as np
 import pytest
 from exudyn.itemInterface import NodeGenericODE2, ObjectKinematicTree
 
-from comparisons.axles.units import BAR, KMH
-from mbs_shimmy import DEFAULT_DIMENSIONS, Assumption, AxleDimensions, Fidelity, assumptions_table
-from mbs_shimmy.assumption_study import study_fidelities
+from axles.units import BAR, KMH
+from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from mbs_shimmy import Assumption, Fidelity, assumptions_table
+from comparisons.studies.assumption_study import study_fidelities
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, ISSUE_18
 from mbs_shimmy.geometry import disc_contact
-from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator, MbsFamily, MbsModel
+from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator, MbsFamily
+from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import TreeInertia
 from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024, ParameterError
+from axles.parameters import YANG2024, ParameterError
 
 # the full geometry of the paper's axle: every assumption off except the new elements (issue 9) kept out
 PAPER_GEOMETRY = Fidelity(frozenset(ELEMENT_ASSUMPTIONS))
@@ -329,7 +331,7 @@ def test_dimensions_are_checked():
 
 
 def test_family_over_a_table_entry_and_bad_values():
-    from reduced_model.bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import hopf_points
     by_param = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="t0", pressure=1.5 * BAR)
     direct = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
     a = hopf_points(by_param, 0.25, 0.0, 400 * KMH, lyapunov=False)

@@ -10,14 +10,16 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from comparisons.axles.units import BAR, KMH, kmh
-from mbs_shimmy import AxleDimensions, Fidelity
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from axles.units import BAR, KMH, kmh
+from axles.dimensions import AxleDimensions
+from mbs_shimmy import Fidelity
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.model import MbsModel
 from mbs_shimmy.simulation import simulate
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024
+from axles.parameters import YANG2024
 from reduced_model.trajectory import SpeedSchedule
 
 SCALED = ("I1", "I2", "I3", "k1", "k2", "k3", "k4", "c1", "c2", "c3", "c4", "R", "L", "l", "gamma", "a0", "sigma0",

@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from comparisons.axles.units import BAR, KMH
+from axles.units import BAR, KMH
 from mbs_shimmy import Fidelity
 from mbs_shimmy import forces as forces_module
-from mbs_shimmy.linearisation import MbsFamily, MbsModel
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.model import MbsModel
 from mbs_shimmy.simulation import DEFAULT_STEP, convergence, extended_states, simulate
 from reduced_model.model import Effects
-from reduced_model.parameters import YANG2024, ParameterError
+from axles.parameters import YANG2024, ParameterError
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule
 
 

@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from comparisons.axles.units import from_kmh
+from axles.units import from_kmh
 from comparisons.cli.main import main
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.mode_shapes import mode_shapes
 from reduced_model.model import STATE_NAMES, ShimmyModel

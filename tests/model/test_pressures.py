@@ -6,10 +6,10 @@ import json
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR, KMH
+from axles.units import BAR, KMH
 from comparisons.cli.main import main
-from reduced_model.bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
+from bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
+from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily, pressure_at
 from reduced_model.model import ShimmyModel
 from reduced_model.simulation import simulate

@@ -5,10 +5,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from comparisons.axles.units import BAR
+from axles.units import BAR
 from reduced_model import tyre
 from reduced_model.model import Effects, ShimmyModel
-from reduced_model.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.parameters import YANG2024, ParameterError, ShimmyParameters
 
 
 def test_every_parameter_has_unit_source_and_description():

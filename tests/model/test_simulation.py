@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from comparisons.axles import paper_reference as paper
-from comparisons.axles.units import BAR, KMH, kmh
-from reduced_model.bifurcation.cycles.branches import cycle_at, cycle_diagram
-from reduced_model.bifurcation.special_points import PointKind
+from axles import paper_reference as paper
+from axles.units import BAR, KMH, kmh
+from bifurcation.cycles.branches import cycle_at, cycle_diagram
+from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 from reduced_model.modes import Mode, ModeClassifier, crossing_frequency, peak_abs

@@ -10,7 +10,7 @@ from rerun.chunk import RrdReader
 from rrd_helpers import blueprint_views, rows
 from scipy.integrate import solve_ivp
 
-from comparisons.axles.units import from_kmh, kmh
+from axles.units import from_kmh, kmh
 from comparisons.recordings import writer as recording
 from comparisons.recordings.scene import (
     BODY_NAMES,

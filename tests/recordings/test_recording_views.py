@@ -9,7 +9,7 @@ import pytest
 from rerun.chunk import RrdReader
 from rrd_helpers import blueprint_views, rows
 
-from comparisons.axles.units import BAR, from_kmh
+from axles.units import BAR, from_kmh
 from comparisons.recordings import writer as recording
 from comparisons.recordings.decimation import envelope_indices, peak_loss, uniform_indices
 from comparisons.recordings.layout import RunPaths

@@ -12,9 +12,9 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from comparisons.axles.axle import Axle
-from comparisons.axles.limits import UsageError
-from comparisons.axles.units import from_kmh
+from axles.axle import Axle
+from axles.limits import UsageError
+from axles.units import from_kmh
 from comparisons.cli.main import main
 from comparisons.sweeps.design import make_design, parse_vary
 from comparisons.sweeps.run import run_sweep
@@ -115,7 +115,7 @@ def test_local_cluster_sweep_equals_shimmy_hopf_and_records_failed_samples(capsy
 def test_unstable_intervals_agree_with_eigenvalues():
     """The unstable speed intervals, from the Hopf points and one eigenvalue test per interval, against a dense
     eigenvalue scan."""
-    from reduced_model.bifurcation.equilibria.hopf import eigenvalues
+    from bifurcation.equilibria.hopf import eigenvalues
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
     task = SweepTask(Axle(), (), 1.5, 1.5, ("pressure",))

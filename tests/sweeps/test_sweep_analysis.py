@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pyarrow as pa
 
-from comparisons.axles.axle import Axle
+from axles.axle import Axle
 from comparisons.sweeps.analysis import OutputChoice, sensitivity, stability_fraction, write_plot
 from comparisons.sweeps.design import make_design, parse_vary
 from comparisons.sweeps.sample import SweepTask, evaluate_batch

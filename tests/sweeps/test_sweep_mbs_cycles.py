@@ -9,11 +9,11 @@ import math
 
 import pyarrow.parquet as pq
 
-from comparisons.axles.units import from_kmh
+from axles.units import from_kmh
 from comparisons.cli.main import main
 from comparisons.sweeps.sample import cycle_columns
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.cycles.problem import CycleSettings
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.cycles.problem import CycleSettings
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 
@@ -88,7 +88,7 @@ def test_a_continuation_that_raises_keeps_the_hopf_points_and_marks_the_cycles_u
     the sample: the Hopf points and their l1 stay, the branch lists are null (unknown), not empty (none)."""
     import numpy as np
 
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.sweeps import sample
     from mbs_shimmy.linearisation import MbsFamily
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from comparisons.assumption_shifts import shift_kmh
-from comparisons.axles.axle import Axle, entries
+from axles.axle import Axle, entries
 from comparisons.verify.report import CheckStatus
 from comparisons.verify.robustness import plausible_variations, run_robustness, study_rows
 
@@ -21,7 +21,7 @@ def test_every_multibody_entry_with_a_plausible_range_is_sampled():
 
 
 def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_path):
-    from mbs_shimmy.assumption_study import assumption_study
+    from comparisons.studies.assumption_study import assumption_study
     from reduced_model.model import Effects
 
     axle = Axle()

@@ -12,7 +12,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from comparisons.axles.units import KMH
+from axles.units import KMH
 from comparisons.verify.orbit_checks import (
     LEFT_TOL,
     ORBIT_TOL,
@@ -25,11 +25,11 @@ from comparisons.verify.orbit_checks import (
     undecided_sides,
 )
 from comparisons.verify.plan import bistable_windows as plan_windows
-from mbs_shimmy.kick import bistable_speeds, bistable_windows, stable_straight_running, stable_stretches
-from mbs_shimmy.limit_cycle import SteadyAmplitude
-from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
-from reduced_model.bifurcation.equilibria.hopf import HopfPoint
-from reduced_model.bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
+from comparisons.studies.kick import bistable_speeds, bistable_windows, stable_straight_running, stable_stretches
+from comparisons.studies.limit_cycle import SteadyAmplitude
+from bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint
+from bifurcation.equilibria.hopf import HopfPoint
+from bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
 from reduced_model.family import SpeedFamily
 from reduced_model.model import STATE_NAMES, ShimmyModel
 
@@ -170,14 +170,14 @@ def test_orbits_are_sampled_by_stability_where_a_run_can_decide():
 
 
 def _kick(status):
-    from mbs_shimmy.kick import Attractor, KickThreshold
+    from comparisons.studies.kick import Attractor, KickThreshold
     return KickThreshold(60.0 * KMH, Attractor("straight running", 0.0, 0.0), Attractor("cycle of branch 1", 0.1, 0.05),
                          0.03, status, 0.04, 0.0408, None, None, 9)
 
 
 def test_figure_of_both_models_branches_with_their_kicks(tmp_path):
     from comparisons.figures.cycle_plots import kick_marks, plot_cycle_diagram, plot_model_branches
-    from mbs_shimmy.kick import KickStatus
+    from comparisons.studies.kick import KickStatus
     found, not_left = _kick(KickStatus.FOUND), _kick(KickStatus.NOT_LEFT)
     # Only a bracketed threshold is drawn, at its speed and at the geometric middle of its bracket.
     ((v, a, text),) = kick_marks([found, not_left])
@@ -218,7 +218,7 @@ def test_section_on_the_paper_axle_at_1_5_bar(tmp_path):
 def test_ramps_through_a_subcritical_window_start_on_straight_running():
     """Below the window straight running is the state (its stable stretch reaches lower), above it the cycle:
     the ramp up must leave straight running at or past the Hopf point, the ramp down the cycle at the fold."""
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.verify.full_jumps import full_jump_setup
     from comparisons.verify.jump_experiments import ramps
     from comparisons.verify.plan import BistableCase
@@ -236,7 +236,7 @@ def test_ramps_through_a_subcritical_window_start_on_straight_running():
 
 
 def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.verify.full_geometry_rows import Where
     from comparisons.verify.plan import BistableCase
     where = Where.of_bistable(BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
@@ -246,7 +246,7 @@ def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
 
 def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
     """verify's bistable jumps (full mode) carry the reduced model's kick, bracketed by two of its runs."""
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.verify.context import Context
     from comparisons.verify.cycles import _kick_rows
     from comparisons.verify.jump_experiments import jump_setup
@@ -265,7 +265,7 @@ def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
 def test_a_window_too_narrow_to_resolve_gets_no_ramps_and_no_kick(tmp_path):
     """Next to a degenerate Hopf point the fold lies within a hair of it (the full geometry at t0 = 0.25 m: 6e-5
     km/h at 3.56 km/h): the window is reported, but no ramp or kick can resolve it."""
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.verify.context import Context
     from comparisons.verify.full_geometry_rows import MIN_WINDOW_KMH, Where, window_rows
     d = subcritical_diagram()

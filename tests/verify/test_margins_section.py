@@ -1,7 +1,7 @@
 """The verify section "Stability margins" on an axle with no Hopf point at all (the paper's axle with
 c4 = 120 N m s/rad): it still checks something, and says the axle is damped everywhere."""
 
-from comparisons.axles.axle import Axle
+from axles.axle import Axle
 from comparisons.verify.context import Context
 from comparisons.verify.margins import FIGURE, margins_section
 from comparisons.verify.plan import Plan

@@ -10,10 +10,10 @@ import pytest
 
 from comparisons.verify.background import Background, BackgroundJobError
 from comparisons.verify.other_axle import onset_windows
-from mbs_shimmy.kick import bistable_windows
-from reduced_model.bifurcation.cycles.branches import cycle_diagram
-from reduced_model.bifurcation.equilibria.hopf import hopf_points
-from reduced_model.bifurcation.special_points import PointKind
+from comparisons.studies.kick import bistable_windows
+from bifurcation.cycles.branches import cycle_diagram
+from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.special_points import PointKind
 from tests.bifurcation.test_cycles_toy import SHIFT, ToyFamily, W, subcritical, supercritical
 
 PAST = 0.05
@@ -84,7 +84,7 @@ def test_a_job_whose_process_dies_says_so_and_an_uncollected_one_is_stopped():
 @pytest.mark.slow
 def test_full_geometry_at_t0_0_25_in_verify_has_its_window_ramps_and_kick(tmp_path):
     """The background job of the full verify at the paper's bistable case (t0 = 0.25 m, 1.5 bar), about 4 min."""
-    from comparisons.axles.axle import Axle
+    from axles.axle import Axle
     from comparisons.verify.other_axle import full_geometry_at
     from comparisons.verify.plan import BistableCase
     from comparisons.verify.report import CheckStatus

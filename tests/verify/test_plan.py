@@ -4,7 +4,7 @@ The whole quick report for this axle (ramps, two starts, recordings) is in the s
 (``tests/verify/test_verify.py::test_verify_axle_plans_and_finds_the_bistable_window``); this test runs the plan
 alone, which is where the window is found."""
 
-from comparisons.axles.axle import paper_axle
+from axles.axle import paper_axle
 from comparisons.verify.plan import CaseKind, axle_plan
 
 

@@ -65,7 +65,7 @@ def test_metadata():
     assert rows["numpy"] == np.__version__ and rows["run time"] == "12.5 s"
     assert re.match(r"[0-9a-f]{40}", rows["git commit"])            # the tests run in a checkout
     assert rows["axle"].startswith("axle YANG2024") and len(rows["axle SHA-256"]) == 64
-    from comparisons.axles.axle import paper_axle
+    from axles.axle import paper_axle
     changed = paper_axle().with_overrides({"t0": 0.25})
     assert axle_fingerprint(None)[1] == axle_fingerprint(paper_axle())[1] != axle_fingerprint(changed)[1]
     text = render_markdown(Report((hopf_section(),), quick=True, metadata=meta))
@@ -179,7 +179,7 @@ def test_step_progress_messages_and_bar():
 
 
 def test_continuation_messages_in_interface_units():
-    from comparisons.axles.units import interface_message
+    from axles.units import interface_message
     text = "ends on the window boundary at 147.707 km/h, pressure = 50000 | left at 400 km/h, pressure = 128521"
     assert interface_message(text, "pressure", "bar", 1e5) == (
         "ends on the window boundary at 147.707 km/h, pressure = 0.5 bar | left at 400 km/h, pressure = 1.28521 bar")

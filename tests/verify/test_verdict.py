@@ -12,7 +12,7 @@ import sys
 
 import pytest
 
-from comparisons.axles.axle_file import read_axle
+from axles.axle_file import read_axle
 from comparisons.verify.context import Context
 from comparisons.verify.plan import CaseKind, axle_plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section, render_html, render_markdown

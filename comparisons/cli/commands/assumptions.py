@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from comparisons import assumption_shifts as shifts
-from comparisons.axles.units import KMH, kmh
+from axles.units import KMH, kmh
 from comparisons.cli.options import (
     add_model_options,
     add_output_options,
@@ -19,7 +19,7 @@ from comparisons.cli.options import (
 )
 from comparisons.cli.progress import StepProgress
 from mbs_shimmy import assumptions_table
-from mbs_shimmy.assumption_study import assumption_study, study_fidelities
+from comparisons.studies.assumption_study import assumption_study, study_fidelities
 
 
 def add_parser(sub) -> None:

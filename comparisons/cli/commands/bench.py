@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 from comparisons.cli.benchmarks import BENCHMARKS, run_benchmarks
 from comparisons.cli.options import add_output_options, emit_json
 from comparisons.cli.progress import progress

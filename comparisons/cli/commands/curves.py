@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from comparisons.axles.axle import interface_text, interface_unit
-from comparisons.axles.limits import UsageError
-from comparisons.axles.units import KMH, kmh
+from axles.axle import interface_text, interface_unit
+from axles.limits import UsageError
+from axles.units import KMH, kmh
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
     add_model_choice,
@@ -22,9 +22,9 @@ from comparisons.cli.options import (
     pressure_label,
 )
 from comparisons.cli.progress import progress, ticker
-from reduced_model.bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
-from reduced_model.family import PRESSURE_PARAMS
-from reduced_model.parameters import ParameterError
+from bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
+from axles.pressures import PRESSURE_PARAMS
+from axles.parameters import ParameterError
 
 PARAMS = SECOND_PARAMETERS
 MARGIN_GRID = (161, 41)      # speeds, pressures of the margin panel of --plot over a pressure

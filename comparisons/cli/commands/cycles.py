@@ -8,9 +8,9 @@ import sys
 
 import numpy as np
 
-from comparisons.axles.axle import interface_text, interface_unit
-from comparisons.axles.limits import UsageError
-from comparisons.axles.units import KMH, interface_of, kmh
+from axles.axle import interface_text, interface_unit
+from axles.limits import UsageError
+from axles.units import KMH, interface_of, kmh
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
     add_model_choice,
@@ -28,14 +28,14 @@ from comparisons.cli.options import (
     pressure_label,
 )
 from comparisons.cli.progress import progress, ticker
-from reduced_model.bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-from reduced_model.bifurcation.cycle_curves.result import CycleCurve
-from reduced_model.bifurcation.cycles.branches import branch_peak, cycle_diagram
-from reduced_model.bifurcation.cycles.end_segments import hopf_multipliers
-from reduced_model.bifurcation.cycles.multipliers import classify_multipliers
-from reduced_model.bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint, CycleSettings
-from reduced_model.bifurcation.equilibria.hopf import HopfPoint
-from reduced_model.bifurcation.special_points import ConvergenceError, PointKind
+from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
+from bifurcation.cycle_curves.result import CycleCurve
+from bifurcation.cycles.branches import branch_peak, cycle_diagram
+from bifurcation.cycles.end_segments import hopf_multipliers
+from bifurcation.cycles.multipliers import classify_multipliers
+from bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint, CycleSettings
+from bifurcation.equilibria.hopf import HopfPoint
+from bifurcation.special_points import ConvergenceError, PointKind
 from reduced_model.family import MIN_SPEED, SpeedFamily
 from reduced_model.model import STATE_NAMES
 
@@ -272,7 +272,7 @@ def run(args: argparse.Namespace) -> int:
     unstable = unstable_without_hopf(diagram, family, q)
     found_kicks = []
     if args.kick:
-        from mbs_shimmy.kick import kicks
+        from comparisons.studies.kick import kicks
         found_kicks = kicks(family, diagram)
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
@@ -291,7 +291,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         if args.two_param:
             from comparisons.figures.cycle_plots import plot_cycle_curves
-            from reduced_model.bifurcation.equilibria.hopf_curves import hopf_diagram
+            from bifurcation.equilibria.hopf_curves import hopf_diagram
             plot_cycle_curves(hopf_diagram(family, lo, hi, vmin, vmax), [c for c, _ in curves], labels, family,
                               args.plot)
         else:
@@ -351,7 +351,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def kick_row(k) -> dict:
-    """A kick threshold (:mod:`mbs_shimmy.kick`) in interface units, with the two runs that bracket it."""
+    """A kick threshold (:mod:`comparisons.studies.kick`) in interface units, with the two runs that bracket it."""
     def run(r):
         return None if r is None else {"settled": r.settled, "max_theta1_deg": degrees(r.theta1),
                                        "max_psi_deg": degrees(r.psi)}

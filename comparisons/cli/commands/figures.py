@@ -8,7 +8,7 @@ import sys
 import tempfile
 import time
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 from comparisons.cli.options import add_output_options, emit_json
 from comparisons.cli.progress import progress
 from comparisons.files import watch_folder

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparisons.axles.units import KMH, kmh
+from axles.units import KMH, kmh
 from comparisons.cli.options import (
     add_model_choice,
     add_model_options,
@@ -16,7 +16,7 @@ from comparisons.cli.options import (
     inputs_json,
     pressure_label,
 )
-from reduced_model.bifurcation.equilibria.hopf import HopfPoint, hopf_points
+from bifurcation.equilibria.hopf import HopfPoint, hopf_points
 
 
 def add_parser(sub) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from comparisons.axles.limits import SPEED_RANGE_KMH, UsageError
+from axles.limits import SPEED_RANGE_KMH, UsageError
 from comparisons.cli.options import (
     add_axle_option,
     add_effects_option,
@@ -19,7 +19,7 @@ from comparisons.cli.options import (
     emit_json,
     inputs_json,
 )
-from reduced_model.parameters import ParameterError
+from axles.parameters import ParameterError
 
 # The API's argument names in its messages, as this command's options.
 OPTION_NAMES = {"pressure_points": "--pressures", "speed_points": "--speeds", "vmin_kmh": "--vmin",

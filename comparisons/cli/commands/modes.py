@@ -7,8 +7,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from comparisons.axles.limits import SPEED_RANGE_KMH, UsageError
-from comparisons.axles.units import KMH
+from axles.limits import SPEED_RANGE_KMH, UsageError
+from axles.units import KMH
 from comparisons.cli.options import (
     add_model_options,
     add_output_options,

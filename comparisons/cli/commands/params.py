@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from comparisons.axles.axle import entries
-from comparisons.axles.limits import UsageError
+from axles.axle import entries
+from axles.limits import UsageError
 from comparisons.cli.options import add_axle_option, add_output_options, build_axle, check_output_path, emit_json
 
 
@@ -41,9 +41,10 @@ def run(args: argparse.Namespace) -> int:
     axle = build_axle(args)
     rows = rows_of(axle)
     if args.write is not None:
-        from comparisons.axles.axle_file import write_axle
+        from axles.axle_file import format_axle
+        from comparisons.files import write_atomically
         try:
-            write_axle(axle, args.write)
+            write_atomically(args.write, format_axle(axle))
         except OSError as exc:
             raise UsageError(f"cannot write {args.write}: {exc.strerror or exc}") from None
     if args.json:

@@ -10,8 +10,8 @@ import numpy as np
 
 from comparisons.api import name_and_text, schedule_of
 from comparisons.api import simulate as simulate_api
-from comparisons.axles.axle import interface_text
-from comparisons.axles.limits import (
+from axles.axle import interface_text
+from axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
     RAMP_TIME_RANGE_S,
@@ -19,7 +19,7 @@ from comparisons.axles.limits import (
     SPEED_RANGE_KMH,
     UsageError,
 )
-from comparisons.axles.units import kmh
+from axles.units import kmh
 from comparisons.cli.options import (
     add_model_choice,
     add_model_options,
@@ -40,7 +40,7 @@ from comparisons.cli.options import (
 from comparisons.cli.progress import progress
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.modes import ModeClassifier, ModeHistory
-from reduced_model.parameters import ParameterError
+from axles.parameters import ParameterError
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given

@@ -77,7 +77,7 @@ def add_parser(sub) -> None:
 
 
 def _compute(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    from comparisons.axles.limits import UsageError
+    from axles.limits import UsageError
     from comparisons.sweeps.sample import COMPUTE
     compute = tuple(dict.fromkeys(s.strip() for s in args.compute.split(",") if s.strip()))
     bad = [c for c in compute if c not in COMPUTE]
@@ -95,11 +95,11 @@ def _compute(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]
 
 
 def build_task(args: argparse.Namespace, names: tuple[str, ...]):
-    from comparisons.axles.limits import UsageError
+    from axles.limits import UsageError
     from comparisons.cli.options import resolve_pressures
     from comparisons.sweeps.sample import SweepTask
     from reduced_model.model import Effects
-    from reduced_model.parameters import ParameterError
+    from axles.parameters import ParameterError
     compute, mbs = _compute(args)
     try:
         effects = Effects.parse(args.effects).names

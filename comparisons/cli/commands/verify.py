@@ -9,7 +9,7 @@ import shlex
 import sys
 import time
 
-from comparisons.axles.limits import UsageError
+from axles.limits import UsageError
 from comparisons.cli.options import add_axle_option, add_output_options, build_axle, emit_json, positive_float
 from comparisons.cli.progress import StepProgress
 from comparisons.verify.report import SUMMARY_COLUMNS, markdown_table, run_metadata, section_table, write_report

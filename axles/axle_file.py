@@ -1,0 +1,232 @@
+"""Axle files: one TOML file describes one axle (``shimmy params --write FILE.toml``, ``--axle FILE.toml``).
+
+Layout (values in the interface units that ``shimmy params`` prints: degrees, bar, otherwise SI)::
+
+    name = "my-truck"
+    base = "YANG2024"          # optional: missing entries come from the paper's axle, listed as inherited
+
+    [operating]
+    pressure_range_bar = [0.5, 3.5]
+
+    [table1]                   # every Table 1 entry of the reduced model
+    I1 = 6.0                   # kg m^2 | description | source
+    ...
+    [multibody]                # every dimension of the multibody axle that the paper does not give
+    wheel_mass = 40.0
+    ...
+    [plausible]                # where each invented dimension plausibly lies, for robustness studies
+    wheel_mass = [30.0, 60.0]
+
+Reading uses the standard library's :mod:`tomllib`.  Writing is plain text because TOML writers (tomli-w) cannot
+put the unit, description and source beside each value as a comment; every written file is read back by the tests.
+Without ``base`` every entry must be given: nothing is ever filled in silently.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import tomllib
+
+from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, Axle, check_pressure_range, entries, entry
+from axles.parameters import ParameterError
+
+SECTIONS = ("operating", "table1", "multibody", "plausible")
+TOP_KEYS = ("name", "base") + SECTIONS
+BASES = (PAPER_NAME,)
+
+
+class AxleFileError(ParameterError):
+    """A bad axle file: reported as one line, exit code 2."""
+
+
+def _closest(name: str, known) -> str:
+    import difflib
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _number(where: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise AxleFileError(f"{where} must be a number, got {type(value).__name__} {value!r}")
+    if not math.isfinite(value):
+        raise AxleFileError(f"{where} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _pair(where: str, value) -> tuple[float, float]:
+    if not isinstance(value, list) or len(value) != 2:
+        raise AxleFileError(f"{where} must be a list of two numbers [LO, HI], got {value!r}")
+    lo, hi = (_number(where, v) for v in value)
+    if not lo <= hi:
+        raise AxleFileError(f"{where} needs LO <= HI, got [{lo:g}, {hi:g}]")
+    return lo, hi
+
+
+def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> Axle:
+    """The axle a file's text describes; :class:`AxleFileError` (one line, naming the file) for anything wrong."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise AxleFileError(f"{source}: TOML syntax error: {exc}") from None
+    for key in doc:
+        if key not in TOP_KEYS:
+            e = entries().get(key)
+            hint = f" (it belongs in [{e.section}])" if e is not None else _closest(key, TOP_KEYS)
+            raise AxleFileError(f"{source}: unknown key '{key}'{hint}")
+    for key in SECTIONS:
+        if key in doc and not isinstance(doc[key], dict):
+            raise AxleFileError(f"{source}: '{key}' must be a table [{key}]")
+    name = doc.get("name")
+    if not isinstance(name, str) or not name.strip():
+        raise AxleFileError(f"{source}: 'name' must be a non-empty string, got {name!r}")
+    base = doc.get("base")
+    if base is not None and base not in BASES:
+        raise AxleFileError(f"{source}: base must be one of {', '.join(repr(b) for b in BASES)}, got {base!r}")
+
+    values: dict[str, float] = {}
+    inherited: list[str] = []
+    for section in ("table1", "multibody"):
+        given = doc.get(section, {})
+        for key, raw in given.items():
+            e = entries().get(key)
+            if e is None or e.section != section:
+                other = f" (it belongs in [{e.section}])" if e is not None else _closest(key, [
+                    n for n, x in entries().items() if x.section == section])
+                raise AxleFileError(f"{source}: unknown entry '{key}' in [{section}]{other}")
+            v = e.to_si(_number(f"{source}: [{section}] {key}", raw))
+            try:
+                e.check(v)
+            except ParameterError as exc:
+                raise AxleFileError(f"{source}: [{section}] {exc}") from None
+            values[key] = v
+        for key, e in entries().items():
+            if e.section == section and key not in given:
+                if base is None:
+                    raise AxleFileError(f"{source}: missing entry '{key}' in [{section}] ({e.unit}, {e.description};"
+                                        f" give it, or write base = \"{PAPER_NAME}\" to inherit the paper's values)")
+                inherited.append(key)
+
+    plausible: list[tuple[str, tuple[float, float]]] = []
+    given = doc.get("plausible", {})
+    for key, raw in given.items():
+        e = entries().get(key)
+        if e is None or e.section != "multibody":
+            raise AxleFileError(f"{source}: unknown entry '{key}' in [plausible]"
+                                + _closest(key, [n for n, x in entries().items() if x.section == "multibody"]))
+        lo, hi = _pair(f"{source}: [plausible] {key}", raw)
+        lo_si, hi_si = e.to_si(lo), e.to_si(hi)
+        for v in (lo_si, hi_si):
+            try:
+                e.check(v, where="plausible ")
+            except ParameterError as exc:
+                raise AxleFileError(f"{source}: [plausible] {exc}") from None
+        plausible.append((key, (lo_si, hi_si)))
+    for key, e in entries().items():
+        if e.section == "multibody" and key not in given:
+            if base is None:
+                raise AxleFileError(f"{source}: missing entry '{key}' in [plausible] (a range [LO, HI] in {e.unit};"
+                                    f" or write base = \"{PAPER_NAME}\")")
+            inherited.append(f"plausible.{key}")
+
+    operating = doc.get("operating", {})
+    for key in operating:
+        if key != "pressure_range_bar":
+            raise AxleFileError(f"{source}: unknown key '{key}' in [operating]"
+                                + _closest(key, ["pressure_range_bar"]))
+    if "pressure_range_bar" in operating:
+        lo, hi = _pair(f"{source}: [operating] pressure_range_bar", operating["pressure_range_bar"])
+        try:
+            pressure_range = check_pressure_range(lo, hi, f"{source}: [operating] ")
+        except ParameterError as exc:
+            raise AxleFileError(str(exc)) from None
+    elif base is None:
+        raise AxleFileError(f"{source}: missing entry 'pressure_range_bar' in [operating] ([LO, HI] in bar; or write "
+                            f"base = \"{PAPER_NAME}\")")
+    else:
+        pressure_range = DEFAULT_PRESSURE_RANGE_BAR
+        inherited.append("operating.pressure_range_bar")
+
+    axle = Axle(name=name.strip(), pressure_range_bar=pressure_range, plausible=tuple(plausible),
+                file=source, sha256=sha256, inherited=tuple(inherited))
+    try:
+        return axle.with_values(values)
+    except ParameterError as exc:   # a combination the models cannot take
+        raise AxleFileError(f"{source}: {exc}") from None
+
+
+def read_axle(path: str) -> Axle:
+    """Read an axle file; unreadable files and bad contents raise :class:`AxleFileError`."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError as exc:
+        raise AxleFileError(f"{path}: cannot read the axle file ({exc.strerror or exc})") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise AxleFileError(f"{path}: not a text file (TOML must be UTF-8)") from None
+    return parse_axle(text, source=path, sha256=hashlib.sha256(data).hexdigest())
+
+
+def _toml_string(s: str) -> str:
+    return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _toml_float(x: float) -> str:
+    text = repr(float(x))
+    return text if ("." in text or "e" in text or "inf" in text or "nan" in text) else text + ".0"
+
+
+def _comment(text: str) -> str:
+    return " ".join(text.split())
+
+
+def format_axle(axle: Axle) -> str:
+    """The axle file text of an axle: every entry, its unit, description and source beside it."""
+    lines = [
+        "# shimmy axle file: one truck front axle (written by 'shimmy params --write').",
+        "# Values in the units shown: angles in degrees, pressures in bar, everything else SI.",
+        "# Each value carries its unit | description | source as a comment. Every entry must be given, unless",
+        f"# base = \"{PAPER_NAME}\" is set: then missing entries come from the paper's axle and are reported as",
+        "# inherited. Read with: shimmy COMMAND --axle THIS_FILE",
+        "",
+        f"name = {_toml_string(axle.name)}",
+        "",
+        "[operating]",
+        f"pressure_range_bar = [{_toml_float(axle.pressure_range_bar[0])}, "
+        f"{_toml_float(axle.pressure_range_bar[1])}]   # bar | pressures that 'shimmy verify --axle' scans",
+    ]
+    titles = {"table1": "Table 1 of the reduced model (Yang, Knowles & Mavros); physical range in brackets",
+              "multibody": "dimensions of the multibody axle that the paper does not give"}
+    for section in ("table1", "multibody"):
+        lines += ["", f"[{section}]   # {titles[section]}"]
+        for name, e in entries().items():
+            if e.section != section:
+                continue
+            lo, hi = e.range
+            value = _toml_float(e.to_interface(axle.value(name)))
+            neutral = "" if e.neutral is None else f" | neutral {e.neutral:g}"
+            lines.append(f"{name} = {value}".ljust(34) + f" # {e.unit} | {_comment(e.description)} | "
+                         f"{_comment(e.source)} | range [{lo:g}, {hi:g}]{neutral}")
+    lines += ["", "[plausible]   # where each chosen dimension plausibly lies on a real truck beam axle ([LO, HI])"]
+    for name, e in entries().items():
+        if e.section != "multibody":
+            continue
+        lo, hi = (e.to_interface(v) for v in axle.plausible_range(name))
+        lines.append(f"{name} = [{_toml_float(lo)}, {_toml_float(hi)}]".ljust(44) + f" # {e.unit}")
+    return "\n".join(lines) + "\n"
+
+
+def axle_from_path_or_paper(path: str | None) -> Axle:
+    if path is None:
+        from axles.axle import paper_axle
+        return paper_axle()
+    if os.path.isdir(path):
+        raise AxleFileError(f"{path}: is a directory, not an axle file")
+    return read_axle(path)
+
+
+__all__ = ["AxleFileError", "axle_from_path_or_paper", "format_axle", "parse_axle", "read_axle",
+           "entry"]

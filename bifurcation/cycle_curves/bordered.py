@@ -1,0 +1,198 @@
+"""Following a curve of cycle bifurcations by its bordered defining system (fold, period doubling or torus:
+:mod:`~bifurcation.cycle_curves.fold`, :mod:`~bifurcation.cycle_curves.torus`): the
+sparse bordered Jacobian, the continuation in (V, q) with its window cuts, the end where the amplitude vanishes,
+and the codimension-two points of cycles detected along the way (Doedel, Govaerts & Kuznetsov, SIAM J. Numer.
+Anal. 41, 2003; Kuznetsov 2004, section 10.3).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.optimize
+import scipy.sparse
+import scipy.sparse.linalg
+
+from bifurcation.continuation import ContinuationSettings, Stop, continue_curve, locate_on_step, tangent
+from bifurcation.cycles.multipliers import (
+    complex_outside,
+    critical_multipliers,
+    flip_critical_multipliers,
+    fold_test,
+    negative_outside,
+    period_doubling_test,
+    positive_outside,
+    torus_test,
+)
+from bifurcation.cycles.problem import (
+    CyclePoint,
+    CycleSettings,
+)
+from bifurcation.problem import clip_window, describe
+from bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
+
+FD_RELATIVE = 1e-6          # central differences: step relative to the scale of the direction
+FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps=300, newton_tol=1e-8,
+                                     newton_max_iter=8, max_turn=0.3)
+
+
+END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
+
+
+class SparseBordered:
+    """A sparse (K + 2) x (K + 3) Jacobian that :func:`bifurcation.continuation.correct` can border."""
+
+    def __init__(self, J: scipy.sparse.spmatrix):
+        self.J = J.tocsr()
+        self.shape = J.shape
+
+    def solve_bordered(self, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        A = scipy.sparse.vstack([self.J, scipy.sparse.csr_matrix(row[None, :])]).tocsc()
+        try:
+            return scipy.sparse.linalg.splu(A).solve(rhs)
+        except RuntimeError:       # exactly singular
+            return np.full(len(rhs), np.nan)
+
+
+# Codimension-two points of cycles along fold and period-doubling curves: (kind, the multipliers left when the
+# critical ones are taken out, count among them that changes, test function on all multipliers).
+CODIM2 = {PointKind.CYCLE_FOLD: (
+    (PointKind.FOLD_FLIP, critical_multipliers, negative_outside,
+     lambda mu: period_doubling_test(critical_multipliers(mu))),
+    (PointKind.FOLD_NEIMARK_SACKER, critical_multipliers, complex_outside,
+     lambda mu: torus_test(critical_multipliers(mu)))),
+    PointKind.PERIOD_DOUBLING: (
+    (PointKind.FOLD_FLIP, flip_critical_multipliers, positive_outside, fold_test),)}
+
+
+def curve_q_scale(cycle: CyclePoint) -> float:
+    """The second parameter's scale in a curve's norms: a tenth of its value at the start."""
+    return 0.1 * max(abs(cycle.q), 1e-12)
+
+
+def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
+                          settings: CycleSettings, continuation: ContinuationSettings, system):
+    """Follow the curve of ``point``'s kind through it with a bordered ``system`` (a :class:`FoldSystem` by
+    default; its unknowns end with (V, q) at K + 1, K + 2 and possibly more after them)."""
+    from bifurcation.cycle_curves.ends import locate_end
+    from bifurcation.cycle_curves.result import CycleCurve
+
+    folds = point.kind is PointKind.CYCLE_FOLD
+    ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
+    p_min, p_max = clip_window(family, p_min, p_max)
+    cycle: CyclePoint = point.data["cycle"]
+    iV, iq = system.K + 1, system.K + 2
+    what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
+    U0 = system.start(cycle)
+    # Two rounds of border updates make the borders the null vectors at the start point.
+    system.renormalize(U0), system.renormalize(U0)
+    weights = system.weights()
+    t0 = tangent(system(U0)[1], weights, None)
+    start_state = (system.b.copy(), system.c.copy(), system.cp.reference)
+    halves = []
+    special: list[SpecialPoint] = []
+    for sign in (1.0, -1.0):
+        system.b, system.c = start_state[0].copy(), start_state[1].copy()
+        system.cp.set_reference(start_state[2])
+        points: list[CyclePoint] = [system.point(U0)]
+        kappas: list[float] = [system.kappa(U0)]
+        ends: list = []
+        arclength = [0.0]
+
+        def accept(branch, points=points, ends=ends, kappas=kappas) -> Stop | None:
+            U, U_old = branch.points[-1], branch.points[-2]
+            V, q = U[iV], U[iq]
+            a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
+            # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
+            # curve would come back on itself.  Near the end amp^2 is affine along the curve.
+            crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
+            if ends_at_zero and (crossed or a_new < END_AMPLITUDE):
+                s2 = -a_new ** 2 if crossed else a_new ** 2
+                lam = a_old ** 2 / (a_old ** 2 - s2) if a_old ** 2 != s2 else 1.0
+                guess = (U_old[iV] + lam * (V - U_old[iV]), U_old[iq] + lam * (q - U_old[iq]))
+                if not crossed:
+                    points.append(system.point(U))
+                    kappas.append(system.kappa(U))
+                found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
+                                   abs(q - U_old[iq]), p_min, p_max)
+                ends.append(found)
+                if found is not None:
+                    # The last step and the rest of the way to the end point: tested like every other step,
+                    # against the end point's own value of the test function.
+                    k, s_zero = len(branch.points) - 2, lam * branch.steps[-1]
+                    for kind, where, ok, bracket in system.end_events(branch, k, s_zero, found):
+                        special.append(SpecialPoint(
+                            kind=kind, p=where.p, q=where.q,
+                            bracket=(sign * (arclength[-1] + bracket[0]), sign * (arclength[-1] + bracket[1])),
+                            status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
+                            data={"cycle": where, "period": where.period, "multipliers": where.multipliers,
+                                  "end_segment": True}))
+                if found is None:
+                    return Stop(BranchStatus.COMPLETE, f"the amplitude vanishes near {describe(family, *guess)} "
+                                f"(extrapolated; no {what} point located there)")
+                return Stop(BranchStatus.COMPLETE,
+                            f"ends at the {what} point located at {describe(family, found.p, found.q)}")
+            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, p_min, -1), (iV, p_max, 1)):
+                if side * (U[index] - bound) <= 0.0:
+                    continue
+                # Cut the step where it leaves the window (Brent on the corrected curve) and stop there.
+                k = len(branch.points) - 2
+                try:
+                    cut = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][index] - bound, 0.0,
+                                                branch.steps[-1], xtol=1e-12)
+                    U, t = branch.point_at(k, cut)
+                    branch.points[-1], branch.tangents[-1], branch.steps[-1] = U, t, cut
+                except (RuntimeError, ValueError):
+                    pass    # keep the point just outside
+                points.append(system.point(U))
+                kappas.append(system.kappa(U))
+                return Stop(BranchStatus.COMPLETE, f"left the window at {describe(family, U[iV], U[iq])}")
+            p_new = system.point(U)
+            k = len(branch.points) - 2
+            step = branch.steps[-1]
+            # Cusp of cycles: the curve is smooth in (x, T, V, q) but its (V, q) projection turns back, its
+            # (V, q) tangent passing through zero: the product with the previous one changes sign.
+            Vq = slice(iV, iq + 1)
+            previous = branch.tangents[k][Vq] * weights[Vq]
+            if folds and np.dot(branch.tangents[-1][Vq] * weights[Vq], previous) < 0.0:
+                u, _, ok = locate_on_step(branch, k, step,
+                                          lambda u, t: float(np.dot(t[Vq] * weights[Vq], previous)))
+                where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
+                special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, p=where.p, q=where.q,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=status, data={"cycle": where, "period": where.period}))
+            for kind, critical, count, test in CODIM2.get(point.kind, ()):
+                before, after = (critical(p.multipliers) for p in (points[-1], p_new))
+                if count(before) == count(after):
+                    continue
+
+                u, _, ok = locate_on_step(branch, k, step,
+                                          lambda u, t, test=test: test(system.point(u).multipliers))
+                where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
+                special.append(SpecialPoint(kind=kind, p=where.p, q=where.q,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=status, data={"cycle": where, "period": where.period,
+                                                                 "multipliers": where.multipliers}))
+            for kind, where, ok in system.events(branch, k, step):
+                special.append(SpecialPoint(kind=kind, p=where.p, q=where.q,
+                                            bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),
+                                            status=PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED,
+                                            data={"cycle": where, "period": where.period,
+                                                  "multipliers": where.multipliers}))
+            arclength.append(arclength[-1] + step)
+            points.append(p_new)
+            kappas.append(system.kappa(U))
+            return None
+
+        branch = continue_curve(system, U0, sign * t0, weights, continuation, accept=accept,
+                                renormalize=system.renormalize)
+        halves.append((points, branch.status, branch.message, ends[0] if ends else None, kappas))
+    (fwd, s_fwd, m_fwd, e_fwd, k_fwd), (bwd, s_bwd, m_bwd, e_bwd, k_bwd) = halves
+    pts = list(reversed(bwd[1:])) + fwd
+    return CycleCurve(kind=point.kind, param=family.param,
+                      ps=np.array([p.p for p in pts]), qs=np.array([p.q for p in pts]),
+                      amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
+                      status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
+                      ends=tuple(None if e is None else (e.p, e.q) for e in (e_bwd, e_fwd)),
+                      end_points=(e_bwd, e_fwd), special_points=tuple(special),
+                      kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd),
+                      errors=np.array([p.error for p in pts]), tolerances=np.array([p.tolerance for p in pts]))

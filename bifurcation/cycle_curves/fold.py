@@ -1,0 +1,290 @@
+"""Curves of cycle folds in two parameters by a minimally augmented system on the collocation discretisation.
+
+Doedel, Govaerts & Kuznetsov, "Computation of periodic solution bifurcations in ODEs using bordered systems",
+SIAM J. Numer. Anal. 41 (2003) 401-435; Kuznetsov, Elements of Applied Bifurcation Theory (3rd ed., 2004),
+section 10.3.2; MatCont's LPC continuation (Dhooge, Govaerts, Kuznetsov, Meijer & Sautois, Math. Comput. Model.
+Dyn. Syst. 14, 2008, 147).
+
+Unknowns U = (x nodes, T, V, q).  Equations: the collocation of x' = T f(x; V, q), the integral phase condition
+(:class:`bifurcation.cycles.problem.CycleProblem`), and g(U) = 0, where g is the last component of the solution of the
+bordered system
+
+    [ F_x   F_T   b_1 ] [v]   [0]
+    [ P_x   0     b_2 ] [S] = [0]
+    [ c_1   c_2   0   ] [g]   [1]
+
+with F_x, F_T the collocation Jacobian in the nodes and the period and P_x the phase condition's gradient.  Its
+leading (K + 1) x (K + 1) block is singular exactly at a fold of cycles (the discretised (x, T) problem at fixed
+parameters loses its isolation), so g = 0 there for any borders that keep the whole matrix regular; the borders
+are reset to the current right and left null vectors at every accepted point, as MatCont does.  The gradient
+of g is g_U = -w^T M_U z with z = (v, S, g) and w the solution of the transposed system (the same LU factors):
+the second derivatives it needs, f_xx[v, .], come from a central difference of the exact (complex-step)
+Jacobians in the direction v, and the parameter derivatives from central differences.  The system is solved as
+one sparse matrix (SuperLU); the curve is followed by :func:`bifurcation.continuation.continue_curve` and ends
+where it leaves the (V, q) window or where its amplitude vanishes, at a generalized Hopf point that is then
+located by its own test function (:func:`bifurcation.cycle_curves.result.locate_end`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.optimize
+import scipy.sparse
+import scipy.sparse.linalg
+
+from bifurcation.continuation import ContinuationSettings
+from bifurcation.cycle_curves.bordered import (
+    FD_RELATIVE,
+    FOLD_SETTINGS,
+    SparseBordered,
+    curve_q_scale,
+    follow_bordered_curve,
+)
+from bifurcation.cycles import collocation as col
+from bifurcation.cycles.problem import (
+    CyclePoint,
+    CycleProblem,
+    CycleSettings,
+    state_scales,
+)
+from bifurcation.problem import ProblemError
+from bifurcation.special_points import PointKind, SpecialPoint
+
+
+class FoldSystem:
+    """H(U) = (collocation, phase condition, g) for U = (x nodes, T, V, q), with its sparse Jacobian.
+
+    ``kind`` CYCLE_FOLD: g from the bordered (x, T) Jacobian of the periodic problem (module docstring);
+    PERIOD_DOUBLING: g from the bordered collocation of the variational equation v' = T f_x v with the
+    antiperiodic condition v(1) = -v(0) (Doedel, Govaerts & Kuznetsov 2003, the PD system), singular where a
+    multiplier is -1."""
+
+    def __init__(self, family, cycle: CyclePoint, q_scale: float, settings: CycleSettings = CycleSettings(),
+                 kind: PointKind = PointKind.CYCLE_FOLD):
+        omega = 2.0 * np.pi / cycle.period
+        self.family = family
+        self.kind = kind
+        self.cp = CycleProblem(family, family.primary, cycle.p, cycle.q, cycle.orbit,
+                               state_scales(family, omega), family.primary_scale, settings)
+        self.q_scale = q_scale
+        rng = np.random.default_rng(1)
+        self.b = rng.standard_normal(self.dim)
+        self.c = rng.standard_normal(self.dim)
+        self._cache: tuple[np.ndarray, tuple] | None = None
+
+    @property
+    def K(self) -> int:
+        return self.cp.size
+
+    @property
+    def dim(self) -> int:
+        """Size of the bordered block: (v, S) for a fold, v for period doubling."""
+        return self.K + 1 if self.kind is PointKind.CYCLE_FOLD else self.K
+
+    def _signs(self) -> np.ndarray:
+        """(N, m+1) signs of the interval node values of v: the antiperiodic wrap for period doubling."""
+        N, m = self.cp.intervals, self.cp.degree
+        sgn = np.ones((N, m + 1))
+        if self.kind is PointKind.PERIOD_DOUBLING:
+            sgn[-1, -1] = -1.0
+        return sgn
+
+    def _variational(self, CJ) -> scipy.sparse.spmatrix:
+        """The collocated variational equation with the antiperiodic wrap, K x K."""
+        cp, K = self.cp, self.K
+        N, m, n = cp.intervals, cp.degree, cp.n
+        rows, cols = col.block_pattern(N, m, n)
+        data = (CJ.B * self._signs()[:, None, None, :, None]).ravel()
+        return scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K, K))
+
+    def pack(self, orbit: col.Orbit, V: float, q: float) -> np.ndarray:
+        return np.concatenate([orbit.nodes.ravel(), [orbit.period, V, q]])
+
+    def weights(self) -> np.ndarray:
+        return np.concatenate([self.cp.weights(), [1.0 / self.q_scale]])
+
+    def _pieces(self, U: np.ndarray):
+        """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the columns in V and q."""
+        K, cp = self.K, self.cp
+        q = float(U[K + 2])
+        cp.set_fixed(q=q)
+        G, CJ = cp(U[:K + 2])
+        self._last_jacobian = CJ
+        if not np.all(np.isfinite(G)):
+            raise ProblemError("collocation residual not finite")
+        e = cp.evaluate(U[:K + 2])
+        N, m, n = cp.intervals, cp.degree, cp.n
+        rows, cols = col.block_pattern(N, m, n)
+        data = CJ.B.ravel()
+        rows = np.concatenate([rows, np.arange(K), np.full(K, K)])
+        cols = np.concatenate([cols, np.full(K, K), np.arange(K)])
+        data = np.concatenate([data, CJ.col_T.ravel(), CJ.phase.ravel()])
+        A = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K + 1, K + 1))
+        col_V = np.append(CJ.col_p.ravel(), 0.0)
+        col_q = np.append(-e["T"] * self._df_dq(e["Xc"].reshape(-1, n), e["V"], q).ravel(), 0.0)
+        return G, A, col_V, col_q, e
+
+    def _df_dq(self, P: np.ndarray, V: float, q: float) -> np.ndarray:
+        h = FD_RELATIVE * self.q_scale
+        return ((self.family.rhs(P.T, V, q + h) - self.family.rhs(P.T, V, q - h)) / (2 * h)).T
+
+    def evaluate(self, U: np.ndarray):
+        if self._cache is not None and np.array_equal(self._cache[0], U):
+            return self._cache[1]
+        K = self.K
+        G, A, col_V, col_q, e = self._pieces(U)
+        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
+        M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
+                               [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
+        lu = scipy.sparse.linalg.splu(M)
+        rhs = np.zeros(self.dim + 1)
+        rhs[-1] = 1.0
+        z = lu.solve(rhs)
+        w = lu.solve(rhs, trans="T")
+        out = (G, A, col_V, col_q, e, z, w)
+        self._cache = (U.copy(), out)
+        return out
+
+    def _g_gradient(self, U: np.ndarray, e: dict, z: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """g_U = -w^T M_U z over U = (nodes, T, V, q); only the collocation rows of M depend on U.
+
+        Collocation row k of M z is R_k = (D v)_k / h - T f_x(x_k) v_k - S f(x_k), v_k = (L v)_k."""
+        cp, K = self.cp, self.K
+        N, m, n = cp.intervals, cp.degree, cp.n
+        v_nodes = z[:K].reshape(-1, n)
+        S = z[K] if self.kind is PointKind.CYCLE_FOLD else 0.0
+        sgn = self._signs()
+        Yv = v_nodes[col.node_index(N, m)] * sgn[:, :, None]
+        vk = col.collocation_states(Yv, cp.sch).reshape(-1, n)                                # (Nm, n)
+        xk = e["Xc"].reshape(-1, n)
+        wk = w[:K].reshape(-1, n)
+        T, V, q = e["T"], e["V"], e["q"]
+        Jf = e["Jf"].reshape(-1, n, n)
+        # f_xx[v_k, .] by a central difference of the exact Jacobians along v_k.
+        size = np.max(np.abs(vk) / cp.scales)
+        eps = FD_RELATIVE / max(size, 1e-300)
+        _, Jp = self.family.rhs_and_jacobians(xk + eps * vk, V, q)
+        _, Jm = self.family.rhs_and_jacobians(xk - eps * vk, V, q)
+        H = (Jp - Jm) / (2.0 * eps)                                     # (Nm, a, b) = d/dx_b (f_x v)_a
+        gx = np.einsum("ka,kab->kb", wk, T * H + S * Jf)               # -w^T dR/dx_k
+        per_interval = np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)) * sgn[:, :, None]
+        g_nodes = np.zeros((N * m, n))
+        np.add.at(g_nodes, col.node_index(N, m), per_interval)
+        g_T = float(np.einsum("ka,kab,kb->", wk, Jf, vk))
+        # Parameters: psi(p) = T f_x(x_k; p) v_k + S f(x_k; p), g_p = w^T dpsi/dp (central differences).
+
+        def psi(V_, q_):
+            fv = self.family.rhs_and_jacobians(xk, V_, q_)[1]
+            return T * np.einsum("kab,kb->ka", fv, vk) + S * self.family.rhs(xk.T, V_, q_).T
+
+        hV = FD_RELATIVE * cp.p_scale
+        hq = FD_RELATIVE * self.q_scale
+        g_V = float(np.sum(wk * (psi(V + hV, q) - psi(V - hV, q))) / (2 * hV))
+        g_q = float(np.sum(wk * (psi(V, q + hq) - psi(V, q - hq))) / (2 * hq))
+        return np.concatenate([g_nodes.ravel(), [g_T, g_V, g_q]])
+
+    def __call__(self, U: np.ndarray):
+        K = self.K
+        try:
+            G, A, col_V, col_q, e, z, w = self.evaluate(U)
+        except (ProblemError, RuntimeError):
+            return np.full(K + 2, np.nan), SparseBordered(scipy.sparse.csr_matrix((K + 2, K + 3)))
+        g = z[-1]
+        grad = self._g_gradient(U, e, z, w)
+        top = scipy.sparse.hstack([A, scipy.sparse.csc_matrix(col_V[:, None]),
+                                   scipy.sparse.csc_matrix(col_q[:, None])])
+        J = scipy.sparse.vstack([top, scipy.sparse.csr_matrix(grad[None, :])], format="csr")
+        return np.append(G, g), SparseBordered(J)
+
+    def renormalize(self, U: np.ndarray) -> None:
+        """At an accepted point: the orbit becomes the phase reference, the borders the current null vectors."""
+        K, d = self.K, self.dim
+        _, _, _, _, _, z, w = self.evaluate(U)
+        self.c = z[:d] / np.linalg.norm(z[:d])
+        self.b = w[:d] / np.linalg.norm(w[:d])
+        self.cp.set_reference(self.cp.orbit_of(U[:K + 2]))
+        self._cache = None
+        return None
+
+    def point(self, U: np.ndarray) -> CyclePoint:
+        K = self.K
+        self.cp.set_fixed(q=float(U[K + 2]))
+        return self.cp.point(U[:K + 2])
+
+    def start(self, cycle: CyclePoint) -> np.ndarray:
+        """The unknowns at the located point of a one-parameter branch."""
+        return self.pack(cycle.orbit, cycle.p, cycle.q)
+
+    def events(self, branch, k: int, step: float) -> list:
+        """Further codimension-two points in the last step: (kind, cycle, located).  Period doubling: generalized
+        period-doubling points, where the normal-form coefficient
+        (:func:`bifurcation.cycles.normal_forms.period_doubling_coefficient`) changes sign, located by Brent's
+        method on it along the corrected curve (a sign change through a pole, at a fold of cycles, is none)."""
+        if self.kind is not PointKind.PERIOD_DOUBLING:
+            return []
+        from bifurcation.cycles.normal_forms import locate_zero, period_doubling_coefficient
+
+        def coefficient(u, t=None):
+            return period_doubling_coefficient(self, u)
+        ends = (coefficient(branch.points[k]), coefficient(branch.points[-1]))
+        if not ends[0] * ends[1] < 0.0:
+            return []
+        zero = locate_zero(branch, k, step, coefficient, ends)
+        return [] if zero is None else [(PointKind.GENERALIZED_PERIOD_DOUBLING, self.point(zero[0]), zero[1])]
+
+    def kappa(self, U: np.ndarray) -> float:
+        """kappa = cos theta of the critical pair (torus systems only; NaN here)."""
+        return float("nan")
+
+    def end_events(self, branch, k: int, s_end: float, end: SpecialPoint) -> list:
+        """Codimension-two points between point k and the curve's end point ``end`` (reached at arclength
+        s_end beyond point k): (kind, cycle, located, bracket); none on fold and period-doubling curves."""
+        return []
+
+
+
+
+
+
+
+
+
+
+
+
+def fold_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
+               settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
+    """The curve of cycle folds through the located fold ``point`` of a branch in the primary parameter, both
+    ways, within [p_min, p_max] x [lo, hi], by the minimally augmented system (module docstring).
+
+    Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier
+    through -1) and fold-Neimark-Sacker points (a complex pair through the unit circle) are detected by the change
+    in the number of multipliers outside the unit circle, with the two multipliers at +1 left out, and located by
+    Brent's method on the period-doubling or torus test function along the corrected curve (Kuznetsov 2004,
+    section 10.3; Govaerts 2000, ch. 7).
+
+    Returns a :class:`bifurcation.cycle_curves.result.CycleCurve`."""
+    if point.kind is not PointKind.CYCLE_FOLD:
+        raise ValueError("fold_curve follows cycle folds")
+    cycle = point.data["cycle"]
+    system = FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system)
+
+
+def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
+                          settings: CycleSettings = CycleSettings(),
+                          continuation: ContinuationSettings = FOLD_SETTINGS):
+    """The curve of period-doubling points through the located ``point`` of a branch in the primary parameter,
+    both ways, within [p_min, p_max] x [lo, hi], by the minimally augmented PD system (antiperiodic variational
+    equation, see :class:`FoldSystem`).  Along the curve, fold-flip points (a further multiplier through +1, the curve touching
+    a cycle-fold curve; Kuznetsov 2004, section 10.3) are detected by the change in the number of real multipliers
+    above 1, with the trivial one and the one at -1 left out, and located by Brent's method on the sum of the two
+    multipliers nearest +1; generalized period-doubling points (the normal-form coefficient through zero) by
+    :meth:`FoldSystem.events`.  Returns a :class:`bifurcation.cycle_curves.result.CycleCurve`."""
+    if point.kind is not PointKind.PERIOD_DOUBLING:
+        raise ValueError("period_doubling_curve follows period-doubling points")
+    cycle = point.data["cycle"]
+    system = FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system)
+
+

@@ -1,0 +1,75 @@
+"""Two-parameter curves of cycle bifurcations in the (V, q) plane (figures 8 and 18): the common result type, the
+dispatch to the defining systems and the location of the codimension-two points where the curves end.
+
+Each kind of curve solves its standard defining system on the collocation discretisation (Doedel, Govaerts &
+Kuznetsov, SIAM J. Numer. Anal. 41, 2003; Kuznetsov 2004, section 10.3; MatCont): cycle folds and period doublings
+in :mod:`bifurcation.cycle_curves.fold`, torus points in :mod:`bifurcation.cycle_curves.torus`.  The curves run until
+they leave the (V, q) window or their amplitude vanishes: a fold curve then ends at a generalized Hopf (Bautin)
+point of straight running, a torus curve at a Hopf-Hopf point (Kuznetsov 2004, sections 8.3 and 8.6).  That end
+point is not taken from the extrapolation to zero amplitude: the Hopf curve through the extrapolated point is
+continued in a small window around it (:func:`bifurcation.equilibria.hopf_curves.hopf_curve`) and the codimension-two point
+is located there by its own test function (l1 = 0 for a generalized Hopf point, a second eigenvalue pair crossing
+the imaginary axis for a Hopf-Hopf point), to the Hopf continuation's accuracy; the extrapolation only says where
+to look.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from bifurcation.special_points import (
+    BranchStatus,
+    PointKind,
+    SpecialPoint,
+)
+
+END_KIND = {PointKind.TORUS: PointKind.HOPF_HOPF, PointKind.CYCLE_FOLD: PointKind.GENERALIZED_HOPF}
+
+
+@dataclass(frozen=True)
+class CycleCurve:
+    """A curve of cycle folds, torus or period-doubling points in (V, q): arrays along the curve (SI) and how each end ended."""
+
+    kind: PointKind
+    param: str
+    ps: np.ndarray
+    qs: np.ndarray
+    amplitudes: np.ndarray      # (k, 8) max |x_i| of the critical cycle
+    periods: np.ndarray
+    status: tuple[BranchStatus, BranchStatus]
+    messages: tuple[str, str]
+    ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (V, q) where the amplitude vanishes
+    end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
+    special_points: tuple[SpecialPoint, ...] = ()    # codimension-two points of cycles detected along the curve
+    kappas: np.ndarray | None = None    # torus curves: cos theta of the critical pair per point (else NaN)
+    errors: np.ndarray | None = None    # estimated collocation error per point, relative to the amplitudes
+    tolerances: np.ndarray | None = None    # the tolerance each point was computed for
+
+    @property
+    def meets_tolerance(self) -> np.ndarray:
+        """Per point: False where the error estimate exceeds the tolerance.  The curves keep the mesh of their
+        start point (no remeshing along a bordered system), so this marks, it does not enforce."""
+        if self.errors is None:
+            return np.ones(len(self.ps), dtype=bool)
+        return ~(self.errors > self.tolerances)
+
+    def points_of(self, kind: PointKind) -> tuple[SpecialPoint, ...]:
+        return tuple(p for p in self.special_points if p.kind is kind)
+
+    @property
+    def neutral_saddle(self) -> np.ndarray:
+        """Per point: True where a torus curve has gone on past a 1:1 or 1:2 resonance (|kappa| > 1): the
+        critical multipliers are then a real pair mu, 1/mu, a neutral saddle cycle, not a torus bifurcation."""
+        if self.kappas is None:
+            return np.zeros(len(self.ps), dtype=bool)
+        return np.abs(self.kappas) > 1.0
+
+    @property
+    def complete(self) -> bool:
+        return all(s.is_complete for s in self.status)
+
+
+
+

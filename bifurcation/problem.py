@@ -1,0 +1,92 @@
+"""What a problem gives the toolkit: the :class:`Family` protocol.
+
+A family is a vector field f(x; p, q) with two named parameters: the first, p, is the one every one-parameter
+computation continues in (Hopf points, cycle branches); the second, q, is fixed there and freed on two-parameter
+curves.  This is BifurcationKit's separation of the problem from the algorithms (Veltz, BifurcationKit.jl,
+https://hal.archives-ouvertes.fr/hal-02902346): the toolkit evaluates a family only through these members, so any
+model that provides them (the paper's 3-DOF model, the Exudyn multibody model, a test oscillator) runs through the
+same code.  Messages of the toolkit name a parameter as ``name = value`` in SI; the interface turns those into its
+own units.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+
+class ProblemError(ValueError):
+    """A request the problem cannot serve (a parameter it does not have, a window outside its validity)."""
+
+
+@runtime_checkable
+class Family(Protocol):
+    """f(x; p, q) with its Jacobian, the Jacobian at the equilibrium, and what "small" and "valid" mean for it."""
+
+    param: str            # the name of q
+
+    @property
+    def primary(self) -> str:
+        """The name of p."""
+
+    @property
+    def primary_scale(self) -> float:
+        """How much p changes per unit of arclength in continuation norms."""
+
+    @property
+    def primary_min(self) -> float:
+        """The lowest meaningful p: every window of the toolkit starts at or above it."""
+
+    @property
+    def n(self) -> int:
+        """Number of states."""
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        ...
+
+    @property
+    def nominal(self) -> float:
+        """q at the operating point (its scale in continuation norms)."""
+
+    def state_scales(self, omega: float) -> np.ndarray:
+        """Typical size of each state in an oscillation at omega rad/s (for norms and mesh monitors)."""
+
+    def rhs(self, x: np.ndarray, p: float, q: float) -> np.ndarray:
+        """f at one state (n,) or at the columns of X (n, k)."""
+
+    def jacobian(self, x: np.ndarray, p: float, q: float) -> np.ndarray:
+        ...
+
+    def linear_matrix(self, p: float, q: float) -> np.ndarray:
+        """The Jacobian at the equilibrium."""
+
+    def equilibrium(self, p: float, q: float) -> np.ndarray:
+        ...
+
+    def validate(self, q: float) -> None:
+        """Raise where the family is meaningless at q."""
+
+    # How the derivatives are formed: inherit one of :mod:`bifurcation.derivatives`.
+    costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)
+
+    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
+        """f (M, n) and df/dx (M, n, n) at the states P (M, n)."""
+
+    def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
+        """df/d(free) (M, n) at the states P (M, n); ``scale`` is the free parameter's size."""
+
+    def multilinear_forms(self, x0: np.ndarray, p: float, q: float):
+        """The forms B and C of f at the equilibrium x0 (:class:`~bifurcation.equilibria.normal_form.MultilinearForms`)."""
+
+
+def clip_window(family: Family, lo: float, hi: float) -> tuple[float, float]:
+    """The window [lo, hi] of p with its lower end raised to the family's lowest meaningful p."""
+    return max(float(lo), family.primary_min), float(hi)
+
+
+def describe(family: Family, p: float, q: float | None = None) -> str:
+    """``"<primary> = 12.5, <param> = 150000"``: a location in a message, in SI, named as the family names it."""
+    text = f"{family.primary} = {p:.7g}"
+    return text if q is None else f"{text}, {family.param} = {q:.7g}"
