@@ -1,6 +1,7 @@
 """One truck front axle: the paper's Table 1 entries, the multibody dimensions, plausible ranges, pressure window.
 
-An :class:`Axle` is what every command builds its models from.  The paper's axle is :func:`paper_axle`; others come
+An :class:`AxleData` holds an axle's entries, as an axle file or ``--set`` gives them (the API's
+:class:`comparisons.api.Axle` wraps it with the models made from it).  The paper's axle is :func:`paper_axle`; others come
 from an axle file (:mod:`axles.axle_file`) and ``--set NAME=VALUE`` on top.  Values are SI inside; the
 interface shows them in the units of :mod:`axles.units` (degrees, bar).  Entry names are one namespace over
 :class:`~axles.parameters.ShimmyParameters` ("table1") and :class:`~axles.dimensions.AxleDimensions`
@@ -100,8 +101,8 @@ def entry(name: str, what: str = "entry") -> Entry:
 
 
 @dataclass(frozen=True)
-class Axle:
-    """A truck front axle (SI inside).  ``plausible``: (name, (lo, hi)) in SI for the dimensions nobody measured."""
+class AxleData:
+    """The entries of a truck front axle (SI inside).  ``plausible``: (name, (lo, hi)) in SI for the dimensions nobody measured."""
 
     name: str = PAPER_NAME
     params: ShimmyParameters = YANG2024
@@ -128,7 +129,7 @@ class Axle:
                 return r
         return entry(name).plausible_si
 
-    def with_values(self, values_si: Mapping[str, float]) -> "Axle":
+    def with_values(self, values_si: Mapping[str, float]) -> "AxleData":
         """A copy with entries replaced (SI), each checked against its physical range."""
         table1, multibody = {}, {}
         for name, value in values_si.items():
@@ -138,7 +139,7 @@ class Axle:
         return dataclasses.replace(self, params=self.params.replace(**table1) if table1 else self.params,
                                    dims=self.dims.replace(**multibody) if multibody else self.dims)
 
-    def with_overrides(self, items: Mapping[str, float]) -> "Axle":
+    def with_overrides(self, items: Mapping[str, float]) -> "AxleData":
         """``--set NAME=VALUE`` in interface units, applied on top of this axle."""
         si = {name: entry(name).to_si(v) for name, v in items.items()}
         out = self.with_values(si)
@@ -152,7 +153,7 @@ class Axle:
     def differences(self) -> list[dict]:
         """Entries that differ from the paper's axle, in interface units."""
         out = []
-        paper = Axle()
+        paper = AxleData()
         for name, e in entries().items():
             mine, ref = self.value(name), paper.value(name)
             if mine != ref:
@@ -177,9 +178,9 @@ class Axle:
         return f"axle {self.name}{where}: differs from the paper in {shown}{more}"
 
 
-def paper_axle() -> Axle:
+def paper_axle() -> AxleData:
     """Yang, Knowles & Mavros' truck (Table 1) with the chosen multibody dimensions."""
-    return Axle()
+    return AxleData()
 
 
 def check_pressure_range(lo: float, hi: float, where: str = "") -> tuple[float, float]:

@@ -29,7 +29,7 @@ import math
 import os
 import tomllib
 
-from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, Axle, check_pressure_range, entries, entry
+from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, AxleData, check_pressure_range, entries, entry
 from axles.parameters import ParameterError
 
 SECTIONS = ("operating", "table1", "multibody", "plausible")
@@ -64,7 +64,7 @@ def _pair(where: str, value) -> tuple[float, float]:
     return lo, hi
 
 
-def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> Axle:
+def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> AxleData:
     """The axle a file's text describes; :class:`AxleFileError` (one line, naming the file) for anything wrong."""
     try:
         doc = tomllib.loads(text)
@@ -148,7 +148,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         pressure_range = DEFAULT_PRESSURE_RANGE_BAR
         inherited.append("operating.pressure_range_bar")
 
-    axle = Axle(name=name.strip(), pressure_range_bar=pressure_range, plausible=tuple(plausible),
+    axle = AxleData(name=name.strip(), pressure_range_bar=pressure_range, plausible=tuple(plausible),
                 file=source, sha256=sha256, inherited=tuple(inherited))
     try:
         return axle.with_values(values)
@@ -156,7 +156,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         raise AxleFileError(f"{source}: {exc}") from None
 
 
-def read_axle(path: str) -> Axle:
+def read_axle(path: str) -> AxleData:
     """Read an axle file; unreadable files and bad contents raise :class:`AxleFileError`."""
     try:
         with open(path, "rb") as fh:
@@ -183,7 +183,7 @@ def _comment(text: str) -> str:
     return " ".join(text.split())
 
 
-def format_axle(axle: Axle) -> str:
+def format_axle(axle: AxleData) -> str:
     """The axle file text of an axle: every entry, its unit, description and source beside it."""
     lines = [
         "# shimmy axle file: one truck front axle (written by 'shimmy params --write').",
@@ -219,7 +219,7 @@ def format_axle(axle: Axle) -> str:
     return "\n".join(lines) + "\n"
 
 
-def axle_from_path_or_paper(path: str | None) -> Axle:
+def axle_from_path_or_paper(path: str | None) -> AxleData:
     if path is None:
         from axles.axle import paper_axle
         return paper_axle()

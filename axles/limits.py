@@ -19,3 +19,4 @@ DURATION_RANGE_S = (0.01, 1000.0)     # simulated time; 1000 s at 1 kHz samples 
 RAMP_TIME_RANGE_S = (0.01, 1000.0)
 ANGLE_RANGE_DEG = (-45.0, 45.0)       # initial angles: a small-angle model, 45 deg is already far beyond it
 RATE_RANGE_DEG_S = (-1.0e4, 1.0e4)    # initial angular rates
+

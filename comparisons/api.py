@@ -12,7 +12,7 @@ result's fields; results show themselves in interface units (:mod:`comparisons.r
 
 * inputs: :class:`Axle` (``paper``, ``from_file``, ``with_values``, ``with_set``), :class:`TyrePressures`;
 * models: ``axle.reduced(effects=...)`` (:class:`ReducedModel`) and ``axle.mbs(fidelity=..., assume=...)``
-  (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure")`` (:class:`Family`);
+  (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure")`` (:class:`ModelFamily`);
 * jobs: :func:`hopf_points`, :func:`cycle_branches`, :func:`stability_margins`, :func:`simulate` (one signature
   for both models).
 
@@ -23,7 +23,6 @@ Reading an axle loads no Exudyn: the multibody model is imported when its family
 
 from __future__ import annotations
 
-import math
 import os
 from dataclasses import dataclass
 from functools import cached_property
@@ -41,6 +40,8 @@ from axles.limits import (
     RATE_RANGE_DEG_S,
     SPEED_RANGE_KMH,
 )
+from axles.parameters import check_range
+from axles.pressures import TyrePressures
 from axles.units import to_si
 from comparisons.results import CycleBranches, HopfPoint, HopfResult, Simulation, StabilityMargins, cycle_branch
 from axles.dimensions import AxleDimensions
@@ -53,58 +54,7 @@ from reduced_model.simulation import initial_state
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 
-def check_range(what: str, value: float, lo: float, hi: float, unit: str) -> float:
-    """``value`` as a float, or a :class:`ParameterError` naming the range [lo, hi] (interface units)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ParameterError(f"{what} must be a number, got {value!r}")
-    if not (math.isfinite(value) and lo <= value <= hi):
-        raise ParameterError(f"{what} must be within [{lo:g}, {hi:g}] {unit}, got {value:g}")
-    return float(value)
-
-
 # --- inputs ---------------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class TyrePressures:
-    """Inflation pressures of the two front tyres, bar (wheel 1, theta1, is the right wheel).
-
-    >>> TyrePressures.both(1.5).si
-    150000.0
-    >>> TyrePressures(right_bar=1.5, left_bar=1.2).si
-    (150000.0, 120000.0)
-    """
-
-    right_bar: float
-    left_bar: float
-
-    def __post_init__(self) -> None:
-        # Stored as plain floats, so that 2 and 2.0 bar are the same pressures (and the same family).
-        object.__setattr__(self, "right_bar", check_range("right tyre pressure", self.right_bar, *PRESSURE_RANGE_BAR,
-                                                          "bar"))
-        object.__setattr__(self, "left_bar", check_range("left tyre pressure", self.left_bar, *PRESSURE_RANGE_BAR,
-                                                         "bar"))
-
-    @classmethod
-    def both(cls, bar: float) -> "TyrePressures":
-        """Both tyres at ``bar``."""
-        return cls(bar, bar)
-
-    @property
-    def alike(self) -> bool:
-        return self.right_bar == self.left_bar
-
-    @property
-    def si(self) -> float | tuple[float, float]:
-        """The models' pressure argument, Pa: one value when the tyres are alike, else (right, left).  The one
-        place where the pressures in bar become Pa."""
-        right, left = to_si(self.right_bar, "Pa"), to_si(self.left_bar, "Pa")
-        return right if self.alike else (right, left)
-
-    def __str__(self) -> str:
-        if self.alike:
-            return f"{self.right_bar:g} bar"
-        return f"right {self.right_bar:g} / left {self.left_bar:g} bar"
-
 
 def name_and_text(item: str, option: str) -> tuple[str, str]:
     """(NAME, VALUE text) of a ``NAME=VALUE`` item, or a :class:`ParameterError` naming the option."""
@@ -147,7 +97,7 @@ class Axle:
     3.0
     """
 
-    data: axle_data.Axle
+    data: axle_data.AxleData
 
     @classmethod
     def paper(cls) -> "Axle":
@@ -245,20 +195,20 @@ class ReducedModel:
     def label(self) -> str:
         return f"reduced model, pressure effects {','.join(self.effects.names) or 'none'}"
 
-    def family(self, pressures: TyrePressures, param: str = "pressure") -> "Family":
+    def family(self, pressures: TyrePressures, param: str = "pressure") -> "ModelFamily":
         """The model over speed and ``param`` (``"pressure"``, ``"pressure_left"``, ``"pressure_right"`` or a
         Table 1 entry) at these tyre pressures."""
-        return Family(self, pressures, param)
+        return ModelFamily(self, pressures, param)
 
-    def problem(self, pressure: float | tuple[float, float], param: str) -> SpeedFamily:
-        """The toolkit's family (pressures in Pa)."""
-        return SpeedFamily(self.model, param, pressure=pressure)
+    def problem(self, pressures: TyrePressures, param: str = "pressure") -> SpeedFamily:
+        """The toolkit's family (:func:`family_of`)."""
+        return family_of(self.model, pressures, param)
 
-    def run(self, pressure, schedule: SpeedSchedule, x0, duration: float,
+    def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
             progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
         """The trajectory by scipy; ``poses`` changes nothing (a recording draws this model from its states)."""
-        from reduced_model.simulation import simulate as simulate_reduced
-        return simulate_reduced(self.model, pressure, schedule, duration, x0, progress=progress)
+        from reduced_model.simulation import integrate
+        return integrate(self.model, pressures, schedule, duration, x0, progress=progress)
 
 
 @dataclass(frozen=True)
@@ -279,26 +229,41 @@ class MultibodyModel:
     def label(self) -> str:
         return f"MBS, fidelity {self.fidelity.label}, pressure effects {','.join(self.effects.names) or 'none'}"
 
-    def family(self, pressures: TyrePressures, param: str = "pressure") -> "Family":
+    def family(self, pressures: TyrePressures, param: str = "pressure") -> "ModelFamily":
         """As :meth:`ReducedModel.family`."""
-        return Family(self, pressures, param)
+        return ModelFamily(self, pressures, param)
 
-    def problem(self, pressure: float | tuple[float, float], param: str):
-        """The toolkit's family, :class:`mbs_shimmy.linearisation.MbsFamily` (pressures in Pa)."""
-        from mbs_shimmy.linearisation import MbsFamily
-        return MbsFamily(self.model, param, pressure)
+    def problem(self, pressures: TyrePressures, param: str = "pressure"):
+        """The toolkit's family (:func:`family_of`)."""
+        return family_of(self.model, pressures, param)
 
-    def run(self, pressure, schedule: SpeedSchedule, x0, duration: float,
+    def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
             progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
         """The trajectory by Exudyn, with the bodies' poses when ``poses`` (for a 3D recording); it reports no
         ``progress``."""
-        from mbs_shimmy.simulation import simulate as simulate_mbs
-        return simulate_mbs(self.axle.params, self.effects, self.fidelity, pressure, schedule, x0, duration,
-                            dims=self.axle.dims, poses=poses)
+        from mbs_shimmy.simulation import integrate
+        return integrate(self.axle.params, self.effects, self.fidelity, pressures, schedule, x0, duration,
+                         dims=self.axle.dims, poses=poses)
+
+
+def family_of(model, pressures: TyrePressures, param: str = "pressure"):
+    """The toolkit's family of a model over speed and ``param`` at the tyres' ``pressures``: a
+    :class:`~reduced_model.family.SpeedFamily` of a :class:`~reduced_model.model.ShimmyModel`, an
+    :class:`~mbs_shimmy.linearisation.MbsFamily` of an :class:`~mbs_shimmy.model.MbsModel`.  The one place a family
+    is constructed (``tests/test_architecture.py``); everything else asks here or through :meth:`ModelFamily.problem`."""
+    if not isinstance(pressures, TyrePressures):
+        raise TypeError(f"pressures must be TyrePressures, got {type(pressures).__name__}")
+    if isinstance(model, ShimmyModel):
+        return SpeedFamily(model, param, pressures)
+    from mbs_shimmy.linearisation import MbsFamily
+    from mbs_shimmy.model import MbsModel
+    if isinstance(model, MbsModel):
+        return MbsFamily(model, param, pressures)
+    raise TypeError(f"no family for a {type(model).__name__}")
 
 
 @dataclass(frozen=True)
-class Family:
+class ModelFamily:
     """A model over speed and one more parameter ``param`` at tyre pressures ``pressures``; ``q`` is the
     parameter's own value there (SI), which the jobs use.  ``problem`` is the toolkit's family.
 
@@ -313,7 +278,7 @@ class Family:
 
     @cached_property
     def problem(self):
-        return self.model.problem(self.pressures.si, self.param)
+        return self.model.problem(self.pressures, self.param)
 
     @property
     def q(self) -> float:
@@ -334,7 +299,7 @@ def speed_window(vmin_kmh: float, vmax_kmh: float) -> tuple[float, float]:
     return to_si(lo, "m/s"), to_si(hi, "m/s")
 
 
-def hopf_points(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> HopfResult:
+def hopf_points(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> HopfResult:
     """Every Hopf point of straight running (shimmy onset) in the speed window, at the family's own q, as
     ``shimmy hopf``: speed, frequency and the first Lyapunov coefficient (criticality).
 
@@ -348,7 +313,7 @@ def hopf_points(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) 
     return HopfResult(family.label(), vmin, vmax, tuple(HopfPoint.of(p) for p in found))
 
 
-def cycle_branches(family: Family, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> CycleBranches:
+def cycle_branches(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> CycleBranches:
     """Every branch of limit cycles born at a Hopf point in the window, continued in speed (as ``shimmy
     cycles``, for either model): stability, amplitude, cycle folds, torus and period-doubling points.
 
@@ -390,7 +355,7 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
             raise ParameterError(f"{what} must be a whole number within [1, 2001], got {n!r}")
         counts.append(n)
     pressures = TyrePressures.both(0.5 * (lo + hi))
-    problem = model.problem(pressures.si, "pressure")
+    problem = model.problem(pressures, "pressure")
     grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
     study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p)
     return StabilityMargins(f"{model.label()}, axle {model.axle.name}", study)
@@ -443,10 +408,10 @@ def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, 
     schedule = schedule_of(speed_kmh, ramp_kmh)
     duration = check_range("duration_s", duration_s, *DURATION_RANGE_S, "s")
     x0 = initial_from_degrees(initial_deg)
-    trajectory = model.run(pressures.si, schedule, x0, duration, progress=progress, poses=poses)
+    trajectory = model.run(pressures, schedule, x0, duration, progress=progress, poses=poses)
     return Simulation(f"{model.label()}, {pressures}, axle {model.axle.name}", trajectory)
 
 
-__all__ = ["Axle", "CycleBranches", "Family", "HopfPoint", "HopfResult", "MultibodyModel", "ReducedModel",
+__all__ = ["Axle", "CycleBranches", "ModelFamily", "family_of", "HopfPoint", "HopfResult", "MultibodyModel", "ReducedModel",
            "Simulation", "StabilityMargins", "TyrePressures", "cycle_branches", "fidelity_of", "hopf_points",
            "parse_settings", "simulate", "stability_margins"]

@@ -28,9 +28,7 @@ def mode_inertias(problem) -> dict[str, float]:
     full geometry the axle's lateral travel and the steering gear carry energy too)."""
     if isinstance(problem, SpeedFamily):
         return reduced_inertias(problem.model.params.I1, problem.model.params.I3)
-    from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator
-    evaluator = MbsEvaluator(problem.model.system(problem.pressure, ConstantSpeed(0.0)))
-    M = evaluator.mass_matrix(np.zeros(problem.n))
+    M = problem.mass_matrix(problem.nominal)
     return {name: float(M[k, k]) for k, name in enumerate(problem.layout.coordinates)}
 
 

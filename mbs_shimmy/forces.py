@@ -48,6 +48,7 @@ from mbs_shimmy.knuckle import knuckle_pose, ramp_moments, rotor_moment
 from mbs_shimmy.tyre_element import TyreElement
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import ParameterError, ShimmyParameters
+from axles.pressures import TyrePressures
 
 _POS, _VEL = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
 _ROT, _OMEGA = exu.OutputVariableType.RotationMatrix, exu.OutputVariableType.AngularVelocity
@@ -76,12 +77,12 @@ def layout_of(fidelity: Fidelity, dims: AxleDimensions):
 class AxleForces:
     """Generalized forces on the tree's coordinates and slip rates of the axle at one state; see the module doc.
 
-    ``speed(t)`` and ``acceleration(t)`` give the speed schedule (m/s, m/s^2); ``pressure`` is one value or
-    (right, left) in Pa.  :meth:`attach` connects it to the assembled Exudyn system whose markers it reads.
+    ``speed(t)`` and ``acceleration(t)`` give the speed schedule (m/s, m/s^2); ``pressures`` are the tyres'
+    (:class:`~axles.pressures.TyrePressures`).  :meth:`attach` connects it to the assembled Exudyn system whose markers it reads.
     """
 
     def __init__(self, params: ShimmyParameters, effects: Effects, fidelity: Fidelity, dims: AxleDimensions,
-                 pressure, speed: Callable[[float], float], acceleration: Callable[[float], float] | None = None):
+                 pressures: TyrePressures, speed: Callable[[float], float], acceleration: Callable[[float], float] | None = None):
         self.params, self.effects, self.fidelity, self.dims = params, effects, fidelity, dims
         self.linear = Assumption.SMALL_ANGLES in fidelity
         if self.linear:
@@ -101,7 +102,7 @@ class AxleForces:
             separate_lateral_spring=Assumption.SEPARATE_LATERAL_SPRING in fidelity)
         # exact poses: for the exact kinematics, and for the static load's geometric stiffness
         self.need_exact = (not self.linear) or not self.flags.fixed_static_load_arms
-        wheels = ShimmyModel(params, effects).tyres(pressure)   # raises ParameterError where meaningless
+        wheels = ShimmyModel(params, effects).tyres(pressures)   # raises ParameterError where meaningless
         load_dependent = Assumption.CONSTANT_LOAD not in fidelity
         camber = None
         if Assumption.NO_CAMBER_FORCE not in fidelity:

@@ -34,6 +34,7 @@ geometry it then stalled above its 1e-11 tolerance).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
 
@@ -41,16 +42,14 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 import exudyn as exu
 import numpy as np
 
-from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
-from mbs_shimmy.fidelity import Fidelity
-from mbs_shimmy.forces import AxleForces, layout_of
+from mbs_shimmy.forces import layout_of
 from mbs_shimmy.layout import Layout
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import MbsSystem
 from bifurcation.derivatives import DifferenceDerivatives
-from reduced_model.family import PRESSURE_PARAMS, ShimmyFamily, pressure_at
-from reduced_model.model import Effects
-from axles.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.pressures import PRESSURE_PARAMS, TyrePressures
+from reduced_model.family import ShimmyFamily
+from axles.parameters import ParameterError
 
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
@@ -59,14 +58,17 @@ AFFINE_TOL = 1e-8      # relative to max |A|
 EQUILIBRIUM_TOL = 1e-9   # |y'| at straight running (rad/s, rad/s^2) above which it is not an equilibrium
 
 
-class ConstantSpeed:
-    """Speed schedule V(t) = V for the linearisation (the callable the forces read)."""
+def speed_is_time(t: float) -> float:
+    """The speed schedule of a system that :class:`MbsEvaluator` evaluates: the speed is handed to Exudyn as the
+    time of the state (Exudyn passes the Current configuration's time to the force user function), so that it is an
+    argument of every evaluation, as the state is, and no holder has to be set and read back."""
+    return t
 
-    def __init__(self, speed: float):
-        self.value = float(speed)
 
-    def __call__(self, t: float) -> float:
-        return self.value
+def constant_speed(speed: float) -> Callable[[float], float]:
+    """V(t) = ``speed`` (m/s): the schedule of a system whose forces are evaluated directly at one speed."""
+    speed = float(speed)
+    return lambda t: speed
 
 
 class MbsEvaluator:
@@ -84,11 +86,11 @@ class MbsEvaluator:
         self.solver = exu.MainSolverExplicit()
         self.solver.InitializeSolver(system.mbs, settings)
 
-    def rhs(self, y: np.ndarray) -> np.ndarray:
-        """y' in MBS order for the MBS state y (see module docstring)."""
+    def rhs(self, y: np.ndarray, speed: float) -> np.ndarray:
+        """y' in MBS order for the MBS state y at ``speed`` (m/s; see module docstring)."""
         s, mbs = self.solver, self.system.mbs
         self.calls += 1
-        self.system.set_state(y)
+        self.system.set_state(y, time=speed)
         s.ComputeMassMatrix(mbs)
         M = np.array(s.GetSystemMassMatrix())
         s.ComputeODE2RHS(mbs)
@@ -102,29 +104,31 @@ class MbsEvaluator:
         self.solver.ComputeMassMatrix(self.system.mbs)
         return np.array(self.solver.GetSystemMassMatrix())[0:self.m, 0:self.m]
 
-    def jacobian(self, y: np.ndarray, step: float = FD_STEP) -> np.ndarray:
+    def jacobian(self, y: np.ndarray, speed: float, step: float = FD_STEP) -> np.ndarray:
         """d y'/d y (MBS order) by fourth-order central differences (five-point stencil)."""
         y = np.asarray(y, dtype=float)
         J = np.empty((self.n, self.n))
+
+        def f(z):
+            return self.rhs(z, speed)
         for j in range(self.n):
             d = np.zeros(self.n)
             d[j] = step
-            J[:, j] = (8.0 * (self.rhs(y + d) - self.rhs(y - d)) - (self.rhs(y + 2 * d) - self.rhs(y - 2 * d))) \
-                / (12.0 * step)
+            J[:, j] = (8.0 * (f(y + d) - f(y - d)) - (f(y + 2 * d) - f(y - 2 * d))) / (12.0 * step)
         return J
 
-    def rhs_and_jacobian(self, y: np.ndarray, step: float = FD_STEP) -> tuple[np.ndarray, np.ndarray]:
+    def rhs_and_jacobian(self, y: np.ndarray, speed: float, step: float = FD_STEP) -> tuple[np.ndarray, np.ndarray]:
         """y' and d y'/d y (MBS order) by second-order central differences: half the calls of
         :meth:`jacobian`.  Its truncation error, (B_y h)^2 ~ 1e-7 relative through the Magic Formula, only slows
         Newton's convergence on a collocation system (the residual is exact) and moves Floquet multipliers by
         about that much; the linearisation about straight running keeps the five-point stencil."""
         y = np.asarray(y, dtype=float)
-        f = self.rhs(y)
+        f = self.rhs(y, speed)
         J = np.empty((self.n, self.n))
         for j in range(self.n):
             d = np.zeros(self.n)
             d[j] = step
-            J[:, j] = (self.rhs(y + d) - self.rhs(y - d)) / (2.0 * step)
+            J[:, j] = (self.rhs(y + d, speed) - self.rhs(y - d, speed)) / (2.0 * step)
         return f, J
 
 
@@ -134,26 +138,19 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as
-    in :func:`reduced_model.family.pressure_at`, or a Table 1 entry in SI); matrices are in the extended state order
+    in :meth:`axles.pressures.TyrePressures.moved`, or a Table 1 entry in SI); matrices are in the extended state order
     :attr:`state_names` (the reduced model's :data:`reduced_model.model.STATE_NAMES`, then ``y_axle``,
     ``y_axle_dot``, ``z_axle``, ``z_axle_dot``, ``phi_gear``, ``phi_gear_dot`` where the full axle has them).
     """
 
     model: MbsModel = field(default_factory=MbsModel)
     param: str = "pressure"
-    pressure: float | tuple[float, float] = 2.5e5   # operating pressure(s), (right, left)
+    pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.check_param()
-
-    @classmethod
-    def of(cls, params: ShimmyParameters = YANG2024, effects: Effects | None = None, fidelity: Fidelity | None = None,
-           dims: AxleDimensions = DEFAULT_DIMENSIONS, param: str = "pressure",
-           pressure: float | tuple[float, float] = 2.5e5) -> "MbsFamily":
-        """``MbsFamily.of(params, effects, fidelity)``: the family of that model over ``param``."""
-        return cls(MbsModel(params, effects or Effects(), fidelity or Fidelity.reduced(), dims), param, pressure)
 
     @property
     def layout(self) -> Layout:
@@ -167,29 +164,26 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     def state_units(self) -> tuple[str, ...]:
         return self.layout.state_units
 
-    def _at(self, q: float) -> tuple[MbsEvaluator, ConstantSpeed]:
+    def _at(self, q: float) -> MbsEvaluator:
         q = float(q)
         found = self._cache.get(q)
         if found is None:
             if len(self._cache) > 64:
                 self._cache.clear()
                 self._affine.clear()
-            speed = ConstantSpeed(0.0)
             if self.param in PRESSURE_PARAMS:
-                model, pressure = self.model, pressure_at(self.param, q, self.pressure)
+                model, pressures = self.model, self.pressures.moved(self.param, q)
             else:
                 model = MbsModel(self.model.params.replace(**{self.param: q}), self.model.effects,
                                  self.model.fidelity, self.model.dims)
-                pressure = self.pressure
-            found = (MbsEvaluator(model.system(pressure, speed)), speed)
+                pressures = self.pressures
+            found = MbsEvaluator(model.system(pressures, speed_is_time))
             self._cache[q] = found
         return found
 
     def rhs_mbs(self, y: np.ndarray, speed: float, q: float) -> np.ndarray:
         """y' in MBS order (q, q', alpha1, alpha2), :class:`~mbs_shimmy.system.Layout`."""
-        ev, sp = self._at(q)
-        sp.value = float(speed)
-        return ev.rhs(np.asarray(y, dtype=float))
+        return self._at(q).rhs(np.asarray(y, dtype=float), speed)
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
         """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) or for
@@ -201,28 +195,29 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        ev, sp = self._at(q)
-        sp.value = float(speed)
         L = self.layout
-        J = ev.jacobian(np.asarray(x, dtype=float)[L.x_to_y])
+        J = self._at(q).jacobian(np.asarray(x, dtype=float)[L.x_to_y], speed)
         return J[np.ix_(L.y_to_x, L.y_to_x)]
 
     def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float) -> tuple[np.ndarray, np.ndarray]:
         """f and df/dx at the states P (M, n) (extended order): what collocation needs, by
         :meth:`MbsEvaluator.rhs_and_jacobian` at each state."""
-        ev, sp = self._at(q)
-        sp.value = float(speed)
+        ev = self._at(q)
         L = self.layout
         f, J = np.empty(P.shape), np.empty(P.shape + (P.shape[1],))
         for k, x in enumerate(np.asarray(P, dtype=float)):
-            fy, Jy = ev.rhs_and_jacobian(x[L.x_to_y])
+            fy, Jy = ev.rhs_and_jacobian(x[L.x_to_y], speed)
             f[k], J[k] = fy[L.y_to_x], Jy[np.ix_(L.y_to_x, L.y_to_x)]
         return f, J
 
     @property
     def rhs_calls(self) -> int:
         """Right-hand-side evaluations by Exudyn so far, over every second-parameter value evaluated."""
-        return sum(ev.calls for ev, _ in self._cache.values())
+        return sum(ev.calls for ev in self._cache.values())
+
+    def mass_matrix(self, q: float) -> np.ndarray:
+        """The mass matrix of the mechanical coordinates at straight running (tree order)."""
+        return self._at(q).mass_matrix(np.zeros(self.n))
 
     def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
         """Jacobian at straight running by differences at this speed (reduced-model state order)."""

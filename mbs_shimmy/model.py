@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from axles.parameters import YANG2024, ShimmyParameters
+from axles.pressures import TyrePressures
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.forces import AxleForces, layout_of
 from mbs_shimmy.layout import Layout
@@ -26,13 +27,13 @@ class MbsModel:
     fidelity: Fidelity = field(default_factory=Fidelity.reduced)
     dims: AxleDimensions = DEFAULT_DIMENSIONS
 
-    def forces(self, pressure, speed, acceleration=None) -> AxleForces:
-        return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressure, speed, acceleration)
+    def forces(self, pressures: TyrePressures, speed, acceleration=None) -> AxleForces:
+        return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressures, speed, acceleration)
 
-    def system(self, pressure, speed, acceleration=None, y0=None, output_interval=None,
+    def system(self, pressures: TyrePressures, speed, acceleration=None, y0=None, output_interval=None,
                drawing: bool = False) -> MbsSystem:
         return build_system(self.params, self.effects, self.fidelity, self.dims,
-                            self.forces(pressure, speed, acceleration), y0, output_interval, drawing)
+                            self.forces(pressures, speed, acceleration), y0, output_interval, drawing)
 
     @property
     def layout(self) -> Layout:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+
 
 from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
 
@@ -35,6 +35,7 @@ from mbs_shimmy.geometry import SIDES, quaternions_xyzw
 from mbs_shimmy.model import MbsModel
 from reduced_model.model import N_STATES, STATE_NAMES, Effects
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.pressures import TyrePressures
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 DEFAULT_METHOD = "RK44"
@@ -98,13 +99,13 @@ class _Watch:
         return True
 
 
-def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None, fidelity: Fidelity | None = None,
-             pressure: float | Sequence[float] = 2.5e5, schedule: SpeedSchedule | None = None,
+def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = None, fidelity: Fidelity | None = None,
+             pressures: TyrePressures = TyrePressures.uniform(2.5e5), schedule: SpeedSchedule | None = None,
              x0: np.ndarray | None = None, duration: float = 2.0, *, dims: AxleDimensions = DEFAULT_DIMENSIONS,
              step: float = DEFAULT_STEP, method: str = DEFAULT_METHOD, output_interval: float | None = None,
              poses: bool = True, rtol: float | None = None, atol: float | None = None) -> Trajectory:
     """Simulate the MBS over [0, duration] s from ``x0`` (reduced-model state order and SI; default theta1 =
-    0.01 rad) with the speed ``schedule`` (default 60 km/h).  Pressure in Pa (one value or (right, left)).
+    0.01 rad) with the speed ``schedule`` (default 60 km/h) at the tyres' ``pressures``.
 
     ``poses`` adds body poses and contact forces to ``extra`` (see :func:`pose_record`).  Samples every
     ``output_interval`` s (default the larger of 1 ms and the step).  With an adaptive method (``DOPRI5``)
@@ -140,7 +141,7 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
                              + (f" or {layout.n} ({', '.join(layout.state_names)})" if layout.n > N_STATES else ""))
 
     sched = _Schedule(schedule)
-    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, y0=x0[layout.x_to_y],
+    system = model.system(pressures, sched.speed, None if sched.constant else sched.acceleration, y0=x0[layout.x_to_y],
                           output_interval=output_interval)
     mbs = system.mbs
     watch = _Watch(DIVERGENCE_ANGLE)
@@ -199,7 +200,7 @@ def simulate(params: ShimmyParameters = YANG2024, effects: Effects | None = None
              "force_evaluations": system.calls,
              "extra_states": {name: x_ext[:, N_STATES + k] for k, name in enumerate(layout.state_names[N_STATES:])}}
     if poses and len(t):
-        extra.update(pose_record(model, pressure, schedule, t, y))
+        extra.update(pose_record(model, pressures, schedule, t, y))
     return Trajectory(t=t, x=x, speed=speed, model="mbs", integrator=integrator, status=status, message=message,
                       extra=extra)
 
@@ -229,7 +230,7 @@ def _describe(x: np.ndarray, layout) -> str:
     return ", ".join(f"{n} = {v:.4g}" for n, v in zip(layout.state_names, x))
 
 
-def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarray, y: np.ndarray) -> dict:
+def pose_record(model: MbsModel, pressures: TyrePressures, schedule: SpeedSchedule, t: np.ndarray, y: np.ndarray) -> dict:
     """Body poses and tyre forces at each sample, vehicle frame (moving with the speed along x), SI.
 
     Returns ``{"bodies": {name: {"position": (N,3), "quaternion_xyzw": (N,4)}}, "links": {"tie_rod": (N,2,3),
@@ -244,7 +245,7 @@ def pose_record(model: MbsModel, pressure, schedule: SpeedSchedule, t: np.ndarra
     travel = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
     spin_angle = travel / model.params.R
     sched = _Schedule(schedule)
-    system = model.system(pressure, sched.speed, None if sched.constant else sched.acceleration, drawing=True)
+    system = model.system(pressures, sched.speed, None if sched.constant else sched.acceleration, drawing=True)
     forces, mk, get = system.forces, system.markers, system.mbs.GetMarkerOutput
     OV = exu.OutputVariableType
     layout = system.layout

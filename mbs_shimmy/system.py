@@ -203,11 +203,14 @@ class MbsSystem:
                 self.error = (t, exc)
             raise
 
-    def set_state(self, y: np.ndarray, configuration=CURRENT) -> None:
-        """Write the MBS state y = (q, q', alpha1, alpha2) (see :class:`Layout`) into a configuration."""
+    def set_state(self, y: np.ndarray, configuration=CURRENT, time: float | None = None) -> None:
+        """Write the MBS state y = (q, q', alpha1, alpha2) (see :class:`Layout`) into a configuration, and the
+        time ``time`` into the current one (what the force user function receives as t)."""
         y = np.asarray(y, dtype=float)
         m = self.layout.n_mech
         sd = self.mbs.systemData
+        if time is not None:
+            sd.SetTime(float(time))
         sd.SetODE2Coordinates(list(y[0:m]) + [0.0, 0.0], configuration=configuration)
         sd.SetODE2Coordinates_t(list(y[m:2 * m]) + [y[2 * m], y[2 * m + 1]], configuration=configuration)
 

@@ -10,13 +10,11 @@ right operating pressures, ``"pressure"`` moves both by the same amount and q is
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Sequence
-
 import numpy as np
 
 from bifurcation.derivatives import ComplexStepDerivatives
-from axles.pressures import PRESSURE_PARAMS
-from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel, pressure_pair
+from axles.pressures import PRESSURE_PARAMS, TyrePressures
+from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel
 from axles.parameters import ParameterError, ShimmyParameters
 
 # Scales for continuation norms and mesh monitors (what "small" and "large" mean for this problem): speed per
@@ -43,35 +41,11 @@ def oscillation_scales(state_names: tuple[str, ...], omega: float) -> np.ndarray
     return np.array(scales)
 
 
-def pressure_at(param: str, q: float, operating: float | Sequence[float]) -> float | tuple[float, float]:
-    """The tyre pressures when pressure parameter ``param`` is q (one float where both tyres are alike)."""
-    right, left = pressure_pair(operating)
-    if param == "pressure":
-        if right == left:
-            return q
-        mean = 0.5 * (right + left)
-        right, left = q + (right - mean), q + (left - mean)
-    elif param == "pressure_right":
-        right = q
-    elif param == "pressure_left":
-        left = q
-    else:
-        raise ValueError(f"not a pressure parameter: {param}")
-    return right if right == left else (right, left)
-
-
-def pressure_value(param: str, operating: float | Sequence[float]) -> float:
-    """q of a pressure parameter at the operating pressures."""
-    right, left = pressure_pair(operating)
-    return {"pressure": 0.5 * (right + left) if right != left else right, "pressure_right": right,
-            "pressure_left": left}[param]
-
-
-
 class ShimmyFamily:
     """What both shimmy models' families share (:class:`bifurcation.problem.Family`): the first
     parameter is the speed V (m/s, from :data:`MIN_SPEED`), the second ``param`` a pressure or a Table 1 entry.
-    A subclass provides ``model`` (with ``params``), ``param``, ``pressure`` and ``state_names``."""
+    A subclass provides ``model`` (with ``params``), ``param``, ``pressures`` (the operating
+    :class:`~axles.pressures.TyrePressures`) and ``state_names``."""
 
     primary = "speed"
     primary_scale = SPEED_SCALE
@@ -92,7 +66,7 @@ class ShimmyFamily:
     def nominal(self) -> float:
         """Current value of q, used as its scale in continuation."""
         if self.param in PRESSURE_PARAMS:
-            return pressure_value(self.param, self.pressure)
+            return self.pressures.value(self.param)
         return float(getattr(self.model.params, self.param))
 
 
@@ -102,7 +76,7 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
 
     model: ShimmyModel
     param: str = "pressure"
-    pressure: float | tuple[float, float] = 2.5e5  # used when param is not "pressure"
+    pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
     _cache: dict = field(default_factory=dict, init=False, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -111,26 +85,26 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
     state_names: tuple[str, ...] = field(default=STATE_NAMES, init=False, repr=False)
     state_units: tuple[str, ...] = field(default=STATE_UNITS, init=False, repr=False)
 
-    def at(self, q: float) -> tuple[ShimmyModel, float | Sequence[float]]:
+    def at(self, q: float) -> tuple[ShimmyModel, TyrePressures]:
         q = float(q)
         found = self._cache.get(q)
         if found is None:
             if self.param in PRESSURE_PARAMS:
-                found = (self.model, pressure_at(self.param, q, self.pressure))
+                found = (self.model, self.pressures.moved(self.param, q))
             else:
-                found = (self.model.with_params(**{self.param: q}), self.pressure)
+                found = (self.model.with_params(**{self.param: q}), self.pressures)
             if len(self._cache) > 4096:
                 self._cache.clear()
             self._cache[q] = found
         return found
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        model, pressure = self.at(q)
-        return model.rhs(x, speed, pressure)
+        model, pressures = self.at(q)
+        return model.rhs(x, speed, pressures)
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        model, pressure = self.at(q)
-        return model.jacobian(x, speed, pressure)
+        model, pressures = self.at(q)
+        return model.jacobian(x, speed, pressures)
 
     def equilibrium(self, speed: float, q: float) -> np.ndarray:
         """Straight running; checked, because everything downstream assumes f(0) = 0."""
@@ -142,11 +116,11 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
 
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
         """Jacobian at straight running x = 0 (an equilibrium everywhere; :meth:`validate` checks it)."""
-        model, pressure = self.at(q)
-        return model.linear_matrix(speed, pressure)
+        model, pressures = self.at(q)
+        return model.linear_matrix(speed, pressures)
 
     def validate(self, q: float) -> None:
         """Raise :class:`ParameterError` if the model is meaningless at q or straight running is no equilibrium."""
-        model, pressure = self.at(q)
-        model.tyres(pressure)
+        model, pressures = self.at(q)
+        model.tyres(pressures)
         self.equilibrium(1.0, q)

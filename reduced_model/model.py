@@ -15,12 +15,13 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Iterable, Sequence
+from typing import Iterable
 
 import numpy as np
 
-from reduced_model import tyre
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.pressures import TyrePressures
+from reduced_model import tyre
 
 STATE_NAMES = ("theta1", "theta1_dot", "theta2", "theta2_dot", "psi", "psi_dot", "alpha1", "alpha2")
 STATE_UNITS = ("rad", "rad/s", "rad", "rad/s", "rad", "rad/s", "rad", "rad")
@@ -106,17 +107,9 @@ def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> 
     return WheelTyre(pressure=pressure, force=mf, trail=trail, t0=params.t0, a=a, sigma=sigma, k5=k5)
 
 
-def pressure_pair(pressure: float | Sequence[float]) -> tuple[float, float]:
-    """(right, left) tyre pressures of one value or a pair (Pa)."""
-    if isinstance(pressure, (int, float, np.floating)):
-        return float(pressure), float(pressure)
-    right, left = pressure
-    return float(right), float(left)
-
-
 @dataclass(frozen=True)
 class ShimmyModel:
-    """Vector field f(x; V, p_i) of eqs. (2.1)-(2.11).  ``pressure`` is one value or (right, left), Pa."""
+    """Vector field f(x; V, p_i) of eqs. (2.1)-(2.11) at the tyre pressures ``pressures`` (Pa)."""
 
     params: ShimmyParameters = YANG2024
     effects: Effects = Effects()
@@ -126,20 +119,21 @@ class ShimmyModel:
     def with_params(self, **overrides: float) -> "ShimmyModel":
         return dataclasses.replace(self, params=self.params.replace(**overrides))
 
-    def tyres(self, pressure: float | Sequence[float]) -> tuple[WheelTyre, WheelTyre]:
-        key = pressure_pair(pressure)
-        found = self._tyre_cache.get(key)
+    def tyres(self, pressures: TyrePressures) -> tuple[WheelTyre, WheelTyre]:
+        """(right, left) tyre properties at the tyres' pressures."""
+        found = self._tyre_cache.get(pressures)
         if found is None:
-            found = (_wheel_tyre(self.params, self.effects, key[0]), _wheel_tyre(self.params, self.effects, key[1]))
+            found = (_wheel_tyre(self.params, self.effects, pressures.right),
+                     _wheel_tyre(self.params, self.effects, pressures.left))
             if len(self._tyre_cache) > 4096:
                 self._tyre_cache.clear()
-            self._tyre_cache[key] = found
+            self._tyre_cache[pressures] = found
         return found
 
-    def rhs(self, x: np.ndarray, speed: float, pressure: float | Sequence[float]) -> np.ndarray:
-        """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s, pressure in Pa."""
+    def rhs(self, x: np.ndarray, speed: float, pressures: TyrePressures) -> np.ndarray:
+        """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s."""
         P = self.params
-        w1, w2 = self.tyres(pressure)
+        w1, w2 = self.tyres(pressures)
         th1, th1d, th2, th2d, psi, psid, al1, al2 = x
         Fy1 = w1.force.force(al1)
         Fy2 = w2.force.force(al2)
@@ -157,14 +151,14 @@ class ShimmyModel:
         al2d = (-speed * (al2 + th2) + w2.a * th2d) / w2.sigma
         return np.array([th1d, th1dd, th2d, th2dd, psid, psidd, al1d, al2d])
 
-    def jacobian(self, x: np.ndarray, speed: float, pressure: float | Sequence[float]) -> np.ndarray:
+    def jacobian(self, x: np.ndarray, speed: float, pressures: TyrePressures) -> np.ndarray:
         """Exact Jacobian df/dx by complex-step differentiation (Squire & Trapp, SIAM Rev. 40, 1998)."""
         X = np.asarray(x, dtype=float)[:, None] + _STEP_MATRIX
-        return self.rhs(X, speed, pressure).imag / _COMPLEX_STEP
+        return self.rhs(X, speed, pressures).imag / _COMPLEX_STEP
 
-    def linear_matrix(self, speed: float, pressure: float | Sequence[float]) -> np.ndarray:
+    def linear_matrix(self, speed: float, pressures: TyrePressures) -> np.ndarray:
         """Jacobian at straight running (x = 0)."""
-        return self.jacobian(np.zeros(N_STATES), speed, pressure)
+        return self.jacobian(np.zeros(N_STATES), speed, pressures)
 
 
 STRAIGHT_RUNNING = np.zeros(N_STATES)

@@ -13,13 +13,14 @@ trajectory type are shared with the multibody model (:mod:`reduced_model.traject
 
 from __future__ import annotations
 
-from typing import Callable, Sequence
+from typing import Callable
 
 import numpy as np
 import scipy.integrate
 
 from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
 from axles.parameters import ParameterError
+from axles.pressures import TyrePressures
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
 METHOD = "LSODA"
@@ -63,7 +64,7 @@ def scalar_speed(schedule: SpeedSchedule):
     return speed
 
 
-def simulate(model: ShimmyModel, pressure: float | Sequence[float], schedule: SpeedSchedule, duration: float,
+def integrate(model: ShimmyModel, pressures: TyrePressures, schedule: SpeedSchedule, duration: float,
              x0: np.ndarray | None = None, method: str = METHOD, rtol: float = RTOL, atol: float = ATOL,
              sample_interval: float = SAMPLE_INTERVAL, progress: Callable[[float], None] | None = None
              ) -> Trajectory:
@@ -76,7 +77,7 @@ def simulate(model: ShimmyModel, pressure: float | Sequence[float], schedule: Sp
     if not duration > 0.0:
         raise ParameterError(f"duration must be positive, got {duration:g} s")
     x0 = initial_state() if x0 is None else np.asarray(x0, dtype=float)
-    model.tyres(pressure)  # raises ParameterError where the model is meaningless
+    model.tyres(pressures)  # raises ParameterError where the model is meaningless
 
     speed = scalar_speed(schedule)
 
@@ -86,13 +87,13 @@ def simulate(model: ShimmyModel, pressure: float | Sequence[float], schedule: Sp
         if progress is not None and t >= next_report[0]:
             next_report[0] = t + 0.01 * duration
             progress(min(t, duration))
-        dx = model.rhs(x, speed(t), pressure)
+        dx = model.rhs(x, speed(t), pressures)
         if not np.isfinite(dx.sum()):   # LSODA retries a non-finite step forever: stop and say where
             raise FloatingPointError(f"non-finite right-hand side of the reduced model at t = {t:.6g} s")
         return dx
 
     def jac(t, x):
-        return model.jacobian(x, speed(t), pressure)
+        return model.jacobian(x, speed(t), pressures)
 
     kwargs = {"jac": jac} if method in ("LSODA", "Radau", "BDF") else {}
     sol = scipy.integrate.solve_ivp(rhs, (0.0, duration), x0, method=method, rtol=rtol, atol=atol,
@@ -123,4 +124,4 @@ def simulate(model: ShimmyModel, pressure: float | Sequence[float], schedule: Sp
     return Trajectory(t=t, x=x, speed=np.asarray(schedule.speed(t), dtype=float), model="reduced",
                       integrator=integrator, status=status, message=message,
                       extra={"solver_steps": int(len(sol.t)), "rhs_evaluations": int(sol.nfev),
-                             "pressure": pressure, "effects": model.effects.names})
+                             "pressures": pressures, "effects": model.effects.names})

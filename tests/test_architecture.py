@@ -105,6 +105,42 @@ def test_each_package_is_where_the_layout_says():
                    for m in ("kick", "cycle_peak", "limit_cycle", "growth", "assumption_study", "dimensions"))
 
 
+# The model families and the one module allowed to construct each.
+FAMILY_FACTORIES = {"SpeedFamily": "comparisons/api.py", "MbsFamily": "comparisons/api.py"}
+
+
+def _library_sources():
+    for folder in PACKAGES + ("tools",):
+        for path in (ROOT / folder).rglob("*.py"):
+            yield path, ast.parse(path.read_text())
+
+
+def test_families_are_constructed_by_their_factory_only():
+    found = sorted(f"{path.relative_to(ROOT)}:{node.lineno}: {node.func.id}(...)"
+                   for path, tree in _library_sources() for node in ast.walk(tree)
+                   if isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+                   and node.func.id in FAMILY_FACTORIES
+                   and str(path.relative_to(ROOT)) != FAMILY_FACTORIES[node.func.id])
+    assert found == []
+
+
+def test_no_parsed_namespace_is_written_outside_the_parser():
+    """``args.x = ...`` turns the parsed command line into a cache: only the parser module may set attributes of
+    an argparse Namespace (the commands read them)."""
+    parser_module = ROOT / "comparisons" / "cli" / "main.py"
+    found = sorted(f"{path.relative_to(ROOT)}:{node.lineno}"
+                   for path, tree in _library_sources() if path != parser_module for node in ast.walk(tree)
+                   if isinstance(node, (ast.Assign, ast.AugAssign))
+                   for target in (node.targets if isinstance(node, ast.Assign) else [node.target])
+                   if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name)
+                   and target.value.id == "args")
+    found += sorted(f"{path.relative_to(ROOT)}:{node.lineno}: setattr"
+                    for path, tree in _library_sources() if path != parser_module for node in ast.walk(tree)
+                    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr"
+                    and node.args and isinstance(node.args[0], ast.Name) and node.args[0].id == "args")
+    assert found == []
+
+
 def test_no_module_level_getattr_facade():
     facades = [name for name, path in modules().items()
                if any(isinstance(n, ast.FunctionDef) and n.name == "__getattr__" for n in ast.parse(path.read_text()).body)]

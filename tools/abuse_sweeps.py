@@ -145,7 +145,7 @@ def _foreign_part(out: str) -> None:
     """Put a part written by shimmy for another sweep in place of a kept one (the kept one moved aside)."""
     import numpy as np
 
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.sweeps.design import make_design, parse_vary
     from comparisons.sweeps.parts import part_path, write_part
     from comparisons.sweeps.sample import SweepTask, evaluate_batch
@@ -154,7 +154,7 @@ def _foreign_part(out: str) -> None:
     for suffix in ("", ".sha256"):
         os.replace(part_path(parts, b) + suffix, part_path(parts, b) + suffix + ".mine")
     other = make_design([parse_vary("pressure=1:2:5")], None, None)
-    task = SweepTask(Axle(), (), 2.5, 2.5, other.names)
+    task = SweepTask(AxleData(), (), 2.5, 2.5, other.names)
     write_part(parts, b, evaluate_batch(task, b, b * SIZE, np.asarray(other.values)), other.fingerprint())
 
 

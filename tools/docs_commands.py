@@ -15,7 +15,7 @@ Usage (from the repository root)::
 
 ``--syntax`` also checks that every ``--option`` of a synopsis is an option of its command, and runs each command
 line through :func:`comparisons.cli.main.build_parser` and the pressure rules that every
-command applies before its work (:func:`comparisons.cli.options.resolve_pressures`), nothing more: no model is
+command applies before its work (:func:`comparisons.cli.options.pressures_of`), nothing more: no model is
 built and no file is read.  ``tests/docs/test_docs_commands.py`` runs it.
 
 ``--run`` executes each command in a scratch folder, in the order of the docs (so ``shimmy params --write
@@ -129,14 +129,12 @@ def find(root: Path = ROOT) -> list[Command]:
 def check_syntax(cmd: Command) -> str | None:
     """None when the line parses and passes the pre-work pressure rules; else the CLI's one-line message."""
     from axles.limits import UsageError
-    from comparisons.cli.main import build_parser
-    from comparisons.cli.options import resolve_pressures
+    from comparisons.cli.main import parse_command
     from axles.parameters import ParameterError
     err = io.StringIO()
     try:
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-            args = build_parser().parse_args(list(cmd.argv))
-            resolve_pressures(args)
+            parse_command(list(cmd.argv))
     except SystemExit as exc:
         if exc.code not in (0, None):
             return err.getvalue().strip() or f"exit {exc.code}"

@@ -14,6 +14,7 @@ from typing import Callable
 
 import numpy as np
 
+from axles.pressures import TyrePressures
 from axles.units import from_kmh
 
 
@@ -78,35 +79,35 @@ def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, tuple[fl
 
 def _hopf_one_pressure():
     from bifurcation.equilibria.hopf import hopf_points
-    from reduced_model.family import SpeedFamily
+    from comparisons.api import family_of
     from reduced_model.model import ShimmyModel
 
     def run():
         # A fresh model each run: no tyre cache carried over between runs.
-        return hopf_points(SpeedFamily(ShimmyModel()), 1.5e5, 0.0, from_kmh(400))
+        return hopf_points(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), 1.5e5, 0.0, from_kmh(400))
     return run
 
 
 def _figure5():
     from bifurcation.equilibria.hopf_curves import hopf_diagram
-    from reduced_model.family import SpeedFamily
+    from comparisons.api import family_of
     from reduced_model.model import ShimmyModel
 
     def run():
-        return hopf_diagram(SpeedFamily(ShimmyModel(), "pressure"), 0.05e5, 3e5, 0.0, from_kmh(400))
+        return hopf_diagram(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5), "pressure"), 0.05e5, 3e5, 0.0, from_kmh(400))
     return run
 
 
 def _cycle_branch_nominal():
     from bifurcation.cycles.branches import branch_from_hopf
     from bifurcation.equilibria.hopf import hopf_points
-    from reduced_model.family import SpeedFamily
+    from comparisons.api import family_of
     from reduced_model.model import ShimmyModel
 
-    hb1, hb2 = hopf_points(SpeedFamily(ShimmyModel()), 2.5e5, 0.0, from_kmh(400))
+    hb1, hb2 = hopf_points(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), 2.5e5, 0.0, from_kmh(400))
 
     def run():
-        branch = branch_from_hopf(SpeedFamily(ShimmyModel()), hb1, 0.0, from_kmh(400), others=(hb2,))
+        branch = branch_from_hopf(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), hb1, 0.0, from_kmh(400), others=(hb2,))
         assert branch.end is hb2 and all(p.multipliers.shape == (8,) for p in branch.points)
         return branch
     return run
@@ -114,11 +115,11 @@ def _cycle_branch_nominal():
 
 def _figure9a_cycles():
     from bifurcation.cycles.branches import cycle_diagram
-    from reduced_model.family import SpeedFamily
+    from comparisons.api import family_of
     from reduced_model.model import ShimmyModel
 
     def run():
-        d = cycle_diagram(SpeedFamily(ShimmyModel().with_params(t0=0.25)), 1.5e5, 0.0, from_kmh(400))
+        d = cycle_diagram(family_of(ShimmyModel().with_params(t0=0.25), TyrePressures.uniform(2.5e5)), 1.5e5, 0.0, from_kmh(400))
         assert len(d.special_points) == 4
         return d
     return run
@@ -126,12 +127,12 @@ def _figure9a_cycles():
 
 def _error_controlled_cycles():
     from bifurcation.cycles.branches import cycle_diagram
-    from reduced_model.family import SpeedFamily
+    from comparisons.api import family_of
     from reduced_model.model import Effects, ShimmyModel
 
     def run():
         # The hard case of the error control: down to 0.5 km/h the orbit needs 4x the intervals of the paper's.
-        d = cycle_diagram(SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt"))), 0.25e5, 0.0, from_kmh(400),
+        d = cycle_diagram(family_of(ShimmyModel(effects=Effects.parse("hcl,pt")), TyrePressures.uniform(2.5e5)), 0.25e5, 0.0, from_kmh(400),
                           at=(from_kmh(60), from_kmh(183)))
         assert d.complete and all(p.meets_tolerance for b in d.branches for p in b.points)
         return d
@@ -143,7 +144,7 @@ def _mbs_simulation(fidelity: str):
         import numpy as np
 
         from mbs_shimmy.fidelity import Fidelity
-        from mbs_shimmy.simulation import BENCH_SETTINGS, simulate
+        from mbs_shimmy.simulation import BENCH_SETTINGS, integrate
         from reduced_model.trajectory import SpeedSchedule
         x0 = np.zeros(8)
         x0[0] = 0.01
@@ -151,7 +152,7 @@ def _mbs_simulation(fidelity: str):
         def run():
             # 10 s simulated at 1.5 bar, 100 km/h, the cheapest setting that keeps 1e-4 accuracy; real-time
             # factor = 10 / median
-            return simulate(fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
+            return integrate(fidelity=Fidelity.parse(fidelity), pressures=TyrePressures.uniform(1.5e5),
                             schedule=SpeedSchedule.constant(from_kmh(100)), x0=x0, duration=10.0, poses=False,
                             **BENCH_SETTINGS[fidelity])
         return run
@@ -173,12 +174,12 @@ def _mbs_stage_costs(trajectory) -> dict:
 
     from mbs_shimmy.fidelity import Fidelity
     from mbs_shimmy.forces import _POS, _ROT
-    from mbs_shimmy.linearisation import ConstantSpeed
+    from mbs_shimmy.linearisation import constant_speed
     from mbs_shimmy.model import MbsModel
     from mbs_shimmy.simulation import extended_states
 
     speed = from_kmh(100)
-    system = MbsModel(fidelity=Fidelity.full()).system(1.5e5, ConstantSpeed(speed))
+    system = MbsModel(fidelity=Fidelity.full()).system(TyrePressures.uniform(1.5e5), constant_speed(speed))
     forces, layout = system.forces, system.layout
     y = extended_states(trajectory)[-1][layout.x_to_y]
     system.set_state(y)
@@ -219,16 +220,16 @@ def _mbs_stage_costs(trajectory) -> dict:
 def _mbs_cycle_branch():
     from axles.units import BAR, KMH
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily
+    from comparisons.api import family_of
     from mbs_shimmy.model import MbsModel
     from bifurcation.cycles.branches import branch_from_hopf
     from bifurcation.equilibria.hopf import hopf_points
 
-    hb1, hb2 = hopf_points(MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=1.5 * BAR), 1.5 * BAR, 0.0,
+    hb1, hb2 = hopf_points(family_of(MbsModel(fidelity=Fidelity.full()), TyrePressures.uniform(1.5 * BAR)), 1.5 * BAR, 0.0,
                            400 * KMH)
 
     def run():
-        family = MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=1.5 * BAR)
+        family = family_of(MbsModel(fidelity=Fidelity.full()), TyrePressures.uniform(1.5 * BAR))
         branch = branch_from_hopf(family, hb1, 0.0, 400 * KMH, others=(hb2,))
         assert branch.end is hb2 and all(p.multipliers.shape == (family.n,) for p in branch.points)
         return family, branch
@@ -248,12 +249,12 @@ def _sweep(samples: int, mbs: tuple[str, ...] = (), in_process: bool = False):
         import os
         import tempfile
 
-        from axles.axle import Axle
+        from axles.axle import AxleData
         from comparisons.sweeps.design import make_design, parse_vary
         from comparisons.sweeps.run import run_sweep
         from comparisons.sweeps.sample import SweepTask, evaluate_batch
         design = make_design([parse_vary("pressure=uniform:0.5:3.5"), parse_vary("t0=uniform:0.05:0.3")], samples, 1)
-        task = SweepTask(Axle(), (), 2.5, 2.5, design.names, mbs=mbs)
+        task = SweepTask(AxleData(), (), 2.5, 2.5, design.names, mbs=mbs)
         out = os.path.join(tempfile.mkdtemp(prefix="shimmy-bench-"), "sweep.parquet")
 
         def run():

@@ -215,9 +215,16 @@ def check_output_options(args: argparse.Namespace) -> None:
         raise UsageError(str(exc)) from None
 
 
+def parse_command(argv: list[str] | None, parser: argparse.ArgumentParser | None = None) -> argparse.Namespace:
+    """The parsed command line, completed with its typed values: ``tyre_pressures`` (the one typed pressure of the
+    command, from here to the tyre formula).  The only place a Namespace is written."""
+    from comparisons.cli.options import pressures_of
+    args = (parser or build_parser()).parse_args(argv)
+    args.tyre_pressures = pressures_of(args)
+    return args
+
+
 def _run(args: argparse.Namespace) -> int:
-    from comparisons.cli.options import resolve_pressures
-    resolve_pressures(args)
     check_output_options(args)
     code = int(args.run(args) or 0)
     if sys.stdout is None:
@@ -261,7 +268,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             with signals.while_loading():
                 parser = build_parser()
-            args = parser.parse_args(argv)
+            args = parse_command(argv, parser)
             signals.grace = GRACE_BY_COMMAND.get(args.command, GRACE_S)
             args.argv = list(sys.argv[1:] if argv is None else argv)    # echoed in reports
             return _run(args)

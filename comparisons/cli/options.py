@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import math
+import os
 import sys
 from typing import Any
 
@@ -115,10 +117,13 @@ def add_effects_option(p: argparse.ArgumentParser) -> None:
                    help="pressure effects beyond the lateral force: comma list of hcl,pt,rl,vs, or all")
 
 
-def resolve_pressures(args: argparse.Namespace) -> None:
-    """Fill ``args.pressure_right``/``pressure_left`` (bar) and ``args.pressure`` (their mean) from the options."""
-    if getattr(args, "_pressures_resolved", False) or not hasattr(args, "pressure_required"):
-        return
+def pressures_of(args: argparse.Namespace):
+    """The tyre pressures of ``--pressure``/``--pressure-left``/``--pressure-right`` (bar): a
+    :class:`~axles.pressures.TyrePressures`, made here and only here for the command line (its range checked once,
+    here); None for a command without pressure options.  The parser module stores it as ``args.tyre_pressures``."""
+    if not hasattr(args, "pressure_required"):
+        return None
+    from axles.pressures import TyrePressures
     both, left, right = args.pressure, args.pressure_left, args.pressure_right
     if both is None and (left is None or right is None):
         if left is None and right is None and not args.pressure_required:
@@ -131,59 +136,48 @@ def resolve_pressures(args: argparse.Namespace) -> None:
                              f"(or both --pressure-left and --pressure-right)")
     right = both if right is None else right
     left = both if left is None else left
-    lo, hi = PRESSURE_RANGE_BAR
-    for what, value in (("--pressure-right", right), ("--pressure-left", left)):
-        if not lo <= value <= hi:
-            raise UsageError(f"{what if value is not both else '--pressure'} must be within [{lo:g}, {hi:g}] bar, "
-                             f"got {value:g}")
-    args.pressure_right, args.pressure_left = float(right), float(left)
-    args.pressure = args.pressure_right if right == left else 0.5 * (right + left)
-    args._pressures_resolved = True
-
-
-def tyre_pressures(args: argparse.Namespace):
-    """The tyre pressures of the options (:class:`comparisons.api.TyrePressures`)."""
-    from comparisons.api import TyrePressures
-    resolve_pressures(args)
-    return TyrePressures(args.pressure_right, args.pressure_left)
-
-
-def operating_pressure(args: argparse.Namespace) -> float | tuple[float, float]:
-    """Tyre pressures for the models, Pa: one value when both tyres are alike, else (right, left)."""
-    return tyre_pressures(args).si
+    names = [("--pressure" if value is both else what) for what, value in
+             (("--pressure-right", right), ("--pressure-left", left))]
+    try:
+        return TyrePressures.of_bar(right, left, right_name=names[0], left_name=names[1])
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def pressures_json(args: argparse.Namespace) -> dict:
     """The pressure fields of every JSON output: left and right always, ``pressure_bar`` when they are equal."""
-    resolve_pressures(args)
-    out = {"pressure_left_bar": args.pressure_left, "pressure_right_bar": args.pressure_right}
-    if args.pressure_left == args.pressure_right:
-        out = {"pressure_bar": args.pressure_left, **out}
+    p = args.tyre_pressures
+    out = {"pressure_left_bar": p.left_bar, "pressure_right_bar": p.right_bar}
+    if p.alike:
+        out = {"pressure_bar": p.left_bar, **out}
     return out
 
 
 def pressure_label(args: argparse.Namespace) -> str:
     """'1.5 bar' or 'right 1.5 / left 1.2 bar' for text headers."""
-    resolve_pressures(args)
-    if args.pressure_left == args.pressure_right:
-        return f"{args.pressure_left:g} bar"
-    return f"right {args.pressure_right:g} / left {args.pressure_left:g} bar"
+    return str(args.tyre_pressures)
 
 
 def api_axle(args: argparse.Namespace):
     """The axle of the command (:class:`comparisons.api.Axle`): ``--axle`` (or the paper's) with ``--set`` on
-    top; cached on ``args``."""
-    cached = getattr(args, "_axle", None)
-    if cached is not None:
-        return cached
-    from comparisons.api import Axle
-    path, items = getattr(args, "axle", None), getattr(args, "overrides", None) or ()
+    top."""
+    path = getattr(args, "axle", None)
     try:
-        axle = (Axle.paper() if path is None else Axle.from_file(path)).with_set(*items)
+        stamp = None if path is None else (os.stat(path).st_mtime_ns, os.stat(path).st_size)
+    except (OSError, ValueError):
+        stamp = None        # the reader reports it
+    return _axle_of(path, stamp, tuple(getattr(args, "overrides", None) or ()))
+
+
+@functools.lru_cache(maxsize=4)
+def _axle_of(path: str | None, stamp, items: tuple[str, ...]):
+    """One reading of the axle file per command, however many parts of it ask (``stamp``: the file's mtime and
+    size, so that a file written again is read again)."""
+    from comparisons.api import Axle
+    try:
+        return (Axle.paper() if path is None else Axle.from_file(path)).with_set(*items)
     except ParameterError as exc:
         raise UsageError(str(exc)) from None
-    args._axle = axle
-    return axle
 
 
 def build_axle(args: argparse.Namespace):
@@ -211,9 +205,10 @@ def add_model_choice(p: argparse.ArgumentParser) -> None:
                    help="MBS: keep exactly these assumptions on (see 'shimmy assumptions')")
 
 
-def build_fidelity(args: argparse.Namespace):
-    """The MBS fidelity from --fidelity/--assume; None for the reduced model (and an error if they are given)."""
-    if args.model != "mbs":
+def build_fidelity(args: argparse.Namespace, model: str | None = None):
+    """The MBS fidelity from --fidelity/--assume; None for the reduced model (and an error if they are given).
+    ``model``: the model asked for, when the command does not take --model (default ``args.model``)."""
+    if (model or args.model) != "mbs":
         if args.fidelity is not None or args.assume is not None:
             raise UsageError("--fidelity and --assume apply to --model mbs only")
         return None
@@ -243,7 +238,7 @@ def chosen_model(args: argparse.Namespace):
 
 def build_family(args: argparse.Namespace, param: str = "pressure"):
     """The toolkit's speed family of the chosen model (reduced or MBS) over ``param``, at the operating pressures."""
-    return chosen_model(args).family(tyre_pressures(args), param).problem
+    return chosen_model(args).family(args.tyre_pressures, param).problem
 
 
 def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:

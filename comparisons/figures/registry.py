@@ -17,6 +17,8 @@ from bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 P_I0_BAR = YANG2024.pi0 / BAR
 VMAX_KMH = 400.0                            # speed window of every (V, q) figure
@@ -141,8 +143,8 @@ class DiagramStore:
     def family(self, key: DiagramKey) -> SpeedFamily:
         fkey = (key.effects, key.param, key.pressure_bar)
         if fkey not in self._families:
-            self._families[fkey] = SpeedFamily(ShimmyModel(effects=key.effects), key.param,
-                                               pressure=key.pressure_bar * BAR)
+            self._families[fkey] = family_of(ShimmyModel(effects=key.effects),
+                                             TyrePressures.uniform(key.pressure_bar * BAR), key.param)
         return self._families[fkey]
 
     def diagram(self, key: DiagramKey) -> HopfDiagram:
@@ -226,7 +228,7 @@ class CycleKey:
 
 
 def _cycle_family(key: CycleKey) -> SpeedFamily:
-    return SpeedFamily(ShimmyModel(effects=key.effects).with_params(**dict(key.params)))
+    return family_of(ShimmyModel(effects=key.effects).with_params(**dict(key.params)), TyrePressures.uniform(2.5e5))
 
 
 def store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, CycleDiagram]:

@@ -14,8 +14,9 @@ from comparisons.figures.registry import DiagramStore, Drawing, register, store_
 from bifurcation.cycles.branches import cycle_at
 from bifurcation.special_points import ConvergenceError
 from reduced_model.modes import ModeClassifier, ModeHistory
-from reduced_model.simulation import initial_state, simulate
+from reduced_model.simulation import initial_state, integrate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
+from axles.pressures import TyrePressures
 
 # Figure 10: the speed ramps of tests/test_simulation.py (1 km/h per s through the bistable window), each
 # started from the default small disturbance theta1 = 0.01 rad where only one mode is stable.
@@ -69,7 +70,7 @@ def draw_mode_changes(store: DiagramStore) -> Drawing:
     notes, complete = [], True
     for j, ((v0, v1, ramp, duration), crossing, title) in enumerate((
             (RAMP_UP_KMH, ("S1", s1), "(a) speed increasing"), (RAMP_DOWN_KMH, ("T2", t2), "(b) speed decreasing"))):
-        tr = simulate(model, 1.5 * BAR, SpeedSchedule.ramp(v0 * KMH, v1 * KMH, ramp), duration)
+        tr = integrate(model, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.ramp(v0 * KMH, v1 * KMH, ramp), duration)
         history = ModeClassifier().classify(tr)
         notes += _trajectory_column(axes[:, j], tr, history, crossing,
                                     f"{title}: {v0:g} → {v1:g} km/h in {ramp:g} s")
@@ -103,7 +104,7 @@ def draw_phase_portrait(store: DiagramStore) -> Drawing:
         except (ValueError, ConvergenceError) as exc:
             notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {interface_text(str(exc))}")
     for name, start, colour, offset in PHASE_STARTS:
-        tr = simulate(family.model, 1.5 * BAR, SpeedSchedule.constant(V), PHASE_DURATION, initial_state(start))
+        tr = integrate(family.model, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(V), PHASE_DURATION, initial_state(start))
         history = ModeClassifier().classify(tr)
         psi, psid = np.degrees(tr.state("psi")), np.degrees(tr.state("psi_dot"))
         ax.plot(psi, psid, lw=0.4, color=colour, label=f"{name}: → {history.final_mode.value} mode")

@@ -207,10 +207,10 @@ def spin_angle(t: np.ndarray, speed: np.ndarray, R: float) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(steps)])
 
 
-def reduced_model_poses(trajectory: Trajectory, model: ShimmyModel, pressure,
+def reduced_model_poses(trajectory: Trajectory, model: ShimmyModel, pressures,
                         geometry: AxleGeometry | None = None) -> ScenePoses:
     """Body poses from the reduced model's angles theta1 (right), theta2 (left), psi, and the tyre forces
-    from its slip angles at ``pressure`` (Pa, one value or (right, left))."""
+    from its slip angles at the tyres' ``pressures``."""
     g = geometry or AxleGeometry.from_params(model.params)
     n = len(trajectory.t)
     theta = {"right": trajectory.state("theta1"), "left": trajectory.state("theta2")}
@@ -222,7 +222,7 @@ def reduced_model_poses(trajectory: Trajectory, model: ShimmyModel, pressure,
     axle_r = rotation_about([1.0, 0.0, 0.0], psi)
     bodies = {"axle": BodyPose(axle_pos, axle_r.as_quat())}
     knuckles = {}
-    wheel_tyres = dict(zip(SIDES, model.tyres(pressure)))
+    wheel_tyres = dict(zip(SIDES, model.tyres(pressures)))
     points = np.zeros((n, 2, 3))
     vectors = np.zeros((n, 2, 3))
     for k, side in enumerate(SIDES):
@@ -256,18 +256,18 @@ def reduced_model_poses(trajectory: Trajectory, model: ShimmyModel, pressure,
     return ScenePoses(bodies=bodies, links=links, force_points=points, force_vectors=vectors)
 
 
-def trajectory_poses(trajectory: Trajectory, model: ShimmyModel | None = None, pressure=None,
+def trajectory_poses(trajectory: Trajectory, model: ShimmyModel | None = None, pressures=None,
                      geometry: AxleGeometry | None = None) -> ScenePoses:
     """The poses stored with the trajectory (multibody model: ``extra["poses"]`` or the pose record in ``extra``)
-    or else computed from the reduced model's angles, which needs the ``pressure`` (argument or
-    ``extra["pressure"]``, Pa)."""
+    or else computed from the reduced model's angles, which needs the ``pressures`` (argument or
+    ``extra["pressures"]``, Pa)."""
     extra = trajectory.extra or {}
     stored = extra.get("poses", extra if "bodies" in extra else None)
     if stored is not None:
         return ScenePoses.from_dict(stored, len(trajectory.t))
-    if pressure is None:
-        pressure = extra.get("pressure")
-    if pressure is None:
-        raise ValueError("the trajectory has no stored poses: the tyre pressure is needed to compute the tyre "
-                         "forces (pass pressure=..., Pa)")
-    return reduced_model_poses(trajectory, model or ShimmyModel(), pressure, geometry)
+    if pressures is None:
+        pressures = extra.get("pressures")
+    if pressures is None:
+        raise ValueError("the trajectory has no stored poses: the tyre pressures are needed to compute the tyre "
+                         "forces (pass pressures=TyrePressures)")
+    return reduced_model_poses(trajectory, model or ShimmyModel(), pressures, geometry)

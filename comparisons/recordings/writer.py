@@ -190,13 +190,13 @@ def scene_indices(t: np.ndarray) -> np.ndarray:
     return uniform_indices(t, SCENE_RATE_HZ)
 
 
-def _prepare(trajectory: Trajectory, modes, switches, model, pressure, geometry, key="", title="",
+def _prepare(trajectory: Trajectory, modes, switches, model, pressures, geometry, key="", title="",
              colour=None) -> _Run:
     """Everything that can fail on the input fails here, before a byte is written."""
     t = np.asarray(trajectory.t, dtype=float)
     if len(t) < 2 or np.any(np.diff(t) <= 0.0):
         raise ValueError("the trajectory needs at least two samples at increasing times")
-    poses = trajectory_poses(trajectory, model, pressure, geometry)
+    poses = trajectory_poses(trajectory, model, pressures, geometry)
     geometry = geometry or AxleGeometry.from_params((model or ShimmyModel()).params)
     return _Run(key=key, title=title or MODEL_TITLES.get(trajectory.model, trajectory.model),
                 trajectory=trajectory, poses=poses, segments=mode_segments(modes, t),
@@ -204,20 +204,20 @@ def _prepare(trajectory: Trajectory, modes, switches, model, pressure, geometry,
 
 
 def write_recording(path: str, trajectory: Trajectory, modes=None, switches: Sequence = (), title: str = "", *,
-                    model: ShimmyModel | None = None, pressure=None, geometry: AxleGeometry | None = None,
+                    model: ShimmyModel | None = None, pressures=None, geometry: AxleGeometry | None = None,
                     recording_id: str | None = None) -> RecordingSummary:
     """Write one .rrd recording of ``trajectory`` to ``path`` atomically.
 
     ``modes``: None, one label per sample, or (start time s, label) pairs (labels str or enum).  ``switches``:
     (time s, from, to) triples or objects with ``time``, ``before``, ``after`` (such as :class:`ModeSwitch`).
     The 3D poses come from ``trajectory.extra["poses"]`` when present (multibody model), else from the reduced
-    model's angles, for which ``pressure`` (Pa; or ``extra["pressure"]``) and ``model`` (default: the section 3
+    model's angles, for which ``pressures`` (:class:`~axles.pressures.TyrePressures`; or ``extra["pressures"]``) and ``model`` (default: the section 3
     model) give the tyre forces.  ``recording_id``: default a fresh UUID, so that recordings opened together
     never merge.  Raises :class:`RecordingError` when the file cannot be written, ValueError on inconsistent
     input.
     """
     _check_target(path)
-    run = _prepare(trajectory, modes, switches, model, pressure, geometry)
+    run = _prepare(trajectory, modes, switches, model, pressures, geometry)
     return _write_file(path, [run], title, single_blueprint(_span([run])), recording_id)
 
 
@@ -232,7 +232,7 @@ class ComparedRun:
 
 
 def write_comparison(path: str, runs: Sequence[ComparedRun], title: str = "", *, model: ShimmyModel | None = None,
-                     pressure=None, geometry: AxleGeometry | None = None,
+                     pressures=None, geometry: AxleGeometry | None = None,
                      recording_id: str | None = None) -> RecordingSummary:
     """Write several runs of one experiment (e.g. the reduced model and the MBS) into one recording, side by
     side: their 3D axles in views next to each other, each state of every run overlaid in one plot (one colour
@@ -242,7 +242,7 @@ def write_comparison(path: str, runs: Sequence[ComparedRun], title: str = "", *,
     keys = [r.trajectory.model for r in runs]
     if not runs or len(set(keys)) != len(keys):
         raise ValueError(f"write_comparison needs runs of different models, got {keys}")
-    prepared = [_prepare(r.trajectory, r.modes, r.switches, model, pressure, geometry, key=r.trajectory.model,
+    prepared = [_prepare(r.trajectory, r.modes, r.switches, model, pressures, geometry, key=r.trajectory.model,
                          title=r.title, colour=RUN_COLOURS[k % len(RUN_COLOURS)]) for k, r in enumerate(runs)]
     blueprint = comparison_blueprint([(r.key, r.title) for r in prepared], _span(prepared))
     return _write_file(path, prepared, title, blueprint, recording_id)

@@ -25,12 +25,12 @@ from comparisons.studies.cycle_peak import CyclePeak, continued_peak
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import ASSUMPTIONS, Fidelity
 from comparisons.studies.limit_cycle import VMAX
-from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
 from bifurcation.equilibria.hopf import HopfPoint, hopf_points
-from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import ShimmyParameters
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 ELEMENTS = frozenset(info.name for info in ASSUMPTIONS if info.element)
 
@@ -121,11 +121,11 @@ def study_fidelities() -> list[tuple[str, Fidelity]]:
     return rows
 
 
-def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float, *,
+def assumption_study(params: ShimmyParameters, effects: Effects, pressures: TyrePressures, *,
                      dims: AxleDimensions = DEFAULT_DIMENSIONS, vmax: float = VMAX, cycles: bool = True,
                      only: Sequence[str] | None = None,
                      progress: Callable[[int, int, str], None] | None = None) -> AssumptionStudy:
-    """The shifts table at one pressure (Pa, or (right, left)) over speeds up to ``vmax`` (m/s).
+    """The shifts table at the tyres' ``pressures`` over speeds up to ``vmax`` (m/s).
 
     ``cycles=False`` skips the continuation of cycles (peaks None).  ``only``: the names of the rows wanted (an
     element's row brings ``full`` with it, whose peak it needs).  ``progress(done, total, name)`` after each row
@@ -141,7 +141,7 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float
     total = len(fidelities) + (1 if cycles else 0)
     done = 0
     model = ShimmyModel(params, effects)
-    family = SpeedFamily(model, pressure=pressure)
+    family = family_of(model, pressures)
     q = family.nominal
     peak = None
     if cycles:
@@ -156,7 +156,7 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressure: float
     full_points = full_peak = None
     for name, fidelity in fidelities:
         start = time.perf_counter()
-        mbs_family = MbsFamily(MbsModel(params, effects, fidelity, dims), pressure=pressure)
+        mbs_family = family_of(MbsModel(params, effects, fidelity, dims), pressures)
         if cycles:
             mbs_peak, mbs_diagram = continued_peak(mbs_family, q, 0.0, vmax)
             mbs = mbs_diagram.hopf

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mbs_shimmy.linearisation import MbsFamily
-from mbs_shimmy.simulation import extended_states, simulate
+from mbs_shimmy.simulation import extended_states, integrate
 from reduced_model.trajectory import SpeedSchedule
 
 DURATION = 4.0          # s
@@ -49,7 +49,7 @@ def envelope_rate(family: MbsFamily, speed: float, duration: float = DURATION,
     w = left[:, int(np.argmin(np.abs(lam_left - lam[k])))]
     v = right[:, k] / np.max(np.abs(right[:, k]))
     m = family.model
-    traj = simulate(m.params, m.effects, m.fidelity, family.pressure, SpeedSchedule.constant(speed),
+    traj = integrate(m.params, m.effects, m.fidelity, family.pressures, SpeedSchedule.constant(speed),
                     AMPLITUDE * v.real, duration, dims=m.dims, poses=False)
     if not traj.complete:
         return EnvelopeRate(speed, float("nan"), float(lam[k].real), False)

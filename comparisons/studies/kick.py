@@ -213,9 +213,9 @@ def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplit
 
     if isinstance(family, MbsFamily):
         m = family.model
-        return lambda x0: mbs_steady_amplitude(m.params, m.effects, m.fidelity, family.pressure, speed, x0,
+        return lambda x0: mbs_steady_amplitude(m.params, m.effects, m.fidelity, family.pressures, speed, x0,
                                                dims=m.dims)
-    return lambda x0: reduced_steady_amplitude(family.model, family.pressure, speed, x0)
+    return lambda x0: reduced_steady_amplitude(family.model, family.pressures, speed, x0)
 
 
 def kicks(family, diagram, min_width: float = 0.0) -> list[KickThreshold]:

@@ -16,18 +16,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 import scipy.integrate
 
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
-from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP, extended_states, simulate
+from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP, extended_states, integrate
 from reduced_model.model import N_STATES, STATE_NAMES, Effects, ShimmyModel
 from reduced_model.modes import crossing_frequency
 from axles.parameters import ShimmyParameters
 from reduced_model.trajectory import SpeedSchedule
+from axles.pressures import TyrePressures
 
 SETTLE = 12.0            # s
 VMAX = 111.11111111111111   # m/s (400 km/h): the paper's speed window
@@ -83,14 +83,14 @@ def _amplitudes(t: np.ndarray, x: np.ndarray, end: float, window: float) -> tupl
     return a1, peak(x[last, PSI]), settled, crossing_frequency(t[last], x[last, TH1])
 
 
-def reduced_steady_amplitude(model: ShimmyModel, pressure: float | Sequence[float], speed: float,
+def reduced_steady_amplitude(model: ShimmyModel, pressures: TyrePressures, speed: float,
                              x0: np.ndarray | None = None, settle: float = SETTLE,
                              window: float = WINDOW) -> SteadyAmplitude:
     """Steady amplitude of the reduced model at constant ``speed`` (m/s), from ``x0`` (default theta1 = 0.01)."""
     x = _default_start() if x0 is None else np.asarray(x0, dtype=float)
     total = 0.0
     while True:
-        sol = scipy.integrate.solve_ivp(lambda t, y: model.rhs(y, speed, pressure), (0.0, settle), x,
+        sol = scipy.integrate.solve_ivp(lambda t, y: model.rhs(y, speed, pressures), (0.0, settle), x,
                                         method="DOP853", rtol=RTOL, atol=ATOL, dense_output=True)
         t = np.linspace(max(0.0, settle - 2 * window), settle, int(4000 * window) + 1)
         xs = sol.sol(t).T
@@ -102,7 +102,7 @@ def reduced_steady_amplitude(model: ShimmyModel, pressure: float | Sequence[floa
 
 
 def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: Fidelity,
-                         pressure: float | Sequence[float], speed: float, x0: np.ndarray | None = None,
+                         pressures: TyrePressures, speed: float, x0: np.ndarray | None = None,
                          settle: float = SETTLE, window: float = WINDOW,
                          dims: AxleDimensions = DEFAULT_DIMENSIONS, step: float = FAST_STEP,
                          method: str = FAST_METHOD) -> SteadyAmplitude:
@@ -112,7 +112,7 @@ def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: F
     x = _default_start() if x0 is None else np.asarray(x0, dtype=float)
     total = 0.0
     while True:
-        traj = simulate(params, effects, fidelity, pressure, SpeedSchedule.constant(speed), x, settle, dims=dims,
+        traj = integrate(params, effects, fidelity, pressures, SpeedSchedule.constant(speed), x, settle, dims=dims,
                         step=step, method=method, poses=False)
         if not traj.complete:
             return SteadyAmplitude(speed, math.nan, math.nan, False,

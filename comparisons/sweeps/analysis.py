@@ -25,6 +25,8 @@ import pyarrow as pa
 from axles.limits import UsageError
 from comparisons.sweeps.design import Design
 from comparisons.sweeps.sample import SweepTask
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 DEFAULT_OUTPUT = "onset_kmh"
 SWING_QUANTILES = (0.05, 0.95)
@@ -169,7 +171,6 @@ def _continuation_curves(task: SweepTask, name: str, lo: float, hi: float):
     from axles.axle import entry
     from axles.units import BAR, KMH
     from bifurcation.equilibria.hopf_curves import hopf_diagram
-    from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
     if name in ("pressure", "pressure_left", "pressure_right"):
         factor = BAR
@@ -178,8 +179,7 @@ def _continuation_curves(task: SweepTask, name: str, lo: float, hi: float):
     else:
         return None
     r, l = task.pressure_right_bar * BAR, task.pressure_left_bar * BAR
-    family = SpeedFamily(ShimmyModel(task.axle.params, Effects.parse(task.effects)), name,
-                         pressure=r if r == l else (r, l))
+    family = family_of(ShimmyModel(task.axle.params, Effects.parse(task.effects)), TyrePressures(r, l), name)
     diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, task.vmax_kmh * KMH)
     return [(c.qs / factor, c.ps / KMH) for c in diagram.curves]
 

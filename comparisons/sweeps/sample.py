@@ -19,10 +19,12 @@ import numpy as np
 import pyarrow as pa
 
 from comparisons.assumption_shifts import mbs_kmh, shift_kmh
-from axles.axle import Axle, entry, interface_text
+from axles.axle import AxleData, entry, interface_text
 from axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
 from reduced_model.modes import ModeClassifier
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 COMPUTE = ("hopf", "margins", "assumptions", "cycles")
 # margins: the least damping ratio of straight running on this many even speeds from 0.5 km/h to vmax (default)
@@ -56,7 +58,7 @@ def _column_safe(text: str) -> str:
 class SweepTask:
     """What every sample shares (SI inside the axle; pressures in bar, speeds in km/h as at the interface)."""
 
-    axle: Axle
+    axle: AxleData
     effects: tuple[str, ...]
     pressure_right_bar: float
     pressure_left_bar: float
@@ -137,7 +139,7 @@ class SweepTask:
         return pa.schema(fields)
 
     # --- one sample ---------------------------------------------------------------------------------------
-    def sample_inputs(self, values: np.ndarray) -> tuple[Axle, float, float]:
+    def sample_inputs(self, values: np.ndarray) -> tuple[AxleData, float, float]:
         """(axle, right bar, left bar) of one sample; :class:`ParameterError` for a meaningless value."""
         from axles.parameters import ParameterError
         right, left = self.pressure_right_bar, self.pressure_left_bar
@@ -162,15 +164,14 @@ class SweepTask:
     def evaluate(self, values: np.ndarray) -> dict:
         """The output columns of one sample (raises on failure)."""
         from bifurcation.equilibria.hopf import hopf_points
-        from reduced_model.family import SpeedFamily
         from reduced_model.model import ShimmyModel
         axle, right, left = self.sample_inputs(values)
-        pressure = right * BAR if right == left else (right * BAR, left * BAR)
+        pressures = TyrePressures(right * BAR, left * BAR)
         effects = Effects.parse(self.effects)
         model = ShimmyModel(params=axle.params, effects=effects)
         vmax = self.vmax_kmh * KMH
         row: dict = {"pressure_right_bar": right, "pressure_left_bar": left}
-        family = SpeedFamily(model, pressure=pressure)
+        family = family_of(model, pressures)
         mbs_families = {}
         if "hopf" in self.compute:
             points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
@@ -180,10 +181,10 @@ class SweepTask:
             row["unstable_from_kmh"], row["unstable_to_kmh"] = _unstable_intervals(family, points, vmax)
         if self.mbs and ("hopf" in self.compute or self.mbs_cycles):
             from mbs_shimmy.fidelity import Fidelity
-            from mbs_shimmy.linearisation import MbsFamily
+            from mbs_shimmy.model import MbsModel
             for f in self.mbs:
                 c = f"mbs_{_column_safe(f)}_"
-                mf = MbsFamily.of(axle.params, effects, Fidelity.parse(f), dims=axle.dims, pressure=pressure)
+                mf = family_of(MbsModel(axle.params, effects, Fidelity.parse(f), axle.dims), pressures)
                 mbs_families[f] = mf
                 if self.mbs_cycles:
                     # the branches start at the diagram's own Hopf points (l1 included): those are the columns
@@ -214,7 +215,7 @@ class SweepTask:
                 row.update(_margin_columns(f"mbs_{_column_safe(f)}_", mf, speeds))
         if "assumptions" in self.compute:
             from comparisons.studies.assumption_study import assumption_study
-            study = assumption_study(axle.params, effects, pressure, dims=axle.dims, vmax=vmax, cycles=False)
+            study = assumption_study(axle.params, effects, pressures, dims=axle.dims, vmax=vmax, cycles=False)
             for r in study.rows:
                 row[f"shift_{r.assumption}_kmh"] = [shift_kmh(h) for h in r.hopf if h.reduced_speed is not None]
                 row[f"only_{r.assumption}_kmh"] = [mbs_kmh(h) for h in r.hopf if h.reduced_speed is None]

@@ -7,13 +7,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
-from axles.axle import Axle
+from axles.axle import AxleData
 from comparisons.verify.background import Background
 from comparisons.verify.plan import VMAX, Plan
 from comparisons.verify.report import CheckStatus
 from bifurcation.equilibria.hopf import hopf_points
-from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
+from comparisons.api import family_of
 
 MODEL_SETS = (("section 3", Effects()), ("extended (all effects)", Effects.parse("all")))
 HOPF_TOL_KMH = 0.01          # MBS (reduced fidelity) against the reduced model
@@ -25,7 +25,7 @@ EIGEN_SPEEDS_KMH = (20.0, 60.0, 150.0, 300.0)
 class Context:
     out: str
     quick: bool
-    axle: Axle = field(default_factory=Axle)
+    axle: AxleData = field(default_factory=AxleData)
     plan: Plan | None = None
     recordings: bool = True
     progress: Callable[[str], None] = field(default=lambda message: None, compare=False)
@@ -54,7 +54,7 @@ def shimmy_cases(ctx: Context):
     model = ShimmyModel(params=ctx.axle.params)
     out = []
     for c in ctx.plan.cases:
-        family = SpeedFamily(model, pressure=c.pressure)
+        family = family_of(model, c.pressures)
         if hopf_points(family, family.nominal, 0.0, VMAX, lyapunov=False):
             out.append(c)
     return out

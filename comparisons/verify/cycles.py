@@ -21,8 +21,9 @@ from comparisons.verify.context import Context, agrees_to_printed_digits, shimmy
 from comparisons.verify.jump_experiments import JumpSetup
 from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row, Section
-from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 AMPLITUDE_TOL = 0.005        # relative, MBS steady amplitude against the continuation branch
 
@@ -72,7 +73,7 @@ def cycles_section(ctx: Context) -> Section:
     diagrams = []
     for case in shimmy_cases(ctx):
         ctx.progress(f"Limit cycles: continuation at {case.label}")
-        family = SpeedFamily(model, pressure=case.pressure)
+        family = family_of(model, case.pressures)
         diagrams.append((case, family, cycle_diagram(family, family.nominal, 0.0, VMAX)))
     # MBS runs are the cost: a budget over all stable branches keeps verify's time bounded for any plan.
     stable_branches = sum(any(p.stable for p in b.points) for _, _, d in diagrams for b in d.branches)
@@ -94,9 +95,9 @@ def cycles_section(ctx: Context) -> Section:
                                 f"continuation stopped: {interface_text(branch.message)}"))
             for point in sample_stable(branch, per_branch):
                 ctx.progress(f"Limit cycles: MBS runs at {case.label}, {kmh(point.p):.1f} km/h")
-                check = cycle_amplitude_check(model, point, case.pressure, ctx.axle.dims, settle)
+                check = cycle_amplitude_check(model, point, case.pressures, ctx.axle.dims, settle)
                 full_run = mbs_steady_amplitude(model.params, model.effects, Fidelity.parse("full"),
-                                                case.pressure, point.p, point.orbit.nodes[0], settle=settle,
+                                                case.pressures, point.p, point.orbit.nodes[0], settle=settle,
                                                 dims=ctx.axle.dims)
                 full = full_run.theta1
                 overlay["reduced"].append((point.p, check.mbs.theta1, check.mbs.psi))
@@ -135,7 +136,7 @@ def _record(ctx: Context, name: str, trajectory, history, title: str, case: Bist
     from comparisons.recordings.writer import write_recording
     path = os.path.join(ctx.out, name)
     write_recording(path, trajectory, history.segments(), history.switches, title=title,
-                    model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * BAR)
+                    model=ShimmyModel(params=case.axle.params), pressures=TyrePressures.uniform(case.pressure_bar * BAR))
     return name
 
 
@@ -145,7 +146,7 @@ def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase) 
         return []
     from comparisons.recordings.writer import ComparedRun, write_comparison
     write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches) for t, h in both],
-                     title, model=ShimmyModel(params=case.axle.params), pressure=case.pressure_bar * BAR)
+                     title, model=ShimmyModel(params=case.axle.params), pressures=TyrePressures.uniform(case.pressure_bar * BAR))
     return [name]
 
 
@@ -172,7 +173,7 @@ def _kick_rows(ctx: Context, setup: JumpSetup) -> list[Row]:
     from comparisons.verify.kick_rows import kick_verdict
     from comparisons.studies.kick import kicks
     ctx.progress("Bistable jumps: kick threshold of the reduced model (tens of runs)")
-    family = SpeedFamily(ShimmyModel(params=setup.case.axle.params), pressure=setup.diagram.q)
+    family = family_of(ShimmyModel(params=setup.case.axle.params), TyrePressures.uniform(setup.diagram.q))
     rows = []
     for kick in kicks(family, setup.diagram):
         cells, status, text = kick_verdict(kick, "reduced model")

@@ -21,6 +21,7 @@ import math
 import numpy as np
 import pytest
 
+from axles.pressures import TyrePressures
 from axles.units import BAR, KMH, kmh
 from comparisons.verify.context import EIGEN_SPEEDS_KMH, EIGEN_TOL, HOPF_TOL_KMH
 from comparisons.verify.cycles import AMPLITUDE_TOL, cycle_amplitude_check, sample_stable
@@ -57,14 +58,15 @@ def quick(request):
     return is_quick(request.config, request.module)
 
 
-def pressure_cases(axle, quick: bool) -> list[tuple[str, float | tuple[float, float]]]:
-    """(id, Pa or (right, left) Pa): the window's ends and middle, and an asymmetric pair; quick: lowest and
+def pressure_cases(axle, quick: bool) -> list[tuple[str, TyrePressures]]:
+    """(id, tyre pressures): the window's ends and middle, and an asymmetric pair; quick: lowest and
     asymmetric (the low end has the most shimmy for the paper's truck)."""
     lo, hi = axle.pressure_range_bar
     mid = 0.5 * (lo + hi)
     left = max(lo, 0.8 * mid)
-    cases = [(f"{lo:g}bar", lo * BAR), (f"{mid:g}bar", mid * BAR), (f"{hi:g}bar", hi * BAR),
-             (f"R{mid:g}-L{left:g}bar", (mid * BAR, left * BAR))]
+    cases = [(f"{lo:g}bar", TyrePressures.uniform(lo * BAR)), (f"{mid:g}bar", TyrePressures.uniform(mid * BAR)),
+             (f"{hi:g}bar", TyrePressures.uniform(hi * BAR)),
+             (f"R{mid:g}-L{left:g}bar", TyrePressures(mid * BAR, left * BAR))]
     return [cases[0], cases[-1]] if quick else cases
 
 
@@ -75,23 +77,17 @@ def pytest_generate_tests(metafunc):
         metafunc.parametrize("pressure", [p for _, p in cases], ids=[i for i, _ in cases])
 
 
-def label(pressure) -> str:
-    if isinstance(pressure, tuple):
-        return f"right {pressure[0] / BAR:g} / left {pressure[1] / BAR:g} bar"
-    return f"{pressure / BAR:g} bar"
+def label(pressures: TyrePressures) -> str:
+    return str(pressures)
 
 
-def families(axle, pressure, effects=None):
-    """(reduced model's family, MBS family at reduced fidelity) at one pressure."""
-    from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily
-    from mbs_shimmy.model import MbsModel
-    from reduced_model.family import SpeedFamily
-    from reduced_model.model import Effects, ShimmyModel
+def families(axle, pressures, effects=None):
+    """(reduced model's family, MBS family at reduced fidelity) at the tyres' ``pressures``."""
+    from comparisons.api import Axle
+    from reduced_model.model import Effects
     effects = effects or Effects()
-    red = SpeedFamily(ShimmyModel(axle.params, effects), pressure=pressure)
-    mbs = MbsFamily(MbsModel(axle.params, effects, Fidelity.reduced(), axle.dims), pressure=pressure)
-    return red, mbs
+    return (Axle(axle).reduced(effects).problem(pressures),
+            Axle(axle).mbs(fidelity="reduced", effects=effects).problem(pressures))
 
 
 def eigenvalues(A: np.ndarray) -> np.ndarray:

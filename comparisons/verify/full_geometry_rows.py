@@ -11,7 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from axles.axle import Axle, interface_text
+from axles.axle import AxleData, interface_text
+from axles.pressures import TyrePressures
 from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.orbit_checks import (
@@ -25,7 +26,6 @@ from comparisons.verify.report import CheckStatus, Row
 from comparisons.studies.limit_cycle import SETTLE
 from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
-from reduced_model.model import ShimmyModel
 
 QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: comparisons.studies.growth.DURATION)
 HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two Hopf points are closer)
@@ -44,33 +44,31 @@ class Where:
     """One case of the section: an axle at tyre pressure(s), with its label in the report."""
 
     label: str
-    axle: Axle
-    pressure: float | tuple[float, float]    # Pa
+    axle: AxleData
+    pressures: TyrePressures
     pressure_bar: float | None               # both tyres alike: the pressure in bar (the ramps need it)
     speeds: tuple[float, float] = (0.0, VMAX)   # m/s: the window the branches are continued in
 
     @classmethod
-    def of_case(cls, axle: Axle, case) -> "Where":
+    def of_case(cls, axle: AxleData, case) -> "Where":
         alike = case.pressure_right_bar == case.pressure_left_bar
-        return cls(case.label, axle, case.pressure, case.pressure_right_bar if alike else None)
+        return cls(case.label, axle, case.pressures, case.pressure_right_bar if alike else None)
 
     @classmethod
     def of_bistable(cls, case: BistableCase) -> "Where":
         changed = ", ".join(f"{k} = {v:g}" for k, v in case.axle.overrides)
         return cls(f"{case.pressure_bar:g} bar" + (f", {changed}" if changed else ""), case.axle,
-                   case.pressure_bar * BAR, case.pressure_bar)
+                   TyrePressures.uniform(case.pressure_bar * BAR), case.pressure_bar)
 
     @property
     def family(self):
-        from mbs_shimmy.fidelity import Fidelity
-        from mbs_shimmy.linearisation import MbsFamily
-        model = ShimmyModel(params=self.axle.params)
-        return MbsFamily.of(model.params, model.effects, Fidelity.full(), dims=self.axle.dims,
-                            pressure=self.pressure)
+        from comparisons.api import Axle
+        return Axle(self.axle).mbs(fidelity="full").problem(self.pressures)
 
     @property
     def reduced_family(self) -> SpeedFamily:
-        return SpeedFamily(ShimmyModel(params=self.axle.params), pressure=self.pressure)
+        from comparisons.api import Axle
+        return Axle(self.axle).reduced().problem(self.pressures)
 
 
 def _finite(x: float) -> float | None:

@@ -16,8 +16,9 @@ from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
 from comparisons.verify.plan import VMAX, BistableCase
 from bifurcation.special_points import PointKind
-from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 START_S = {True: 20.0, False: 40.0}       # s of each two-start run, quick mode or not
 RAMP_KMH_S = {True: 2.0, False: 1.0}      # km/h per s of the ramps, quick mode or not
@@ -28,7 +29,7 @@ def bistable_diagram(case: BistableCase):
     from bifurcation.cycles.branches import cycle_diagram
     if case.value_diagram is not None:
         return case.value_diagram
-    family = SpeedFamily(ShimmyModel(params=case.axle.params))
+    family = family_of(ShimmyModel(params=case.axle.params), TyrePressures.uniform(case.pressure_bar * BAR))
     return cycle_diagram(family, case.pressure_bar * BAR, 0.0, VMAX)
 
 
@@ -91,12 +92,13 @@ def classifier_for(cycles):
 def run_both(case: BistableCase, schedule, x0, duration: float, fidelity=None):
     """(reduced trajectory, MBS trajectory at ``fidelity``, default every assumption on)."""
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.simulation import simulate as simulate_mbs
-    from reduced_model.simulation import simulate
+    from mbs_shimmy.simulation import integrate as integrate_mbs
+    from reduced_model.simulation import integrate
     model = ShimmyModel(params=case.axle.params)
-    reduced = simulate(model, case.pressure_bar * BAR, schedule, duration, x0)
-    multibody = simulate_mbs(model.params, model.effects, fidelity or Fidelity.reduced(), case.pressure_bar * BAR,
-                             schedule, x0, duration, dims=case.axle.dims, poses=True)
+    pressures = TyrePressures.uniform(case.pressure_bar * BAR)
+    reduced = integrate(model, pressures, schedule, duration, x0)
+    multibody = integrate_mbs(model.params, model.effects, fidelity or Fidelity.reduced(), pressures,
+                              schedule, x0, duration, dims=case.axle.dims, poses=True)
     return reduced, multibody
 
 

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from axles.pressures import TyrePressures
 from axles.units import BAR, kmh
 from comparisons.margins import MarginPoint
 from comparisons.verify.context import Context
@@ -148,7 +149,7 @@ def margins_section(ctx: Context) -> Section:
     nodes = ZERO_NODES_QUICK if ctx.quick else ZERO_NODES
     for key in ("reduced", "mbs_full"):
         title, model = models[key]
-        family = model.problem(model.axle.data.pressure_range_bar[0] * BAR, "pressure")
+        family = model.problem(TyrePressures.uniform(model.axle.data.pressure_range_bar[0] * BAR), "pressure")
         found = []
         for bar in check_pressures(ctx):
             ctx.progress(f"Stability margins: zero level at {bar:g} bar, {title}")

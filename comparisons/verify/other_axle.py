@@ -87,7 +87,7 @@ def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxl
     reduced_kicks = kicks(reduced, reduced_diagram)
     found_recordings, figures, full = [], [], []
     for a, b in windows:
-        ctx_where = Where(f"{where.label}, {kmh(a):.2f}-{kmh(b):.2f} km/h", case.axle, where.pressure,
+        ctx_where = Where(f"{where.label}, {kmh(a):.2f}-{kmh(b):.2f} km/h", case.axle, where.pressures,
                           where.pressure_bar, (a, b))
         rows.append(Row({"case": ctx_where.label, "what": "cycle branches"}, CheckStatus.INFO,
                         f"continued from the subcritical Hopf point over its stable side only, at collocation "

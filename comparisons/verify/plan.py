@@ -33,7 +33,7 @@ from typing import Callable
 
 import numpy as np
 
-from axles.axle import Axle
+from axles.axle import AxleData
 from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.scan import (
     TRAMP_SHARE,
@@ -42,12 +42,13 @@ from comparisons.verify.scan import (
     Model,
     ModelScan,
     Window,
-    family_of,
     scan_model,
     tramp_share,
     unstable_windows,
 )
 from reduced_model.family import MIN_SPEED, SpeedFamily
+from axles.pressures import TyrePressures
+from comparisons.verify.scan import scan_family
 
 __all__ = ["TRAMP_SHARE", "VMAX", "Window", "tramp_share", "unstable_windows", "CaseKind", "Case", "BistableCase",
            "Plan", "paper_plan", "axle_plan", "stable_segments", "bistable_windows"]
@@ -78,10 +79,8 @@ class Case:
     windows: tuple[tuple[Model, tuple[Window, ...]], ...] = ()   # each model's unstable windows here
 
     @property
-    def pressure(self) -> float | tuple[float, float]:
-        """Pa, one value when both tyres are alike."""
-        r, l = self.pressure_right_bar * BAR, self.pressure_left_bar * BAR
-        return r if r == l else (r, l)
+    def pressures(self) -> TyrePressures:
+        return TyrePressures(self.pressure_right_bar * BAR, self.pressure_left_bar * BAR)
 
     @property
     def symmetric(self) -> bool:
@@ -111,7 +110,7 @@ class Case:
 class BistableCase:
     """A speed window [low, high] (km/h) where two stable cycles coexist, at one pressure of one axle."""
 
-    axle: Axle
+    axle: AxleData
     pressure_bar: float
     low_kmh: float
     high_kmh: float
@@ -141,11 +140,11 @@ class Plan:
 
 # --- what the cases share -----------------------------------------------------------------------------------
 
-def case_windows(axle: Axle, case: Case, models=BOTH, vmax: float = VMAX) -> Case:
+def case_windows(axle: AxleData, case: Case, models=BOTH, vmax: float = VMAX) -> Case:
     """``case`` with each model's unstable windows at its pressures and, in its reason, which model shimmies."""
     found = []
     for model in models:
-        family = family_of(axle, model, pressure=case.pressure)
+        family = scan_family(axle, model, pressures=case.pressures)
         windows, _ = unstable_windows(family, family.nominal, vmax, lyapunov=False)
         found.append((model, tuple(windows)))
     case = dataclasses.replace(case, windows=tuple(found))
@@ -174,7 +173,7 @@ def _add(cases: list[Case], case: Case) -> None:
         cases[cases.index(same)] = dataclasses.replace(same, reason=same.reason + "; " + case.reason)
 
 
-def scans_of(axle: Axle, quick: bool, models=BOTH, vmax: float = VMAX, progress=None) -> tuple[ModelScan, ...]:
+def scans_of(axle: AxleData, quick: bool, models=BOTH, vmax: float = VMAX, progress=None) -> tuple[ModelScan, ...]:
     """Both models over the axle's pressure window: 7 grid pressures with ``quick``, 13 without; the full
     geometry's Hopf curves only without ``quick`` (its boundary then comes from the growth rate's root)."""
     lo, hi = axle.pressure_range_bar
@@ -183,7 +182,7 @@ def scans_of(axle: Axle, quick: bool, models=BOTH, vmax: float = VMAX, progress=
                             n_seeds=5 if quick or m is Model.FULL else 9, progress=progress) for m in models)
 
 
-def one_model_cases(axle: Axle, scans: tuple[ModelScan, ...], cases: list[Case], vmax: float = VMAX) -> list[Case]:
+def one_model_cases(axle: AxleData, scans: tuple[ModelScan, ...], cases: list[Case], vmax: float = VMAX) -> list[Case]:
     """Rule 3: for each model, the grid pressure where only it shimmies (its windows widest there), unless a case
     already shows that."""
     if len(scans) < 2:
@@ -207,7 +206,7 @@ def one_model_cases(axle: Axle, scans: tuple[ModelScan, ...], cases: list[Case],
 
 # --- the paper's plan ---------------------------------------------------------------------------------------
 
-def paper_plan(axle: Axle, asymmetric: tuple[float, float] | None = None, quick: bool = True, models=BOTH,
+def paper_plan(axle: AxleData, asymmetric: tuple[float, float] | None = None, quick: bool = True, models=BOTH,
                progress: Callable[[str], None] | None = None) -> Plan:
     """The cases the paper prints numbers for: section 3 at 1.5, 2.5 and 2.7 bar, figures 9a-11 at t0 = 0.25 m;
     both models scanned over the window for the verdict, with rule 3 of the module docstring on top."""
@@ -296,7 +295,7 @@ def _boundary_cases(scan: ModelScan, cases: list[Case], notes: list[str]) -> Non
                          f"curves)")
 
 
-def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = None,
+def axle_plan(axle: AxleData, quick: bool, asymmetric: tuple[float, float] | None = None,
               vmax: float = VMAX, progress=None, models=BOTH) -> Plan:
     """The cases to verify for any axle (see the module docstring for the rules)."""
     from bifurcation.cycles.branches import cycle_diagram
@@ -324,7 +323,7 @@ def axle_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None = 
 
     # Bistable windows where cycles can coexist (the reduced model: the jumps compare it with the MBS).
     # Subcritical points first (cycle folds bound a bistable window), then overlapping modes (tori).
-    family = family_of(axle, Model.REDUCED)
+    family = scan_family(axle, Model.REDUCED)
     scored = []
     for g in reduced.grid:
         if not g.windows:

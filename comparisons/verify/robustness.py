@@ -1,6 +1,6 @@
 """How far the full-geometry verdicts hold over the plausible range of every dimension nobody measured.
 
-Each multibody entry of the axle with a plausible range (:meth:`axles.axle.Axle.plausible_range`; new
+Each multibody entry of the axle with a plausible range (:meth:`axles.axle.AxleData.plausible_range`; new
 geometry entries join automatically through :func:`axles.axle.entries`) is sampled uniformly on that range
 (scrambled Sobol' sequence, the same axles at every pressure), and for each sample the MBS Hopf points are
 computed with every assumption on (``reduced``) and off (``full``) by ``shimmy sweep`` on Dask.  Check: with every
@@ -20,12 +20,13 @@ from dataclasses import dataclass
 import numpy as np
 import pyarrow as pa
 
-from axles.axle import Axle, entries
+from axles.axle import AxleData, entries
 from comparisons.sweeps.design import Design, Variation, make_design
 from comparisons.sweeps.sample import SweepTask
 from comparisons.verify.context import HOPF_TOL_KMH, Context, shimmy_cases
 from comparisons.verify.plan import CaseKind
 from comparisons.verify.report import CheckStatus, Row, Section
+from axles.pressures import TyrePressures
 
 SAMPLES_FULL = 256
 SAMPLES_QUICK = 32
@@ -37,7 +38,7 @@ QUANTILES = (0.05, 0.5, 0.95)
 FIGURE = "robustness.png"
 
 
-def plausible_variations(axle: Axle) -> list[Variation]:
+def plausible_variations(axle: AxleData) -> list[Variation]:
     """A uniform input over each multibody entry's plausible range (interface units)."""
     out = []
     for name, e in entries().items():
@@ -50,7 +51,7 @@ def plausible_variations(axle: Axle) -> list[Variation]:
     return out
 
 
-def robustness_pressures(axle: Axle) -> tuple[tuple[float, float], ...]:
+def robustness_pressures(axle: AxleData) -> tuple[tuple[float, float], ...]:
     """(right, left) bar: the paper's two operating pressures for its axle; else the thirds of the axle's pressure
     range (``shimmy verify`` passes the cases of its plan instead)."""
     if axle.is_paper:
@@ -161,19 +162,17 @@ def onset_kind(l1: float | None, has_hopf: bool) -> str:
     return "soft" if l1 < 0.0 else "hard"
 
 
-def reduced_onset_l1(axle: Axle, right: float, left: float) -> float | None:
+def reduced_onset_l1(axle: AxleData, right: float, left: float) -> float | None:
     """l1 of the reduced model's lowest Hopf point in 0-400 km/h (the same in every plausible axle)."""
     from axles.units import BAR, KMH
     from bifurcation.equilibria.hopf import hopf_points
-    from reduced_model.family import SpeedFamily
-    from reduced_model.model import ShimmyModel
-    family = SpeedFamily(ShimmyModel(params=axle.params), pressure=right * BAR if right == left else
-                         (right * BAR, left * BAR))
+    from comparisons.api import Axle
+    family = Axle(axle).reduced().problem(TyrePressures(right * BAR, left * BAR))
     points = hopf_points(family, family.nominal, 0.0, 400.0 * KMH)
     return points[0].first_lyapunov if points else None
 
 
-def run_robustness(axle: Axle, out_dir: str, samples: int, *,
+def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
                    pressures: tuple[tuple[float, float], ...] | None = None, seed: int = SEED,
                    margin_speeds: int = MARGIN_SPEEDS_FULL,
                    scheduler: str | None = None, workers: int | None = None, processes: bool = True,

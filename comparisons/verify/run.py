@@ -7,7 +7,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
-from axles.axle import Axle, interface_text
+from axles.axle import AxleData, interface_text
 from comparisons.verify.background import Background
 from comparisons.verify.context import Context
 from comparisons.verify.jump_experiments import start_jump_runs
@@ -41,7 +41,7 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     return steps
 
 
-def make_plan(axle: Axle, quick: bool, asymmetric: tuple[float, float] | None, from_file: bool,
+def make_plan(axle: AxleData, quick: bool, asymmetric: tuple[float, float] | None, from_file: bool,
               progress: Callable[[str], None], models=BOTH) -> Plan:
     """The paper's cases for the paper's truck (no axle file), a plan of its own otherwise; ``models``: which
     models are scanned (the reduced model alone where only its cases are needed)."""
@@ -75,7 +75,7 @@ def run_sections(ctx: Context, announce: Callable[[list[str]], None] | None = No
     return sections
 
 
-def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric: tuple[float, float] | None = None,
+def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymmetric: tuple[float, float] | None = None,
                      from_file: bool = False, recordings: bool = True,
                      progress: Callable[[str], None] | None = None,
                      announce: Callable[[list[str]], None] | None = None) -> Report:
@@ -85,7 +85,7 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
     with the sections' titles once the plan is made (a progress bar's total)."""
     from comparisons.verify.verdict import verdict_of
     progress = progress or (lambda message: None)
-    axle = axle or Axle()
+    axle = axle or AxleData()
     plan = make_plan(axle, quick, asymmetric, from_file, progress)
     verdict = verdict_of(plan)
     with Background() as background:   # jobs that overlap the sections on a second core

@@ -27,9 +27,10 @@ import numpy as np
 
 from axles.units import BAR, from_kmh, kmh
 from bifurcation.equilibria.hopf import hopf_points
-from reduced_model.family import MIN_SPEED, SpeedFamily
-from reduced_model.model import STATE_NAMES, ShimmyModel
+from reduced_model.family import MIN_SPEED
+from reduced_model.model import STATE_NAMES
 from reduced_model.modes import ModeClassifier
+from axles.pressures import TyrePressures
 
 VMAX = from_kmh(400)
 # |psi| / max|theta| of the critical eigenvector above which a window is the tramp mode: the split the simulation's
@@ -116,16 +117,12 @@ def peak_growth_rate(family, q: float, vmax: float = VMAX) -> float:
     return max(values[k], -float(best.fun))
 
 
-def family_of(axle, model: Model, param: str = "pressure", pressure=None):
-    """The toolkit family of one model of ``axle`` over ``param`` (section 3 model, no pressure effects)."""
-    if model is Model.REDUCED:
-        reduced = ShimmyModel(params=axle.params)
-        return SpeedFamily(reduced, param) if pressure is None else SpeedFamily(reduced, param, pressure=pressure)
-    from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily
-    from reduced_model.model import Effects
-    return MbsFamily.of(axle.params, Effects(), Fidelity.full(), dims=axle.dims, param=param,
-                        pressure=2.5e5 if pressure is None else pressure)
+def scan_family(axle, model: Model, param: str = "pressure", pressures: TyrePressures | None = None):
+    """The toolkit family of one model of ``axle`` over ``param`` (section 3 model, no pressure effects; the
+    MBS at full fidelity) at ``pressures`` (default 2.5 bar)."""
+    from comparisons.api import Axle
+    chosen = Axle(axle).reduced() if model is Model.REDUCED else Axle(axle).mbs(fidelity="full")
+    return chosen.problem(pressures or TyrePressures.uniform(2.5e5), param)
 
 
 class BoundaryKind(enum.Enum):
@@ -200,7 +197,7 @@ def scan_model(axle, model: Model, grid, vmax: float = VMAX, curves: bool = True
     from bifurcation.special_points import PointKind
     say = progress or (lambda message: None)
     start = time.perf_counter()
-    family = family_of(axle, model)
+    family = scan_family(axle, model)
     lo, hi = float(grid[0]), float(grid[-1])
     # The Lyapunov coefficients feed the reduced model's bistability search only; the MBS's cost Exudyn calls.
     lyapunov = model is Model.REDUCED

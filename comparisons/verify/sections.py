@@ -29,8 +29,9 @@ from comparisons.verify.context import (
 from comparisons.verify.plan import VMAX, CaseKind
 from comparisons.verify.report import CheckStatus, Row, Section
 from bifurcation.equilibria.hopf import hopf_points
-from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
+from axles.pressures import TyrePressures
+from comparisons.api import family_of
 
 # --- the plan -------------------------------------------------------------------------------------------------
 
@@ -67,7 +68,7 @@ def paper_section(ctx: Context) -> Section:
     """Section 3 Hopf speeds printed in the paper against the reduced model (figure 9a's points are checked with
     the bistable jumps, where their continuation is made)."""
     rows = []
-    family = SpeedFamily(ShimmyModel(params=ctx.axle.params))
+    family = family_of(ShimmyModel(params=ctx.axle.params), TyrePressures.uniform(2.5e5))
     for p, printed in HOPF_SPEEDS_KMH.items():
         computed = hopf_points(family, p * BAR, 0.0, VMAX)
         if not printed:
@@ -92,11 +93,11 @@ def paper_section(ctx: Context) -> Section:
 
 # --- Hopf speeds and eigenvalues ------------------------------------------------------------------------------
 
-def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
+def _eigen_check(model: ShimmyModel, fidelity, pressures, dims) -> float:
     """Largest relative difference of the MBS's eigenvalues from the reduced model's at a few speeds."""
-    from mbs_shimmy.linearisation import MbsFamily
-    family = MbsFamily.of(model.params, model.effects, fidelity, dims=dims, pressure=pressure)
-    reduced = SpeedFamily(model, pressure=pressure)
+    from mbs_shimmy.model import MbsModel
+    family = family_of(MbsModel(model.params, model.effects, fidelity, dims), pressures)
+    reduced = family_of(model, pressures)
     worst_rel = 0.0
     for v in EIGEN_SPEEDS_KMH:
         a = np.sort_complex(np.linalg.eigvals(reduced.linear_matrix(from_kmh(v), reduced.nominal)))
@@ -108,7 +109,7 @@ def _eigen_check(model: ShimmyModel, fidelity, pressure, dims) -> float:
 def hopf_section(ctx: Context) -> Section:
     from comparisons.studies.assumption_study import match_hopf
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsFamily
+    from mbs_shimmy.model import MbsModel
     rows = []
     dims = ctx.axle.dims
     speeds = {}     # figure: model set -> source -> [(pressure bar, km/h)] at the symmetric cases
@@ -116,15 +117,14 @@ def hopf_section(ctx: Context) -> Section:
         model = ShimmyModel(params=ctx.axle.params, effects=effects)
         for case in ctx.plan.cases:
             ctx.progress(f"Hopf speeds: {label} model, {case.label}")
-            family = SpeedFamily(model, pressure=case.pressure)
+            family = family_of(model, case.pressures)
             reduced = hopf_points(family, family.nominal, 0.0, VMAX)
             by_fidelity = {}
             for name in ("reduced", "full"):
-                mfam = MbsFamily.of(model.params, effects, Fidelity.parse(name), dims=dims,
-                                    pressure=case.pressure)
+                mfam = family_of(MbsModel(model.params, effects, Fidelity.parse(name), dims), case.pressures)
                 by_fidelity[name] = match_hopf(reduced, hopf_points(mfam, mfam.nominal, 0.0, VMAX,
                                                                     lyapunov=False))
-            rel = _eigen_check(model, Fidelity.reduced(), case.pressure, dims)
+            rel = _eigen_check(model, Fidelity.reduced(), case.pressures, dims)
             eig_ok = rel <= EIGEN_TOL
             base = {"model": label, "case": case.label}
             rows.append(Row({**base, "point": "eigenvalues", "relative_diff": rel},
@@ -207,7 +207,7 @@ def assumptions_section(ctx: Context) -> Section:
         ctx.progress(f"Assumptions at {case.label}")
         # The peaks need every row's branches continued (5-30 s a row, minutes a case): verify keeps to the Hopf
         # shifts and points to the command that continues them.
-        study = assumption_study(model.params, model.effects, case.pressure, dims=ctx.axle.dims, cycles=False)
+        study = assumption_study(model.params, model.effects, case.pressures, dims=ctx.axle.dims, cycles=False)
         for r in study.rows:
             hopf = [shifts.shift_kmh(h) for h in r.hopf]
             text = ", ".join("-" if v is None else f"{v:+.2f}" for v in hopf)
@@ -253,7 +253,7 @@ def transient_section(ctx: Context) -> Section:
     for case in transient_cases(ctx):
         for v in speeds:
             ctx.progress(f"Transient: both models at {case.label}, {v:g} km/h")
-            check = transient_check(ctx.axle, case.pressure, v, duration)
+            check = transient_check(ctx.axle, case.pressures, v, duration)
             motion = (f"the kick {'decays' if check.decays else 'does not decay'} in both models "
                       f"(|angles| at {duration:g} s / at the start: reduced {check.decay_reduced:.3g}, "
                       f"MBS {check.decay_mbs:.3g})" if check.complete else f"MBS run stopped: {check.message}")

@@ -39,23 +39,23 @@ class TransientCheck:
         return self.decay_reduced < 1.0 and self.decay_mbs < 1.0
 
 
-def transient_check(axle, pressure, speed_kmh: float, duration: float) -> TransientCheck:
+def transient_check(axle, pressures, speed_kmh: float, duration: float) -> TransientCheck:
     """Both models from a yaw kick of wheel 1 at ``speed_kmh`` for ``duration`` s, compared."""
     from scipy.integrate import solve_ivp
 
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.simulation import simulate
+    from mbs_shimmy.simulation import integrate
     from reduced_model.model import STATE_NAMES, Effects, ShimmyModel
     from reduced_model.trajectory import SpeedSchedule
     model = ShimmyModel(axle.params)
     x0 = np.zeros(len(STATE_NAMES))
     x0[STATE_NAMES.index("theta1")] = KICK_RAD
     V = from_kmh(speed_kmh)
-    traj = simulate(axle.params, Effects(), Fidelity.reduced(), pressure, SpeedSchedule.constant(V), x0, duration,
+    traj = integrate(axle.params, Effects(), Fidelity.reduced(), pressures, SpeedSchedule.constant(V), x0, duration,
                     dims=axle.dims, poses=False)
     if not traj.complete:
         return TransientCheck(speed_kmh, duration, False, traj.message, math.inf, math.nan, math.nan)
-    ref = solve_ivp(lambda t, x: model.rhs(x, V, pressure), (0.0, duration), x0, method="DOP853", rtol=1e-12,
+    ref = solve_ivp(lambda t, x: model.rhs(x, V, pressures), (0.0, duration), x0, method="DOP853", rtol=1e-12,
                     atol=1e-14, dense_output=True)
     xr = ref.sol(traj.t).T
     amplitude = np.max(np.abs(xr), axis=0)

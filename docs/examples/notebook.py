@@ -13,7 +13,7 @@ axle = Axle.paper().with_values(gamma=4.0)          # caster 4 degrees instead o
 print(axle)
 
 # %% Two tyre pressures (bar): the right tyre (wheel 1, theta1) at 1.5 bar, the left at 1.3 bar.
-pressures = TyrePressures(right_bar=1.5, left_bar=1.3)
+pressures = TyrePressures.of_bar(1.5, 1.3)
 reduced = axle.reduced(effects="hcl,pt")
 mbs = axle.mbs(fidelity="reduced", effects="hcl,pt")     # every assumption of the reduced model on
 

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from axles.axle import Axle, entries, paper_axle
+from axles.axle import AxleData, entries, paper_axle
 from axles.axle_file import AxleFileError, format_axle, parse_axle, read_axle
 from comparisons.cli.main import main
 from axles.dimensions import DEFAULT_DIMENSIONS
@@ -129,7 +129,7 @@ def test_unreadable_files(tmp_path, run):
 
 
 def test_axle_describe_lists_differences_in_interface_units():
-    axle = Axle().with_overrides({"gamma": 3.0, "wheel_mass": 45.0})
+    axle = AxleData().with_overrides({"gamma": 3.0, "wheel_mass": 45.0})
     diff = {d["name"]: d for d in axle.describe()["differs_from_paper"]}
     assert diff["gamma"]["unit"] == "deg" and diff["wheel_mass"]["value"] == 45.0
     assert "gamma = 3 deg" in axle.label()

@@ -15,6 +15,7 @@ from bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
 
 VMAX = 400 * KMH
 SCALED = ("I1", "I2", "I3", "k1", "k2", "k3", "k4", "c1", "c2", "c3", "c4", "R", "L", "l", "gamma", "a0", "sigma0",
@@ -26,14 +27,14 @@ def random_family(seed):
     rng = np.random.default_rng(seed)
     params = YANG2024.replace(**{n: getattr(YANG2024, n) * rng.uniform(0.75, 1.3) for n in SCALED})
     pressure = (rng.uniform(1.3, 2.8) * BAR, rng.uniform(1.3, 2.8) * BAR)
-    return SpeedFamily(ShimmyModel(params, Effects.parse("all")), pressure=pressure)
+    return SpeedFamily(ShimmyModel(params, Effects.parse("all")), pressures=TyrePressures.uniform(pressure))
 
 
 def paper_family(pressure_bar, effects="", **params):
     model = ShimmyModel(effects=Effects.parse(effects)) if effects else ShimmyModel()
     if params:
         model = model.with_params(**params)
-    return SpeedFamily(model, "pressure", pressure=pressure_bar * BAR)
+    return SpeedFamily(model, "pressure", pressures=TyrePressures.uniform(pressure_bar * BAR))
 
 
 CASES = {

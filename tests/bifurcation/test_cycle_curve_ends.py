@@ -13,10 +13,11 @@ from bifurcation.equilibria.hopf_curves import hopf_diagram
 from bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
+from axles.pressures import TyrePressures
 
 
 def test_figure8_tramp_curves_end_at_the_located_hopf_hopf_and_bautin_points():
-    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    family = SpeedFamily(ShimmyModel(), "t0", pressures=TyrePressures.uniform(1.5 * BAR))
     lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
     cycles = cycle_diagram(family, 0.25, vmin, vmax)
     hopf = hopf_diagram(family, lo, hi, vmin, vmax)
@@ -227,7 +228,7 @@ def test_switching_from_the_hopf_hopf_point_gives_the_torus_curves_of_figure_8()
     T1 and T2 curves through the torus points of the 0.25 m branches (same exit on the edge t0 = 0.26 m)."""
     from bifurcation.cycle_curves.switching import torus_curves_from_hopf_hopf
 
-    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    family = SpeedFamily(ShimmyModel(), "t0", pressures=TyrePressures.uniform(1.5 * BAR))
     lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
     (hh,) = hopf_diagram(family, lo, hi, vmin, vmax).points_of(PointKind.HOPF_HOPF)
     switched = torus_curves_from_hopf_hopf(family, hh, lo, hi, vmin, vmax)
@@ -283,7 +284,7 @@ def test_cusp_of_cycles_on_the_fold_curve():
 @pytest.mark.slow
 def test_codimension_two_points_of_cycles_in_figure_8():
     """Located along figure 8's curves, and each confirmed on the one-parameter branch at its t0 (README)."""
-    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    family = SpeedFamily(ShimmyModel(), "t0", pressures=TyrePressures.uniform(1.5 * BAR))
     lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
     cycles = cycle_diagram(family, 0.25, vmin, vmax)
     found = {}

@@ -10,6 +10,7 @@ from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from bifurcation.cycles.branches import branch_from_hopf
 from bifurcation.equilibria.hopf import hopf_points
 from bifurcation.special_points import PointKind, PointStatus
+from axles.pressures import TyrePressures
 
 
 def located(family, q, kind, lo, hi, near=None):
@@ -233,7 +234,7 @@ def test_resonance_between_the_last_curve_point_and_the_hopf_hopf_end(monkeypatc
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
 
-    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressure=0.5 * BAR)
+    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressures=TyrePressures.uniform(0.5 * BAR))
     diagram = cycle_diagram(family, 0.5 * BAR, 0.0, 400 * KMH)
     start = next(p for p in diagram.points_of(PointKind.TORUS) if p.data.get("end_segment"))
     window = (0.45 * BAR, 0.6 * BAR, 0.0, 400 * KMH)         # the stretch from 0.5 bar to the Hopf-Hopf end

@@ -19,6 +19,7 @@ from bifurcation.cycles.problem import CycleDiagram
 from bifurcation.special_points import BranchStatus, PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
+from axles.pressures import TyrePressures
 
 VMAX = 400 * KMH
 
@@ -206,7 +207,7 @@ def test_continuation_in_a_named_parameter(low):
     """A yaw cycle at 1.5 bar continued in the pneumatic trail t0 at fixed speed: the amplitude grows with t0."""
     from bifurcation.cycles.branches import branch_from_cycle
 
-    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    family = SpeedFamily(ShimmyModel(), "t0", pressures=TyrePressures.uniform(1.5 * BAR))
     _, d = low
     p = min(d.branches[0].points, key=lambda p: abs(p.p - 60 * KMH))
     start = dataclasses.replace(p, q=0.07)
@@ -237,7 +238,7 @@ def test_torus_point_between_the_last_cycle_and_the_hopf_end():
     the Hopf point it returns to; it is located there on solved cycles like any other point."""
     from bifurcation.cycles.end_segments import hopf_multipliers
 
-    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressure=0.5 * BAR)
+    family = SpeedFamily(ShimmyModel(effects=Effects.parse("hcl,pt")), "pressure", pressures=TyrePressures.uniform(0.5 * BAR))
     d = cycle_diagram(family, 0.5 * BAR, 0.0, VMAX)
     yaw = next(b for b in d.branches if b.end is not None)
     (torus,) = yaw.points_of(PointKind.TORUS)

@@ -12,6 +12,7 @@ from bifurcation.equilibria.hopf_curves import hopf_diagram
 from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
+from axles.pressures import TyrePressures
 
 
 def codim2(diagram, kind):
@@ -27,7 +28,7 @@ def zero_amplitude_end(curve):
 @pytest.mark.slow    # 35 s; in CI: T2 and S2 by test_cycle_curve_ends.py, HH and DH1/DH2 digits by test_hopf.py
 def test_figure8_curves_end_at_the_hopf_hopf_and_bautin_points():
     """t0 at 1.5 bar: T1 and T2 are born at the Hopf-Hopf point HH, S1 and S2 at DH1 and DH2."""
-    family = SpeedFamily(ShimmyModel(), "t0", pressure=1.5 * BAR)
+    family = SpeedFamily(ShimmyModel(), "t0", pressures=TyrePressures.uniform(1.5 * BAR))
     lo, hi, vmin, vmax = 0.12, 0.26, 100 * KMH, 300 * KMH
     cycles = cycle_diagram(family, 0.25, 0.0, 400 * KMH)
     hopf = hopf_diagram(family, lo, hi, vmin, vmax)

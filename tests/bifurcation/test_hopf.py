@@ -15,6 +15,7 @@ from bifurcation.equilibria.normal_form import CauchyForms, DifferenceForms, fir
 from bifurcation.special_points import Criticality, PointKind, PointStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
+from axles.pressures import TyrePressures
 
 
 def test_bialternate_eigenvalues_are_pair_sums():
@@ -103,7 +104,7 @@ def test_figure5_fold_F1_and_tramp_vanishing(section3):
 
 
 def param_diagram(name, pressure, lo, hi):
-    return hopf_diagram(SpeedFamily(ShimmyModel(), name, pressure=pressure * BAR), lo, hi, 0.0, 400 * KMH)
+    return hopf_diagram(SpeedFamily(ShimmyModel(), name, pressures=TyrePressures.uniform(pressure * BAR)), lo, hi, 0.0, 400 * KMH)
 
 
 def test_half_contact_length_fold_at_nominal_pressure():

@@ -18,6 +18,7 @@ from comparisons.cli.main import main
 from comparisons.cli.options import parse_overrides
 from reduced_model.model import ShimmyModel
 from axles.parameters import ParameterError
+from axles.pressures import TyrePressures
 
 FAST = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -63,7 +64,7 @@ def test_any_set_value_is_refused_with_its_range_or_gives_a_finite_model(name, t
     assert lo <= value <= hi, f"{name}={text} accepted outside [{lo:g}, {hi:g}]"
     model = ShimmyModel(params=axle.params)
     try:
-        A = model.linear_matrix(from_kmh(speed), 2.5e5)
+        A = model.linear_matrix(from_kmh(speed), TyrePressures.uniform(2.5e5))
     except ParameterError:
         return   # the tyre model refuses this combination with one line (e.g. a negative cornering stiffness)
     assert np.all(np.isfinite(A)) and np.all(np.isfinite(np.linalg.eigvals(A)))

@@ -12,9 +12,10 @@ from scipy.interpolate import CubicSpline
 
 from axles.units import from_kmh
 from mbs_shimmy import Fidelity
-from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states, simulate
+from mbs_shimmy.simulation import BENCH_SETTINGS, extended_states, integrate
 from reduced_model.model import Effects
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule
+from axles.pressures import TyrePressures
 
 
 @pytest.mark.parametrize("fidelity", ["full", "reduced"])
@@ -25,14 +26,14 @@ def test_benchmark_settings_keep_1e4_accuracy(fidelity):
     than RK67 at 1/240 s (16 800)."""
     x0 = np.zeros(8)
     x0[0] = 0.01
-    kwargs = dict(effects=Effects(), fidelity=Fidelity.parse(fidelity), pressure=1.5e5,
+    kwargs = dict(effects=Effects(), fidelity=Fidelity.parse(fidelity), pressures=TyrePressures.uniform(1.5e5),
                   schedule=SpeedSchedule.constant(from_kmh(100)), x0=x0, duration=10.0, poses=False)
-    ref = simulate(method="RK67", step=1 / 960, output_interval=1 / 960, **kwargs)
+    ref = integrate(method="RK67", step=1 / 960, output_interval=1 / 960, **kwargs)
     states = extended_states(ref)
     spline, amplitude = CubicSpline(ref.t, states), np.max(np.abs(states), axis=0)
 
     def error(setting):
-        run = simulate(**setting, **kwargs)
+        run = integrate(**setting, **kwargs)
         assert run.status is SimulationStatus.COMPLETE and abs(run.t[-1] - 10.0) < 1e-9
         return float(np.max(np.max(np.abs(extended_states(run) - spline(run.t)), axis=0) / amplitude)), run
 
@@ -51,7 +52,7 @@ def test_benchmark_settings_keep_1e4_accuracy(fidelity):
 def test_bad_tolerances(tol):
     from axles.parameters import ParameterError
     with pytest.raises(ParameterError, match="must be a positive number"):
-        simulate(method="DOPRI5", **tol)
+        integrate(method="DOPRI5", **tol)
 
 
 def test_scalar_tyre_formulas_equal_the_numpy_ones():

@@ -15,9 +15,10 @@ import pytest
 
 from axles.units import BAR
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
-from mbs_shimmy.linearisation import ConstantSpeed
+from mbs_shimmy.linearisation import constant_speed
 from mbs_shimmy.model import MbsModel
 from reduced_model.model import Effects
+from axles.pressures import TyrePressures
 
 # the switches the tyre elements read (ElementFlags), the load dependence and the camber terms
 ELEMENT_SWITCHES = (Assumption.FIXED_STATIC_LOAD_ARMS, Assumption.SLIP_HEADING_ONLY, Assumption.LOAD_TRAMP_ONLY,
@@ -38,9 +39,10 @@ def _states(system, count, seed, amplitude=0.004):
         yield [float(v) for v in y[:m]] + [0.0, 0.0], [float(v) for v in y[m:]]
 
 
-def _compare(fidelity, effects=Effects.parse("all"), pressure=1.5 * BAR, acceleration=None, count=12, seed=0):
+def _compare(fidelity, effects=Effects.parse("all"), pressures=TyrePressures.uniform(1.5 * BAR), acceleration=None,
+             count=12, seed=0):
     """Compiled against Python at ``count`` random states; returns how many the compiled stage evaluated."""
-    system = MbsModel(effects=effects, fidelity=fidelity).system(pressure, ConstantSpeed(20.0), acceleration)
+    system = MbsModel(effects=effects, fidelity=fidelity).system(pressures, constant_speed(20.0), acceleration)
     forces = system.forces
     assert forces.stage is not None
     used = 0
@@ -71,7 +73,7 @@ def test_each_geometry_switch(switch):
 @pytest.mark.parametrize("names", ["", "hcl", "pt", "rl", "vs", "hcl,pt", "pt,rl", "hcl,rl", "all"])
 def test_each_pressure_effect_set_and_unequal_pressures(names):
     assert _compare(Fidelity.full(), effects=Effects.parse(names) if names else Effects(),
-                    pressure=(1.2 * BAR, 2.6 * BAR)) >= 10
+                    pressures=TyrePressures(1.2 * BAR, 2.6 * BAR)) >= 10
 
 
 def test_speed_ramp_and_rigid_layouts():
@@ -87,7 +89,7 @@ def test_speed_ramp_and_rigid_layouts():
 def test_a_load_outside_the_table_is_evaluated_in_python():
     """A wheel lifted off the road (zero load: no grip, properties at 1 % of the load): the compiled stage
     declines and :meth:`evaluate` gives the Python path's forces."""
-    system = MbsModel(fidelity=Fidelity.full()).system(1.5 * BAR, ConstantSpeed(20.0))
+    system = MbsModel(fidelity=Fidelity.full()).system(TyrePressures.uniform(1.5 * BAR), constant_speed(20.0))
     forces = system.forces
     m = system.layout.n_mech
     y = np.zeros(2 * m + 2)
@@ -105,5 +107,5 @@ def test_a_load_outside_the_table_is_evaluated_in_python():
 def test_first_order_kinematics_stay_in_python():
     """small_angles has no compiled stage: evaluate is the Python path."""
     for fidelity in (Fidelity.reduced(), Fidelity(frozenset(ELEMENT_ASSUMPTIONS + (Assumption.SMALL_ANGLES,)))):
-        system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(20.0))
+        system = MbsModel(fidelity=fidelity).system(TyrePressures.uniform(1.5 * BAR), constant_speed(20.0))
         assert system.forces.stage is None

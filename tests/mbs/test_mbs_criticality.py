@@ -21,15 +21,17 @@ from bifurcation.equilibria.hopf import eigenvalues, hopf_points
 from bifurcation.special_points import Criticality
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
+from axles.pressures import TyrePressures
 
 VMAX = 400.0 * KMH
 
 
-@pytest.mark.parametrize("effects, pressure", [("", 1.5 * BAR), ("all", 2.5 * BAR), ("hcl,pt", (1.6 * BAR, 1.2 * BAR))])
+@pytest.mark.parametrize("effects, pressure", [("", TyrePressures.uniform(1.5 * BAR)), ("all", TyrePressures.uniform(2.5 * BAR)),
+                                               ("hcl,pt", TyrePressures(1.6 * BAR, 1.2 * BAR))])
 def test_mbs_first_lyapunov_equals_the_reduced_models_with_every_assumption_on(effects, pressure):
     eff = Effects.parse(effects) if effects else Effects()
-    reduced = SpeedFamily(ShimmyModel(effects=eff), pressure=pressure)
-    mbs = MbsFamily(MbsModel(effects=eff, fidelity=Fidelity.reduced()), pressure=pressure)
+    reduced = SpeedFamily(ShimmyModel(effects=eff), pressures=pressure)
+    mbs = MbsFamily(MbsModel(effects=eff, fidelity=Fidelity.reduced()), pressures=pressure)
     r = hopf_points(reduced, reduced.nominal, 0.0, VMAX)
     m = hopf_points(mbs, mbs.nominal, 0.0, VMAX)
     assert len(r) == len(m) > 0
@@ -52,7 +54,7 @@ def test_full_geometry_criticality_agrees_with_the_side_the_branch_leaves(pressu
     other side, unstable.  The side where straight running is unstable comes from the eigenvalues, the side of the
     cycles from the continued branch.  (The full axle has no Hopf point at 2.5 bar; with rigid mounts it has two.)"""
     fidelity = Fidelity.parse(kept) if kept else Fidelity.full()
-    family = MbsFamily(MbsModel(fidelity=fidelity), pressure=pressure_bar * BAR)
+    family = MbsFamily(MbsModel(fidelity=fidelity), pressures=TyrePressures.uniform(pressure_bar * BAR))
     points = hopf_points(family, family.nominal, 0.0, VMAX)
     assert points
     for h in points:

@@ -21,6 +21,7 @@ from bifurcation.equilibria.hopf_curves import hopf_diagram
 from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
+from axles.pressures import TyrePressures
 
 WINDOW = (0.5 * BAR, 3.5 * BAR)
 VMAX = 400.0 * KMH
@@ -38,8 +39,8 @@ def _unstable_somewhere(family, pressure):
 
 
 def test_mbs_with_every_assumption_on_has_the_reduced_models_folds():
-    reduced = _folds(SpeedFamily(ShimmyModel(), "pressure", pressure=1.5 * BAR))
-    mbs = _folds(MbsFamily(MbsModel(fidelity=Fidelity.reduced()), param="pressure", pressure=1.5 * BAR))
+    reduced = _folds(SpeedFamily(ShimmyModel(), "pressure", pressures=TyrePressures.uniform(1.5 * BAR)))
+    mbs = _folds(MbsFamily(MbsModel(fidelity=Fidelity.reduced()), param="pressure", pressures=TyrePressures.uniform(1.5 * BAR)))
     assert len(mbs) == len(reduced) == 2
     for a, b in zip(reduced, mbs):
         assert b.q == pytest.approx(a.q, rel=1e-7)
@@ -56,6 +57,6 @@ def test_full_geometry_shimmy_free_boundary_from_the_curves_command():
     out = json.loads(proc.stdout)
     assert out["model"] == "mbs" and out["fidelity"] == "full" and out["unit"] == "bar"
     boundary_bar = max(s["value"] for s in out["special_points"] if s["kind"] == "hopf_fold")
-    family = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="pressure", pressure=1.5 * BAR)
+    family = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="pressure", pressures=TyrePressures.uniform(1.5 * BAR))
     assert _unstable_somewhere(family, (boundary_bar - 0.01) * BAR)
     assert not _unstable_somewhere(family, (boundary_bar + 0.01) * BAR)

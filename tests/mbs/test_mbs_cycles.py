@@ -24,6 +24,7 @@ from bifurcation.cycles.branches import cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
 
 PRESSURE = 1.5 * BAR
 AT = tuple(v * KMH for v in (40.0, 60.0, 80.0))
@@ -31,8 +32,8 @@ AT = tuple(v * KMH for v in (40.0, 60.0, 80.0))
 
 @pytest.fixture(scope="module")
 def both_yaw_branches():
-    reduced = SpeedFamily(ShimmyModel(), pressure=PRESSURE)
-    mbs = MbsFamily(MbsModel(fidelity=Fidelity.reduced()), pressure=PRESSURE)
+    reduced = SpeedFamily(ShimmyModel(), pressures=TyrePressures.uniform(PRESSURE))
+    mbs = MbsFamily(MbsModel(fidelity=Fidelity.reduced()), pressures=TyrePressures.uniform(PRESSURE))
     return [cycle_diagram(f, PRESSURE, 0.0, 120.0 * KMH, at=AT) for f in (reduced, mbs)]
 
 
@@ -55,12 +56,12 @@ def test_mbs_with_every_assumption_on_continues_the_reduced_models_branch(both_y
 def test_full_geometry_stable_orbit_is_where_its_simulation_settles():
     """The yaw branch of the full axle at 1.5 bar, born at 41.3 km/h, continued to 50 km/h: its orbit at 45 km/h
     against a long MBS run from a small kick, max |theta1| and frequency to 0.5 %."""
-    family = MbsFamily(MbsModel(fidelity=Fidelity.full()), pressure=PRESSURE)
+    family = MbsFamily(MbsModel(fidelity=Fidelity.full()), pressures=TyrePressures.uniform(PRESSURE))
     speed = 45.0 * KMH
     diagram = cycle_diagram(family, PRESSURE, 35.0 * KMH, 50.0 * KMH, at=(speed,))
     (orbit,) = [p for b in diagram.branches for p in b.user_points]
     assert orbit.stable
-    run = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.full(), PRESSURE, speed, settle=15.0)
+    run = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.full(), TyrePressures.uniform(PRESSURE), speed, settle=15.0)
     assert run.settled
     assert run.theta1 == pytest.approx(orbit.max_abs("theta1"), rel=5e-3)
     # The frequency from the upward zero crossings of theta1 over the run's last settled window.

@@ -18,12 +18,13 @@ from axles.units import BAR, KMH, kmh
 from axles.dimensions import DEFAULT_DIMENSIONS
 from mbs_shimmy import Fidelity, tyre_element
 from mbs_shimmy.fidelity import ISSUE_18, Assumption
-from mbs_shimmy.linearisation import ConstantSpeed, MbsFamily
+from mbs_shimmy.linearisation import constant_speed, MbsFamily
 from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
 from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
 
 P, D = YANG2024, DEFAULT_DIMENSIONS
 
@@ -57,7 +58,7 @@ def test_tyre_terms_of_the_raised_roll_axis_lateral_mounts_and_kingpin_inclinati
     and at -R tan(g) theta' / N, the leading point a ahead turns at theta' / N: d alpha'/d(psi', y', theta') =
     ((R + h), 1, (a - R tan g) / N) / sigma.
     """
-    system = MbsModel(fidelity=Fidelity(ISSUE_18)).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=Fidelity(ISSUE_18)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     L = system.layout
     m = L.n_mech
     h = D.roll_axis_above_wheel_centre
@@ -104,7 +105,7 @@ def _static_load_moment(side, theta, kpi, psi=0.0, h=0.0):
     d /= np.linalg.norm(d)
     rho = C[2] / -d[2]
     Pc = C + rho * d
-    k5 = ShimmyModel(P, Effects()).tyres(1.5 * BAR)[0].k5
+    k5 = ShimmyModel(P, Effects()).tyres(TyrePressures.uniform(1.5 * BAR))[0].k5
     Fz = P.Fz + k5 * (P.R - rho)
     heading = np.cross(s, [0.0, 0.0, 1.0])
     heading /= np.linalg.norm(heading)
@@ -123,7 +124,7 @@ def test_static_load_moment_with_kingpin_inclination(kpi):
     fidelity = Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS, Assumption.ROLL_AXIS_AT_WHEEL_CENTRE,
                                    Assumption.RIGID_STEERING_GEAR}
                                   | ({Assumption.NO_KINGPIN_INCLINATION} if kpi == 0.0 else set())) | ISSUE_18)
-    system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=fidelity).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     L = system.layout
     stiffness = {}
     for i, (name, side) in enumerate((("theta1", -1.0), ("theta2", 1.0))):
@@ -151,7 +152,7 @@ def test_free_rolling_wheel_rolling_resistance_at_the_wheel_centre():
     f (e.s) d(rho F_z)/dpsi = -f tan(kpi) / N (L/2) (F_z0 - k5 R) per wheel (226 N m/rad with Table 1, 1.5 bar)."""
     system = MbsModel(fidelity=Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS,
                                                    Assumption.RIGID_STEERING_GEAR}) | ISSUE_18)).system(
-        1.5 * BAR, ConstantSpeed(0.0))
+        TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     L = system.layout
     h, kpi = D.roll_axis_above_wheel_centre, D.kingpin_inclination
     ref = [_static_load_moment(side, 0.0, kpi, 0.0, h) for side in (-1.0, 1.0)]
@@ -165,7 +166,7 @@ def test_free_rolling_wheel_rolling_resistance_at_the_wheel_centre():
         assert Q[L.index("theta2")] == pytest.approx(m2[0] - ref[1][0], rel=1e-9, abs=1e-8)
         assert Q[L.index("psi")] == pytest.approx(m1[1] + m2[1] - ref[0][1] - ref[1][1], rel=1e-9, abs=1e-8)
     # the hand formula of the brake-like term the old form added (difference of the two forms, independent side)
-    k5 = ShimmyModel(P, Effects()).tyres(1.5 * BAR)[0].k5
+    k5 = ShimmyModel(P, Effects()).tyres(TyrePressures.uniform(1.5 * BAR))[0].k5
     N = math.sqrt(1 + math.tan(P.gamma) ** 2 + math.tan(kpi) ** 2)
     hand = -P.f * math.tan(kpi) / N * 0.5 * P.L * (P.Fz - k5 * P.R)
     assert hand == pytest.approx(226.16, abs=0.01)
@@ -208,6 +209,6 @@ def test_slip_heading_only_terms_one_at_a_time(keep, expected, monkeypatch):
     53.92-69.85 km/h); the caster trail -R gamma theta' is what closes it."""
     monkeypatch.setattr(tyre_element.TyreElement, "linear", _slip_with_one_term(keep))
     for bar, speeds in expected.items():
-        family = MbsFamily(MbsModel(fidelity=Fidelity.reduced()), pressure=bar * BAR)
+        family = MbsFamily(MbsModel(fidelity=Fidelity.reduced()), pressures=TyrePressures.uniform(bar * BAR))
         got = [kmh(h.p) for h in hopf_points(family, bar * BAR, 0.0, 400 * KMH, lyapunov=False)]
         assert got == pytest.approx(speeds, abs=0.01)

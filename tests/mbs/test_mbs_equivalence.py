@@ -15,12 +15,13 @@ from mbs_shimmy import Fidelity
 from comparisons.studies.limit_cycle import mbs_steady_amplitude, reduced_steady_amplitude
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
-from mbs_shimmy.simulation import simulate
+from mbs_shimmy.simulation import integrate
 from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
 from reduced_model.trajectory import SpeedSchedule
+from axles.pressures import TyrePressures
 
 
 def _eigs(A):
@@ -77,8 +78,8 @@ def test_right_hand_side_equals_reduced_where_a_wheel_would_lift(effects):
     x = np.zeros(len(STATE_NAMES))
     for name, value in (("psi", 0.3), ("theta1", 0.1), ("alpha1", 0.05), ("alpha2", -0.04), ("psi_dot", 0.5)):
         x[STATE_NAMES.index(name)] = value
-    mbs = MbsFamily(MbsModel(YANG2024, Effects.parse(effects), fidelity=Fidelity.reduced()), pressure=p)
-    reduced = SpeedFamily(model, pressure=p).rhs(x[:, None], V, p)[:, 0]
+    mbs = MbsFamily(MbsModel(YANG2024, Effects.parse(effects), fidelity=Fidelity.reduced()), pressures=TyrePressures.uniform(p))
+    reduced = SpeedFamily(model, pressures=TyrePressures.uniform(p)).rhs(x[:, None], V, p)[:, 0]
     np.testing.assert_allclose(mbs.rhs(x[:, None], V, p)[:, 0], reduced, rtol=1e-10, atol=1e-9)
 
 
@@ -87,11 +88,11 @@ def test_transient_matches_reduced_model():
     V, p = 60 * KMH, 1.5 * BAR
     x0 = np.zeros(8)
     x0[0] = 0.01
-    traj = simulate(fidelity=Fidelity.reduced(), pressure=p, schedule=SpeedSchedule.constant(V), x0=x0,
+    traj = integrate(fidelity=Fidelity.reduced(), pressures=TyrePressures.uniform(p), schedule=SpeedSchedule.constant(V), x0=x0,
                     duration=2.0, poses=False)
     assert traj.complete and traj.model == "mbs" and "RK44" in traj.integrator
     model = ShimmyModel()
-    ref = solve_ivp(lambda t, x: model.rhs(x, V, p), (0.0, 2.0), x0, method="DOP853", rtol=1e-12, atol=1e-14,
+    ref = solve_ivp(lambda t, x: model.rhs(x, V, TyrePressures.uniform(p)), (0.0, 2.0), x0, method="DOP853", rtol=1e-12, atol=1e-14,
                     dense_output=True)
     xr = ref.sol(traj.t).T
     amplitude = np.max(np.abs(xr), axis=0)
@@ -103,10 +104,10 @@ def test_transient_along_speed_ramp_matches_reduced_model():
     schedule = SpeedSchedule.ramp(40 * KMH, 120 * KMH, 2.0)
     x0 = np.zeros(8)
     x0[4] = 0.005
-    traj = simulate(fidelity=Fidelity.reduced(), pressure=1.5 * BAR, schedule=schedule, x0=x0, duration=2.0,
+    traj = integrate(fidelity=Fidelity.reduced(), pressures=TyrePressures.uniform(1.5 * BAR), schedule=schedule, x0=x0, duration=2.0,
                     poses=False)
     model = ShimmyModel()
-    ref = solve_ivp(lambda t, x: model.rhs(x, float(schedule.speed(t)), 1.5 * BAR), (0.0, 2.0), x0,
+    ref = solve_ivp(lambda t, x: model.rhs(x, float(schedule.speed(t)), TyrePressures.uniform(1.5 * BAR)), (0.0, 2.0), x0,
                     method="DOP853", rtol=1e-12, atol=1e-14, dense_output=True)
     xr = ref.sol(traj.t).T
     assert np.all(np.max(np.abs(traj.x - xr), axis=0) <= 1e-4 * np.max(np.abs(xr), axis=0))
@@ -119,9 +120,9 @@ def test_limit_cycle_amplitude_matches_reduced_model():
     The reference is a long reduced-model simulation (periodic-orbit continuation of the reduced model is not
     available yet); the MBS starts where the reduced run ended and runs 6 s more."""
     V, p = 60 * KMH, 1.5 * BAR
-    reference = reduced_steady_amplitude(ShimmyModel(), p, V, settle=20.0)
+    reference = reduced_steady_amplitude(ShimmyModel(), TyrePressures.uniform(p), V, settle=20.0)
     assert reference.settled and np.degrees(reference.theta1) > 5.0
-    mbs = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.reduced(), p, V, reference.final_state, settle=6.0)
+    mbs = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.reduced(), TyrePressures.uniform(p), V, reference.final_state, settle=6.0)
     assert mbs.settled
     assert abs(mbs.theta1 - reference.theta1) <= 0.005 * reference.theta1
     assert abs(mbs.psi - reference.psi) <= 0.005 * reference.psi
@@ -137,8 +138,8 @@ def test_limit_cycle_amplitude_matches_continuation():
     branch = branch_from_hopf(family, hopf[0], 0.0, 400 * KMH, others=tuple(hopf[1:]))
     near = min(branch.points, key=lambda c: abs(c.p - V))
     cycle = cycle_at(family, near, V)
-    start = reduced_steady_amplitude(ShimmyModel(), p, V, settle=6.0)   # a state near the cycle
-    mbs = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.reduced(), p, V, start.final_state, settle=6.0)
+    start = reduced_steady_amplitude(ShimmyModel(), TyrePressures.uniform(p), V, settle=6.0)   # a state near the cycle
+    mbs = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.reduced(), TyrePressures.uniform(p), V, start.final_state, settle=6.0)
     assert mbs.settled
     assert abs(mbs.theta1 - cycle.max_abs("theta1")) <= 0.005 * cycle.max_abs("theta1")
     assert abs(mbs.psi - cycle.max_abs("psi")) <= 0.005 * cycle.max_abs("psi")

@@ -16,10 +16,11 @@ from axles.units import BAR, KMH
 from axles.dimensions import DEFAULT_DIMENSIONS
 from mbs_shimmy import Fidelity
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption
-from mbs_shimmy.linearisation import ConstantSpeed
+from mbs_shimmy.linearisation import constant_speed
 from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
 
 P, D = YANG2024, DEFAULT_DIMENSIONS
 
@@ -63,7 +64,7 @@ def _derivative(system, which, index, step=1e-7):
 def test_roll_steer_pose_is_a_rotation_about_the_sloped_axis():
     """Exudyn's kingpin points and kingpin axes at a roll psi: the rotation by psi about u = (1, 0, eps) / |...|
     through O (independent numpy), i.e. a roll psi ux about x and a yaw psi uz about z."""
-    system = MbsModel(fidelity=only(Assumption.NO_AXLE_ROLL_STEER)).system(1.5 * BAR, ConstantSpeed(10.0))
+    system = MbsModel(fidelity=only(Assumption.NO_AXLE_ROLL_STEER)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(10.0))
     L = system.layout
     get = system.mbs.GetMarkerOutput
     O = np.array([0.0, 0.0, P.R])
@@ -89,7 +90,7 @@ def test_roll_steer_linear_terms():
     through u: dQ_psi/dalpha = (ux R - uz t) C_a.  The rotor moment -I2 Omega (omega x s) with omega = psi' u gives
     I2 Omega psi' (uz, 0, -ux): nothing on psi, -I2 Omega (ux cos g + uz sin g) psi' on each kingpin."""
     V = 60 * KMH
-    system = MbsModel(fidelity=only(Assumption.NO_AXLE_ROLL_STEER)).system(1.5 * BAR, ConstantSpeed(V))
+    system = MbsModel(fidelity=only(Assumption.NO_AXLE_ROLL_STEER)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(V))
     L = system.layout
     m = L.n_mech
     eps = D.axle_roll_steer
@@ -166,8 +167,8 @@ def test_camber_linear_terms():
     K_g = F_z p_Ky6 acts at P = (0, s L/2, 0) along y: R K_g on psi (lever R about the roll axis through (0, 0, R))
     and e.((P - K) x y) K_g = -R sin(g) K_g on the kingpin; the camber moment M_g = F_z R q_Dz8 about z gives
     cos(g) M_g on the kingpin."""
-    with_c = MbsModel(fidelity=only(Assumption.NO_CAMBER_FORCE)).system(1.5 * BAR, ConstantSpeed(0.0))
-    without = MbsModel(fidelity=Fidelity(frozenset(ELEMENT_ASSUMPTIONS))).system(1.5 * BAR, ConstantSpeed(0.0))
+    with_c = MbsModel(fidelity=only(Assumption.NO_CAMBER_FORCE)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
+    without = MbsModel(fidelity=Fidelity(frozenset(ELEMENT_ASSUMPTIONS))).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     L = with_c.layout
     assert L == without.layout
     g = P.gamma
@@ -209,13 +210,13 @@ def test_bounce_linear_terms():
       k_d = k2 / j^2 (as the roll steer of tests/mbs/test_mbs_model.py)."""
     from mbs_shimmy.linearisation import MbsEvaluator
     from reduced_model.model import Effects, ShimmyModel
-    system = MbsModel(fidelity=only(Assumption.RIGID_VERTICAL_MOUNTS)).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=only(Assumption.RIGID_VERTICAL_MOUNTS)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     L = system.layout
     assert L.coordinates == ("z_axle", "psi", "theta1", "theta2")
     m = L.n_mech
     iz, ip = L.index("z_axle"), L.index("psi")
     g = P.gamma
-    k5 = ShimmyModel(P, Effects()).tyres(1.5 * BAR)[0].k5
+    k5 = ShimmyModel(P, Effects()).tyres(TyrePressures.uniform(1.5 * BAR))[0].k5
     M = MbsEvaluator(system).mass_matrix(np.zeros(2 * m + 2))
     m_total = D.axle_mass + 2 * (D.knuckle_mass + D.wheel_mass)
     assert M[iz, iz] == pytest.approx(m_total, rel=1e-13)
@@ -233,7 +234,7 @@ def test_bounce_linear_terms():
                           (Fidelity(only(Assumption.RIGID_VERTICAL_MOUNTS).assumed - {Assumption.RIGID_STEERING_GEAR}),
                            D.drag_link_inclination)):
         K = _connector_stiffness(fidelity, "z_axle")
-        layout = MbsModel(fidelity=fidelity).forces(1.5 * BAR, ConstantSpeed(0.0)).layout
+        layout = MbsModel(fidelity=fidelity).forces(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0)).layout
         j = -D.drag_link_arm * math.cos(g - eps)
         assert K[layout.index("z_axle")] == pytest.approx(
             1.0 / D.axle_mount_vertical_compliance + P.k2 / j ** 2 * math.sin(eps) ** 2, rel=1e-6)
@@ -244,7 +245,7 @@ def test_bounce_linear_terms():
 def _connector_stiffness(fidelity, name):
     """-dQ/d(name) of Exudyn's own elements (tree, joint springs, connectors) without the Python force element."""
     from mbs_shimmy.linearisation import MbsEvaluator
-    system = MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=fidelity).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     m = system.layout.n_mech
     system.forces = _NoForces(m + 2)
     ev = MbsEvaluator(system)
@@ -271,7 +272,7 @@ def test_link_masses_in_the_mass_matrix(with_mounts_and_gear):
     off = {Assumption.RIGID_AXLE_MOUNTS, Assumption.RIGID_STEERING_GEAR} if with_mounts_and_gear else set()
     fid = Fidelity(only(Assumption.MASSLESS_LINKS).assumed - off)
     ref = Fidelity(fid.assumed | {Assumption.MASSLESS_LINKS})
-    systems = [MbsModel(fidelity=f).system(1.5 * BAR, ConstantSpeed(0.0)) for f in (fid, ref)]
+    systems = [MbsModel(fidelity=f).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0)) for f in (fid, ref)]
     L = systems[0].layout
     assert L == systems[1].layout
     M, M0 = (MbsEvaluator(s).mass_matrix(np.zeros(L.n)) for s in systems)

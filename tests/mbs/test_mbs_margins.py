@@ -4,6 +4,7 @@ of straight running over speed and pressure), on the paper's axle and on one wit
 import numpy as np
 import pytest
 
+from mbs_shimmy.model import MbsModel
 from axles.units import BAR, from_kmh
 from axles.dimensions import DEFAULT_DIMENSIONS
 from mbs_shimmy.fidelity import Fidelity
@@ -19,7 +20,7 @@ TOL = 1e-9
 def _maps(params, effects, dims, speeds_kmh, pressures_bar):
     speeds, pressures = from_kmh(np.asarray(speeds_kmh)), np.asarray(pressures_bar) * BAR
     reduced = margin_map(SpeedFamily(ShimmyModel(params=params, effects=effects), "pressure"), speeds, pressures)
-    mbs = margin_map(MbsFamily.of(params, effects, Fidelity.reduced(), dims=dims), speeds, pressures)
+    mbs = margin_map(MbsFamily(MbsModel(params, effects, Fidelity.reduced(), dims)), speeds, pressures)
     return reduced, mbs
 
 

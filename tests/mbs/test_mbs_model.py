@@ -14,11 +14,12 @@ from mbs_shimmy import Assumption, Fidelity, assumptions_table
 from comparisons.studies.assumption_study import study_fidelities
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, ISSUE_18
 from mbs_shimmy.geometry import disc_contact
-from mbs_shimmy.linearisation import ConstantSpeed, MbsEvaluator, MbsFamily
+from mbs_shimmy.linearisation import constant_speed, MbsEvaluator, MbsFamily
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import TreeInertia
 from reduced_model.model import Effects
 from axles.parameters import YANG2024, ParameterError
+from axles.pressures import TyrePressures
 
 # the full geometry of the paper's axle: every assumption off except the new elements (issue 9) kept out
 PAPER_GEOMETRY = Fidelity(frozenset(ELEMENT_ASSUMPTIONS))
@@ -40,7 +41,7 @@ def test_fidelity_parse():
     assert names[names.index("full") + 1:] == [a.value for a in ELEMENT_ASSUMPTIONS]
     # the first-order kinematics have no form of the new elements: a clear error, not a silent neutral value
     with pytest.raises(ParameterError, match="small_angles .* has no first-order form of no_kingpin_inclination"):
-        MbsModel(fidelity=Fidelity.parse("small_angles")).forces(2.0 * BAR, ConstantSpeed(1.0))
+        MbsModel(fidelity=Fidelity.parse("small_angles")).forces(TyrePressures.uniform(2.0 * BAR), constant_speed(1.0))
 
 
 def _random_states(n, seed=3):
@@ -62,7 +63,7 @@ def test_knuckle_poses_are_exudyns_and_right():
     the knuckle about its kingpin axis e0 = (-tan(gamma), -side tan(KPI), 1) / |...|."""
     P, d = YANG2024, DEFAULT_DIMENSIONS
     model = MbsModel(fidelity=Fidelity(ISSUE_18))   # the issue-9 elements (issue 18's: tests/mbs/test_mbs_freedoms.py)
-    system = model.system(1.5 * BAR, ConstantSpeed(20.0))
+    system = model.system(TyrePressures.uniform(1.5 * BAR), constant_speed(20.0))
     L = system.layout
     assert L.coordinates == ("y_axle", "psi", "theta1", "theta2", "phi_gear")
     rng = np.random.default_rng(5)
@@ -111,7 +112,7 @@ def test_disc_contact_point_is_on_road_and_wheel_plane():
 def test_inertia_at_straight_running():
     P, d = YANG2024, DEFAULT_DIMENSIONS
     for fidelity in (Fidelity.reduced(), PAPER_GEOMETRY):
-        ev = MbsEvaluator(MbsModel(fidelity=fidelity).system(1.5 * BAR, ConstantSpeed(0.0)))
+        ev = MbsEvaluator(MbsModel(fidelity=fidelity).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0)))
         M = ev.mass_matrix(np.zeros(8))
         assert np.allclose(np.diag(M), [P.I3, P.I1, P.I1], rtol=1e-13)
         assert abs(M[1, 2]) < 1e-14
@@ -134,7 +135,7 @@ def test_inertia_of_the_new_coordinates():
     P, d = YANG2024, DEFAULT_DIMENSIONS
     m_total = d.axle_mass + 2 * (d.knuckle_mass + d.wheel_mass)
     h = d.roll_axis_above_wheel_centre
-    full = MbsEvaluator(MbsModel(fidelity=Fidelity(ISSUE_18)).system(1.5 * BAR, ConstantSpeed(0.0)))
+    full = MbsEvaluator(MbsModel(fidelity=Fidelity(ISSUE_18)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0)))
     M = full.mass_matrix(np.zeros(12))        # (y, psi, theta1, theta2, phi)
     assert M[0, 0] == pytest.approx(m_total, rel=1e-13)
     assert M[1, 1] == pytest.approx(P.I3 + m_total * h ** 2, rel=1e-12)
@@ -142,7 +143,7 @@ def test_inertia_of_the_new_coordinates():
     assert M[2, 2] == pytest.approx(P.I1, rel=1e-12) and M[3, 3] == pytest.approx(P.I1, rel=1e-12)
     assert M[4, 4] == pytest.approx(d.steering_gear_inertia, rel=1e-13) and np.allclose(M[4, :4], 0.0)
     lumped_model = MbsModel(fidelity=Fidelity(frozenset({Assumption.UNCOUPLED_INERTIA}) | ISSUE_18))
-    lumped = MbsEvaluator(lumped_model.system(1.5 * BAR, ConstantSpeed(0.0)))
+    lumped = MbsEvaluator(lumped_model.system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0)))
     assert np.allclose(lumped.mass_matrix(np.zeros(12)),
                        np.diag([m_total, P.I3, P.I1, P.I1, d.steering_gear_inertia]), rtol=1e-12, atol=1e-12)
 
@@ -156,7 +157,7 @@ def test_spinning_wheel_equals_rotor_moment():
     # kingpin inclination on (it tilts e against the wheel axis); no new coordinates
     fidelity = Fidelity(frozenset(ELEMENT_ASSUMPTIONS) - {Assumption.NO_KINGPIN_INCLINATION})
     model = MbsModel(fidelity=fidelity)
-    g = model.forces(1.5 * BAR, ConstantSpeed(V)).g_exact
+    g = model.forces(TyrePressures.uniform(1.5 * BAR), constant_speed(V)).g_exact
     inertia = TreeInertia.build(P, d, False, g)
     # spinning model: knuckle links carry the knuckle only; each wheel is a link spinning about its axis y
     e_knuckle = [inertia.joint_rotations[i] for i in range(2)]
@@ -190,9 +191,9 @@ def test_spinning_wheel_equals_rotor_moment():
     settings.timeIntegration.solverType = exu.DynamicSolverType.RK44
     spinning.InitializeSolver(mbs, settings)
     # the model's tree (non-spinning wheels) with only the rotor moments as forces
-    forces = model.forces(1.5 * BAR, ConstantSpeed(V))
+    forces = model.forces(TyrePressures.uniform(1.5 * BAR), constant_speed(V))
 
-    system = model.system(1.5 * BAR, ConstantSpeed(V))
+    system = model.system(TyrePressures.uniform(1.5 * BAR), constant_speed(V))
     forces = system.forces
 
     class RotorOnly:
@@ -233,7 +234,7 @@ class _NoForces:
 def _linkage_matrices(fidelity, dims=DEFAULT_DIMENSIONS):
     """-dQ/dq and -dQ/dq' of the Exudyn system without the user forces and joint controls (connectors only)."""
     P = YANG2024
-    system = MbsModel(fidelity=fidelity, dims=dims).system(1.5 * BAR, ConstantSpeed(0.0))
+    system = MbsModel(fidelity=fidelity, dims=dims).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     m = system.layout.n_mech
     system.forces = _NoForces(m + 2)
     ev = MbsEvaluator(system)
@@ -311,8 +312,8 @@ def table_error(element, loads) -> float:
 
 
 def test_load_table_interpolation():
-    forces = MbsModel(effects=Effects.parse("all"), fidelity=Fidelity.full()).forces((1.5 * BAR, 2.2 * BAR),
-                                                                                       ConstantSpeed(10.0))
+    forces = MbsModel(effects=Effects.parse("all"), fidelity=Fidelity.full()).forces(TyrePressures(1.5 * BAR, 2.2 * BAR),
+                                                                                       constant_speed(10.0))
     loads = np.linspace(0.05, 2.9, 157) * YANG2024.Fz + 3.1
     for element in forces.tyres:
         assert table_error(element, loads) < 1e-10
@@ -325,14 +326,14 @@ def test_dimensions_are_checked():
         DEFAULT_DIMENSIONS.replace(wheel_radius=0.3)
     with pytest.raises(ParameterError, match="roll inertia"):
         MbsModel(dims=DEFAULT_DIMENSIONS.replace(wheel_mass=200.0, wheel_diametral_inertia=3.0)).system(
-            2.5 * BAR, ConstantSpeed(1.0))
+            TyrePressures.uniform(2.5 * BAR), constant_speed(1.0))
     with pytest.raises(ParameterError, match="I1"):
-        MbsModel(params=YANG2024.replace(I1=2.0), fidelity=Fidelity.full()).system(2.5 * BAR, ConstantSpeed(1.0))
+        MbsModel(params=YANG2024.replace(I1=2.0), fidelity=Fidelity.full()).system(TyrePressures.uniform(2.5 * BAR), constant_speed(1.0))
 
 
 def test_family_over_a_table_entry_and_bad_values():
     from bifurcation.equilibria.hopf import hopf_points
-    by_param = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="t0", pressure=1.5 * BAR)
+    by_param = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="t0", pressures=TyrePressures.uniform(1.5 * BAR))
     direct = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
     a = hopf_points(by_param, 0.25, 0.0, 400 * KMH, lyapunov=False)
     b = hopf_points(direct, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)

@@ -15,12 +15,13 @@ from axles.dimensions import AxleDimensions
 from mbs_shimmy import Fidelity
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
-from mbs_shimmy.simulation import simulate
+from mbs_shimmy.simulation import integrate
 from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
 from reduced_model.trajectory import SpeedSchedule
+from axles.pressures import TyrePressures
 
 SCALED = ("I1", "I2", "I3", "k1", "k2", "k3", "k4", "c1", "c2", "c3", "c4", "R", "L", "l", "gamma", "a0", "sigma0",
           "t0", "f")
@@ -33,7 +34,7 @@ def random_axle(seed):
                              for f in dataclasses.fields(AxleDimensions)})
     # a rigid wheel has I2 <= 2 x its diametral inertia
     dims = dims.replace(wheel_diametral_inertia=max(dims.wheel_diametral_inertia, 0.55 * params.I2))
-    return params, dims, (rng.uniform(1.3, 2.8) * BAR, rng.uniform(1.3, 2.8) * BAR)
+    return params, dims, TyrePressures(rng.uniform(1.3, 2.8) * BAR, rng.uniform(1.3, 2.8) * BAR)
 
 
 def _eigs(A):
@@ -45,8 +46,8 @@ def _eigs(A):
 def test_reduced_fidelity_reproduces_the_reduced_equations_for_any_axle(seed):
     params, dims, pressure = random_axle(seed)
     effects = Effects.parse("all")
-    mbs = MbsFamily(MbsModel(params, effects, Fidelity.reduced(), dims), pressure=pressure)
-    red = SpeedFamily(ShimmyModel(params, effects), pressure=pressure)
+    mbs = MbsFamily(MbsModel(params, effects, Fidelity.reduced(), dims), pressures=pressure)
+    red = SpeedFamily(ShimmyModel(params, effects), pressures=pressure)
     assert mbs.n == 8
     for v_kmh in (20, 90, 250):
         a = _eigs(mbs.direct_linear_matrix(v_kmh * KMH, red.nominal))
@@ -65,7 +66,7 @@ def test_reduced_fidelity_transient_for_another_axle():
     V = 70 * KMH
     x0 = np.zeros(8)
     x0[0], x0[4] = 0.01, -0.004
-    traj = simulate(params, effects, Fidelity.reduced(), pressure, SpeedSchedule.constant(V), x0, 2.0, dims=dims,
+    traj = integrate(params, effects, Fidelity.reduced(), pressure, SpeedSchedule.constant(V), x0, 2.0, dims=dims,
                     poses=False)
     model = ShimmyModel(params, effects)
     ref = solve_ivp(lambda t, x: model.rhs(x, V, pressure), (0.0, 2.0), x0, method="DOP853", rtol=1e-12,

@@ -11,10 +11,11 @@ from mbs_shimmy import Fidelity
 from mbs_shimmy import forces as forces_module
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
-from mbs_shimmy.simulation import DEFAULT_STEP, convergence, extended_states, simulate
+from mbs_shimmy.simulation import DEFAULT_STEP, convergence, extended_states, integrate
 from reduced_model.model import Effects
 from axles.parameters import YANG2024, ParameterError
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule
+from axles.pressures import TyrePressures
 
 
 def _x0(**values):
@@ -28,11 +29,11 @@ def _x0(**values):
 def test_default_step_converged_at_100_kmh():
     """The benchmark case (1.5 bar, 100 km/h, full geometry): halving the default step changes nothing above
     1e-4 of each state's amplitude."""
-    kwargs = dict(effects=Effects(), fidelity=Fidelity.full(), pressure=1.5 * BAR,
+    kwargs = dict(effects=Effects(), fidelity=Fidelity.full(), pressures=TyrePressures.uniform(1.5 * BAR),
                   schedule=SpeedSchedule.constant(100 * KMH), x0=_x0(theta1=0.01), duration=3.0, poses=False,
                   output_interval=2 * DEFAULT_STEP)
-    coarse = simulate(step=DEFAULT_STEP, **kwargs)
-    fine = simulate(step=DEFAULT_STEP / 2, **kwargs)
+    coarse = integrate(step=DEFAULT_STEP, **kwargs)
+    fine = integrate(step=DEFAULT_STEP / 2, **kwargs)
     c = convergence(coarse, fine)
     assert c.converged and c.max_relative_difference < 1e-4
     assert c.step == pytest.approx(DEFAULT_STEP)
@@ -50,7 +51,7 @@ def test_full_simulation_matches_independent_integrator():
     x0 = np.concatenate([x0, [0.001, 0.0, -0.002, 0.05, 0.002, -0.1]])
     ref = solve_ivp(lambda t, y: family.rhs_mbs(y, V, p), (0.0, 0.6), x0[L.x_to_y], method="DOP853",
                     rtol=1e-10, atol=1e-12, dense_output=True)
-    traj = simulate(fidelity=Fidelity.full(), pressure=p, schedule=SpeedSchedule.constant(V), x0=x0, duration=0.6,
+    traj = integrate(fidelity=Fidelity.full(), pressures=TyrePressures.uniform(p), schedule=SpeedSchedule.constant(V), x0=x0, duration=0.6,
                     poses=False)
     xr = ref.sol(traj.t).T[:, L.y_to_x]
     xs = extended_states(traj)
@@ -59,7 +60,7 @@ def test_full_simulation_matches_independent_integrator():
 
 def test_poses_and_contact_forces_in_extra():
     V = 80 * KMH
-    traj = simulate(fidelity=Fidelity.full(), pressure=2.0 * BAR, schedule=SpeedSchedule.constant(V),
+    traj = integrate(fidelity=Fidelity.full(), pressures=TyrePressures.uniform(2.0 * BAR), schedule=SpeedSchedule.constant(V),
                     x0=_x0(theta1=0.03, psi=0.005), duration=0.2)
     n = len(traj.t)
     bodies = traj.extra["bodies"]
@@ -86,20 +87,20 @@ def test_poses_and_contact_forces_in_extra():
 
 def test_speed_changes_matter_only_without_quasi_steady_assumption():
     ramp = SpeedSchedule.ramp(100 * KMH, 20 * KMH, 1.0)
-    base = dict(pressure=1.5 * BAR, x0=_x0(theta1=0.01), duration=1.0, poses=False)
+    base = dict(pressures=TyrePressures.uniform(1.5 * BAR), x0=_x0(theta1=0.01), duration=1.0, poses=False)
     steady = Fidelity.full().assumed | {Fidelity.parse("quasi_steady_speed").single()}
-    a = simulate(fidelity=Fidelity(steady), schedule=ramp, **base)
-    b = simulate(fidelity=Fidelity.full(), schedule=ramp, **base)
+    a = integrate(fidelity=Fidelity(steady), schedule=ramp, **base)
+    b = integrate(fidelity=Fidelity.full(), schedule=ramp, **base)
     assert np.max(np.abs(a.x - b.x)) > 1e-6      # braking loads the knuckles
-    c = simulate(fidelity=Fidelity(steady), schedule=SpeedSchedule.constant(60 * KMH), **base)
-    d = simulate(fidelity=Fidelity.full(), schedule=SpeedSchedule.constant(60 * KMH), **base)
+    c = integrate(fidelity=Fidelity(steady), schedule=SpeedSchedule.constant(60 * KMH), **base)
+    d = integrate(fidelity=Fidelity.full(), schedule=SpeedSchedule.constant(60 * KMH), **base)
     assert np.array_equal(c.x, d.x)
 
 
 def test_divergence_is_reported_with_time_and_state():
     """Steering nearly free (k1 = k2 = 1 N m/rad, no dampers): the wheels fall over within a second."""
     params = YANG2024.replace(k1=1.0, k2=1.0, c1=0.0, c2=0.0, c4=0.0)
-    traj = simulate(params, Effects(), Fidelity.full(), 1.5 * BAR, SpeedSchedule.constant(100 * KMH),
+    traj = integrate(params, Effects(), Fidelity.full(), TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(100 * KMH),
                     _x0(theta1=0.1), 5.0, poses=False)
     assert traj.status is SimulationStatus.DIVERGED and not traj.complete
     assert "diverged at t = " in traj.message and "theta1 = " in traj.message
@@ -117,7 +118,7 @@ def test_solver_failure_keeps_partial_trajectory(monkeypatch):
         return original(self, t, q, qd, states)
 
     monkeypatch.setattr(forces_module.AxleForces, "evaluate", failing)
-    traj = simulate(duration=0.2, poses=False)
+    traj = integrate(duration=0.2, poses=False)
     assert traj.status is SimulationStatus.SOLVER_FAILED
     assert "t = 0.05" in traj.message and "FloatingPointError: tyre force not finite" in traj.message
     assert "last stored t = 0.049" in traj.message
@@ -132,22 +133,22 @@ def test_solver_failure_keeps_partial_trajectory(monkeypatch):
     (dict(step=math.nan), "step"),
     (dict(x0=np.zeros(5)), "initial state"),
     (dict(x0=np.full(8, np.inf)), "initial state"),
-    (dict(pressure=0.0), "pressure must be positive"),
+    (dict(pressures=TyrePressures.uniform(0.0)), "pressure must be positive"),
     (dict(output_interval=1e-4), "output interval"),
 ])
 def test_bad_input(kwargs, match):
     with pytest.raises(ParameterError, match=match):
-        simulate(**{"duration": 0.1, "poses": False, **kwargs})
+        integrate(**{"duration": 0.1, "poses": False, **kwargs})
 
 
 def test_benchmark_step_keeps_1e4_accuracy():
     """The benchmark's setting (RK67, h = 1/240 s) over its whole 10 s run at 1.5 bar, 100 km/h, full geometry:
     within 1e-4 of each state's amplitude of the run at h/4, and the differences shrink at the method's order."""
     from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP
-    kwargs = dict(effects=Effects(), fidelity=Fidelity.full(), pressure=1.5 * BAR,
+    kwargs = dict(effects=Effects(), fidelity=Fidelity.full(), pressures=TyrePressures.uniform(1.5 * BAR),
                   schedule=SpeedSchedule.constant(100 * KMH), x0=_x0(theta1=0.01), duration=10.0, poses=False,
                   method=FAST_METHOD, output_interval=FAST_STEP)
-    runs = [simulate(step=FAST_STEP / k, **kwargs) for k in (1, 2, 4)]
+    runs = [integrate(step=FAST_STEP / k, **kwargs) for k in (1, 2, 4)]
     coarse, middle = convergence(runs[0], runs[2]), convergence(runs[1], runs[2])
     assert coarse.max_relative_difference < 1e-4
     # RK67 is sixth order: h -> h/2 cuts the error ~64x, so (h vs h/4) / (h/2 vs h/4) is about 65

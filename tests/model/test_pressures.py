@@ -10,10 +10,11 @@ from axles.units import BAR, KMH
 from comparisons.cli.main import main
 from bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
 from bifurcation.equilibria.hopf import hopf_points
-from reduced_model.family import SpeedFamily, pressure_at
+from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
-from reduced_model.simulation import simulate
+from reduced_model.simulation import integrate
 from reduced_model.trajectory import SpeedSchedule
+from axles.pressures import TyrePressures
 
 # The paper's axle carries the drag link (k2, c2) on the left wheel only, so it is not left-right symmetric; with the
 # drag link taken out, (theta1, alpha1) <-> (theta2, alpha2) with psi kept maps solutions onto solutions of the
@@ -37,16 +38,18 @@ def test_equal_left_right_give_todays_numbers(capsys):
 
 
 def test_pressure_family_moves_both_tyres_together():
-    assert pressure_at("pressure", 2.0e5, 1.5e5) == 2.0e5
-    r, l = pressure_at("pressure", 2.0e5, (1.6e5, 1.2e5))
-    assert (r, l) == pytest.approx((2.2e5, 1.8e5))
-    assert pressure_at("pressure_left", 1.0e5, (1.6e5, 1.2e5)) == (1.6e5, 1.0e5)
-    assert pressure_at("pressure_right", 1.2e5, (1.6e5, 1.2e5)) == 1.2e5   # equal again: one value
+    assert TyrePressures.uniform(1.5e5).moved("pressure", 2.0e5) == TyrePressures(2.0e5, 2.0e5)
+    moved = TyrePressures(1.6e5, 1.2e5).moved("pressure", 2.0e5)
+    assert (moved.right, moved.left) == pytest.approx((2.2e5, 1.8e5))
+    assert TyrePressures(1.6e5, 1.2e5).moved("pressure_left", 1.0e5) == TyrePressures(1.6e5, 1.0e5)
+    assert TyrePressures(1.6e5, 1.2e5).moved("pressure_right", 1.2e5).alike     # equal again
+    assert TyrePressures(1.6e5, 1.2e5).value("pressure") == 1.4e5
+    assert TyrePressures(1.6e5, 1.2e5).value("pressure_left") == 1.2e5
 
 
 def test_swapping_pressures_mirrors_the_solution():
-    a = SpeedFamily(SYMMETRIC, pressure=(1.5 * BAR, 1.2 * BAR))
-    b = SpeedFamily(SYMMETRIC, pressure=(1.2 * BAR, 1.5 * BAR))
+    a = SpeedFamily(SYMMETRIC, pressures=TyrePressures(1.5 * BAR, 1.2 * BAR))
+    b = SpeedFamily(SYMMETRIC, pressures=TyrePressures(1.2 * BAR, 1.5 * BAR))
     ha, hb = hopf_points(a, a.nominal, 0.0, 400 * KMH), hopf_points(b, b.nominal, 0.0, 400 * KMH)
     assert len(ha) == len(hb) > 0
     assert [h.p for h in ha] == pytest.approx([h.p for h in hb], rel=1e-10)
@@ -72,7 +75,7 @@ def test_asymmetric_cycle_agrees_with_a_long_simulation():
     model = ShimmyModel().with_params()
     from reduced_model.model import Effects
     model = ShimmyModel(effects=Effects.parse("pt"))
-    family = SpeedFamily(model, pressure=(1.5 * BAR, 1.2 * BAR))
+    family = SpeedFamily(model, pressures=TyrePressures(1.5 * BAR, 1.2 * BAR))
     diagram = cycle_diagram(family, family.nominal, 0.0, 120 * KMH)
     branch = diagram.branches[0]
     point = max((p for p in branch.points if p.stable), key=lambda p: p.max_abs("theta1"))
@@ -81,7 +84,7 @@ def test_asymmetric_cycle_agrees_with_a_long_simulation():
     half = len(x) // 2
     # no half-period odd symmetry: x(T/2) is not -x(0)
     assert np.max(np.abs(x[half] + x[0])) > 1e-4 * np.max(np.abs(x))
-    traj = simulate(model, (1.5 * BAR, 1.2 * BAR), SpeedSchedule.constant(point.p), 30.0,
+    traj = integrate(model, TyrePressures(1.5 * BAR, 1.2 * BAR), SpeedSchedule.constant(point.p), 30.0,
                     0.5 * point.orbit.nodes[0])
     tail = traj.t > traj.t[-1] - 3.0
     for name in ("theta1", "theta2", "psi"):

@@ -9,6 +9,7 @@ from axles.units import BAR
 from reduced_model import tyre
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.pressures import TyrePressures
 
 
 def test_every_parameter_has_unit_source_and_description():
@@ -66,25 +67,25 @@ def test_pressure_trends_of_figures_12_and_16():
 def test_jacobian_matches_finite_differences(effects):
     model = ShimmyModel(effects=Effects.parse(effects))
     x = np.array([0.02, -0.3, -0.01, 0.4, 0.003, -0.05, 0.015, -0.02])
-    J = model.jacobian(x, 25.0, (1.7 * BAR, 2.2 * BAR))
+    J = model.jacobian(x, 25.0, TyrePressures(1.7 * BAR, 2.2 * BAR))
     h = 1e-6
-    fd = np.column_stack([(model.rhs(x + h * e, 25.0, (1.7 * BAR, 2.2 * BAR))
-                           - model.rhs(x - h * e, 25.0, (1.7 * BAR, 2.2 * BAR))) / (2 * h) for e in np.eye(8)])
+    fd = np.column_stack([(model.rhs(x + h * e, 25.0, TyrePressures(1.7 * BAR, 2.2 * BAR))
+                           - model.rhs(x - h * e, 25.0, TyrePressures(1.7 * BAR, 2.2 * BAR))) / (2 * h) for e in np.eye(8)])
     assert np.allclose(J, fd, rtol=1e-6, atol=1e-6 * np.max(np.abs(J)))
 
 
 def test_straight_running_is_equilibrium_and_jacobian_affine_in_speed():
     model = ShimmyModel(effects=Effects.parse("all"))
-    assert np.all(model.rhs(np.zeros(8), 30.0, 1.8 * BAR) == 0.0)
-    A = [model.linear_matrix(V, 1.8 * BAR) for V in (0.0, 10.0, 50.0)]
+    assert np.all(model.rhs(np.zeros(8), 30.0, TyrePressures.uniform(1.8 * BAR)) == 0.0)
+    A = [model.linear_matrix(V, TyrePressures.uniform(1.8 * BAR)) for V in (0.0, 10.0, 50.0)]
     assert np.allclose(A[2], A[0] + 5.0 * (A[1] - A[0]), rtol=1e-12, atol=1e-9)
 
 
 def test_per_wheel_pressure_breaks_symmetry_only_when_different():
     model = ShimmyModel(effects=Effects.parse("all"))
-    same = model.linear_matrix(20.0, (2.0 * BAR, 2.0 * BAR))
-    assert np.array_equal(same, model.linear_matrix(20.0, 2.0 * BAR))
-    skew = model.linear_matrix(20.0, (1.2 * BAR, 2.0 * BAR))
+    same = model.linear_matrix(20.0, TyrePressures(2.0 * BAR, 2.0 * BAR))
+    assert np.array_equal(same, model.linear_matrix(20.0, TyrePressures.uniform(2.0 * BAR)))
+    skew = model.linear_matrix(20.0, TyrePressures(1.2 * BAR, 2.0 * BAR))
     assert not np.allclose(skew[6], same[6])  # right-wheel relaxation row follows the right pressure
     assert np.allclose(skew[7], same[7])
 
@@ -100,8 +101,8 @@ def test_effects_parse():
 def test_meaningless_pressure_is_refused():
     model = ShimmyModel(effects=Effects.parse("rl,pt"))
     with pytest.raises(ParameterError):
-        model.rhs(np.zeros(8), 10.0, 0.0)
+        model.rhs(np.zeros(8), 10.0, TyrePressures.uniform(0.0))
     with pytest.raises(ParameterError, match="cornering stiffness"):
-        model.rhs(np.zeros(8), 10.0, 9.0 * BAR)  # 1 + p_py1 dp_i < 0 beyond 6.5 bar
+        model.rhs(np.zeros(8), 10.0, TyrePressures.uniform(9.0 * BAR))  # 1 + p_py1 dp_i < 0 beyond 6.5 bar
     with pytest.raises(ParameterError, match="pneumatic trail"):
-        model.with_params(p_pz1=3.0).rhs(np.zeros(8), 10.0, 3.5 * BAR)
+        model.with_params(p_pz1=3.0).rhs(np.zeros(8), 10.0, TyrePressures.uniform(3.5 * BAR))

@@ -12,8 +12,9 @@ from bifurcation.special_points import PointKind
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 from reduced_model.modes import Mode, ModeClassifier, crossing_frequency, peak_abs
-from reduced_model.simulation import initial_state, scalar_speed, simulate
+from reduced_model.simulation import initial_state, scalar_speed, integrate
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
+from axles.pressures import TyrePressures
 
 TRAIL = ShimmyModel().with_params(t0=0.25)
 
@@ -80,7 +81,7 @@ def test_figure11_two_initial_conditions_two_stable_cycles(fig9a):
         expected[mode] = cycle_at(family, near, V)
     starts = {Mode.TRAMP: initial_state(), Mode.YAW: initial_state({"theta1": 0.2, "psi": 0.01})}
     for mode, x0 in starts.items():
-        tr = simulate(TRAIL, 1.5 * BAR, SpeedSchedule.constant(V), 20.0, x0)
+        tr = integrate(TRAIL, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(V), 20.0, x0)
         assert tr.complete and "LSODA" in tr.integrator and "rtol=1e-09" in tr.integrator
         history = ModeClassifier().classify(tr)
         assert history.final_mode is mode
@@ -94,8 +95,8 @@ def test_figure11_two_initial_conditions_two_stable_cycles(fig9a):
 
 @pytest.fixture(scope="module")
 def ramps():
-    up = simulate(TRAIL, 1.5 * BAR, SpeedSchedule.ramp(120 * KMH, 200 * KMH, 80.0), 85.0)
-    down = simulate(TRAIL, 1.5 * BAR, SpeedSchedule.ramp(200 * KMH, 120 * KMH, 80.0), 80.0)
+    up = integrate(TRAIL, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.ramp(120 * KMH, 200 * KMH, 80.0), 85.0)
+    down = integrate(TRAIL, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.ramp(200 * KMH, 120 * KMH, 80.0), 80.0)
     return up, down
 
 
@@ -141,7 +142,7 @@ def test_tramp_cycle_below_T2_is_left_for_the_yaw_mode(fig9a):
     pair = cycle.nontrivial[np.abs(cycle.nontrivial.imag) > 1e-6]
     assert np.abs(pair[0]) == pytest.approx(1.068, abs=1e-3)
     x0 = cycle.orbit.at(np.array([0.0]))[0] * 1.001
-    tr = simulate(TRAIL, 1.5 * BAR, SpeedSchedule.constant(V), 20.0, x0)
+    tr = integrate(TRAIL, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(V), 20.0, x0)
     history = ModeClassifier().classify(tr)
     assert history.initial is Mode.TRAMP and history.final_mode is Mode.YAW
     (switch,) = history.switches
@@ -152,7 +153,7 @@ def test_low_pressure_modes_in_simulation():
     """1.5 bar, t0 = 0.07 m: the yaw mode at 60 km/h and the tramp mode at 250 km/h, inside figure 4a's ranges."""
     model = ShimmyModel()
     for speed, mode, band in ((60.0, Mode.YAW, "yaw"), (250.0, Mode.TRAMP, "tramp")):
-        tr = simulate(model, 1.5 * BAR, SpeedSchedule.constant(speed * KMH), 8.0)
+        tr = integrate(model, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(speed * KMH), 8.0)
         history = ModeClassifier().classify(tr)
         assert history.final_mode is mode
         lo, hi = paper.LOW_PRESSURE_MODES[band]["frequency_hz"]
@@ -160,14 +161,14 @@ def test_low_pressure_modes_in_simulation():
 
 
 def test_stable_straight_running_dies_out():
-    tr = simulate(ShimmyModel(), 2.5 * BAR, SpeedSchedule.constant(30 * KMH), 15.0)
+    tr = integrate(ShimmyModel(), TyrePressures.uniform(2.5 * BAR), SpeedSchedule.constant(30 * KMH), 15.0)
     history = ModeClassifier().classify(tr)
     assert history.final_mode is Mode.NONE
     assert history.final.theta1 < math.radians(0.05)
 
 
 def test_divergence_is_reported_not_raised():
-    tr = simulate(ShimmyModel(), 2.5 * BAR, SpeedSchedule.constant(30 * KMH), 1.0, initial_state({"theta1": 4.0}))
+    tr = integrate(ShimmyModel(), TyrePressures.uniform(2.5 * BAR), SpeedSchedule.constant(30 * KMH), 1.0, initial_state({"theta1": 4.0}))
     assert tr.status is SimulationStatus.DIVERGED and not tr.complete
     assert "passed 3 rad at t = 0.000 s" in tr.message
     assert tr.x.shape == (len(tr.t), 8)

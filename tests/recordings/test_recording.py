@@ -33,8 +33,9 @@ from comparisons.recordings.writer import (
 )
 from reduced_model.model import STATE_NAMES, ShimmyModel
 from reduced_model.trajectory import SimulationStatus, Trajectory
+from axles.pressures import TyrePressures
 
-PRESSURE = 1.5e5
+PRESSURE = TyrePressures.uniform(1.5e5)
 SPEED = from_kmh(60.0)
 SWITCHES = [(0.61234, "straight", "yaw"), (1.40007, "yaw", "tramp")]  # deliberately between samples
 
@@ -65,7 +66,7 @@ def trajectory():
 def rrd(trajectory, tmp_path_factory):
     path = tmp_path_factory.mktemp("rec") / "run.rrd"
     summary = write_recording(str(path), trajectory, labels_for(trajectory.t), SWITCHES, "test run",
-                              pressure=PRESSURE)
+                              pressures=PRESSURE)
     assert summary.samples == len(trajectory.t) and summary.switches == 2 and summary.mode_changes == 3
     return str(path)
 
@@ -199,8 +200,8 @@ def test_mode_inputs():
 
 def test_each_recording_has_its_own_id_and_incomplete_runs_say_so(tmp_path):
     short = simulate(n=101, seconds=0.2, status=SimulationStatus.SOLVER_FAILED)
-    a = write_recording(str(tmp_path / "a.rrd"), short, None, (), pressure=PRESSURE)
-    b = write_recording(str(tmp_path / "b.rrd"), short, None, (), pressure=PRESSURE)
+    a = write_recording(str(tmp_path / "a.rrd"), short, None, (), pressures=PRESSURE)
+    b = write_recording(str(tmp_path / "b.rrd"), short, None, (), pressures=PRESSURE)
     assert a.recording_id != b.recording_id
     assert [r.recording_id for r in RrdReader(a.path).recordings()] == [a.recording_id]
     events = rows(a.path, EVENTS_ENTITY)
@@ -232,11 +233,11 @@ def test_bad_input_is_refused_before_writing(tmp_path):
     with pytest.raises(ValueError, match="pressure"):
         write_recording(str(target), short)
     with pytest.raises(ValueError, match="outside the trajectory"):
-        write_recording(str(target), short, None, [(5.0, "a", "b")], pressure=PRESSURE)
+        write_recording(str(target), short, None, [(5.0, "a", "b")], pressures=PRESSURE)
     with pytest.raises(ValueError, match="one label per sample"):
-        write_recording(str(target), short, ["yaw"] * 3, pressure=PRESSURE)
+        write_recording(str(target), short, ["yaw"] * 3, pressures=PRESSURE)
     with pytest.raises(ValueError, match="in time order"):
-        write_recording(str(target), short, [(0.05, "yaw"), (0.0, "tramp")], pressure=PRESSURE)
+        write_recording(str(target), short, [(0.05, "yaw"), (0.0, "tramp")], pressures=PRESSURE)
     assert os.listdir(tmp_path) == []
 
 
@@ -252,22 +253,22 @@ def test_unwritable_folder(tmp_path, short):
     locked = tmp_path / "locked"
     locked.mkdir(mode=0o500)
     with pytest.raises(RecordingError, match="cannot write the recording"):
-        write_recording(str(locked / "r.rrd"), short, pressure=PRESSURE)
+        write_recording(str(locked / "r.rrd"), short, pressures=PRESSURE)
     assert os.listdir(locked) == []
 
 
 @pytest.mark.skipif(not os.path.isdir("/sys"), reason="needs a folder nobody can write, even root")
 def test_folder_even_root_cannot_write(short):
     with pytest.raises(RecordingError, match="cannot write the recording /sys/r.rrd"):
-        write_recording("/sys/r.rrd", short, pressure=PRESSURE)
+        write_recording("/sys/r.rrd", short, pressures=PRESSURE)
 
 
 def test_missing_folder_and_directory_in_the_way(tmp_path, short):
     with pytest.raises(RecordingError, match="does not exist"):
-        write_recording(str(tmp_path / "nope" / "r.rrd"), short, pressure=PRESSURE)
+        write_recording(str(tmp_path / "nope" / "r.rrd"), short, pressures=PRESSURE)
     (tmp_path / "r.rrd").mkdir()
     with pytest.raises(RecordingError, match="a directory is in the way"):
-        write_recording(str(tmp_path / "r.rrd"), short, pressure=PRESSURE)
+        write_recording(str(tmp_path / "r.rrd"), short, pressures=PRESSURE)
     assert os.listdir(tmp_path) == ["r.rrd"] and os.listdir(tmp_path / "r.rrd") == []
 
 
@@ -281,7 +282,7 @@ def test_failure_while_writing_leaves_nothing_behind(tmp_path, short, monkeypatc
 
     monkeypatch.setattr(recording, "log_series", explode)
     with pytest.raises(type(error)):
-        write_recording(str(target), short, pressure=PRESSURE)
+        write_recording(str(target), short, pressures=PRESSURE)
     assert os.listdir(tmp_path) == ["r.rrd"] and target.read_bytes() == b"previous recording"
 
 
@@ -297,7 +298,7 @@ def test_truncated_file_is_caught(tmp_path, short, monkeypatch):
 
     monkeypatch.setattr(recording, "write_runs", write_then_truncate)
     with pytest.raises(RecordingError, match="came out"):
-        write_recording(str(tmp_path / "r.rrd"), short, pressure=PRESSURE)
+        write_recording(str(tmp_path / "r.rrd"), short, pressures=PRESSURE)
     assert os.listdir(tmp_path) == []
 
 
@@ -400,5 +401,5 @@ def test_rerun_switched_off_is_reported(tmp_path, short, monkeypatch):
     """RERUN=off makes the SDK drop everything silently; the read-back turns that into an error."""
     monkeypatch.setenv("RERUN", "off")
     with pytest.raises(RecordingError, match="RERUN=off"):
-        write_recording(str(tmp_path / "r.rrd"), short, pressure=PRESSURE)
+        write_recording(str(tmp_path / "r.rrd"), short, pressures=PRESSURE)
     assert os.listdir(tmp_path) == []

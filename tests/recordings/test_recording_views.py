@@ -17,8 +17,9 @@ from comparisons.recordings.scene import reduced_model_poses
 from comparisons.recordings.writer import ComparedRun, write_comparison, write_recording
 from reduced_model.model import STATE_NAMES, ShimmyModel
 from reduced_model.modes import ModeClassifier
-from reduced_model.simulation import simulate
+from reduced_model.simulation import integrate
 from reduced_model.trajectory import SpeedSchedule, Trajectory
+from axles.pressures import TyrePressures
 
 
 def test_envelope_keeps_every_peak_where_striding_loses_them():
@@ -46,11 +47,11 @@ def test_envelope_indices_per_bin():
 def ramp(tmp_path_factory):
     """The issue's example: t = 0.25 m, 1.5 bar, 120-200 km/h in 100 s, the tramp cycle in its last 30 s."""
     model = ShimmyModel().with_params(t0=0.25)
-    tr = simulate(model, 1.5 * BAR, SpeedSchedule.ramp(from_kmh(120), from_kmh(200), 100.0), 100.0)
+    tr = integrate(model, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.ramp(from_kmh(120), from_kmh(200), 100.0), 100.0)
     history = ModeClassifier().classify(tr)
     path = tmp_path_factory.mktemp("ramp") / "ramp.rrd"
     summary = write_recording(str(path), tr, history.segments(), history.switches, "ramp", model=model,
-                              pressure=1.5 * BAR)
+                              pressures=TyrePressures.uniform(1.5 * BAR))
     return tr, summary
 
 
@@ -69,9 +70,9 @@ def test_100_s_run_is_small_and_keeps_its_peaks(ramp):
 
 def side_by_side_runs(n=401, seconds=2.0):
     model = ShimmyModel()
-    reduced = simulate(model, 1.5 * BAR, SpeedSchedule.constant(from_kmh(60)), seconds,
+    reduced = integrate(model, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(from_kmh(60)), seconds,
                        sample_interval=seconds / (n - 1))
-    poses = reduced_model_poses(reduced, model, 1.5 * BAR).to_dict()
+    poses = reduced_model_poses(reduced, model, TyrePressures.uniform(1.5 * BAR)).to_dict()
     # A stand-in for the MBS: the same motion, twice the yaw, its own poses.
     x = reduced.x.copy()
     x[:, 0] *= 2.0
@@ -84,7 +85,7 @@ def test_side_by_side_recording(tmp_path):
     path = str(tmp_path / "both.rrd")
     summary = write_comparison(path, [ComparedRun(reduced, [(0.0, "yaw")]), ComparedRun(mbs, [(0.0, "straight"),
                                                                                                (1.0, "yaw")])],
-                               "both", model=model, pressure=1.5 * BAR)
+                               "both", model=model, pressures=TyrePressures.uniform(1.5 * BAR))
     assert summary.path == path and os.path.getsize(path) > 0
     store = RrdReader(path).store().summary()
     for key in ("reduced", "mbs"):
@@ -99,7 +100,7 @@ def test_side_by_side_recording(tmp_path):
     assert "/states/theta1_deg" in views["TimeSeries"] and "/states/psi_deg" in views["TimeSeries"]
     assert views["StateTimeline"] == {"/mode"}
     with pytest.raises(ValueError, match="different models"):
-        write_comparison(str(tmp_path / "x.rrd"), [ComparedRun(reduced), ComparedRun(reduced)], pressure=1.5 * BAR)
+        write_comparison(str(tmp_path / "x.rrd"), [ComparedRun(reduced), ComparedRun(reduced)], pressures=TyrePressures.uniform(1.5 * BAR))
 
 
 @pytest.mark.slow
@@ -113,7 +114,7 @@ def test_screenshot_in_the_real_viewer(tmp_path):
     model, reduced, mbs = side_by_side_runs()
     path = str(tmp_path / "both.rrd")
     write_comparison(path, [ComparedRun(reduced, [(0.0, "yaw")]), ComparedRun(mbs, [(0.0, "yaw")])], "both",
-                     model=model, pressure=1.5 * BAR)
+                     model=model, pressures=TyrePressures.uniform(1.5 * BAR))
     (png,) = take_screenshots(path, [1.0], str(tmp_path / "shots"), size="1200x800")
     image = matplotlib.image.imread(png)
     assert image.shape[0] >= 800 and image.shape[1] >= 1200

@@ -15,6 +15,7 @@ import math
 
 import pytest
 
+from mbs_shimmy.model import MbsModel
 from comparisons import assumption_shifts as shifts
 from axles.units import BAR, KMH
 from mbs_shimmy import Fidelity
@@ -28,12 +29,13 @@ from bifurcation.special_points import BranchStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
 
 SIMULATION_TOL = 5e-3       # max|theta1| of a settled run against the continued orbit
 
 
 def reduced_family(bar: float) -> SpeedFamily:
-    return SpeedFamily(ShimmyModel(YANG2024, Effects()), pressure=bar * BAR)
+    return SpeedFamily(ShimmyModel(YANG2024, Effects()), pressures=TyrePressures.uniform(bar * BAR))
 
 
 @pytest.mark.parametrize("bar", [1.5, 2.5])
@@ -96,7 +98,7 @@ def test_branch_that_does_not_complete_gives_no_peak():
 def test_one_row_on_a_short_window_equals_the_reduced_model():
     """CI: the study's `quasi_steady_speed` row (identical to every assumption on at constant speed) up to 60 km/h
     at 1.5 bar: the MBS's own continued peak is the reduced model's, to 1e-6 at the same speed."""
-    study = assumption_study(YANG2024, Effects(), 1.5 * BAR, vmax=60 * KMH, only=["quasi_steady_speed"])
+    study = assumption_study(YANG2024, Effects(), TyrePressures.uniform(1.5 * BAR), vmax=60 * KMH, only=["quasi_steady_speed"])
     (row,) = study.rows
     reduced, mbs = row.peak_reference, row.peak_mbs
     assert reduced is study.reduced_peak
@@ -122,7 +124,7 @@ def test_one_row_on_a_short_window_equals_the_reduced_model():
 @functools.lru_cache(maxsize=None)
 def mbs_peak(fidelity: str, bar: float):
     """The MBS variant's continued peak over the study's whole window (0-400 km/h), computed once per module."""
-    family = MbsFamily.of(YANG2024, Effects(), Fidelity.parse(fidelity), pressure=bar * BAR)
+    family = MbsFamily(MbsModel(YANG2024, Effects(), Fidelity.parse(fidelity)), pressures=TyrePressures.uniform(bar * BAR))
     return continued_peak(family, bar * BAR, 0.0, 400 * KMH)[0]
 
 
@@ -146,7 +148,7 @@ def test_simulation_at_the_peak_speed_settles_on_the_continued_amplitude(fidelit
     peak cycle (stable), max|theta1| to 0.5 % (full geometry: 20 s, slow)."""
     peak = mbs_peak(fidelity, 1.5)
     assert peak.status is PeakStatus.FOUND and peak.stable
-    run = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.parse(fidelity), 1.5 * BAR, peak.speed, settle=15.0)
+    run = mbs_steady_amplitude(YANG2024, Effects(), Fidelity.parse(fidelity), TyrePressures.uniform(1.5 * BAR), peak.speed, settle=15.0)
     assert run.settled
     assert run.theta1 == pytest.approx(peak.theta1, rel=SIMULATION_TOL)
     assert run.frequency_hz == pytest.approx(peak.frequency_hz, rel=SIMULATION_TOL)

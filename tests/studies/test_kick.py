@@ -12,6 +12,7 @@ from bifurcation.cycles.branches import cycle_diagram
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 from axles.parameters import YANG2024
+from axles.pressures import TyrePressures
 
 PRESSURE = 1.5 * BAR
 PARAMS = YANG2024.replace(t0=0.25)
@@ -19,7 +20,7 @@ PARAMS = YANG2024.replace(t0=0.25)
 
 @pytest.fixture(scope="module")
 def reduced():
-    family = SpeedFamily(ShimmyModel(params=PARAMS), pressure=PRESSURE)
+    family = SpeedFamily(ShimmyModel(params=PARAMS), pressures=TyrePressures.uniform(PRESSURE))
     return family, cycle_diagram(family, PRESSURE, 100.0 * KMH, 300.0 * KMH)
 
 
@@ -41,7 +42,7 @@ def test_kick_in_the_bistable_window_is_bracketed_by_two_runs(reduced):
 def test_mbs_with_every_assumption_on_has_the_same_kick(reduced):
     family, diagram = reduced
     (kick,) = kicks(family, diagram)
-    mbs = MbsFamily(MbsModel(PARAMS, fidelity=Fidelity.reduced()), pressure=PRESSURE)
+    mbs = MbsFamily(MbsModel(PARAMS, fidelity=Fidelity.reduced()), pressures=TyrePressures.uniform(PRESSURE))
     states, unstable = coexisting_states(family, diagram, kick.speed)
     other = kick_threshold(settle_function(mbs, kick.speed), kick.speed, states, unstable)
     assert other.status is KickStatus.FOUND
@@ -59,7 +60,7 @@ def test_full_geometry_kick_in_its_own_window_at_t0_0_25():
     from comparisons.studies.kick import bistable_windows
     from bifurcation.cycles.problem import CycleSettings
     from bifurcation.special_points import PointKind
-    family = MbsFamily(MbsModel(PARAMS, fidelity=Fidelity.full()), pressure=PRESSURE)
+    family = MbsFamily(MbsModel(PARAMS, fidelity=Fidelity.full()), pressures=TyrePressures.uniform(PRESSURE))
     diagram = cycle_diagram(family, PRESSURE, 194.5 * KMH, 206.0 * KMH, settings=CycleSettings(tolerance=1e-5))
     assert diagram.complete
     (hopf,) = diagram.hopf

@@ -10,6 +10,7 @@ import json
 import numpy as np
 import pytest
 
+from axles.pressures import TyrePressures
 from comparisons import assumption_shifts as shifts
 from axles.units import BAR, KMH, kmh
 from comparisons.cli.main import main
@@ -109,7 +110,7 @@ def test_match_hopf_pairs_modes_and_leaves_vanished_ones_open():
 
 
 def test_study_without_cycles():
-    study = assumption_study(MbsModel().params, Effects(), 1.5 * BAR, cycles=False)
+    study = assumption_study(MbsModel().params, Effects(), TyrePressures.uniform(1.5 * BAR), cycles=False)
     names = [r.assumption for r in study.rows]
     assert names == [n for n, _ in study_fidelities()]
     full = study.rows[names.index("full")]
@@ -188,7 +189,7 @@ def test_continued_peak_of_every_row(pressure):
     reduced model's, each MBS variant's on Exudyn), and the shift MBS minus reference, each at its own speed."""
     from comparisons.studies.assumption_study import ELEMENTS
     from comparisons.studies.cycle_peak import PeakStatus
-    study = assumption_study(MbsModel().params, Effects(), pressure * BAR, cycles=True)
+    study = assumption_study(MbsModel().params, Effects(), TyrePressures.uniform(pressure * BAR), cycles=True)
     theta, speed = REDUCED_PEAK[pressure]
     assert np.degrees(study.peak_theta1) == pytest.approx(theta, abs=5e-4)
     assert kmh(study.peak_speed) == pytest.approx(speed, abs=0.02)

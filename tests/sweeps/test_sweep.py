@@ -12,13 +12,14 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from axles.axle import Axle
+from axles.axle import AxleData
 from axles.limits import UsageError
 from axles.units import from_kmh
 from comparisons.cli.main import main
 from comparisons.sweeps.design import make_design, parse_vary
 from comparisons.sweeps.run import run_sweep
 from comparisons.sweeps.sample import SweepTask, evaluate_batch
+from axles.pressures import TyrePressures
 
 
 def _cli_json(capsys, argv: list[str]) -> dict:
@@ -118,10 +119,10 @@ def test_unstable_intervals_agree_with_eigenvalues():
     from bifurcation.equilibria.hopf import eigenvalues
     from reduced_model.family import SpeedFamily
     from reduced_model.model import ShimmyModel
-    task = SweepTask(Axle(), (), 1.5, 1.5, ("pressure",))
+    task = SweepTask(AxleData(), (), 1.5, 1.5, ("pressure",))
     row = task.evaluate(np.array([1.5]))
     assert row["n_hopf"] == 4 and row["hopf_mode"][2] == "tramp" and row["hopf_mode"][0] == "yaw"
-    family = SpeedFamily(ShimmyModel(), pressure=1.5e5)
+    family = SpeedFamily(ShimmyModel(), pressures=TyrePressures.uniform(1.5e5))
     for v in np.linspace(2.0, 399.0, 150):
         unstable = eigenvalues(family, from_kmh(v), 1.5e5)[0].real > 0
         inside = any(a <= v <= b for a, b in zip(row["unstable_from_kmh"], row["unstable_to_kmh"]))
@@ -140,7 +141,7 @@ def _interrupt_after(k: int):
 
 def test_interrupted_sweep_resumes_without_recomputing_finished_batches(tmp_path):
     design = make_design([parse_vary("pressure=0.8:3.2:8")], None, None)
-    task = SweepTask(Axle(), (), 2.5, 2.5, design.names)
+    task = SweepTask(AxleData(), (), 2.5, 2.5, design.names)
     out = str(tmp_path / "r.parquet")
     with pytest.raises(KeyboardInterrupt):
         run_sweep(task, design, out, workers=1, size=2, progress=_interrupt_after(2))
@@ -187,7 +188,7 @@ def test_external_scheduler_and_worker_give_identical_results(tmp_path):
         procs.append(subprocess.Popen([dask, "worker", address, "--nworkers", "1", "--nthreads", "1",
                                        "--no-dashboard"], **quiet))
         design = make_design([parse_vary("pressure=uniform:0.5:3.5"), parse_vary("t0=normal:0.07:0.01")], 40, 7)
-        task = SweepTask(Axle(), (), 2.5, 2.5, design.names, lyapunov=True)
+        task = SweepTask(AxleData(), (), 2.5, 2.5, design.names, lyapunov=True)
         out = str(tmp_path / "remote.parquet")
         result = run_sweep(task, design, out, scheduler=address, size=5)
         assert result.scheduler == address and result.computed_batches == 8
@@ -232,11 +233,11 @@ def test_margin_columns_equal_the_margin_api():
     from comparisons.api import Axle as ApiAxle
     from comparisons.api import stability_margins
     from comparisons.sweeps.sample import MARGIN_SPEEDS
-    task = SweepTask(Axle(), (), 2.5, 2.5, ("drag_link_inclination",), compute=("hopf", "margins"),
+    task = SweepTask(AxleData(), (), 2.5, 2.5, ("drag_link_inclination",), compute=("hopf", "margins"),
                      mbs=("reduced", "full"))
     assert {"margin", "mbs_full_margin_kmh", "mbs_reduced_margin_mode"} <= set(task.schema().names)
     row = task.evaluate(np.array([11.0]))
-    axle = ApiAxle(Axle().with_values({"drag_link_inclination": np.radians(11.0)}))
+    axle = ApiAxle(AxleData().with_values({"drag_link_inclination": np.radians(11.0)}))
     for prefix, model in (("", axle.reduced()), ("mbs_reduced_", axle.mbs("reduced")), ("mbs_full_", axle.mbs("full"))):
         low = stability_margins(model, (2.5, 2.5), 0.5, 400, pressure_points=1, speed_points=MARGIN_SPEEDS).minimum
         assert row[f"{prefix}margin"] == low.damping_ratio and row[f"{prefix}margin_kmh"] == low.speed_kmh

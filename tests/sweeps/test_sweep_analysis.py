@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pyarrow as pa
 
-from axles.axle import Axle
+from axles.axle import AxleData
 from comparisons.sweeps.analysis import OutputChoice, sensitivity, stability_fraction, write_plot
 from comparisons.sweeps.design import make_design, parse_vary
 from comparisons.sweeps.sample import SweepTask, evaluate_batch
@@ -45,7 +45,7 @@ def test_sobol_indices_and_src_of_a_known_function():
 
 def test_stability_map_and_plot_from_a_small_grid(tmp_path):
     design = make_design([parse_vary("pressure=1:3:3"), parse_vary("t0=0.05:0.1:2")], None, None)
-    task = SweepTask(Axle(), (), 2.5, 2.5, design.names)
+    task = SweepTask(AxleData(), (), 2.5, 2.5, design.names)
     table = evaluate_batch(task, 0, 0, design.values)
     speeds = np.array([30.0, 60.0, 150.0, 250.0])
     frac = stability_fraction(table, "pressure", np.array([0.5, 1.5, 2.5, 3.5]), speeds)

@@ -15,7 +15,7 @@ import pytest
 from dask_processes import free_port, message, parts_of, shimmy, start_shimmy, sweep_json, wait_for_parts
 
 from comparisons.cli.commands.sweep import build_task
-from comparisons.cli.main import build_parser, main
+from comparisons.cli.main import parse_command, main
 from comparisons.sweeps import cluster
 from comparisons.sweeps.design import make_design, parse_vary
 from comparisons.sweeps.parts import lock_path, write_part
@@ -28,7 +28,7 @@ SAMPLES, BATCHES = 60, 20
 
 def uninterrupted(argv: list[str]):
     """Every sample of the sweep ``argv`` evaluated in one batch in this process, with the command's own task."""
-    args = build_parser().parse_args(argv)
+    args = parse_command(argv)
     design = make_design([parse_vary(v) for v in args.vary], args.samples, args.seed, args.design)
     return evaluate_batch(build_task(args, design.names), 0, 0, design.values), design
 

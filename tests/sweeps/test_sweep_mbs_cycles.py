@@ -16,6 +16,7 @@ from bifurcation.cycles.branches import cycle_diagram
 from bifurcation.cycles.problem import CycleSettings
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
+from axles.pressures import TyrePressures
 
 VMAX_KMH = 39.3      # just past the full geometry's first Hopf point at 1.5 bar (39.23 km/h): a short branch
 
@@ -70,7 +71,7 @@ def test_mbs_cycle_columns_equal_shimmy_cycles_and_shimmy_hopf(capsys, tmp_path)
 def test_a_branch_that_stops_is_marked_and_gives_no_mode_peak():
     """A branch cut short (3 continuation steps) is marked with its status, the sample's cycles are incomplete
     with the reason, and the mode's peak amplitude is null (the branch's largest cycle is only a lower bound)."""
-    family = SpeedFamily(ShimmyModel(), pressure=1.5e5)
+    family = SpeedFamily(ShimmyModel(), pressures=TyrePressures.uniform(1.5e5))
     short = CycleSettings(continuation=dataclasses.replace(CycleSettings().continuation, max_steps=3))
     diagram = cycle_diagram(family, family.nominal, 0.0, from_kmh(60.0), settings=short)
     assert diagram.branches and not diagram.complete
@@ -88,7 +89,7 @@ def test_a_continuation_that_raises_keeps_the_hopf_points_and_marks_the_cycles_u
     the sample: the Hopf points and their l1 stay, the branch lists are null (unknown), not empty (none)."""
     import numpy as np
 
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.sweeps import sample
     from mbs_shimmy.linearisation import MbsFamily
 
@@ -100,7 +101,7 @@ def test_a_continuation_that_raises_keeps_the_hopf_points_and_marks_the_cycles_u
         return real(family, vmax)
 
     monkeypatch.setattr(sample, "_cycle_diagram", diagram)
-    task = sample.SweepTask(axle=Axle(), effects=(), pressure_right_bar=1.5, pressure_left_bar=1.5,
+    task = sample.SweepTask(axle=AxleData(), effects=(), pressure_right_bar=1.5, pressure_left_bar=1.5,
                             names=("pressure",), compute=("cycles",), mbs=("full",), vmax_kmh=VMAX_KMH)
     (row,) = sample.evaluate_batch(task, 0, 0, np.array([[1.5]])).to_pylist()
     assert row["status"] == "ok" and row["cycles_complete"]

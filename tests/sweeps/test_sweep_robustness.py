@@ -1,17 +1,18 @@
 """The robustness section of `shimmy verify`: plausible axles sampled, checks and shifts against direct studies."""
 
 from __future__ import annotations
+from axles.pressures import TyrePressures
 
 import numpy as np
 
 from comparisons.assumption_shifts import shift_kmh
-from axles.axle import Axle, entries
+from axles.axle import AxleData, entries
 from comparisons.verify.report import CheckStatus
 from comparisons.verify.robustness import plausible_variations, run_robustness, study_rows
 
 
 def test_every_multibody_entry_with_a_plausible_range_is_sampled():
-    axle = Axle()
+    axle = AxleData()
     got = {v.name: (v.a, v.b) for v in plausible_variations(axle)}
     want = {n for n, e in entries().items() if e.section == "multibody" and axle.plausible_range(n) is not None}
     assert set(got) == want and want
@@ -24,7 +25,7 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     from comparisons.studies.assumption_study import assumption_study
     from reduced_model.model import Effects
 
-    axle = Axle()
+    axle = AxleData()
     (study,) = run_robustness(axle, str(tmp_path), 6, pressures=((1.5, 1.5),), processes=False)
     assert (tmp_path / "robustness_1p5bar.parquet").exists()
     rows = study_rows([study])
@@ -34,7 +35,7 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     assert ok and study.failed == 0 and len(ok) + len(study.impossible) == 6
     r = ok[0]
     dims = axle.with_values({n: entries()[n].to_si(r[n]) for n in study.design.names}).dims
-    direct = assumption_study(axle.params, Effects(), 1.5e5, dims=dims, cycles=False)
+    direct = assumption_study(axle.params, Effects(), TyrePressures.uniform(1.5e5), dims=dims, cycles=False)
     full = next(x for x in direct.rows if x.assumption == "full")
     want = [shift_kmh(h) for h in full.hopf if h.reduced_speed is not None]
     assert r["mbs_full_shift_kmh"] == want
@@ -66,7 +67,7 @@ def test_onset_shares_add_up_and_l1_agrees_with_shimmy_hopf(capsys):
     from comparisons.cli.main import main
     from comparisons.verify.robustness import onset_kind, onset_row
 
-    axle = Axle()
+    axle = AxleData()
     (study,) = run_robustness(axle, tempfile.mkdtemp(), 16, pressures=((1.5, 1.5),), processes=False)
     row = onset_row(study)
     n = len(study.column("status"))

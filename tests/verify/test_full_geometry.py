@@ -218,14 +218,14 @@ def test_section_on_the_paper_axle_at_1_5_bar(tmp_path):
 def test_ramps_through_a_subcritical_window_start_on_straight_running():
     """Below the window straight running is the state (its stable stretch reaches lower), above it the cycle:
     the ramp up must leave straight running at or past the Hopf point, the ramp down the cycle at the fold."""
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.verify.full_jumps import full_jump_setup
     from comparisons.verify.jump_experiments import ramps
     from comparisons.verify.plan import BistableCase
     from reduced_model.modes import Mode
     d = subcritical_diagram()
     (window,) = bistable_windows(d, StraightRunning())
-    setup = full_jump_setup(BistableCase(Axle(), 1.5, 30.5, 40.0, "test", d), StraightRunning(), d, window)
+    setup = full_jump_setup(BistableCase(AxleData(), 1.5, 30.5, 40.0, "test", d), StraightRunning(), d, window)
     assert (setup.low, setup.high) == pytest.approx((30.0, 40.0))        # the fold S1 and the Hopf point
     assert (setup.below_mode, setup.above_mode) == (Mode.NONE, Mode.YAW)
     assert (setup.v_lo, setup.v_hi) == pytest.approx((10.0, 60.0))
@@ -236,23 +236,23 @@ def test_ramps_through_a_subcritical_window_start_on_straight_running():
 
 
 def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.verify.full_geometry_rows import Where
     from comparisons.verify.plan import BistableCase
-    where = Where.of_bistable(BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
-    assert where.label == "1.5 bar, t0 = 0.25" and where.pressure == pytest.approx(1.5e5)
+    where = Where.of_bistable(BistableCase(AxleData().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "fig 9a"))
+    assert where.label == "1.5 bar, t0 = 0.25" and where.pressures.right == where.pressures.left == pytest.approx(1.5e5)
     assert where.family.model.params.t0 == 0.25 and where.reduced_family.model.params.t0 == 0.25
 
 
 def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
     """verify's bistable jumps (full mode) carry the reduced model's kick, bracketed by two of its runs."""
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.verify.context import Context
     from comparisons.verify.cycles import _kick_rows
     from comparisons.verify.jump_experiments import jump_setup
     from comparisons.verify.plan import BistableCase, Plan
     from comparisons.verify.report import CheckStatus
-    case = BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "figures 9a-11")
+    case = BistableCase(AxleData().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "figures 9a-11")
     setup = jump_setup(case, True)
     (row,) = _kick_rows(Context(out=str(tmp_path), quick=False, plan=Plan((), ()), recordings=False), setup)
     assert row.status is CheckStatus.PASS, row.note
@@ -265,7 +265,7 @@ def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
 def test_a_window_too_narrow_to_resolve_gets_no_ramps_and_no_kick(tmp_path):
     """Next to a degenerate Hopf point the fold lies within a hair of it (the full geometry at t0 = 0.25 m: 6e-5
     km/h at 3.56 km/h): the window is reported, but no ramp or kick can resolve it."""
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.verify.context import Context
     from comparisons.verify.full_geometry_rows import MIN_WINDOW_KMH, Where, window_rows
     d = subcritical_diagram()
@@ -278,7 +278,7 @@ def test_a_window_too_narrow_to_resolve_gets_no_ramps_and_no_kick(tmp_path):
     ((a, b),) = bistable_windows(narrow, StraightRunning())
     assert (b - a) / KMH < MIN_WINDOW_KMH
     rows, recordings, found = window_rows(Context(out=str(tmp_path), quick=False), StraightRunning(),
-                                          Where("test", Axle(), 1.5e5, 1.5), narrow)
+                                          Where("test", AxleData(), 1.5e5, 1.5), narrow)
     (row,) = rows
     assert row.cells["what"].startswith("bistable window") and "neither is run" in row.note
     assert recordings == [] and found == []

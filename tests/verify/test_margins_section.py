@@ -1,7 +1,7 @@
 """The verify section "Stability margins" on an axle with no Hopf point at all (the paper's axle with
 c4 = 120 N m s/rad): it still checks something, and says the axle is damped everywhere."""
 
-from axles.axle import Axle
+from axles.axle import AxleData
 from comparisons.verify.context import Context
 from comparisons.verify.margins import FIGURE, margins_section
 from comparisons.verify.plan import Plan
@@ -9,7 +9,7 @@ from comparisons.verify.report import CheckStatus
 
 
 def test_a_stable_axle_has_a_margin_figure_and_passing_checks(tmp_path):
-    axle = Axle().with_overrides({"c4": 120.0})
+    axle = AxleData().with_overrides({"c4": 120.0})
     section = margins_section(Context(out=str(tmp_path), quick=True, axle=axle, plan=Plan((), ())))
     assert section.key == "margins" and (tmp_path / FIGURE).stat().st_size > 10_000
     checks = [r for r in section.rows if r.status is not CheckStatus.INFO]
@@ -24,7 +24,7 @@ def test_a_stable_axle_has_a_margin_figure_and_passing_checks(tmp_path):
 
 def test_the_margin_minima_reach_the_verdict(tmp_path):
     """The section hands each model's minimum to the verdict as data (sentence and JSON from the same point)."""
-    axle = Axle().with_overrides({"c4": 120.0})
+    axle = AxleData().with_overrides({"c4": 120.0})
     section = margins_section(Context(out=str(tmp_path), quick=True, axle=axle, plan=Plan((), ())))
     facts = {f.model: f for f in section.verdict_facts}
     assert set(facts) == {"reduced model", "MBS, full geometry"}

@@ -84,11 +84,11 @@ def test_a_job_whose_process_dies_says_so_and_an_uncollected_one_is_stopped():
 @pytest.mark.slow
 def test_full_geometry_at_t0_0_25_in_verify_has_its_window_ramps_and_kick(tmp_path):
     """The background job of the full verify at the paper's bistable case (t0 = 0.25 m, 1.5 bar), about 4 min."""
-    from axles.axle import Axle
+    from axles.axle import AxleData
     from comparisons.verify.other_axle import full_geometry_at
     from comparisons.verify.plan import BistableCase
     from comparisons.verify.report import CheckStatus
-    case = BistableCase(Axle().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "the paper's figure 9")
+    case = BistableCase(AxleData().with_overrides({"t0": 0.25}), 1.5, math.nan, math.nan, "the paper's figure 9")
     result = full_geometry_at(case, str(tmp_path), True)
     failed = [r for r in result.rows if r.status is CheckStatus.FAIL]
     assert not failed, failed

@@ -16,7 +16,7 @@ from axles.axle_file import read_axle
 from comparisons.verify.context import Context
 from comparisons.verify.plan import CaseKind, axle_plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section, render_html, render_markdown
-from comparisons.verify.scan import BoundaryKind, BoundaryMethod, Model, family_of, growth_root
+from comparisons.verify.scan import BoundaryKind, BoundaryMethod, Model, growth_root, scan_family
 from comparisons.verify.verdict import DisagreementKind, verdict_of
 
 EXAMPLES = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "examples")
@@ -75,7 +75,7 @@ def test_growth_root_is_the_fold_of_the_hopf_curves(plan_a):
     highest fold of the reduced model's Hopf curves (the full geometry's quick boundary uses the former)."""
     axle = read_axle(SHIMMIES_IN_FULL)
     fold = plan_a.scan_of(Model.REDUCED).boundary.pressure_bar
-    assert abs(growth_root(family_of(axle, Model.REDUCED), 2.5, 3.0) - fold) < 1e-3
+    assert abs(growth_root(scan_family(axle, Model.REDUCED), 2.5, 3.0) - fold) < 1e-3
 
 
 def test_plan_and_verdict_of_the_stable_axle(plan_b):

@@ -14,7 +14,6 @@ from comparisons.cli.options import (
     build_model,
     emit_json,
     inputs_json,
-    operating_pressure,
     pressure_label,
 )
 from comparisons.cli.progress import StepProgress
@@ -49,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     rows = len(study_fidelities()) + (1 if cycles else 0)
     # one line per row on stderr (a bar on a terminal): the continuation takes 10-30 s a row
     with StepProgress(total=rows, job="assumptions") as bar:
-        study = assumption_study(model.params, model.effects, operating_pressure(args), dims=build_axle(args).dims,
+        study = assumption_study(model.params, model.effects, args.tyre_pressures, dims=build_axle(args).dims,
                                  vmax=args.vmax * KMH, cycles=cycles, progress=bar)
     if args.json:
         out = shifts.study_json(study)

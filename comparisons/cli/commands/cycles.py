@@ -10,7 +10,7 @@ import numpy as np
 
 from axles.axle import interface_text, interface_unit
 from axles.limits import UsageError
-from axles.units import KMH, interface_of, kmh
+from axles.units import KMH, interface_of, kmh, to_interface
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
     add_model_choice,
@@ -23,7 +23,6 @@ from comparisons.cli.options import (
     check_window,
     emit_json,
     inputs_json,
-    operating_pressure,
     positive_float,
     pressure_label,
 )
@@ -38,6 +37,7 @@ from bifurcation.equilibria.hopf import HopfPoint
 from bifurcation.special_points import ConvergenceError, PointKind
 from reduced_model.family import MIN_SPEED, SpeedFamily
 from reduced_model.model import STATE_NAMES
+from comparisons.api import family_of
 
 TWO_PARAMS = SECOND_PARAMETERS
 DEFAULT_SETTINGS = CycleSettings()
@@ -195,7 +195,7 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
     lo, hi = args.range
     unit, factor = interface_unit(name)
     check_window(lo, hi, name, unit)
-    value = SpeedFamily(model, name, pressure=operating_pressure(args)).nominal
+    value = family_of(model, args.tyre_pressures, name).nominal
     if not lo * factor <= value <= hi * factor:
         raise UsageError(f"--range {lo:g} {hi:g} {unit} must contain the current {name} = {value / factor:g} {unit}")
     return name, value, lo * factor, hi * factor
@@ -302,7 +302,7 @@ def run(args: argparse.Namespace) -> int:
                                      f"{effects}); solid stable, dashed unstable")
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
     if args.json:
-        out = diagram_json(diagram, family, args.pressure, model.effects.names)
+        out = diagram_json(diagram, family, to_interface(args.tyre_pressures.value("pressure"), "Pa"), model.effects.names)
         del out["pressure_bar"], out["effects"]
         out = {**inputs_json(args), **out}
         if args.model == "mbs":

@@ -13,15 +13,15 @@ from comparisons.cli.options import (
     add_model_options,
     add_output_options,
     build_axle,
+    api_axle,
     build_fidelity,
-    build_model,
     emit_json,
     inputs_json,
-    operating_pressure,
     positive_float,
     pressure_label,
 )
 from reduced_model.mode_shapes import ModeShape, mode_shapes, reduced_inertias
+from reduced_model.model import Effects
 
 
 def add_parser(sub) -> None:
@@ -40,17 +40,14 @@ def add_parser(sub) -> None:
 def _models(args: argparse.Namespace):
     """(key, title, modes) for the reduced model and the MBS."""
     from comparisons.margins import mode_inertias
-    from mbs_shimmy.linearisation import MbsFamily
-    from reduced_model.family import SpeedFamily
-    model = build_model(args)
-    pressure = operating_pressure(args)
-    args.model = "mbs"
-    fidelity = build_fidelity(args)
-    reduced = SpeedFamily(model, pressure=pressure)
-    mbs = MbsFamily.of(model.params, model.effects, fidelity, dims=build_axle(args).dims, pressure=pressure)
+    axle = api_axle(args)
+    effects = Effects.parse(args.effects)
+    fidelity = build_fidelity(args, "mbs")
+    reduced = axle.reduced(effects).problem(args.tyre_pressures)
+    mbs = axle.mbs(fidelity=fidelity, effects=effects).problem(args.tyre_pressures)
     speed = args.speed * KMH
     return [("reduced", "reduced model", mode_shapes(reduced.linear_matrix(speed, reduced.nominal),
-                                                     inertias=reduced_inertias(model.params.I1, model.params.I3))),
+                                                     inertias=reduced_inertias(axle.params.I1, axle.params.I3))),
             ("mbs", f"MBS, fidelity {fidelity.label}",
              mode_shapes(mbs.linear_matrix(speed, mbs.nominal), inertias=mode_inertias(mbs),
                          names=mbs.state_names))], fidelity

@@ -31,11 +31,9 @@ from comparisons.cli.options import (
     chosen_model,
     emit_json,
     inputs_json,
-    operating_pressure,
     parse_number,
     pressure_label,
     ranged,
-    tyre_pressures,
 )
 from comparisons.cli.progress import progress
 from reduced_model.model import STATE_NAMES, STATE_UNITS
@@ -107,7 +105,7 @@ def parse_initial(items: list[str] | None) -> dict[str, float] | None:
     return values
 
 
-def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
+def check_work(args: argparse.Namespace, schedule: SpeedSchedule, duration: float) -> None:
     """Refuse a run whose fastest oscillation would take the integrator minutes to resolve (exit 2, with why).
 
     Within the physical ranges an axle can still combine a stiff tie rod with a light wheel (k1 = 1e8 N m/rad,
@@ -116,33 +114,33 @@ def check_work(args: argparse.Namespace, schedule: SpeedSchedule) -> None:
     range: the MBS's own with ``--model mbs``, whose full geometry adds modes (steering gear, lateral travel) the
     reduced model does not have.
     """
-    if args.model == "mbs" and args.duration > MBS_MAX_DURATION:
+    if args.model == "mbs" and duration > MBS_MAX_DURATION:
         raise UsageError(f"--duration with --model mbs must be at most {MBS_MAX_DURATION:g} s (about 2 s of "
-                         f"computing per simulated second), got {args.duration:g}")
+                         f"computing per simulated second), got {duration:g}")
     speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
     if build_fidelity(args) is None:
-        model, pressure = build_model(args), operating_pressure(args)
-        matrices = [model.linear_matrix(v, pressure) for v in speeds]
+        model = build_model(args)
+        matrices = [model.linear_matrix(v, args.tyre_pressures) for v in speeds]
     else:
         family = build_family(args)
         matrices = [family.linear_matrix(v, family.nominal) for v in speeds]
     fastest = max(float(np.max(np.abs(np.linalg.eigvals(A).imag))) / (2 * np.pi) for A in matrices)
-    cycles = fastest * args.duration
+    cycles = fastest * duration
     if cycles > MAX_CYCLES:
         which = "the MBS's" if build_fidelity(args) is not None else "the axle's"
         raise UsageError(f"{which} fastest oscillation, {fastest:.4g} Hz, would need {cycles:.3g} periods "
-                         f"resolved in {args.duration:g} s (limit {MAX_CYCLES:g}): shorten --duration or check the "
+                         f"resolved in {duration:g} s (limit {MAX_CYCLES:g}): shorten --duration or check the "
                          f"stiffnesses and inertias (k1, k2, I1, ...)")
 
 
-def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | None,
+def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | None, duration: float,
                    initial: dict[str, float] | None) -> Trajectory:
     """The one place where a trajectory is made, by the API's one call for both models: the reduced model
     (scipy, with a progress bar) or the multibody model (Exudyn, with the bodies' poses when recording)."""
     def run(tick=None) -> Trajectory:
         try:
-            return simulate_api(chosen_model(args), tyre_pressures(args), speed_kmh=args.speed, ramp_kmh=ramp,
-                                duration_s=args.duration, initial_deg=initial, progress=tick,
+            return simulate_api(chosen_model(args), args.tyre_pressures, speed_kmh=args.speed, ramp_kmh=ramp,
+                                duration_s=duration, initial_deg=initial, progress=tick,
                                 poses=bool(args.rerun)).trajectory
         except ParameterError as exc:
             raise UsageError(str(exc)) from None
@@ -152,7 +150,7 @@ def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | 
     quiet = args.json or not sys.stderr.isatty()
     with progress(100, "simulating", quiet) as bar:
         def tick(t):
-            bar.n = int(100 * t / args.duration)
+            bar.n = int(100 * t / duration)
             bar.refresh()
         return run(tick)
 
@@ -176,7 +174,7 @@ def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
     }
 
 
-def schedule_json(args: argparse.Namespace) -> dict:
+def schedule_json(args: argparse.Namespace, duration: float) -> dict:
     """The run's inputs beyond the axle and pressures: speed schedule, duration asked, start, MBS fidelity."""
     if args.speed is not None:
         schedule = {"speed_kmh": args.speed}
@@ -184,31 +182,32 @@ def schedule_json(args: argparse.Namespace) -> dict:
         start, end, seconds = (float(x) for x in args.ramp.split(":"))
         schedule = {"ramp": {"from_kmh": start, "to_kmh": end, "seconds": seconds}}
     fidelity = build_fidelity(args)
-    return {"schedule": schedule, "duration_requested_s": args.duration, "initial": list(args.initial or []),
+    return {"schedule": schedule, "duration_requested_s": duration, "initial": list(args.initial or []),
             "fidelity": None if fidelity is None else fidelity.label}
 
 
 def run(args: argparse.Namespace) -> int:
     ramp = None if args.speed is not None else parse_ramp(args.ramp)
     schedule = schedule_of(args.speed, ramp)
-    if args.duration is None:
-        args.duration = CONSTANT_DURATION if ramp is None else schedule.ramp_time + HOLD_AFTER_RAMP
+    duration = args.duration
+    if duration is None:
+        duration = CONSTANT_DURATION if ramp is None else schedule.ramp_time + HOLD_AFTER_RAMP
     initial = parse_initial(args.initial)
-    check_work(args, schedule)
+    check_work(args, schedule, duration)
     if args.series:   # the paths themselves are checked by comparisons.cli before any command runs
         from comparisons.recordings.series import series_format
         try:
             series_format(args.series)
         except ValueError as exc:
             raise UsageError(str(exc)) from None
-    trajectory = simulate_model(args, ramp, initial)
+    trajectory = simulate_model(args, ramp, duration, initial)
     history = ModeClassifier().classify(trajectory)
     if args.rerun:
         from comparisons.recordings.writer import RecordingError, write_recording
         try:
             write_recording(args.rerun, trajectory, history.segments(), history.switches,
                             title=f"{trajectory.model} model, {pressure_label(args)}", model=build_model(args),
-                            pressure=operating_pressure(args))
+                            pressures=args.tyre_pressures)
         except RecordingError as exc:
             raise UsageError(str(exc)) from None
     how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
@@ -222,7 +221,7 @@ def run(args: argparse.Namespace) -> int:
         write_series(args.series, series_table(trajectory, history.segments(),
                                                {**inputs_json(args), "schedule": how}))
     if args.json:
-        emit_json({**inputs_json(args), **schedule_json(args), **result_json(trajectory, history)})
+        emit_json({**inputs_json(args), **schedule_json(args, duration), **result_json(trajectory, history)})
     else:
         out = result_json(trajectory, history)
         print(f"{trajectory.model} model at {pressure_label(args)}, {how}, {out['duration_s']:g} s simulated")

@@ -96,7 +96,6 @@ def _compute(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]
 
 def build_task(args: argparse.Namespace, names: tuple[str, ...]):
     from axles.limits import UsageError
-    from comparisons.cli.options import resolve_pressures
     from comparisons.sweeps.sample import SweepTask
     from reduced_model.model import Effects
     from axles.parameters import ParameterError
@@ -105,9 +104,8 @@ def build_task(args: argparse.Namespace, names: tuple[str, ...]):
         effects = Effects.parse(args.effects).names
     except ParameterError as exc:
         raise UsageError(str(exc)) from None
-    resolve_pressures(args)
-    return SweepTask(axle=build_axle(args), effects=effects, pressure_right_bar=args.pressure_right,
-                     pressure_left_bar=args.pressure_left, names=names, compute=compute, mbs=mbs,
+    return SweepTask(axle=build_axle(args), effects=effects, pressure_right_bar=args.tyre_pressures.right_bar,
+                     pressure_left_bar=args.tyre_pressures.left_bar, names=names, compute=compute, mbs=mbs,
                      vmax_kmh=args.vmax, lyapunov=args.lyapunov)
 
 
