@@ -79,7 +79,7 @@ def cycles_section(ctx: Context) -> Section:
     budget, most = (6, 2) if ctx.quick else (28, 8)
     per_branch = max(1, min(most, budget // max(1, stable_branches)))
     if not diagrams:
-        rows.append(Row({}, CheckStatus.NOTHING, "no planned case where the reduced model shimmies: no limit cycle "
+        rows.append(Row({}, CheckStatus.COULD_NOT_CHECK, "no planned case where the reduced model shimmies: no limit cycle "
                                                  "to compare"))
     for case, family, diagram in diagrams:
         overlay = {"reduced": [], "full": []}

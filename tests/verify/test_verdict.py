@@ -100,12 +100,12 @@ def test_stable_axle_is_still_checked(plan_b, tmp_path):
     assert [r.status for r in transient.rows] == [CheckStatus.PASS]
     assert "decays in both models" in transient.rows[0].note
     empty = [cycles_section(ctx), assumptions_section(ctx)]
-    assert all([r.status for r in s.rows] == [CheckStatus.NOTHING] for s in empty)
+    assert all([r.status for r in s.rows] == [CheckStatus.COULD_NOT_CHECK] for s in empty)
     report = Report((hopf, transient, *empty), quick=True, plan=plan_b, axle=axle, verdict=verdict_of(plan_b))
     passed = report.count(CheckStatus.PASS)
     assert not report.failed and passed == hopf.count(CheckStatus.PASS) + 1
-    assert report.overall() == (f"all {passed} equivalence checks passed; nothing to check in "
-                                f"{empty[0].title}, {empty[1].title}")
+    assert report.overall() == (f"all {passed} equivalence checks passed; 2 could not be checked (not counted as "
+                                f"passed); nothing checked in {empty[0].title}, {empty[1].title}")
     text = render_markdown(report)
     assert text.index("## Verdict") < text.index("## Summary")
     assert "**No shimmy at any speed in 0.5-3.5 bar in either model.**" in text
@@ -113,12 +113,13 @@ def test_stable_axle_is_still_checked(plan_b, tmp_path):
 
 
 def test_nothing_checked_never_reads_as_passed():
-    nothing = Section("cycles", "Limit cycles", ("case",), (Row({}, CheckStatus.NOTHING, "no shimmy"),))
+    nothing = Section("cycles", "Limit cycles", ("case",), (Row({}, CheckStatus.COULD_NOT_CHECK, "no shimmy"),))
     info = Section("plan", "Plan", ("case",), (Row({"case": "1 bar"}, CheckStatus.INFO),))
     report = Report((info, nothing), quick=True)
-    assert not report.failed and report.overall() == "nothing was checked; nothing to check in Limit cycles"
+    assert not report.failed and report.overall() == ("nothing was checked; 1 could not be checked (not counted as "
+                                                  "passed); nothing checked in Limit cycles")
     assert "passed" not in render_markdown(report).split("Overall: ")[1].split("\n")[0]
-    assert report.summary_rows()[1]["nothing to check"] == 1 and report.summary_rows()[1]["pass"] == 0
+    assert report.summary_rows()[1]["could not check"] == 1 and report.summary_rows()[1]["pass"] == 0
 
 
 def run_quick(axle_file, out):
@@ -144,6 +145,6 @@ def test_verify_quick_on_axle_b(tmp_path):
     summary = run_quick(STABLE, tmp_path)
     by_key = {s["key"]: s for s in summary["sections"]}
     assert all(r["status"] == "pass" for r in by_key["transient"]["rows"])
-    assert [r["status"] for r in by_key["cycles"]["rows"]] == ["nothing to check"]
+    assert [r["status"] for r in by_key["cycles"]["rows"]] == ["could not check"]
     assert summary["verdict"]["headline"] == "No shimmy at any speed in 0.5-3.5 bar in either model."
-    assert "nothing to check in" in (tmp_path / "report.md").read_text()
+    assert "nothing checked in" in (tmp_path / "report.md").read_text()
