@@ -252,7 +252,7 @@ class Report:
         text = f"all {passed} equivalence checks passed" if passed else "nothing was checked"
         unchecked = self.count(CheckStatus.COULD_NOT_CHECK)
         if unchecked:
-            text += f"; {unchecked} could not be checked (not counted as passed)"
+            text += f"; {unchecked} could not be checked (counted apart)"
         empty = self.nothing_to_check()
         if empty:
             text += "; nothing checked in " + ", ".join(s.title for s in empty)

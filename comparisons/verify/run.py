@@ -95,6 +95,10 @@ def run_verification(out: str, quick: bool, axle: Axle | None = None, asymmetric
         start_jump_runs(ctx)
         start_other_axles(ctx)
         sections = run_sections(ctx, announce)
-    facts = tuple(f for s in sections for f in s.verdict_facts)
+    from comparisons.verify.verdict import RobustnessShare
+    facts = [f for s in sections for f in s.verdict_facts]
+    shares = tuple(f for f in facts if isinstance(f, RobustnessShare))
+    margins = tuple(f for f in facts if not isinstance(f, RobustnessShare))
     return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle,
-                  verdict=dataclasses.replace(verdict, margins=verdict.margins + facts))
+                  verdict=dataclasses.replace(verdict, margins=verdict.margins + margins,
+                                              robustness=verdict.robustness + shares))

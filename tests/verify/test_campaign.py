@@ -1,0 +1,54 @@
+"""``tools/verify_campaign.py``: ``verify --quick`` on random axles drawn as a new user makes them (issue 29), whose
+exit code must be 0 wherever the two equal models agree: CI runs 3 seeded axles with t0 in 0.12-0.3 m (where
+bistable windows, torus points and narrow stable windows appear), the slow suite 40 (20 of them with t0 drawn)."""
+
+import importlib.util
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def campaign():
+    spec = importlib.util.spec_from_file_location("tools_verify_campaign", ROOT / "tools" / "verify_campaign.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module          # its dataclasses look their module up by name
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_draws_stay_in_their_ranges_and_repeat_with_the_seed():
+    from axles.axle import entries, paper_axle
+    tool = campaign()
+    paper = paper_axle()
+    a = tool.draw_axle(np.random.default_rng(7), "A", t0=True)
+    b = tool.draw_axle(np.random.default_rng(7), "A", t0=True)
+    assert (a.params, a.dims) == (b.params, b.dims)
+    for name in tool.VEHICLE:
+        ratio = a.value(name) / paper.value(name) if paper.value(name) else 1.0
+        assert 1 - tool.SCALE <= ratio <= 1 + tool.SCALE, name
+    for name, e in entries().items():
+        if e.section == "multibody":
+            lo, hi = paper.plausible_range(name)
+            assert lo <= a.value(name) <= hi, name
+        elif name not in tool.VEHICLE and name != "t0":
+            assert a.value(name) == paper.value(name), name
+    assert tool.T0_M[0] <= a.params.t0 <= tool.T0_M[1]
+    assert tool.draw_axle(np.random.default_rng(7), "A", t0=False).params.t0 == paper.params.t0
+
+
+def test_three_seeded_axles_verify_without_a_false_fail(tmp_path):
+    tool = campaign()
+    outcomes = tool.run_campaign(3, 3, seed=29, out=str(tmp_path), say=lambda line: None)
+    assert len(outcomes) == 3
+    assert all(o.exit_code == 0 and not o.fails for o in outcomes), "\n" + tool.table(outcomes)
+
+
+@pytest.mark.slow
+def test_forty_axles_verify_without_a_false_fail(tmp_path):
+    tool = campaign()
+    outcomes = tool.run_campaign(40, 20, seed=2029, out=str(tmp_path), jobs=2, say=lambda line: None)
+    assert all(o.exit_code == 0 and not o.fails for o in outcomes), "\n" + tool.table(outcomes)

@@ -1,0 +1,144 @@
+"""A campaign of ``shimmy verify --quick`` on random axles: can its exit code gate a release on any axle?
+
+Each axle is drawn from the paper's axle file as a new user would make one (issue 29): Table 1's vehicle entries
+(:data:`VEHICLE`: inertias, stiffnesses, dampings and the geometry of the axle) each scaled by a factor uniform in
+1 +- :data:`SCALE`, every chosen multibody dimension uniform in the file's own ``[plausible]`` range, and, for the
+first ``--t0-axles`` of them, the pneumatic trail t0 uniform in 0.12-0.3 m (the paper's figures 8-9, where
+bistable windows appear).  The draws are seeded: the same ``--seed`` gives the same axles.  Each axle is written as
+an axle file and verified in a fresh process; the summary table gives each one's exit code, FAIL rows (section and
+note), could-not-check rows and time.
+
+    .venv/bin/python tools/verify_campaign.py --axles 8 --t0-axles 4 --seed 29 --out campaign
+
+Exit 0 when no axle's verify FAILs, 1 when one does, 2 on bad options.  ``--jobs`` runs that many verifies at once
+(each uses about one core and a second one part of the time).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
+
+VEHICLE = ("I1", "I2", "I3", "k1", "k2", "k3", "c1", "c2", "c3", "c4", "L", "l", "gamma")
+SCALE = 0.25
+T0_M = (0.12, 0.30)
+TIMEOUT_S = 1800
+
+
+def draw_axle(rng: np.random.Generator, name: str, t0: bool):
+    """One random axle (module docstring) from the paper's axle; ``t0``: with the trail drawn from :data:`T0_M`."""
+    import dataclasses
+
+    from axles.axle import entries, paper_axle
+    base = paper_axle()
+    values = {n: base.value(n) * rng.uniform(1 - SCALE, 1 + SCALE) for n in VEHICLE}
+    for n, e in entries().items():
+        if e.section == "multibody":
+            lo, hi = base.plausible_range(n)
+            values[n] = rng.uniform(lo, hi)
+    if t0:
+        values["t0"] = rng.uniform(*T0_M)
+    return dataclasses.replace(base.with_values(values), name=name)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    name: str
+    t0_m: float
+    exit_code: int
+    fails: tuple[str, ...]          # "section: note" of each FAIL row
+    unchecked: int                  # could-not-check rows
+    seconds: float
+    error: str = ""                 # the last line of stderr when verify gave no report
+
+    def row(self) -> str:
+        fails = "; ".join(self.fails) or ("-" if not self.error else self.error)
+        return (f"| {self.name} | {self.t0_m:.3f} | {self.exit_code} | {len(self.fails)} | {self.unchecked} | "
+                f"{self.seconds:.0f} | {fails.replace('|', '/')} |")
+
+
+def verify_one(path: str, out: str, name: str, t0_m: float) -> Outcome:
+    start = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "verify", "--quick", "--no-recordings",
+                               "--axle", path, "--out", out, "--json"], capture_output=True, text=True,
+                              timeout=TIMEOUT_S, cwd=ROOT)
+    except subprocess.TimeoutExpired:
+        return Outcome(name, t0_m, -1, (), 0, time.perf_counter() - start, f"timed out after {TIMEOUT_S} s")
+    seconds = time.perf_counter() - start
+    try:
+        summary = json.loads(proc.stdout)
+    except json.JSONDecodeError:
+        last = (proc.stderr.strip().splitlines() or ["no output"])[-1]
+        return Outcome(name, t0_m, proc.returncode, (), 0, seconds, last)
+    rows = [(s["title"], r) for s in summary["sections"] for r in s["rows"]]
+    fails = tuple(f"{title}: {r.get('note') or r.get('error')}" for title, r in rows if r["status"] == "FAIL")
+    unchecked = sum(r["status"] == "could not check" for _, r in rows)
+    return Outcome(name, t0_m, proc.returncode, fails, unchecked, seconds)
+
+
+def run_campaign(n: int, t0_axles: int, seed: int, out: str, jobs: int = 1, say=print) -> list[Outcome]:
+    """Draw ``n`` axles (the first ``t0_axles`` with t0 drawn too), write them into ``out`` and verify each."""
+    from axles.axle_file import format_axle
+    from comparisons.files import write_atomically
+    rng = np.random.default_rng(seed)
+    os.makedirs(out, exist_ok=True)
+    work = []
+    for i in range(n):
+        name = f"CAMPAIGN-{seed}-{i + 1:02d}"
+        axle = draw_axle(rng, name, t0=i < t0_axles)
+        path = os.path.join(out, f"{name}.toml")
+        write_atomically(path, format_axle(axle))
+        work.append((path, os.path.join(out, name), name, axle.params.t0))
+
+    def one(item):
+        got = verify_one(*item)
+        say(f"{got.name}: exit {got.exit_code}, {len(got.fails)} FAIL, {got.unchecked} could not check, "
+            f"{got.seconds:.0f} s")
+        return got
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        return list(pool.map(one, work))
+
+
+def table(outcomes: list[Outcome]) -> str:
+    lines = ["| axle | t0 [m] | exit code | FAIL rows | could not check | time [s] | FAIL rows (section: note) |",
+             "|---|---|---|---|---|---|---|"]
+    return "\n".join(lines + [o.row() for o in outcomes])
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--axles", type=int, default=8, help="how many random axles (default 8)")
+    p.add_argument("--t0-axles", type=int, default=None,
+                   help="how many of them (the first) get t0 drawn from 0.12-0.3 m (default: half)")
+    p.add_argument("--seed", type=int, default=29, help="seed of the draws (default 29)")
+    p.add_argument("--jobs", type=int, default=1, help="verifies at once (default 1)")
+    p.add_argument("--out", default="verify-campaign", help="folder for the axle files and reports")
+    args = p.parse_args(argv)
+    t0_axles = args.axles // 2 if args.t0_axles is None else args.t0_axles
+    if args.axles < 1 or not 0 <= t0_axles <= args.axles or args.jobs < 1:
+        sys.stderr.write("verify_campaign: need --axles >= 1, 0 <= --t0-axles <= --axles and --jobs >= 1\n")
+        return 2
+    outcomes = run_campaign(args.axles, t0_axles, args.seed, args.out, args.jobs,
+                            say=lambda line: print(line, file=sys.stderr, flush=True))
+    text = table(outcomes)
+    from comparisons.files import write_atomically
+    write_atomically(os.path.join(args.out, "campaign.md"), text + "\n")
+    print(text)
+    return 1 if any(o.exit_code != 0 for o in outcomes) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
