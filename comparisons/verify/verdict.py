@@ -60,12 +60,12 @@ class Stretch:
         return self.high >= VMAX
 
     def text(self) -> str:
-        """"from 0.5 to 400.0 km/h (from the lowest speed, up to the top of the speed window): yaw throughout,
-        tramp from 184.0 to 196.0 km/h"."""
+        """"from 0.5 to 400.0 km/h, from the lowest speed and up to the top of the speed window (yaw throughout,
+        tramp from 184.0 to 196.0 km/h)"."""
         ends = [e for e, on in (("from the lowest speed", self.from_lowest),
                                 ("up to the top of the speed window", self.to_top)) if on]
-        return (_range_text(self.low, self.high) + (f" ({', '.join(ends)})" if ends else "") + ": "
-                + ", ".join(m.text(self) for m in self.modes))
+        return (_range_text(self.low, self.high) + (", " + " and ".join(ends) if ends else "")
+                + f" ({', '.join(m.text(self) for m in self.modes)})")
 
     def to_json(self) -> dict:
         return {"low_kmh": kmh(self.low), "high_kmh": kmh(self.high), "from_lowest_speed": self.from_lowest,
@@ -157,7 +157,7 @@ class ModelVerdict:
         text = (f"{self.model.label} runs straight at every speed" if not facts.windows else
                 f"{self.model.label} shimmies {windows_text(facts.windows)}")
         if self.model is Model.FULL:
-            text += "".join(f" ({r.text()})" for r in robustness if r.case == facts.label)
+            text += "".join(f"; {r.text()}" for r in robustness if r.case == facts.label)
         return text
 
     def facts_at(self, label: str) -> CaseFacts | None:

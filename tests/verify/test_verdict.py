@@ -58,7 +58,7 @@ def test_verdict_of_axle_a_names_the_disagreement(plan_a):
     expected = (f"the reduced model is shimmy-free above 2.61 bar and runs straight at {case.label}; the full "
                 f"geometry shimmies at {case.label} {w.text()}")
     assert one[0].text == expected
-    assert w.text().endswith("km/h: yaw throughout")
+    assert w.text().endswith("km/h (yaw throughout)")
     boundary = next(d for d in verdict.disagreements if d.kind is DisagreementKind.BOUNDARY)
     assert boundary.shimmies is Model.FULL
     lines = verdict.lines()
@@ -169,8 +169,8 @@ def test_one_window_per_maximal_unstable_stretch_with_each_modes_ranges():
              Window(from_kmh(196.0), VMAX, "yaw", 3.0, False, ("yaw",)))
     (one,) = stretches(parts)
     assert (one.low, one.high) == (MIN_SPEED, VMAX)
-    assert one.text() == ("from 0.5 to 400.0 km/h (from the lowest speed, up to the top of the speed window): yaw "
-                          "throughout, tramp from 184.0 to 196.0 km/h")
+    assert one.text() == ("from 0.5 to 400.0 km/h, from the lowest speed and up to the top of the speed window (yaw "
+                          "throughout, tramp from 184.0 to 196.0 km/h)")
     data = one.to_json()
     assert [m["mode"] for m in data["modes"]] == ["yaw", "tramp"]
     assert data["modes"][1]["ranges_kmh"] == [[pytest.approx(184.0), pytest.approx(196.0)]]
@@ -179,8 +179,8 @@ def test_one_window_per_maximal_unstable_stretch_with_each_modes_ranges():
                      window(70.0, 80.0, "yaw", ("yaw",)), window(90.0, 95.0, "yaw", ("yaw",))))
     assert [(round(kmh(w.low), 6), round(kmh(w.high), 6)) for w in two] == [(40.0, 80.0), (90.0, 95.0)]
     assert all(a.high < b.low for a, b in zip(two[:-1], two[1:]))      # disjoint, not touching
-    assert two[0].text() == ("from 40.0 to 80.0 km/h: yaw from 40.0 to 60.0 km/h and from 70.0 to 80.0 km/h, "
-                             "tramp from 60.0 to 70.0 km/h")
+    assert two[0].text() == ("from 40.0 to 80.0 km/h (yaw from 40.0 to 60.0 km/h and from 70.0 to 80.0 km/h, "
+                             "tramp from 60.0 to 70.0 km/h)")
 
 
 def test_the_full_geometrys_line_carries_its_robustness():
@@ -193,7 +193,7 @@ def test_the_full_geometrys_line_carries_its_robustness():
                    for m in (Model.REDUCED, Model.FULL))
     verdict = Verdict(models, (), robustness=(RobustnessShare("1.5 bar", 0.39, 64),))
     line = next(x for x in verdict.lines() if x.startswith("At 1.5 bar"))
-    assert line == ("At 1.5 bar: the reduced model shimmies from 40.0 to 60.0 km/h: yaw throughout; the full geometry "
-                    "shimmies from 40.0 to 60.0 km/h: yaw throughout (over its plausible dimensions the full geometry "
-                    "shimmies at 1.5 bar in 39 % of axles (64 sampled)).")
+    assert line == ("At 1.5 bar: the reduced model shimmies from 40.0 to 60.0 km/h (yaw throughout); the full geometry "
+                    "shimmies from 40.0 to 60.0 km/h (yaw throughout); over its plausible dimensions the full geometry "
+                    "shimmies at 1.5 bar in 39 % of axles (64 sampled).")
     assert verdict.to_json()["robustness"][0]["share"] == 0.39
