@@ -78,7 +78,7 @@ def test_a_stable_window_narrower_than_the_grid_is_confirmed_not_missed():
     row, points = hopf_sign_row(family, "constructed", 1.0)
     assert row.status is CheckStatus.PASS, row.note
     assert [round(v, 2) for v, _ in points] == [196.34, 199.37]
-    assert "damped at 196.34-199.37 km/h" in row.note
+    assert "no oscillation grows at 196.34-199.37 km/h" in row.note
 
 
 class MissingHopf(TwoModes):
@@ -107,3 +107,31 @@ def test_a_hopf_point_the_continuation_missed_fails_the_sign_check(monkeypatch):
     row, points = margins.hopf_sign_row(MissingHopf(), "constructed", 1.0, np.linspace(MIN_SPEED, VMAX, 41))
     assert points == [] and row.status is CheckStatus.FAIL
     assert "a Hopf point the continuation did not find" in row.note
+
+
+class Divergence(TwoModes):
+    """Campaign axle CAMPAIGN-29-02 at 0.5 bar, reduced: at the lowest speed two real eigenvalues grow (a
+    divergence, left out of the margin, which is positive there); a little faster they meet and grow on as an
+    oscillating pair (the margin negative). The margin changes sign with no Hopf point: the old sign check failed."""
+
+    def __init__(self):
+        super().__init__(0.0, 0.0)
+
+    def linear_matrix(self, V: float, q: float):
+        import numpy as np
+        A = np.zeros((4, 4))
+        A[:2, :2] = [[-1.0, 60.0], [-60.0, -1.0]]
+        d = 50.0 * (1.0 - V)          # eigenvalues 2 +- sqrt(d): two real ones below 1 m/s, a pair above
+        A[2:, 2:] = [[2.0, 1.0], [d, 2.0]]
+        return A
+
+
+def test_a_growing_pair_that_meets_the_real_axis_is_no_missed_hopf_point():
+    import numpy as np
+
+    from comparisons.verify.margins import hopf_sign_row
+    from comparisons.verify.plan import VMAX
+    from reduced_model.family import MIN_SPEED
+    row, points = hopf_sign_row(Divergence(), "constructed", 0.5, np.linspace(MIN_SPEED, VMAX, 41))
+    assert points == [] and row.status is CheckStatus.PASS, row.note
+    assert "where a growing pair meets the real axis (a divergence, not a Hopf point)" in row.note
