@@ -4,7 +4,8 @@ Each axle is drawn from the paper's axle file as a new user would make one (issu
 (:data:`VEHICLE`: inertias, stiffnesses, dampings and the geometry of the axle) each scaled by a factor uniform in
 1 +- :data:`SCALE`, every chosen multibody dimension uniform in the file's own ``[plausible]`` range, and, for the
 first ``--t0-axles`` of them, the pneumatic trail t0 uniform in 0.12-0.3 m (the paper's figures 8-9, where
-bistable windows appear).  The draws are seeded: the same ``--seed`` gives the same axles.  Each axle is written as
+bistable windows appear).  The draws are seeded, each axle with its own stream: axle k of ``--seed`` is the same
+axle in a campaign of any size.  Each axle is written as
 an axle file and verified in a fresh process; the summary table gives each one's exit code, FAIL rows (section and
 note), could-not-check rows and time.
 
@@ -38,7 +39,8 @@ TIMEOUT_S = 1800
 
 
 def draw_axle(rng: np.random.Generator, name: str, t0: bool):
-    """One random axle (module docstring) from the paper's axle; ``t0``: with the trail drawn from :data:`T0_M`."""
+    """One random axle (module docstring) from the paper's axle; ``t0``: with the trail drawn from :data:`T0_M`
+    (drawn either way, so that the other entries do not depend on it)."""
     import dataclasses
 
     from axles.axle import entries, paper_axle
@@ -48,9 +50,16 @@ def draw_axle(rng: np.random.Generator, name: str, t0: bool):
         if e.section == "multibody":
             lo, hi = base.plausible_range(n)
             values[n] = rng.uniform(lo, hi)
+    trail = rng.uniform(*T0_M)
     if t0:
-        values["t0"] = rng.uniform(*T0_M)
+        values["t0"] = trail
     return dataclasses.replace(base.with_values(values), name=name)
+
+
+def campaign_axle(seed: int, number: int, t0: bool):
+    """Axle ``number`` (from 1) of the campaign ``seed``: its own random stream, so that it is the same axle in a
+    campaign of any size."""
+    return draw_axle(np.random.default_rng((seed, number)), f"CAMPAIGN-{seed}-{number:02d}", t0)
 
 
 @dataclass(frozen=True)
@@ -78,6 +87,9 @@ def verify_one(path: str, out: str, name: str, t0_m: float) -> Outcome:
     except subprocess.TimeoutExpired:
         return Outcome(name, t0_m, -1, (), 0, time.perf_counter() - start, f"timed out after {TIMEOUT_S} s")
     seconds = time.perf_counter() - start
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "verify-stderr.txt"), "w") as fh:    # each section's time, any error
+        fh.write(proc.stderr)
     try:
         summary = json.loads(proc.stdout)
     except json.JSONDecodeError:
@@ -89,19 +101,19 @@ def verify_one(path: str, out: str, name: str, t0_m: float) -> Outcome:
     return Outcome(name, t0_m, proc.returncode, fails, unchecked, seconds)
 
 
-def run_campaign(n: int, t0_axles: int, seed: int, out: str, jobs: int = 1, say=print) -> list[Outcome]:
-    """Draw ``n`` axles (the first ``t0_axles`` with t0 drawn too), write them into ``out`` and verify each."""
+def run_campaign(n: int, t0_axles: int, seed: int, out: str, jobs: int = 1, say=print,
+                 numbers=None) -> list[Outcome]:
+    """Draw axles 1..``n`` of campaign ``seed`` (or only those in ``numbers``; the first ``t0_axles`` with t0
+    drawn), write them into ``out`` and verify each."""
     from axles.axle_file import format_axle
     from comparisons.files import write_atomically
-    rng = np.random.default_rng(seed)
     os.makedirs(out, exist_ok=True)
     work = []
-    for i in range(n):
-        name = f"CAMPAIGN-{seed}-{i + 1:02d}"
-        axle = draw_axle(rng, name, t0=i < t0_axles)
-        path = os.path.join(out, f"{name}.toml")
+    for number in numbers or range(1, n + 1):
+        axle = campaign_axle(seed, number, t0=number <= t0_axles)
+        path = os.path.join(out, f"{axle.name}.toml")
         write_atomically(path, format_axle(axle))
-        work.append((path, os.path.join(out, name), name, axle.params.t0))
+        work.append((path, os.path.join(out, axle.name), axle.name, axle.params.t0))
 
     def one(item):
         got = verify_one(*item)
@@ -126,13 +138,16 @@ def main(argv=None) -> int:
     p.add_argument("--seed", type=int, default=29, help="seed of the draws (default 29)")
     p.add_argument("--jobs", type=int, default=1, help="verifies at once (default 1)")
     p.add_argument("--out", default="verify-campaign", help="folder for the axle files and reports")
+    p.add_argument("--only", type=int, nargs="+", metavar="K", help="verify only these axles (numbers from 1)")
     args = p.parse_args(argv)
     t0_axles = args.axles // 2 if args.t0_axles is None else args.t0_axles
-    if args.axles < 1 or not 0 <= t0_axles <= args.axles or args.jobs < 1:
-        sys.stderr.write("verify_campaign: need --axles >= 1, 0 <= --t0-axles <= --axles and --jobs >= 1\n")
+    if args.axles < 1 or not 0 <= t0_axles <= args.axles or args.jobs < 1 or \
+            any(not 1 <= k <= args.axles for k in args.only or ()):
+        sys.stderr.write("verify_campaign: need --axles >= 1, 0 <= --t0-axles <= --axles, --jobs >= 1 and every "
+                         "--only K in 1..--axles\n")
         return 2
     outcomes = run_campaign(args.axles, t0_axles, args.seed, args.out, args.jobs,
-                            say=lambda line: print(line, file=sys.stderr, flush=True))
+                            say=lambda line: print(line, file=sys.stderr, flush=True), numbers=args.only)
     text = table(outcomes)
     from comparisons.files import write_atomically
     write_atomically(os.path.join(args.out, "campaign.md"), text + "\n")

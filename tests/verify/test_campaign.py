@@ -37,7 +37,11 @@ def test_the_draws_stay_in_their_ranges_and_repeat_with_the_seed():
         elif name not in tool.VEHICLE and name != "t0":
             assert a.value(name) == paper.value(name), name
     assert tool.T0_M[0] <= a.params.t0 <= tool.T0_M[1]
-    assert tool.draw_axle(np.random.default_rng(7), "A", t0=False).params.t0 == paper.params.t0
+    plain = tool.draw_axle(np.random.default_rng(7), "A", t0=False)
+    assert plain.params.t0 == paper.params.t0 and plain.dims == a.dims     # t0 drawn or not, the rest the same
+    # each axle its own stream: axle 3 of a campaign does not depend on the others
+    assert tool.campaign_axle(29, 3, True).params == tool.campaign_axle(29, 3, True).params
+    assert tool.campaign_axle(29, 3, True).name == "CAMPAIGN-29-03"
 
 
 def test_three_seeded_axles_verify_without_a_false_fail(tmp_path):
