@@ -5,8 +5,8 @@ Each axle is drawn from the paper's axle file as a new user would make one (issu
 1 +- :data:`SCALE`, every chosen multibody dimension uniform in the file's own ``[plausible]`` range, and, for the
 first ``--t0-axles`` of them, the pneumatic trail t0 uniform in 0.12-0.3 m (the paper's figures 8-9, where
 bistable windows appear).  Dimensions with which the axle cannot exist (Table 1's I2 more than twice the wheel's
-diametral inertia, say: no rigid wheel has that, and verify refuses the axle with exit 2) are drawn again from the
-same ranges.  The draws are seeded, each axle with its own stream: axle k of ``--seed`` is the same
+diametral inertia: no rigid wheel has that; wheels and knuckles with more roll inertia than I3; verify refuses such
+an axle with exit 2) are drawn again from the same ranges.  The draws are seeded, each axle with its own stream: axle k of ``--seed`` is the same
 axle in a campaign of any size.  Each axle is written as
 an axle file and verified in a fresh process; the summary table gives each one's exit code, FAIL rows (section and
 note), could-not-check rows and time.
@@ -55,9 +55,8 @@ def draw_axle(rng: np.random.Generator, name: str, t0: bool):
             if e.section == "multibody":
                 lo, hi = base.plausible_range(n)
                 values[n] = rng.uniform(lo, hi)
-        try:      # dimensions that cannot reproduce Table 1's I1 and I2 (no rigid wheel has them) are drawn again
-            drawn = base.with_values(values)
-            drawn.dims.check(drawn.params)
+        try:      # dimensions with which the axle cannot exist are drawn again
+            exists(base.with_values(values))
             break
         except ParameterError:
             continue
@@ -65,6 +64,16 @@ def draw_axle(rng: np.random.Generator, name: str, t0: bool):
     if t0:
         values["t0"] = trail
     return dataclasses.replace(base.with_values(values), name=name)
+
+
+def exists(axle) -> None:
+    """Raise :class:`axles.parameters.ParameterError` where the axle cannot exist: its dimensions cannot reproduce
+    Table 1's I1 and I2 (no rigid wheel has them), or its wheels and knuckles carry more roll inertia than I3 (the
+    full geometry's multibody system is built and linearised once, as verify does)."""
+    from comparisons.verify.scan import Model, family_of
+    axle.dims.check(axle.params)
+    family = family_of(axle, Model.FULL)
+    family.linear_matrix(10.0, family.nominal)
 
 
 def campaign_axle(seed: int, number: int, t0: bool):
