@@ -21,7 +21,6 @@ from reduced_model.model import ShimmyModel
 
 START_S = {True: 20.0, False: 40.0}       # s of each two-start and window-end run, quick mode or not
 RAMP_KMH_S = {True: 2.0, False: 1.0}      # km/h per s of the ramps, quick mode or not
-WINDOW_SLACK_KMH = 0.5       # a jump may come this much before the window's end (classifier windows)
 HOLD_S = 10.0                # s a ramp holds its end speed
 PAST_END_KMH = 0.5           # how far past a window's end the constant-speed end runs go
 
@@ -157,18 +156,12 @@ class Ramp:
     schedule: object          # SpeedSchedule
     duration: float           # s
     before: object            # the mode it starts in
-    after: object             # the mode it must jump to
+    after: object             # the mode a jump leads to
     edge: float               # km/h: the end of the window the ramp leaves through
 
     @property
     def up(self) -> bool:
         return self.name == "ramp up"
-
-    def beyond(self, jump_kmh: float | None) -> bool:
-        """The jump comes at or past the window's end it leaves through (a slow passage only delays it)."""
-        if jump_kmh is None:
-            return False
-        return jump_kmh >= self.edge - WINDOW_SLACK_KMH if self.up else jump_kmh <= self.edge + WINDOW_SLACK_KMH
 
 
 def ramps(setup: JumpSetup, rate_kmh_s: float) -> tuple[Ramp, Ramp]:
