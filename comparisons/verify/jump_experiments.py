@@ -20,9 +20,10 @@ from reduced_model.model import ShimmyModel
 from axles.pressures import TyrePressures
 from comparisons.api import family_of
 
-START_S = {True: 20.0, False: 40.0}       # s of each two-start run, quick mode or not
+START_S = {True: 20.0, False: 40.0}       # s of each two-start and window-end run, quick mode or not
 RAMP_KMH_S = {True: 2.0, False: 1.0}      # km/h per s of the ramps, quick mode or not
-WINDOW_SLACK_KMH = 0.5       # a jump may come this much before the window's end (classifier windows)
+HOLD_S = 10.0                # s a ramp holds its end speed
+PAST_END_KMH = 0.5           # how far past a window's end the constant-speed end runs go
 
 
 def bistable_diagram(case: BistableCase):
@@ -157,18 +158,12 @@ class Ramp:
     schedule: object          # SpeedSchedule
     duration: float           # s
     before: object            # the mode it starts in
-    after: object             # the mode it must jump to
+    after: object             # the mode a jump leads to
     edge: float               # km/h: the end of the window the ramp leaves through
 
     @property
     def up(self) -> bool:
         return self.name == "ramp up"
-
-    def beyond(self, jump_kmh: float | None) -> bool:
-        """The jump comes at or past the window's end it leaves through (a slow passage only delays it)."""
-        if jump_kmh is None:
-            return False
-        return jump_kmh >= self.edge - WINDOW_SLACK_KMH if self.up else jump_kmh <= self.edge + WINDOW_SLACK_KMH
 
 
 def ramps(setup: JumpSetup, rate_kmh_s: float) -> tuple[Ramp, Ramp]:
@@ -176,10 +171,34 @@ def ramps(setup: JumpSetup, rate_kmh_s: float) -> tuple[Ramp, Ramp]:
     from reduced_model.trajectory import SpeedSchedule
     ramp_time = (setup.v_hi - setup.v_lo) / rate_kmh_s
     lo, hi = from_kmh(setup.v_lo), from_kmh(setup.v_hi)
-    return (Ramp("ramp up", SpeedSchedule.ramp(lo, hi, ramp_time), ramp_time + 10.0, setup.below_mode,
+    return (Ramp("ramp up", SpeedSchedule.ramp(lo, hi, ramp_time), ramp_time + HOLD_S, setup.below_mode,
                  setup.above_mode, setup.high),
-            Ramp("ramp down", SpeedSchedule.ramp(hi, lo, ramp_time), ramp_time + 10.0, setup.above_mode,
+            Ramp("ramp down", SpeedSchedule.ramp(hi, lo, ramp_time), ramp_time + HOLD_S, setup.above_mode,
                  setup.below_mode, setup.low))
+
+
+@dataclass(frozen=True)
+class RampJump:
+    """Where and when one model left ``ramp.before`` for ``ramp.after`` in a ramp (information, not a check: the
+    speed of a jump under a slow ramp is a delayed loss of stability, set by how near the state is to the cycle)."""
+
+    speed_kmh: float | None       # None: no jump before the run ended
+    time_s: float | None
+    ramp_s: float                 # when the ramp reached its end speed (the hold follows)
+    end_kmh: float                # the ramp's end speed, held after ramp_s
+
+    @property
+    def in_hold(self) -> bool:
+        return self.time_s is not None and self.time_s > self.ramp_s
+
+
+def ramp_jump(ramp: Ramp, history, setup: JumpSetup) -> RampJump:
+    jumps = [s for s in history.switches if s.before is ramp.before and s.after is ramp.after]
+    ramp_s = ramp.duration - HOLD_S
+    end = setup.v_hi if ramp.up else setup.v_lo
+    if not jumps:
+        return RampJump(None, None, ramp_s, end)
+    return RampJump(kmh(jumps[0].speed), jumps[0].time, ramp_s, end)
 
 
 def run_ramp(setup: JumpSetup, ramp: Ramp, fidelity=None) -> tuple[dict, list]:
@@ -212,6 +231,57 @@ def run_start(setup: JumpSetup, speed_kmh: float, x0, duration: float) -> list:
             for traj in run_both(setup.case, SpeedSchedule.constant(from_kmh(speed_kmh)), x0, duration)]
 
 
+def end_cycle(diagram, cycle, end_kmh: float):
+    """The computed cycle nearest ``end_kmh`` on the stable stretch of the branch that carries ``cycle``: the
+    cycle that ends at that end of the window."""
+    for b in diagram.branches:
+        pts = list(b.points)
+        k = next((i for i, p in enumerate(pts) if p is cycle), None)
+        if k is None:
+            continue
+        stretch = [cycle]
+        for step in (-1, 1):
+            j = k
+            while 0 <= j + step < len(pts) and pts[j + step].stable:
+                j += step
+                stretch.append(pts[j])
+        return min(stretch, key=lambda p: abs(kmh(p.p) - end_kmh))
+    return cycle
+
+
+@dataclass(frozen=True)
+class EndRun:
+    """At one end of a bistable window: both models at constant speed just past it, started on the stable cycle
+    that ends there (a fold: it no longer exists; a torus point: it lost stability, the motion may stay near it)."""
+
+    end: str                  # "upper" or "lower"
+    end_kmh: float            # the window's end (a cycle fold or a torus point)
+    point: str                # its name (S1, T2, ...), or "" when the end is not a named special point
+    speed_kmh: float          # the constant speed of the runs, PAST_END_KMH beyond the end
+    start_mode: object        # the mode of the cycle the runs start on
+    cycle_kmh: float          # the speed of that computed cycle
+    both: tuple               # ((trajectory, mode history), ...) reduced model and MBS
+
+
+def end_runs(setup: JumpSetup, duration: float) -> tuple[EndRun, ...]:
+    """Both models just past each end of the window, from the cycle that ends there (:class:`EndRun`); none when
+    the window's two cycles were not found."""
+    if len(setup.cycles) < 2:
+        return ()
+    reach = {id(c): stable_reach(setup.diagram, c) for c in setup.cycles[:2]}
+    lower = min(setup.cycles[:2], key=lambda c: reach[id(c)])
+    upper = next(c for c in setup.cycles[:2] if c is not lower)
+    names = {round(v, 6): k for k, v in setup.named.items()}
+    out = []
+    for end, edge, cycle, mode, sign in (("upper", setup.high, lower, setup.below_mode, 1.0),
+                                         ("lower", setup.low, upper, setup.above_mode, -1.0)):
+        start = end_cycle(setup.diagram, cycle, edge)
+        speed = edge + sign * PAST_END_KMH
+        both = tuple(run_start(setup, speed, start.orbit.nodes[0], duration))
+        out.append(EndRun(end, edge, names.get(round(edge, 6), ""), speed, mode, kmh(start.p), both))
+    return tuple(out)
+
+
 @dataclass(frozen=True)
 class JumpRuns:
     """One bistable case's experiments: its setup, each ramp with the jump speeds found in both models and the two
@@ -221,6 +291,7 @@ class JumpRuns:
     ramps: tuple                   # ((Ramp, found, both), ...)
     start_kmh: float
     starts: tuple                  # ((label, both), ...)
+    ends: tuple = ()               # (EndRun, ...)
 
 
 def paper_window(axle, case: BistableCase) -> bool:
@@ -234,7 +305,7 @@ def jump_runs(case: BistableCase, paper: bool, quick: bool) -> JumpRuns:
     ramp_runs = tuple((ramp, *run_ramp(setup, ramp)) for ramp in ramps(setup, RAMP_KMH_S[quick]))
     speed, starts = two_start_states(setup)
     start_runs = tuple((label, run_start(setup, speed, x0, START_S[quick])) for label, x0 in starts)
-    return JumpRuns(setup, ramp_runs, speed, start_runs)
+    return JumpRuns(setup, ramp_runs, speed, start_runs, end_runs(setup, START_S[quick]))
 
 
 def _key(i: int) -> str:

@@ -31,11 +31,17 @@ def rerun_command(recording: str) -> str:
 
 
 class CheckStatus(enum.Enum):
+    """The one status of every check row (docs/verify.md, "The one rule").
+
+    FAIL only where two models (or a model and the paper's printed value) differ beyond a stated tolerance in a
+    well-posed quantity, or where a computation fails; what a model is *expected* to do is INFO; a case that
+    could not be checked is COULD_NOT_CHECK with its reason, never counted as passed and never a non-zero exit."""
+
     PASS = "pass"
     FAIL = "FAIL"
     KNOWN_DIFFERENCE = "known difference"  # differs from the paper; listed with its reason in docs/results.md
-    INFO = "info"                          # a measured number with nothing to check against
-    NOTHING = "nothing to check"           # the section had nothing to compare here (the row says why): no pass
+    INFO = "info"                          # a measured number, or what a model is expected to do: not a check
+    COULD_NOT_CHECK = "could not check"    # nothing to start from, nothing to compare (the note says why): no pass
 
 
 @dataclass(frozen=True)
@@ -129,13 +135,14 @@ COLUMN_LABELS: dict[str, Column] = {
     "error": Column("error"),
 }
 GENERIC_DASH = "does not apply to that kind of row (the table holds rows of several kinds)"
-SUMMARY_COLUMNS = ("section", "checks", "pass", "known differences", "fail", "info", "nothing to check")
+SUMMARY_COLUMNS = ("section", "checks", "pass", "known differences", "fail", "info", "could not check")
 STATUS_TEXT = {
     CheckStatus.PASS: "the check passed",
     CheckStatus.FAIL: "the check failed (verify exits 1)",
     CheckStatus.KNOWN_DIFFERENCE: "differs from the paper for a reason listed in docs/results.md",
-    CheckStatus.INFO: "a measured number with nothing to check it against",
-    CheckStatus.NOTHING: "the section found nothing to compare there (the note says why); never counted as passed",
+    CheckStatus.INFO: "a measured number, or what a model is expected to do: information, not a check",
+    CheckStatus.COULD_NOT_CHECK: ("could not be checked (the note says why): never counted as passed, never makes "
+                                  "verify exit 1"),
 }
 
 
@@ -144,6 +151,12 @@ class Row:
     cells: dict
     status: CheckStatus
     note: str = ""
+
+    def __post_init__(self):
+        # A row that fails or could not be checked says why: the rule's reason is part of the row.
+        if self.status in (CheckStatus.FAIL, CheckStatus.COULD_NOT_CHECK) and not (self.note or
+                                                                                   self.cells.get("error")):
+            raise ValueError(f"a '{self.status.value}' row needs its reason in the note")
 
 
 @dataclass(frozen=True)
@@ -227,25 +240,28 @@ class Report:
         return sum(s.count(status) for s in self.sections)
 
     def nothing_to_check(self) -> list[Section]:
-        """Sections that compared nothing: every row says "nothing to check", or there is no row at all."""
-        return [s for s in self.sections if all(r.status is CheckStatus.NOTHING for r in s.rows)]
+        """Sections that compared nothing: every row says "could not check", or there is no row at all."""
+        return [s for s in self.sections if all(r.status is CheckStatus.COULD_NOT_CHECK for r in s.rows)]
 
     def overall(self) -> str:
-        """FAILED, or how many equivalence checks passed, naming the sections with nothing to check: a run in
-        which nothing was compared never reads as passed."""
+        """FAILED, or how many equivalence checks passed, with the rows that could not be checked counted apart and
+        the sections that checked nothing named: a run in which nothing was compared never reads as passed."""
         if self.failed:
             return "FAILED"
         passed = self.count(CheckStatus.PASS)
         text = f"all {passed} equivalence checks passed" if passed else "nothing was checked"
+        unchecked = self.count(CheckStatus.COULD_NOT_CHECK)
+        if unchecked:
+            text += f"; {unchecked} could not be checked (counted apart)"
         empty = self.nothing_to_check()
         if empty:
-            text += "; nothing to check in " + ", ".join(s.title for s in empty)
+            text += "; nothing checked in " + ", ".join(s.title for s in empty)
         return text
 
     def summary_rows(self) -> list[dict]:
         return [{"section": s.title, "checks": len(s.rows), "pass": s.count(CheckStatus.PASS),
                  "known differences": s.count(CheckStatus.KNOWN_DIFFERENCE), "fail": s.count(CheckStatus.FAIL),
-                 "info": s.count(CheckStatus.INFO), "nothing to check": s.count(CheckStatus.NOTHING)}
+                 "info": s.count(CheckStatus.INFO), "could not check": s.count(CheckStatus.COULD_NOT_CHECK)}
                 for s in self.sections]
 
 
@@ -418,7 +434,7 @@ def _html_table(keys, headers, rows, factors, status_key: str | None = "status")
             text = html.escape(_cell(v, factors.get(k, 1.0)))
             cls = "num" if isinstance(v, (int, float)) and not isinstance(v, bool) else ""
             if k == status_key:
-                cls = {"known difference": "known", "nothing to check": "nothing"}.get(str(v), str(v))
+                cls = {"known difference": "known", "could not check": "nothing"}.get(str(v), str(v))
             cells.append(f'<td class="{cls}">{text}</td>' if cls else f"<td>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"

@@ -269,6 +269,17 @@ def onset_row(s: PressureStudy) -> Row:
                 "reduced_onset": kind, "reduced_onset_l1": l1}, CheckStatus.INFO, note)
 
 
+def shimmy_share(s: PressureStudy):
+    """The share of the plausible axles whose full geometry shimmies at this case (its minimum margin over the
+    speeds negative), for the verdict; None when no axle has an oscillating mode."""
+    from comparisons.verify.verdict import RobustnessShare
+    full = s.margins("mbs_full_")
+    have = np.isfinite(full)
+    if not have.any():
+        return None
+    return RobustnessShare(s.label, float(np.mean(full[have] < 0)), int(have.sum()))
+
+
 def margin_rows(s: PressureStudy) -> list[Row]:
     """The minimum margin over the coarse speed grid: the check that the dimensions do not enter with every
     assumption on, and its spread with the full geometry."""
@@ -345,6 +356,7 @@ def robustness_section(ctx: Context) -> Section:
     names = ", ".join(studies[0].design.names)
     plot_robustness(studies, os.path.join(ctx.out, FIGURE))
     return Section(
+        verdict_facts=tuple(share for s in studies for share in [shimmy_share(s)] if share is not None),
         key="robustness", title="Robustness: the full-geometry verdicts over plausible multibody dimensions",
         columns=("case", "quantity", "reduced_value", "plausible_axles"), rows=tuple(study_rows(studies)),
         figures=(FIGURE,),

@@ -63,13 +63,14 @@ def run_sections(ctx: Context, announce: Callable[[list[str]], None] | None = No
         try:
             section = make(ctx)
             if not section.rows:       # never an empty table that reads as passed
-                section = dataclasses.replace(section, rows=(Row({}, CheckStatus.NOTHING,
+                section = dataclasses.replace(section, rows=(Row({}, CheckStatus.COULD_NOT_CHECK,
                                                                  "the section found nothing to compare"),))
             sections.append(section)
         except Exception as exc:  # a failed sub-check is reported in the table, never swallowed
             error = f"{type(exc).__name__}: {interface_text(str(exc))}"
             sections.append(Section(key=title.lower().replace(" ", "_"), title=title, columns=("error",),
-                                    rows=(Row({"error": error}, CheckStatus.FAIL),),
+                                    rows=(Row({"error": error}, CheckStatus.FAIL,
+                                              "a computation failed: the section could not be completed"),),
                                     text="This part of the verification could not be completed."))
         ctx.progress(f"done: {title}")
     return sections
@@ -94,6 +95,10 @@ def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymme
         start_jump_runs(ctx)
         start_other_axles(ctx)
         sections = run_sections(ctx, announce)
-    facts = tuple(f for s in sections for f in s.verdict_facts)
+    from comparisons.verify.verdict import RobustnessShare
+    facts = [f for s in sections for f in s.verdict_facts]
+    shares = tuple(f for f in facts if isinstance(f, RobustnessShare))
+    margins = tuple(f for f in facts if not isinstance(f, RobustnessShare))
     return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle,
-                  verdict=dataclasses.replace(verdict, margins=verdict.margins + facts))
+                  verdict=dataclasses.replace(verdict, margins=verdict.margins + margins,
+                                              robustness=verdict.robustness + shares))

@@ -61,6 +61,12 @@ class Window:
     mode: str
     frequency_hz: float
     closed: bool        # both ends are Hopf points inside the speed window
+    # every growing oscillation at the window's middle, by mode (the verdict's per-mode ranges); ``mode`` is the
+    # fastest growing one
+    unstable: tuple[str, ...] = ()
+
+    def modes(self) -> tuple[str, ...]:
+        return self.unstable or (self.mode,)
 
     def text(self) -> str:
         """"from 47.5 to 71.5 km/h (yaw)", saying so where the window reaches an end of the speed window."""
@@ -95,9 +101,13 @@ def unstable_windows(family, q: float, vmax: float = VMAX, lyapunov: bool = True
         k = int(np.argmax(values.real))
         if values[k].real <= 0.0:
             continue
-        mode = "tramp" if tramp_share(vectors[:, k]) > TRAMP_SHARE else "yaw"
-        windows.append(Window(a, b, mode, abs(values[k].imag) / (2 * math.pi),
-                              closed=a > MIN_SPEED and b < vmax))
+
+        def mode_of(i: int) -> str:
+            return "tramp" if tramp_share(vectors[:, i]) > TRAMP_SHARE else "yaw"
+        growing = [i for i in range(len(values)) if values[i].real > 0.0 and values[i].imag > 0.0]
+        windows.append(Window(a, b, mode_of(k), abs(values[k].imag) / (2 * math.pi),
+                              closed=a > MIN_SPEED and b < vmax,
+                              unstable=tuple(sorted({mode_of(i) for i in growing}, key=("yaw", "tramp").index))))
     return windows, points
 
 

@@ -201,7 +201,7 @@ def assumptions_section(ctx: Context) -> Section:
     rows, tornado = [], []
     cases = [c for c in shimmy_cases(ctx) if c.kind is not CaseKind.ASYMMETRIC][:2]
     if not cases:
-        rows.append(Row({}, CheckStatus.NOTHING, "no planned case where the reduced model shimmies: no Hopf speed "
+        rows.append(Row({}, CheckStatus.COULD_NOT_CHECK, "no planned case where the reduced model shimmies: no Hopf speed "
                                                  "to shift"))
     for case in cases:
         ctx.progress(f"Assumptions at {case.label}")
@@ -263,7 +263,7 @@ def transient_section(ctx: Context) -> Section:
                             motion if check.ok else f"{motion}; differs by more than {TRANSIENT_TOL:g} of a state's "
                                                     f"amplitude"))
     if not rows:
-        rows.append(Row({}, CheckStatus.NOTHING, "no planned case"))
+        rows.append(Row({}, CheckStatus.COULD_NOT_CHECK, "no planned case"))
     return Section(
         key="transient", title="Transient: a kick in both models", columns=("case", "speed_kmh", "relative_diff"),
         rows=tuple(rows),

@@ -13,30 +13,125 @@ import math
 from dataclasses import dataclass
 from typing import Protocol
 
+from axles.units import kmh
 from comparisons.verify.plan import Plan
-from comparisons.verify.scan import Boundary, BoundaryKind, Model, Window
+from comparisons.verify.scan import VMAX, Boundary, BoundaryKind, Model, Window
+from reduced_model.family import MIN_SPEED
 
 BOUNDARY_SAME_BAR = 0.01      # boundaries closer than this are the same to the verdict's two decimals
+TOUCH = 1e-9                  # m/s: windows whose ends lie this close are one unstable stretch
+
+
+def _range_text(low: float, high: float) -> str:
+    return f"from {kmh(low):.1f} to {kmh(high):.1f} km/h"
+
+
+@dataclass(frozen=True)
+class ModeRange:
+    """Where one mode grows inside an unstable stretch (m/s); a mode may grow on several disjoint ranges."""
+
+    mode: str
+    ranges: tuple[tuple[float, float], ...]
+
+    def text(self, stretch: "Stretch") -> str:
+        if self.ranges == ((stretch.low, stretch.high),):
+            return f"{self.mode} throughout"
+        return f"{self.mode} " + " and ".join(_range_text(a, b) for a, b in self.ranges)
+
+    def to_json(self) -> dict:
+        return {"mode": self.mode, "ranges_kmh": [[kmh(a), kmh(b)] for a, b in self.ranges]}
+
+
+@dataclass(frozen=True)
+class Stretch:
+    """One maximal unstable speed interval of straight running (m/s) at one case: the windows between Hopf points
+    that touch are one stretch, however many modes' Hopf points fall inside it; each mode with its own ranges."""
+
+    low: float
+    high: float
+    modes: tuple[ModeRange, ...]
+
+    @property
+    def from_lowest(self) -> bool:
+        return self.low <= MIN_SPEED
+
+    @property
+    def to_top(self) -> bool:
+        return self.high >= VMAX
+
+    def text(self) -> str:
+        """"from 0.5 to 400.0 km/h, from the lowest speed and up to the top of the speed window (yaw throughout,
+        tramp from 184.0 to 196.0 km/h)"."""
+        ends = [e for e, on in (("from the lowest speed", self.from_lowest),
+                                ("up to the top of the speed window", self.to_top)) if on]
+        return (_range_text(self.low, self.high) + (", " + " and ".join(ends) if ends else "")
+                + f" ({', '.join(m.text(self) for m in self.modes)})")
+
+    def to_json(self) -> dict:
+        return {"low_kmh": kmh(self.low), "high_kmh": kmh(self.high), "from_lowest_speed": self.from_lowest,
+                "to_top_speed": self.to_top, "modes": [m.to_json() for m in self.modes], "text": self.text()}
+
+
+def stretches(windows) -> tuple[Stretch, ...]:
+    """The maximal unstable stretches of a case's windows (each between neighbouring Hopf points, by speed)."""
+    groups: list[list[Window]] = []
+    for w in sorted(windows, key=lambda w: w.low):
+        if groups and w.low - groups[-1][-1].high <= TOUCH:
+            groups[-1].append(w)
+        else:
+            groups.append([w])
+    out = []
+    for group in groups:
+        modes = []
+        for mode in dict.fromkeys(m for w in group for m in w.modes()):
+            ranges: list[list[float]] = []
+            for w in group:
+                if mode not in w.modes():
+                    continue
+                if ranges and w.low - ranges[-1][1] <= TOUCH:
+                    ranges[-1][1] = w.high
+                else:
+                    ranges.append([w.low, w.high])
+            modes.append(ModeRange(mode, tuple((a, b) for a, b in ranges)))
+        out.append(Stretch(group[0].low, group[-1].high, tuple(modes)))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class RobustnessShare:
+    """Over the plausible multibody dimensions, the share of axles whose full geometry shimmies at one case (from
+    the section "Robustness": its minimum margin negative), as the verdict adds it to the full geometry's line."""
+
+    case: str             # the case's label ("1.5 bar")
+    share: float
+    samples: int
+
+    def text(self) -> str:
+        return (f"over its plausible dimensions the full geometry shimmies at {self.case} in {100 * self.share:.0f} % "
+                f"of axles ({self.samples} sampled)")
+
+    def to_json(self) -> dict:
+        return {"case": self.case, "share": self.share, "samples": self.samples, "text": self.text()}
 
 
 @dataclass(frozen=True)
 class CaseFacts:
-    """One model's unstable windows at one planned case."""
+    """One model's unstable stretches at one planned case."""
 
     label: str
     pressure_right_bar: float
     pressure_left_bar: float
-    windows: tuple[Window, ...]
+    windows: tuple[Stretch, ...]
 
     def modes(self) -> set[str]:
-        return {w.mode for w in self.windows}
+        return {m.mode for w in self.windows for m in w.modes}
 
     def to_json(self) -> dict:
         return {"case": self.label, "pressure_right_bar": self.pressure_right_bar,
                 "pressure_left_bar": self.pressure_left_bar, "windows": [w.to_json() for w in self.windows]}
 
 
-def windows_text(windows: tuple[Window, ...]) -> str:
+def windows_text(windows: tuple[Stretch, ...]) -> str:
     return " and ".join(w.text() for w in windows)
 
 
@@ -58,10 +153,12 @@ class ModelVerdict:
             return f"{self.model.label} shimmies up to the top of the window ({hi:g} bar)"
         return f"{self.model.label} has no shimmy in the window ({lo:g}-{hi:g} bar)"
 
-    def case_text(self, facts: CaseFacts) -> str:
-        if not facts.windows:
-            return f"{self.model.label} runs straight at every speed"
-        return f"{self.model.label} shimmies {windows_text(facts.windows)}"
+    def case_text(self, facts: CaseFacts, robustness: tuple[RobustnessShare, ...] = ()) -> str:
+        text = (f"{self.model.label} runs straight at every speed" if not facts.windows else
+                f"{self.model.label} shimmies {windows_text(facts.windows)}")
+        if self.model is Model.FULL:
+            text += "".join(f"; {r.text()}" for r in robustness if r.case == facts.label)
+        return text
 
     def facts_at(self, label: str) -> CaseFacts | None:
         return next((f for f in self.cases if f.label == label), None)
@@ -106,6 +203,9 @@ class Verdict:
     # per model, the least damping ratio of straight running over the operating window; added after the section
     # "Stability margins" has run (empty when it did not)
     margins: tuple[MarginFact, ...] = ()
+    # the full geometry's share of shimmying axles over its plausible dimensions, by case; added after the section
+    # "Robustness" has run (empty when it did not)
+    robustness: tuple[RobustnessShare, ...] = ()
 
     def of(self, model: Model) -> ModelVerdict | None:
         return next((m for m in self.models if m.model is model), None)
@@ -132,7 +232,8 @@ class Verdict:
         out = [self.headline()]
         out += [_sentence(m.boundary_text()) for m in self.models]
         for facts in self.models[0].cases:
-            parts = [m.case_text(f) for m in self.models for f in [m.facts_at(facts.label)] if f is not None]
+            parts = [m.case_text(f, self.robustness) for m in self.models for f in [m.facts_at(facts.label)]
+                     if f is not None]
             out.append(f"At {facts.label}: " + "; ".join(parts) + ".")
         if len(self.models) == 2:
             out += [_sentence("the models disagree: " + d.text) for d in self.disagreements]
@@ -145,6 +246,7 @@ class Verdict:
         return {"headline": self.headline(), "models": [m.to_json() for m in self.models],
                 "disagreements": [d.to_json() for d in self.disagreements],
                 "margins": [m.to_json() for m in self.margins],
+                "robustness": [r.to_json() for r in self.robustness],
                 "lines": self.lines()}
 
 
@@ -156,7 +258,8 @@ def verdict_of(plan: Plan) -> Verdict:
     """The verdict of a plan (whose cases carry both models' windows, :func:`comparisons.verify.plan.case_windows`)."""
     models = []
     for scan in plan.scans:
-        facts = tuple(CaseFacts(c.label, c.pressure_right_bar, c.pressure_left_bar, c.windows_of(scan.model))
+        facts = tuple(CaseFacts(c.label, c.pressure_right_bar, c.pressure_left_bar,
+                                stretches(c.windows_of(scan.model)))
                       for c in plan.cases if c.windows_of(scan.model) is not None)
         models.append(ModelVerdict(scan.model, scan.window_bar, scan.boundary, facts))
     return Verdict(tuple(models), tuple(disagreements(models)) if len(models) == 2 else ())
@@ -191,9 +294,10 @@ def disagreements(models: list[ModelVerdict]) -> list[Disagreement]:
                     f"{fa.label} {windows_text(mine.windows)}", fa.label))
             elif mine.windows and theirs.windows:
                 for mode in sorted(mine.modes() - theirs.modes()):
-                    w = tuple(x for x in mine.windows if x.mode == mode)
+                    ranges = [r for w in mine.windows for m in w.modes if m.mode == mode for r in m.ranges]
                     out.append(Disagreement(
                         DisagreementKind.MODE, this.model, that.model,
-                        f"at {fa.label} {this.model.label} shimmies {windows_text(w)}, a mode "
-                        f"{that.model.label} lacks there", fa.label))
+                        f"at {fa.label} {this.model.label} shimmies in {mode} "
+                        f"{' and '.join(_range_text(a, b) for a, b in ranges)}, a mode {that.model.label} lacks "
+                        f"there", fa.label))
     return out

@@ -217,7 +217,8 @@ def test_section_on_the_paper_axle_at_1_5_bar(tmp_path):
 
 def test_ramps_through_a_subcritical_window_start_on_straight_running():
     """Below the window straight running is the state (its stable stretch reaches lower), above it the cycle:
-    the ramp up must leave straight running at or past the Hopf point, the ramp down the cycle at the fold."""
+    the ramp up leaves straight running through the Hopf point, the ramp down the cycle through the fold (where
+    each jumps is information: a ramp's jump speed is not well posed)."""
     from axles.axle import AxleData
     from comparisons.verify.full_jumps import full_jump_setup
     from comparisons.verify.jump_experiments import ramps
@@ -232,7 +233,6 @@ def test_ramps_through_a_subcritical_window_start_on_straight_running():
     up, down = ramps(setup, 1.0)
     assert (up.before, up.after, up.edge) == (Mode.NONE, Mode.YAW, pytest.approx(40.0))
     assert (down.before, down.after, down.edge) == (Mode.YAW, Mode.NONE, pytest.approx(30.0))
-    assert up.beyond(40.2) and not up.beyond(35.0) and down.beyond(29.0) and not down.beyond(33.0)
 
 
 def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():

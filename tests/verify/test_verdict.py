@@ -17,7 +17,7 @@ from comparisons.verify.context import Context
 from comparisons.verify.plan import CaseKind, axle_plan
 from comparisons.verify.report import CheckStatus, Report, Row, Section, render_html, render_markdown
 from comparisons.verify.scan import BoundaryKind, BoundaryMethod, Model, growth_root, scan_family
-from comparisons.verify.verdict import DisagreementKind, verdict_of
+from comparisons.verify.verdict import DisagreementKind, stretches, verdict_of
 
 EXAMPLES = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "examples")
 SHIMMIES_IN_FULL = os.path.join(EXAMPLES, "full-geometry-shimmies.toml")
@@ -54,11 +54,11 @@ def test_verdict_of_axle_a_names_the_disagreement(plan_a):
     one = [d for d in verdict.disagreements if d.kind is DisagreementKind.ONE_MODEL]
     assert one and all(d.shimmies is Model.FULL and d.other is Model.REDUCED for d in one)
     case = next(c for c in plan_a.cases if c.label == one[0].case)
-    w = case.windows_of(Model.FULL)[0]
+    (w,) = stretches(case.windows_of(Model.FULL))
     expected = (f"the reduced model is shimmy-free above 2.61 bar and runs straight at {case.label}; the full "
                 f"geometry shimmies at {case.label} {w.text()}")
     assert one[0].text == expected
-    assert w.text().endswith("km/h (yaw)")
+    assert w.text().endswith("km/h (yaw throughout)")
     boundary = next(d for d in verdict.disagreements if d.kind is DisagreementKind.BOUNDARY)
     assert boundary.shimmies is Model.FULL
     lines = verdict.lines()
@@ -100,12 +100,12 @@ def test_stable_axle_is_still_checked(plan_b, tmp_path):
     assert [r.status for r in transient.rows] == [CheckStatus.PASS]
     assert "decays in both models" in transient.rows[0].note
     empty = [cycles_section(ctx), assumptions_section(ctx)]
-    assert all([r.status for r in s.rows] == [CheckStatus.NOTHING] for s in empty)
+    assert all([r.status for r in s.rows] == [CheckStatus.COULD_NOT_CHECK] for s in empty)
     report = Report((hopf, transient, *empty), quick=True, plan=plan_b, axle=axle, verdict=verdict_of(plan_b))
     passed = report.count(CheckStatus.PASS)
     assert not report.failed and passed == hopf.count(CheckStatus.PASS) + 1
-    assert report.overall() == (f"all {passed} equivalence checks passed; nothing to check in "
-                                f"{empty[0].title}, {empty[1].title}")
+    assert report.overall() == (f"all {passed} equivalence checks passed; 2 could not be checked (counted apart); "
+                                f"nothing checked in {empty[0].title}, {empty[1].title}")
     text = render_markdown(report)
     assert text.index("## Verdict") < text.index("## Summary")
     assert "**No shimmy at any speed in 0.5-3.5 bar in either model.**" in text
@@ -113,12 +113,13 @@ def test_stable_axle_is_still_checked(plan_b, tmp_path):
 
 
 def test_nothing_checked_never_reads_as_passed():
-    nothing = Section("cycles", "Limit cycles", ("case",), (Row({}, CheckStatus.NOTHING, "no shimmy"),))
+    nothing = Section("cycles", "Limit cycles", ("case",), (Row({}, CheckStatus.COULD_NOT_CHECK, "no shimmy"),))
     info = Section("plan", "Plan", ("case",), (Row({"case": "1 bar"}, CheckStatus.INFO),))
     report = Report((info, nothing), quick=True)
-    assert not report.failed and report.overall() == "nothing was checked; nothing to check in Limit cycles"
+    assert not report.failed and report.overall() == ("nothing was checked; 1 could not be checked (counted apart); "
+                                                      "nothing checked in Limit cycles")
     assert "passed" not in render_markdown(report).split("Overall: ")[1].split("\n")[0]
-    assert report.summary_rows()[1]["nothing to check"] == 1 and report.summary_rows()[1]["pass"] == 0
+    assert report.summary_rows()[1]["could not check"] == 1 and report.summary_rows()[1]["pass"] == 0
 
 
 def run_quick(axle_file, out):
@@ -144,6 +145,55 @@ def test_verify_quick_on_axle_b(tmp_path):
     summary = run_quick(STABLE, tmp_path)
     by_key = {s["key"]: s for s in summary["sections"]}
     assert all(r["status"] == "pass" for r in by_key["transient"]["rows"])
-    assert [r["status"] for r in by_key["cycles"]["rows"]] == ["nothing to check"]
+    assert [r["status"] for r in by_key["cycles"]["rows"]] == ["could not check"]
     assert summary["verdict"]["headline"] == "No shimmy at any speed in 0.5-3.5 bar in either model."
-    assert "nothing to check in" in (tmp_path / "report.md").read_text()
+    assert "nothing checked in" in (tmp_path / "report.md").read_text()
+
+
+def window(low_kmh: float, high_kmh: float, mode: str, unstable: tuple[str, ...]):
+    from axles.units import from_kmh
+    from comparisons.verify.scan import Window
+    return Window(from_kmh(low_kmh), from_kmh(high_kmh), mode, 3.0, closed=True, unstable=unstable)
+
+
+def test_one_window_per_maximal_unstable_stretch_with_each_modes_ranges():
+    """The old verdict cut one unstable stretch at every Hopf point inside it ("from 0.5 to 165.5 km/h (yaw) and
+    from 165.5 to 363.9 km/h (yaw) and ..."); now the windows of a case are disjoint and do not touch, and each
+    lists its modes with their own ranges."""
+    from comparisons.verify.plan import VMAX
+    from comparisons.verify.scan import Window
+    from reduced_model.family import MIN_SPEED
+    from axles.units import from_kmh, kmh
+    parts = (Window(MIN_SPEED, from_kmh(184.0), "yaw", 3.0, False, ("yaw",)),
+             window(184.0, 196.0, "tramp", ("yaw", "tramp")),
+             Window(from_kmh(196.0), VMAX, "yaw", 3.0, False, ("yaw",)))
+    (one,) = stretches(parts)
+    assert (one.low, one.high) == (MIN_SPEED, VMAX)
+    assert one.text() == ("from 0.5 to 400.0 km/h, from the lowest speed and up to the top of the speed window (yaw "
+                          "throughout, tramp from 184.0 to 196.0 km/h)")
+    data = one.to_json()
+    assert [m["mode"] for m in data["modes"]] == ["yaw", "tramp"]
+    assert data["modes"][1]["ranges_kmh"] == [[pytest.approx(184.0), pytest.approx(196.0)]]
+    # two stretches apart, a mode growing on two ranges of one stretch
+    two = stretches((window(40.0, 60.0, "yaw", ("yaw",)), window(60.0, 70.0, "tramp", ("tramp",)),
+                     window(70.0, 80.0, "yaw", ("yaw",)), window(90.0, 95.0, "yaw", ("yaw",))))
+    assert [(round(kmh(w.low), 6), round(kmh(w.high), 6)) for w in two] == [(40.0, 80.0), (90.0, 95.0)]
+    assert all(a.high < b.low for a, b in zip(two[:-1], two[1:]))      # disjoint, not touching
+    assert two[0].text() == ("from 40.0 to 80.0 km/h (yaw from 40.0 to 60.0 km/h and from 70.0 to 80.0 km/h, "
+                             "tramp from 60.0 to 70.0 km/h)")
+
+
+def test_the_full_geometrys_line_carries_its_robustness():
+    """Where the report has a Robustness section, the full geometry's line says in what share of its plausible
+    axles it shimmies at that case."""
+    from comparisons.verify.scan import Boundary, BoundaryKind
+    from comparisons.verify.verdict import CaseFacts, ModelVerdict, RobustnessShare, Verdict
+    facts = CaseFacts("1.5 bar", 1.5, 1.5, stretches((window(40.0, 60.0, "yaw", ("yaw",)),)))
+    models = tuple(ModelVerdict(m, (0.5, 3.5), Boundary(BoundaryKind.SHIMMY_FREE_ABOVE, 2.6), (facts,))
+                   for m in (Model.REDUCED, Model.FULL))
+    verdict = Verdict(models, (), robustness=(RobustnessShare("1.5 bar", 0.39, 64),))
+    line = next(x for x in verdict.lines() if x.startswith("At 1.5 bar"))
+    assert line == ("At 1.5 bar: the reduced model shimmies from 40.0 to 60.0 km/h (yaw throughout); the full geometry "
+                    "shimmies from 40.0 to 60.0 km/h (yaw throughout); over its plausible dimensions the full geometry "
+                    "shimmies at 1.5 bar in 39 % of axles (64 sampled).")
+    assert verdict.to_json()["robustness"][0]["share"] == 0.39
