@@ -320,7 +320,7 @@ class Family:
         return self.problem.nominal
 
     def label(self) -> str:
-        return f"{self.model.label()}, {self.pressures}, axle {self.model.axle.name}"
+        return f"{self.model.label()}, {self.pressures}, axle {self.model.axle.data.shown_name}"
 
 
 # --- jobs -----------------------------------------------------------------------------------------------------
@@ -393,7 +393,7 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     problem = model.problem(pressures.si, "pressure")
     grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
     study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p)
-    return StabilityMargins(f"{model.label()}, axle {model.axle.name}", study)
+    return StabilityMargins(f"{model.label()}, axle {model.axle.data.shown_name}", study)
 
 
 def initial_from_degrees(initial_deg: Mapping[str, float] | None) -> np.ndarray:
@@ -444,7 +444,7 @@ def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, 
     duration = check_range("duration_s", duration_s, *DURATION_RANGE_S, "s")
     x0 = initial_from_degrees(initial_deg)
     trajectory = model.run(pressures.si, schedule, x0, duration, progress=progress, poses=poses)
-    return Simulation(f"{model.label()}, {pressures}, axle {model.axle.name}", trajectory)
+    return Simulation(f"{model.label()}, {pressures}, axle {model.axle.data.shown_name}", trajectory)
 
 
 __all__ = ["Axle", "CycleBranches", "Family", "HopfPoint", "HopfResult", "MultibodyModel", "ReducedModel",

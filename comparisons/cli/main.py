@@ -16,7 +16,8 @@ import threading
 import time
 import traceback
 
-# Only the standard library and .files here: the signal handlers are installed before the model packages load.
+# Only the standard library, axles.text and .files here: the signal handlers are installed before the model packages load.
+from axles.text import printable as one_line   # user input echoed in a message stays one line
 from comparisons.files import (
     FAULTED_TEMPORARIES,
     LIVE_TEMPORARIES,
@@ -80,13 +81,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 class Interrupted(BaseException):
     """SIGTERM, raised in the main thread like KeyboardInterrupt is for SIGINT."""
-
-
-def one_line(text: str) -> str:
-    """``text`` with control characters and line breaks escaped: user input echoed in a message stays one line."""
-    if text.isprintable():
-        return text
-    return "".join(c if c.isprintable() or 0xDC80 <= ord(c) <= 0xDCFF else repr(c)[1:-1] for c in text)
 
 
 def _say(line: str) -> None:
