@@ -161,16 +161,19 @@ def prepare_folder(path: str, what: str = "--out") -> str:
     if any(len(part.encode("utf-8", "surrogateescape")) > name_max for part in final.split(os.sep)):
         raise OutputPathError(f"{what} {shown}: a folder name is longer than {name_max} bytes")
     if os.path.exists(final) and not os.path.isdir(final):
-        raise OutputPathError(f"{what} {shown}: a file is in the way (need a folder)")
+        raise OutputPathError(f"{what} {shown}: a file is in the way, not a folder")
     try:
         _make_folders(final)
+    except OSError as exc:
+        raise OutputPathError(f"{what} {shown}: cannot create the folder ({exc.strerror or exc})") from None
+    except ValueError as exc:     # a NUL character in the name
+        raise OutputPathError(f"{what} {shown}: cannot create the folder ({exc})") from None
+    try:
         fd, probe = tempfile.mkstemp(prefix=".write-test-", dir=final)
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
         raise OutputPathError(f"{what} {shown}: cannot write there ({exc.strerror or exc})") from None
-    except ValueError as exc:     # a NUL character in the name
-        raise OutputPathError(f"{what} {shown}: cannot create the folder ({exc})") from None
     return final
 
 

@@ -59,6 +59,7 @@ GRACE_S = 0.5                 # after a signal: time given to unwind normally be
 # Commands that answer an interrupt themselves: sweep closes its Dask cluster and says which batches it kept.
 GRACE_BY_COMMAND = {"sweep": 10.0}
 # Output options checked before any work, by attribute name; recordings are read back, so no device for them.
+# A command whose --out is a file (sweep) adds it as ``file_outputs`` in its parser's defaults.
 OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
 RECORDING_OPTIONS = ("--rerun",)
 
@@ -202,7 +203,8 @@ def _where(exc: BaseException) -> str:
 def check_output_options(args: argparse.Namespace) -> None:
     """Every output file option of the command, before the work (see :func:`comparisons.files.check_outputs`)."""
     from axles.limits import UsageError
-    items = [(flag, getattr(args, attr)) for attr, flag in OUTPUT_OPTIONS if getattr(args, attr, None) is not None]
+    options = tuple(getattr(args, "file_outputs", ())) + OUTPUT_OPTIONS
+    items = [(flag, getattr(args, attr)) for attr, flag in options if getattr(args, attr, None) is not None]
     try:
         check_outputs(items, RECORDING_OPTIONS)
     except OutputPathError as exc:
