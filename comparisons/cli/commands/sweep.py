@@ -175,9 +175,10 @@ def run(args: argparse.Namespace) -> int:
     from comparisons.cli.main import EXIT_INCOMPLETE, EXIT_INTERRUPTED
     from comparisons.files import OutputFault
     from comparisons.sweeps.analysis import OutputChoice, sensitivity, write_plot
-    from comparisons.sweeps.cluster import SweepStopped
+    from comparisons.sweeps.cluster import SweepStopped, scheduler_address
     from comparisons.sweeps.design import make_design, parse_vary
     from comparisons.sweeps.run import run_sweep
+    scheduler_address(args.scheduler)     # a bad address is refused before anything else is done
     variations = [parse_vary(v) for v in args.vary]
     design = make_design(variations, args.samples, args.seed, args.design)
     task = build_task(args, design.names)
