@@ -14,8 +14,7 @@ from axles.axle import interface_text
 from axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
-    MAX_CYCLES,  # noqa: F401 - read by tools/docs_tables.py and the tests from here
-    MBS_MAX_DURATION,  # noqa: F401
+    MAX_CYCLES,  # noqa: F401 - tests/cli/test_cycles_cli.py reads it from here
     RAMP_TIME_RANGE_S,
     RATE_RANGE_DEG_S,
     SPEED_RANGE_KMH,
