@@ -22,6 +22,7 @@ from axles.limits import PRESSURE_RANGE_BAR
 from axles.units import BAR, interface_message, interface_of, to_interface, to_si
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from axles.pressures import PRESSURE_PARAMS
+from axles.text import printable
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
 
 PAPER_NAME = "YANG2024"
@@ -146,6 +147,18 @@ class AxleData:
         return dataclasses.replace(out, overrides=self.overrides + tuple((k, float(v)) for k, v in items.items()))
 
     @property
+    def shown_name(self) -> str:
+        """The name for text: line breaks and escape characters escaped, so that a header stays one line."""
+        return printable(self.name)
+
+    def check_consistent(self) -> None:
+        """Raise :class:`ParameterError` when entries contradict each other, although each lies in its range: an
+        I1 below the wheel's own inertia about the kingpin, an I2 above twice the wheel's diametral inertia
+        (:meth:`AxleDimensions.check`).  Checked when an axle file is read and before ``verify`` plans its work;
+        the reduced model alone does not need it, so ``--set`` and sweeps of the reduced model are not refused."""
+        self.dims.check(self.params)
+
+    @property
     def is_paper(self) -> bool:
         """Same Table 1 as the paper: the paper's printed numbers apply (the chosen dimensions do not enter them)."""
         return self.params == YANG2024
@@ -170,12 +183,14 @@ class AxleData:
     def label(self) -> str:
         """One line for text headers."""
         diff = self.differences()
-        where = f" ({self.file})" if self.file else ""
+        # a name or file name holding a line break or an escape character is shown escaped, on one line
+        where = f" ({printable(self.file)})" if self.file else ""
+        name = self.shown_name
         if not diff:
-            return f"axle {self.name}{where}: the paper's values"
+            return f"axle {name}{where}: the paper's values"
         shown = ", ".join(f"{d['name']} = {d['value']:g} {d['unit']}".replace(" -", "") for d in diff[:6])
         more = f", and {len(diff) - 6} more" if len(diff) > 6 else ""
-        return f"axle {self.name}{where}: differs from the paper in {shown}{more}"
+        return f"axle {name}{where}: differs from the paper in {shown}{more}"
 
 
 def paper_axle() -> AxleData:

@@ -17,19 +17,16 @@ Layout (values in the interface units that ``shimmy params`` prints: degrees, ba
     [plausible]                # where each invented dimension plausibly lies, for robustness studies
     wheel_mass = [30.0, 60.0]
 
-Reading uses the standard library's :mod:`tomllib`.  Writing is plain text because TOML writers (tomli-w) cannot
+Reading goes through :mod:`axles.input_file` (size, file type, nesting and numbers bounded before
+parsing with the standard library's :mod:`tomllib`).  Writing is plain text because TOML writers (tomli-w) cannot
 put the unit, description and source beside each value as a comment; every written file is read back by the tests.
 Without ``base`` every entry must be given: nothing is ever filled in silently.
 """
 
 from __future__ import annotations
 
-import hashlib
-import math
-import os
-import tomllib
-
 from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, AxleData, check_pressure_range, entries, entry
+from axles.input_file import InputFileError, TomlDocument, finite_number, parse_toml, read_text
 from axles.parameters import ParameterError
 
 SECTIONS = ("operating", "table1", "multibody", "plausible")
@@ -37,8 +34,8 @@ TOP_KEYS = ("name", "base") + SECTIONS
 BASES = (PAPER_NAME,)
 
 
-class AxleFileError(ParameterError):
-    """A bad axle file: reported as one line, exit code 2."""
+class AxleFileError(InputFileError):
+    """A bad axle file: one line naming the file and, where known, the line and the entry; exit code 2."""
 
 
 def _closest(name: str, known) -> str:
@@ -47,103 +44,108 @@ def _closest(name: str, known) -> str:
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
-def _number(where: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise AxleFileError(f"{where} must be a number, got {type(value).__name__} {value!r}")
-    if not math.isfinite(value):
-        raise AxleFileError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
+def _number(doc: TomlDocument, section: str, key: str, value) -> float:
+    try:
+        return finite_number(f"[{section}] {key}", value)
+    except ParameterError as exc:
+        raise doc.fail(str(exc), section, key) from None
 
 
-def _pair(where: str, value) -> tuple[float, float]:
+def _pair(doc: TomlDocument, section: str, key: str, value) -> tuple[float, float]:
     if not isinstance(value, list) or len(value) != 2:
-        raise AxleFileError(f"{where} must be a list of two numbers [LO, HI], got {value!r}")
-    lo, hi = (_number(where, v) for v in value)
+        raise doc.fail(f"[{section}] {key} must be a list of two numbers [LO, HI], got {_shown(value)}", section,
+                       key)
+    lo, hi = (_number(doc, section, key, v) for v in value)
     if not lo <= hi:
-        raise AxleFileError(f"{where} needs LO <= HI, got [{lo:g}, {hi:g}]")
+        raise doc.fail(f"[{section}] {key} needs LO <= HI, got [{lo:g}, {hi:g}]", section, key)
     return lo, hi
 
 
+def _shown(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> AxleData:
-    """The axle a file's text describes; :class:`AxleFileError` (one line, naming the file) for anything wrong."""
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise AxleFileError(f"{source}: TOML syntax error: {exc}") from None
-    for key in doc:
+    """The axle a file's text describes; :class:`AxleFileError` (one line, naming the file, the line and the
+    entry) for anything wrong, including entries that contradict each other (:meth:`AxleData.check_consistent`)."""
+    doc = parse_toml(text, source, AxleFileError)
+    data = doc.data
+    for key in data:
         if key not in TOP_KEYS:
             e = entries().get(key)
             hint = f" (it belongs in [{e.section}])" if e is not None else _closest(key, TOP_KEYS)
-            raise AxleFileError(f"{source}: unknown key '{key}'{hint}")
+            raise doc.fail(f"unknown key '{key}'{hint}", "", key)
     for key in SECTIONS:
-        if key in doc and not isinstance(doc[key], dict):
-            raise AxleFileError(f"{source}: '{key}' must be a table [{key}]")
-    name = doc.get("name")
+        if key in data and not isinstance(data[key], dict):
+            raise doc.fail(f"'{key}' must be a table [{key}]", "", key)
+    name = data.get("name")
     if not isinstance(name, str) or not name.strip():
-        raise AxleFileError(f"{source}: 'name' must be a non-empty string, got {name!r}")
-    base = doc.get("base")
+        raise doc.fail(f"'name' must be a non-empty string, got {_shown(name)}", "", "name")
+    base = data.get("base")
     if base is not None and base not in BASES:
-        raise AxleFileError(f"{source}: base must be one of {', '.join(repr(b) for b in BASES)}, got {base!r}")
+        raise doc.fail(f"base must be one of {', '.join(repr(b) for b in BASES)}, got {_shown(base)}", "", "base")
 
     values: dict[str, float] = {}
     inherited: list[str] = []
     for section in ("table1", "multibody"):
-        given = doc.get(section, {})
+        given = data.get(section, {})
         for key, raw in given.items():
             e = entries().get(key)
             if e is None or e.section != section:
                 other = f" (it belongs in [{e.section}])" if e is not None else _closest(key, [
                     n for n, x in entries().items() if x.section == section])
-                raise AxleFileError(f"{source}: unknown entry '{key}' in [{section}]{other}")
-            v = e.to_si(_number(f"{source}: [{section}] {key}", raw))
+                raise doc.fail(f"unknown entry '{key}' in [{section}]{other}", section, key)
+            v = e.to_si(_number(doc, section, key, raw))
             try:
                 e.check(v)
             except ParameterError as exc:
-                raise AxleFileError(f"{source}: [{section}] {exc}") from None
+                raise doc.fail(f"[{section}] {exc}", section, key) from None
             values[key] = v
         for key, e in entries().items():
             if e.section == section and key not in given:
                 if base is None:
-                    raise AxleFileError(f"{source}: missing entry '{key}' in [{section}] ({e.unit}, {e.description};"
-                                        f" give it, or write base = \"{PAPER_NAME}\" to inherit the paper's values)")
+                    raise doc.fail(f"missing entry '{key}' in [{section}] ({e.unit}, {e.description}; give it, or "
+                                   f"write base = \"{PAPER_NAME}\" to inherit the paper's values)")
                 inherited.append(key)
 
     plausible: list[tuple[str, tuple[float, float]]] = []
-    given = doc.get("plausible", {})
+    given = data.get("plausible", {})
     for key, raw in given.items():
         e = entries().get(key)
         if e is None or e.section != "multibody":
-            raise AxleFileError(f"{source}: unknown entry '{key}' in [plausible]"
-                                + _closest(key, [n for n, x in entries().items() if x.section == "multibody"]))
-        lo, hi = _pair(f"{source}: [plausible] {key}", raw)
+            raise doc.fail(f"unknown entry '{key}' in [plausible]"
+                           + _closest(key, [n for n, x in entries().items() if x.section == "multibody"]),
+                           "plausible", key)
+        lo, hi = _pair(doc, "plausible", key, raw)
         lo_si, hi_si = e.to_si(lo), e.to_si(hi)
         for v in (lo_si, hi_si):
             try:
                 e.check(v, where="plausible ")
             except ParameterError as exc:
-                raise AxleFileError(f"{source}: [plausible] {exc}") from None
+                raise doc.fail(f"[plausible] {exc}", "plausible", key) from None
         plausible.append((key, (lo_si, hi_si)))
     for key, e in entries().items():
         if e.section == "multibody" and key not in given:
             if base is None:
-                raise AxleFileError(f"{source}: missing entry '{key}' in [plausible] (a range [LO, HI] in {e.unit};"
-                                    f" or write base = \"{PAPER_NAME}\")")
+                raise doc.fail(f"missing entry '{key}' in [plausible] (a range [LO, HI] in {e.unit}; or write "
+                               f"base = \"{PAPER_NAME}\")")
             inherited.append(f"plausible.{key}")
 
-    operating = doc.get("operating", {})
+    operating = data.get("operating", {})
     for key in operating:
         if key != "pressure_range_bar":
-            raise AxleFileError(f"{source}: unknown key '{key}' in [operating]"
-                                + _closest(key, ["pressure_range_bar"]))
+            raise doc.fail(f"unknown key '{key}' in [operating]" + _closest(key, ["pressure_range_bar"]),
+                           "operating", key)
     if "pressure_range_bar" in operating:
-        lo, hi = _pair(f"{source}: [operating] pressure_range_bar", operating["pressure_range_bar"])
+        lo, hi = _pair(doc, "operating", "pressure_range_bar", operating["pressure_range_bar"])
         try:
-            pressure_range = check_pressure_range(lo, hi, f"{source}: [operating] ")
+            pressure_range = check_pressure_range(lo, hi, "[operating] ")
         except ParameterError as exc:
-            raise AxleFileError(str(exc)) from None
+            raise doc.fail(str(exc), "operating", "pressure_range_bar") from None
     elif base is None:
-        raise AxleFileError(f"{source}: missing entry 'pressure_range_bar' in [operating] ([LO, HI] in bar; or write "
-                            f"base = \"{PAPER_NAME}\")")
+        raise doc.fail(f"missing entry 'pressure_range_bar' in [operating] ([LO, HI] in bar; or write "
+                       f"base = \"{PAPER_NAME}\")")
     else:
         pressure_range = DEFAULT_PRESSURE_RANGE_BAR
         inherited.append("operating.pressure_range_bar")
@@ -151,23 +153,27 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     axle = AxleData(name=name.strip(), pressure_range_bar=pressure_range, plausible=tuple(plausible),
                 file=source, sha256=sha256, inherited=tuple(inherited))
     try:
-        return axle.with_values(values)
-    except ParameterError as exc:   # a combination the models cannot take
-        raise AxleFileError(f"{source}: {exc}") from None
+        axle = axle.with_values(values)
+        axle.check_consistent()
+    except ParameterError as exc:   # a combination the models cannot take: named at the first entry involved
+        involved = [k for k in _named_entries(str(exc)) if k in values]
+        section = entries()[involved[0]].section if involved else ""
+        raise doc.fail(str(exc), section, involved[0] if involved else None) from None
+    return axle
+
+
+def _named_entries(message: str) -> list[str]:
+    """Entry names a consistency message mentions, in the order it mentions them."""
+    import re
+    words = re.findall(r"[A-Za-z_][A-Za-z0-9_]*", message)
+    return [w for w in dict.fromkeys(words) if w in entries()]
 
 
 def read_axle(path: str) -> AxleData:
-    """Read an axle file; unreadable files and bad contents raise :class:`AxleFileError`."""
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read()
-    except OSError as exc:
-        raise AxleFileError(f"{path}: cannot read the axle file ({exc.strerror or exc})") from None
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise AxleFileError(f"{path}: not a text file (TOML must be UTF-8)") from None
-    return parse_axle(text, source=path, sha256=hashlib.sha256(data).hexdigest())
+    """Read an axle file (:func:`axles.input_file.read_text`: a regular file of at most 1 MiB); unreadable files
+    and bad contents raise :class:`AxleFileError`."""
+    text, sha256 = read_text(path, "axle file", error=AxleFileError)
+    return parse_axle(text, source=path, sha256=sha256)
 
 
 def _toml_string(s: str) -> str:
@@ -223,8 +229,6 @@ def axle_from_path_or_paper(path: str | None) -> AxleData:
     if path is None:
         from axles.axle import paper_axle
         return paper_axle()
-    if os.path.isdir(path):
-        raise AxleFileError(f"{path}: is a directory, not an axle file")
     return read_axle(path)
 
 

@@ -20,3 +20,6 @@ RAMP_TIME_RANGE_S = (0.01, 1000.0)
 ANGLE_RANGE_DEG = (-45.0, 45.0)       # initial angles: a small-angle model, 45 deg is already far beyond it
 RATE_RANGE_DEG_S = (-1.0e4, 1.0e4)    # initial angular rates
 
+# Work a simulation may take on (the command's simulate and the API's simulate; docs/cli.md's table reads them).
+MAX_CYCLES = 5.0e4         # periods of the fastest mode an integrator must resolve; about 80 s of LSODA here
+MBS_MAX_DURATION = 100.0   # s: the MBS steps at 1 ms through a Python tyre element, about 2 s per simulated s

@@ -36,16 +36,6 @@ class ParameterError(ProblemError):
     that its algorithms treat it as any problem's refusal)."""
 
 
-def check_range(what: str, value: float, lo: float, hi: float, unit: str) -> float:
-    """``value`` as a float, or a :class:`ParameterError` naming ``what`` and the range [lo, hi] (interface
-    units): the check of an input at the interface (API arguments, pressures in bar)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ParameterError(f"{what} must be a number, got {value!r}")
-    if not (math.isfinite(value) and lo <= value <= hi):
-        raise ParameterError(f"{what} must be within [{lo:g}, {hi:g}] {unit}, got {value:g}")
-    return float(value)
-
-
 def check_ranges(entries: Any, what: str) -> None:
     """Every field of a frozen parameter dataclass finite and inside its ``range`` metadata (SI, inclusive)."""
     for f_ in dataclasses.fields(entries):

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from axles.limits import PRESSURE_RANGE_BAR
-from axles.parameters import check_range
+from axles.input_file import check_range, finite_number
 from axles.units import to_interface, to_si
 
 PRESSURE_PARAMS = ("pressure", "pressure_right", "pressure_left")
@@ -34,9 +34,10 @@ class TyrePressures:
     left: float
 
     def __post_init__(self) -> None:
-        # plain floats, so that 2 and 2.0 (or a numpy scalar) are the same pressures and the same cache key
-        object.__setattr__(self, "right", float(self.right))
-        object.__setattr__(self, "left", float(self.left))
+        # plain floats, so that 2 and 2.0 (or a numpy scalar) are the same pressures and the same cache key; a
+        # value that is no real number, or an integer beyond any float, is refused by name
+        object.__setattr__(self, "right", finite_number("right tyre pressure", self.right, "Pa"))
+        object.__setattr__(self, "left", finite_number("left tyre pressure", self.left, "Pa"))
 
     # --- made at the interface, from bar ---------------------------------------------------------------------
     @classmethod

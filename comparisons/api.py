@@ -23,6 +23,7 @@ Reading an axle loads no Exudyn: the multibody model is imported when its family
 
 from __future__ import annotations
 
+import numbers
 import os
 from dataclasses import dataclass
 from functools import cached_property
@@ -32,15 +33,18 @@ import numpy as np
 
 from axles import axle as axle_data
 from axles.axle_file import axle_from_path_or_paper
+from axles.input_file import finite_number
 from axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
+    MAX_CYCLES,
+    MBS_MAX_DURATION,
     PRESSURE_RANGE_BAR,
     RAMP_TIME_RANGE_S,
     RATE_RANGE_DEG_S,
     SPEED_RANGE_KMH,
 )
-from axles.parameters import check_range
+from axles.input_file import check_range
 from axles.pressures import TyrePressures
 from axles.units import to_si
 from comparisons.results import CycleBranches, HopfPoint, HopfResult, Simulation, StabilityMargins, cycle_branch
@@ -52,6 +56,13 @@ from reduced_model.model import STATE_NAMES, STATE_UNITS, Effects, ShimmyModel
 from axles.parameters import ParameterError, ShimmyParameters
 from reduced_model.simulation import initial_state
 from reduced_model.trajectory import SpeedSchedule, Trajectory
+
+
+def check_count(what: str, value: int, lo: int, hi: int) -> int:
+    """A whole number (numpy integers too) within [lo, hi], or a :class:`ParameterError` naming ``what``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= int(value) <= hi:
+        raise ParameterError(f"{what} must be a whole number within [{lo}, {hi}], got {value!r}")
+    return int(value)
 
 
 # --- inputs ---------------------------------------------------------------------------------------------------
@@ -114,6 +125,8 @@ class Axle:
         """A copy with entries replaced, in interface units (degrees, bar, otherwise SI), each checked against
         its physical range: ``axle.with_values(t0=0.25)`` or ``axle.with_values({"t0": 0.25})``."""
         merged = {**(values or {}), **named}
+        # each value a finite number before any unit conversion (10**400 would overflow it), named with its unit
+        merged = {name: finite_number(name, v, axle_data.entry(name).unit) for name, v in merged.items()}
         return Axle(self.data.with_overrides(merged)) if merged else self
 
     def with_set(self, *items: str) -> "Axle":
@@ -285,7 +298,7 @@ class ModelFamily:
         return self.problem.nominal
 
     def label(self) -> str:
-        return f"{self.model.label()}, {self.pressures}, axle {self.model.axle.name}"
+        return f"{self.model.label()}, {self.pressures}, axle {self.model.axle.data.shown_name}"
 
 
 # --- jobs -----------------------------------------------------------------------------------------------------
@@ -349,16 +362,13 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     if not lo <= hi:
         raise ParameterError(f"pressure_range_bar needs LO <= HI, got {lo:g} {hi:g}")
     vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
-    counts = []
-    for what, n in (("pressure_points", pressure_points), ("speed_points", speed_points)):
-        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 2001:
-            raise ParameterError(f"{what} must be a whole number within [1, 2001], got {n!r}")
-        counts.append(n)
+    counts = [check_count(what, n, 1, 2001) for what, n in (("pressure_points", pressure_points),
+                                                           ("speed_points", speed_points))]
     pressures = TyrePressures.both(0.5 * (lo + hi))
     problem = model.problem(pressures, "pressure")
     grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
     study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p)
-    return StabilityMargins(f"{model.label()}, axle {model.axle.name}", study)
+    return StabilityMargins(f"{model.label()}, axle {model.axle.data.shown_name}", study)
 
 
 def initial_from_degrees(initial_deg: Mapping[str, float] | None) -> np.ndarray:
@@ -390,16 +400,47 @@ def schedule_of(speed_kmh: float | None, ramp_kmh: tuple[float, float, float] | 
     return SpeedSchedule.ramp(start, end, check_range("ramp_kmh SECONDS", ramp_kmh[2], *RAMP_TIME_RANGE_S, "s"))
 
 
+def check_simulation_work(model: ReducedModel | MultibodyModel, pressures: TyrePressures, schedule: SpeedSchedule,
+                          duration: float, what: str = "duration_s") -> None:
+    """Refuse (:class:`ParameterError`, naming ``what``) a simulation that would run on for many minutes: an MBS
+    run longer than :data:`~axles.limits.MBS_MAX_DURATION`, or one whose fastest oscillation needs more than
+    :data:`~axles.limits.MAX_CYCLES` periods resolved.
+
+    Within the physical ranges an axle can still combine a stiff tie rod with a light wheel (k1 = 1e8 N m/rad,
+    I1 = 0.1 kg m^2 oscillate at 7 kHz): both integrators must follow every period of such a mode, and 20 s take
+    hours.  The fastest frequency is read from the linearisation of the model that runs, at both ends of the
+    speed range: the MBS's own, whose full geometry adds modes (steering gear, lateral travel) the reduced model
+    does not have.
+    """
+    mbs = isinstance(model, MultibodyModel)
+    if mbs and duration > MBS_MAX_DURATION:
+        option = f"{what} with --model mbs" if what.startswith("--") else f"{what} of the multibody model"
+        raise ParameterError(f"{option} must be at most {MBS_MAX_DURATION:g} s (about 2 s of computing per "
+                             f"simulated second), got {duration:g}")
+    speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
+    family = model.problem(pressures, "pressure")
+    fastest = max(float(np.max(np.abs(np.linalg.eigvals(family.linear_matrix(v, family.nominal)).imag)))
+                  for v in speeds) / (2 * np.pi)
+    cycles = fastest * duration
+    if cycles > MAX_CYCLES:
+        which = "the MBS's" if mbs else "the axle's"
+        raise ParameterError(f"{which} fastest oscillation, {fastest:.4g} Hz, would need {cycles:.3g} periods "
+                             f"resolved in {duration:g} s (limit {MAX_CYCLES:g}): shorten {what} or check the "
+                             f"stiffnesses and inertias (k1, k2, I1, ...)")
+
+
 def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, speed_kmh: float | None = None,
              ramp_kmh: tuple[float, float, float] | None = None, duration_s: float,
              initial_deg: Mapping[str, float] | None = None, progress: Callable[[float], None] | None = None,
-             poses: bool = False) -> Simulation:
+             poses: bool = False, allow_long: bool = False) -> Simulation:
     """A time simulation of either model, the same call for both: at a constant ``speed_kmh`` or along
     ``ramp_kmh=(FROM, TO, SECONDS)`` (then held), for ``duration_s`` s from ``initial_deg`` (degrees, deg/s for
     the rates; default theta1 = 0.573 deg).  The reduced model runs on scipy, the MBS on Exudyn (about 2 s of
     computing per simulated second).  ``progress(t)`` is called with the simulated time every 1 % of the duration
     (reduced model; the MBS reports none); ``poses`` keeps the MBS bodies' poses in the trajectory, for a 3D
-    recording (:func:`comparisons.recordings.writer.write_recording`).
+    recording (:func:`comparisons.recordings.writer.write_recording`).  As the command, a run that would take many
+    minutes is refused (:func:`check_simulation_work`: the MBS beyond 100 s, or more than 50000 periods of the
+    fastest oscillation); ``allow_long=True`` runs it anyway.
 
     >>> run = simulate(Axle.paper().reduced(), TyrePressures.both(2.5), speed_kmh=60, duration_s=2)
     >>> run.status.value
@@ -408,10 +449,13 @@ def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, 
     schedule = schedule_of(speed_kmh, ramp_kmh)
     duration = check_range("duration_s", duration_s, *DURATION_RANGE_S, "s")
     x0 = initial_from_degrees(initial_deg)
+    if not allow_long:
+        check_simulation_work(model, pressures, schedule, duration)
     trajectory = model.run(pressures, schedule, x0, duration, progress=progress, poses=poses)
-    return Simulation(f"{model.label()}, {pressures}, axle {model.axle.name}", trajectory)
+    return Simulation(f"{model.label()}, {pressures}, axle {model.axle.data.shown_name}", trajectory)
 
 
-__all__ = ["Axle", "CycleBranches", "ModelFamily", "family_of", "HopfPoint", "HopfResult", "MultibodyModel", "ReducedModel",
-           "Simulation", "StabilityMargins", "TyrePressures", "cycle_branches", "fidelity_of", "hopf_points",
+__all__ = ["Axle", "CycleBranches", "ModelFamily", "family_of", "HopfPoint", "HopfResult", "MultibodyModel",
+           "ReducedModel", "Simulation", "StabilityMargins", "TyrePressures", "check_simulation_work", "cycle_branches",
+           "fidelity_of", "hopf_points",
            "parse_settings", "simulate", "stability_margins"]

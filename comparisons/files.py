@@ -129,6 +129,72 @@ def check_output(path: str, what: str = "output", recording: bool = False) -> st
     return final
 
 
+PATH_MAX_DEFAULT = 4096         # bytes per path on Linux when pathconf cannot say
+
+
+def shown_path(path: str, limit: int = 120) -> str:
+    """``path`` for a message: a path of thousands of bytes is cut in the middle, so the line stays readable."""
+    return path if len(path) <= limit else f"{path[:limit // 2]}...{path[-limit // 2:]} ({len(path)} characters)"
+
+
+def prepare_folder(path: str, what: str = "--out") -> str:
+    """Create the output folder ``path`` and prove it writable, or raise :class:`OutputPathError` (one line).
+
+    The path's length and each name's length are checked first, and the folders are made one by one:
+    ``os.makedirs`` recurses once per missing folder, so a path of thousands of short names would end in a
+    ``RecursionError`` instead of an answer.
+    """
+    import tempfile
+    if not path or not path.strip():
+        raise OutputPathError(f"{what}: an empty folder name")
+    shown = shown_path(path)
+    final = os.path.abspath(path)
+    encoded = final.encode("utf-8", "surrogateescape")
+    try:
+        path_max = int(os.pathconf("/", "PC_PATH_MAX"))
+    except (OSError, ValueError):
+        path_max = PATH_MAX_DEFAULT
+    if len(encoded) >= path_max:
+        raise OutputPathError(f"{what} {shown}: the path is {len(encoded)} bytes, longer than the {path_max} the "
+                              f"file system takes")
+    name_max = _name_max("/")
+    if any(len(part.encode("utf-8", "surrogateescape")) > name_max for part in final.split(os.sep)):
+        raise OutputPathError(f"{what} {shown}: a folder name is longer than {name_max} bytes")
+    if os.path.exists(final) and not os.path.isdir(final):
+        raise OutputPathError(f"{what} {shown}: a file is in the way, not a folder")
+    try:
+        _make_folders(final)
+    except OSError as exc:
+        raise OutputPathError(f"{what} {shown}: cannot create the folder ({exc.strerror or exc})") from None
+    except ValueError as exc:     # a NUL character in the name
+        raise OutputPathError(f"{what} {shown}: cannot create the folder ({exc})") from None
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".write-test-", dir=final)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise OutputPathError(f"{what} {shown}: cannot write there ({exc.strerror or exc})") from None
+    return final
+
+
+def _make_folders(final: str) -> None:
+    """``os.makedirs(final, exist_ok=True)`` without recursion."""
+    missing = []
+    head = final
+    while not os.path.isdir(head):
+        missing.append(head)
+        parent = os.path.dirname(head)
+        if parent == head:
+            break
+        head = parent
+    for folder in reversed(missing):
+        try:
+            os.mkdir(folder)
+        except FileExistsError:
+            if not os.path.isdir(folder):
+                raise
+
+
 def check_outputs(items: list[tuple[str, str | None]], recordings: tuple[str, ...] = ()) -> None:
     """Check every (option, path) pair that is given and that no two options name the same file."""
     seen: dict[str, str] = {}

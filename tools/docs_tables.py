@@ -47,16 +47,17 @@ def axle_entries() -> str:
 
 
 def input_ranges() -> str:
-    """The command-line inputs that are not axle entries, from :mod:`axles.limits` and the commands."""
+    """The command-line inputs that are not axle entries, from :mod:`axles.limits`."""
     from axles.limits import (
         ANGLE_RANGE_DEG,
         DURATION_RANGE_S,
+        MAX_CYCLES,
+        MBS_MAX_DURATION,
         PRESSURE_RANGE_BAR,
         RAMP_TIME_RANGE_S,
         RATE_RANGE_DEG_S,
         SPEED_RANGE_KMH,
     )
-    from comparisons.cli.commands.simulate import MAX_CYCLES, MBS_MAX_DURATION
     p_lo, p_hi = PRESSURE_RANGE_BAR
     v_lo, v_hi = SPEED_RANGE_KMH
     rows = [

@@ -16,7 +16,8 @@ import threading
 import time
 import traceback
 
-# Only the standard library and .files here: the signal handlers are installed before the model packages load.
+# Only the standard library, axles.text and .files here: the signal handlers are installed before the model packages load.
+from axles.text import printable as one_line   # user input echoed in a message stays one line
 from comparisons.files import (
     FAULTED_TEMPORARIES,
     LIVE_TEMPORARIES,
@@ -58,6 +59,7 @@ GRACE_S = 0.5                 # after a signal: time given to unwind normally be
 # Commands that answer an interrupt themselves: sweep closes its Dask cluster and says which batches it kept.
 GRACE_BY_COMMAND = {"sweep": 10.0}
 # Output options checked before any work, by attribute name; recordings are read back, so no device for them.
+# A command whose --out is a file (sweep) adds it as ``file_outputs`` in its parser's defaults.
 OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
 RECORDING_OPTIONS = ("--rerun",)
 
@@ -80,13 +82,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 class Interrupted(BaseException):
     """SIGTERM, raised in the main thread like KeyboardInterrupt is for SIGINT."""
-
-
-def one_line(text: str) -> str:
-    """``text`` with control characters and line breaks escaped: user input echoed in a message stays one line."""
-    if text.isprintable():
-        return text
-    return "".join(c if c.isprintable() or 0xDC80 <= ord(c) <= 0xDCFF else repr(c)[1:-1] for c in text)
 
 
 def _say(line: str) -> None:
@@ -208,7 +203,8 @@ def _where(exc: BaseException) -> str:
 def check_output_options(args: argparse.Namespace) -> None:
     """Every output file option of the command, before the work (see :func:`comparisons.files.check_outputs`)."""
     from axles.limits import UsageError
-    items = [(flag, getattr(args, attr)) for attr, flag in OUTPUT_OPTIONS if getattr(args, attr, None) is not None]
+    options = tuple(getattr(args, "file_outputs", ())) + OUTPUT_OPTIONS
+    items = [(flag, getattr(args, attr)) for attr, flag in options if getattr(args, attr, None) is not None]
     try:
         check_outputs(items, RECORDING_OPTIONS)
     except OutputPathError as exc:

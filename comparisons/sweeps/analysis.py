@@ -29,6 +29,9 @@ from axles.pressures import TyrePressures
 from comparisons.api import family_of
 
 DEFAULT_OUTPUT = "onset_kmh"
+# The output of the sensitivities when --output is not given: that of the first of these that --compute asks for.
+DEFAULT_OUTPUTS = {"hopf": DEFAULT_OUTPUT, "cycles": "peak_yaw_theta1_deg", "margins": "margin",
+                   "assumptions": "shift_full_kmh[0]"}
 SWING_QUANTILES = (0.05, 0.95)
 
 
@@ -45,8 +48,7 @@ class OutputChoice:
 
     @classmethod
     def parse(cls, text: str | None, task: SweepTask) -> "OutputChoice":
-        text = text or (DEFAULT_OUTPUT if "hopf" in task.compute else
-                        "peak_yaw_theta1_deg" if "cycles" in task.compute else "shift_full_kmh[0]")
+        text = text or next(DEFAULT_OUTPUTS[c] for c in DEFAULT_OUTPUTS if c in task.compute)
         m = re.fullmatch(r"\s*([A-Za-z0-9_]+)\s*(?:\[\s*(\d+)\s*\])?\s*", text)
         schema = task.schema()
         if not m or m.group(1) not in schema.names:

@@ -66,10 +66,15 @@ def load_axle(path: str, overrides: list[str] | None):
     except ParameterError as exc:                   # an AxleFileError among them
         raise pytest.UsageError(f"--axle: {exc}") from None
     try:
-        return axle.with_set(*(overrides or ())).data
+        data = axle.with_set(*(overrides or ())).data
     except ParameterError as exc:                   # the API's --set messages, naming this option instead
         text = str(exc).replace("--set", "--axle-set")
         raise pytest.UsageError(text if "--axle-set" in text else f"--axle-set: {text}") from None
+    try:   # entries that contradict each other are a bad input, not twenty failed checks
+        data.check_consistent()
+    except ParameterError as exc:
+        raise pytest.UsageError(f"--axle-set: {exc}") from None
+    return data
 
 
 def axle_under_test(config: pytest.Config):

@@ -45,7 +45,7 @@ def plan_section(ctx: Context) -> Section:
         rows.append(Row({"case": "B", "pressure_right_bar": b.pressure_bar, "pressure_left_bar": b.pressure_bar,
                          "kind": "bistable" + window, "reason": b.reason}, CheckStatus.INFO))
     text = "; ".join(ctx.plan.notes)
-    return Section(key="plan", title=f"Plan: the cases verified for axle {ctx.axle.name}",
+    return Section(key="plan", title=f"Plan: the cases verified for axle {ctx.axle.shown_name}",
                    columns=("case", "pressure_right_bar", "pressure_left_bar", "kind", "reason"), rows=tuple(rows),
                    text=("Wheel 1 (theta1) is the right wheel. " + (text + "." if text else "")).strip())
 
@@ -188,7 +188,7 @@ def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
         speeds[MODEL_SETS[0][0]]["paper"] = [(p, v) for p, printed in HOPF_SPEEDS_KMH.items() for v in printed]
     ctx.progress("Hopf speeds: figure")
     plot_hopf_speeds(speeds, os.path.join(ctx.out, "hopf_speeds.png"),
-                     title=f"Hopf speeds against tyre pressure, axle {ctx.axle.name} (both tyres alike)")
+                     title=f"Hopf speeds against tyre pressure, axle {ctx.axle.shown_name} (both tyres alike)")
     return ("hopf_speeds.png",)
 
 
@@ -220,7 +220,7 @@ def assumptions_section(ctx: Context) -> Section:
     figures = ()
     if tornado:
         plot_assumption_tornado(tornado, os.path.join(ctx.out, "assumptions.png"),
-                                title=f"What each assumption of the reduced model costs, axle {ctx.axle.name}")
+                                title=f"What each assumption of the reduced model costs, axle {ctx.axle.shown_name}")
         figures = ("assumptions.png",)
     return Section(
         key="assumptions", title="What each assumption of the reduced model costs (MBS, one switch off at a time)",

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
 import time
 
 from axles.limits import UsageError
@@ -50,15 +49,11 @@ def parse_only(text: str | None) -> list[int] | None:
 
 def check_out_dir(path: str) -> None:
     """Create the folder and prove it is writable before minutes of computing, with a one-line reason if not."""
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise UsageError(f"--out {path}: exists and is not a folder")
+    from comparisons.files import OutputPathError, prepare_folder
     try:
-        os.makedirs(path, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=".write-test-", dir=path)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise UsageError(f"--out {path}: cannot write there ({exc.strerror or exc})") from None
+        prepare_folder(path, "--out")
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -52,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
                    "pressure_range_bar": list(axle.pressure_range_bar), "parameters": rows,
                    **({"written": args.write} if args.write else {})})
         return 0
-    print(f"Axle {axle.name}: {axle.label().split(': ', 1)[1]}; values in the units shown, "
+    print(f"Axle {axle.shown_name}: {axle.label().split(': ', 1)[1]}; values in the units shown, "
           f"physical range in brackets")
     for section, title in (("table1", "Table 1 (Yang, Knowles & Mavros)"),
                            ("multibody", "multibody dimensions the paper does not give (plausible range after the "

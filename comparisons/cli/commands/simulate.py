@@ -8,12 +8,13 @@ import sys
 
 import numpy as np
 
-from comparisons.api import name_and_text, schedule_of
+from comparisons.api import check_simulation_work, name_and_text, schedule_of
 from comparisons.api import simulate as simulate_api
 from axles.axle import interface_text
 from axles.limits import (
     ANGLE_RANGE_DEG,
     DURATION_RANGE_S,
+    MAX_CYCLES,  # noqa: F401 - tests/cli/test_cycles_cli.py reads it from here
     RAMP_TIME_RANGE_S,
     RATE_RANGE_DEG_S,
     SPEED_RANGE_KMH,
@@ -25,7 +26,6 @@ from comparisons.cli.options import (
     add_model_options,
     add_output_options,
     build_axle,
-    build_family,
     build_fidelity,
     build_model,
     chosen_model,
@@ -43,8 +43,6 @@ from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 HOLD_AFTER_RAMP = 20.0     # s simulated after a ramp when --duration is not given
 CONSTANT_DURATION = 20.0   # s at constant speed when --duration is not given
-MAX_CYCLES = 5.0e4         # periods of the fastest mode an integrator must resolve; about 80 s of LSODA here
-MBS_MAX_DURATION = 100.0   # s: the MBS steps at 1 ms through a Python tyre element, about 2 s per simulated s
 
 
 def add_parser(sub) -> None:
@@ -106,31 +104,13 @@ def parse_initial(items: list[str] | None) -> dict[str, float] | None:
 
 
 def check_work(args: argparse.Namespace, schedule: SpeedSchedule, duration: float) -> None:
-    """Refuse a run whose fastest oscillation would take the integrator minutes to resolve (exit 2, with why).
-
-    Within the physical ranges an axle can still combine a stiff tie rod with a light wheel (k1 = 1e8 N m/rad,
-    I1 = 0.1 kg m^2 oscillate at 7 kHz): both integrators must follow every period of such a mode, and 20 s take
-    hours.  The fastest frequency is read from the linearisation of the model that runs at both ends of the speed
-    range: the MBS's own with ``--model mbs``, whose full geometry adds modes (steering gear, lateral travel) the
-    reduced model does not have.
-    """
-    if args.model == "mbs" and duration > MBS_MAX_DURATION:
-        raise UsageError(f"--duration with --model mbs must be at most {MBS_MAX_DURATION:g} s (about 2 s of "
-                         f"computing per simulated second), got {duration:g}")
-    speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
-    if build_fidelity(args) is None:
-        model = build_model(args)
-        matrices = [model.linear_matrix(v, args.tyre_pressures) for v in speeds]
-    else:
-        family = build_family(args)
-        matrices = [family.linear_matrix(v, family.nominal) for v in speeds]
-    fastest = max(float(np.max(np.abs(np.linalg.eigvals(A).imag))) / (2 * np.pi) for A in matrices)
-    cycles = fastest * duration
-    if cycles > MAX_CYCLES:
-        which = "the MBS's" if build_fidelity(args) is not None else "the axle's"
-        raise UsageError(f"{which} fastest oscillation, {fastest:.4g} Hz, would need {cycles:.3g} periods "
-                         f"resolved in {duration:g} s (limit {MAX_CYCLES:g}): shorten --duration or check the "
-                         f"stiffnesses and inertias (k1, k2, I1, ...)")
+    """Refuse a run whose fastest oscillation would take the integrator minutes to resolve, or an MBS run past
+    :data:`~axles.limits.MBS_MAX_DURATION` (exit 2, with why): the API's guard
+    (:func:`comparisons.api.check_simulation_work`), naming the option."""
+    try:
+        check_simulation_work(chosen_model(args), args.tyre_pressures, schedule, duration, what="--duration")
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | None, duration: float,

@@ -13,7 +13,6 @@ from comparisons.cli.options import (
     add_output_options,
     add_speed_window,
     build_axle,
-    check_output_path,
     emit_json,
     inputs_json,
     pressure_label,
@@ -73,7 +72,8 @@ def add_parser(sub) -> None:
                    help="output for the sensitivities and the tornado chart (default onset_kmh, the lowest Hopf "
                         "speed; any numeric column, or a list column with an index: hopf_kmh[0])")
     add_output_options(p, plot=True)
-    p.set_defaults(run=run)
+    # --out is a file here: it takes part in the check that no two outputs name the same file (cli.main)
+    p.set_defaults(run=run, file_outputs=(("out", "--out"),))
 
 
 def _compute(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -173,16 +173,14 @@ def run(args: argparse.Namespace) -> int:
     from comparisons.cli.main import EXIT_INCOMPLETE, EXIT_INTERRUPTED
     from comparisons.files import OutputFault
     from comparisons.sweeps.analysis import OutputChoice, sensitivity, write_plot
-    from comparisons.sweeps.cluster import SweepStopped
+    from comparisons.sweeps.cluster import SweepStopped, scheduler_address
     from comparisons.sweeps.design import make_design, parse_vary
     from comparisons.sweeps.run import run_sweep
+    scheduler_address(args.scheduler)     # a bad address is refused before anything else is done
     variations = [parse_vary(v) for v in args.vary]
     design = make_design(variations, args.samples, args.seed, args.design)
     task = build_task(args, design.names)
     output = OutputChoice.parse(args.output, task)
-    check_output_path(args.out)
-    if args.plot:
-        check_output_path(args.plot)
     bar = _Progress(len(design), args.json)
     try:
         result = run_sweep(task, design, args.out, scheduler=args.scheduler, workers=args.workers,

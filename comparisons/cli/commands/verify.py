@@ -4,14 +4,15 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import os
 import shlex
 import sys
 import time
 
 from axles.limits import UsageError
+from axles.parameters import ParameterError
 from comparisons.cli.options import add_axle_option, add_output_options, build_axle, emit_json, positive_float
 from comparisons.cli.progress import StepProgress
+from comparisons.files import OutputPathError, prepare_folder
 from comparisons.verify.report import SUMMARY_COLUMNS, markdown_table, run_metadata, section_table, write_report
 from comparisons.verify.run import run_verification
 
@@ -32,14 +33,10 @@ def add_parser(sub) -> None:
 
 
 def prepare_out(path: str) -> None:
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise UsageError(f"--out {path}: a file is in the way (need a folder)")
     try:
-        os.makedirs(path, exist_ok=True)
-    except OSError as exc:
-        raise UsageError(f"--out {path}: cannot create the folder ({exc.strerror})") from None
-    if not os.access(path, os.W_OK | os.X_OK):
-        raise UsageError(f"--out {path}: folder is not writable")
+        prepare_folder(path, "--out")
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -48,8 +45,12 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("verify: give both --pressure-left and --pressure-right for an asymmetric case")
     if args.pressure_left is not None:
         asymmetric = (args.pressure_right, args.pressure_left)
-    prepare_out(args.out)
     axle = build_axle(args)
+    try:   # before planning: entries that contradict each other (after --set too) cannot make a multibody axle
+        axle.check_consistent()
+    except ParameterError as exc:
+        raise UsageError(str(exc)) from None
+    prepare_out(args.out)
     start = time.perf_counter()
     with StepProgress(job="verify") as progress:
         report = run_verification(args.out, args.quick, axle=axle, asymmetric=asymmetric,
