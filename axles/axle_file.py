@@ -41,7 +41,8 @@ class AxleFileError(ParameterError):
     """A bad axle file: reported as one line, exit code 2."""
 
 
-def _closest(name: str, known) -> str:
+def did_you_mean(name: str, known) -> str:
+    """" (did you mean 'x'?)" for the closest of ``known`` to a misspelt ``name``, else ""."""
     import difflib
     close = difflib.get_close_matches(name, list(known), n=1)
     return f" (did you mean '{close[0]}'?)" if close else ""
@@ -73,7 +74,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     for key in doc:
         if key not in TOP_KEYS:
             e = entries().get(key)
-            hint = f" (it belongs in [{e.section}])" if e is not None else _closest(key, TOP_KEYS)
+            hint = f" (it belongs in [{e.section}])" if e is not None else did_you_mean(key, TOP_KEYS)
             raise AxleFileError(f"{source}: unknown key '{key}'{hint}")
     for key in SECTIONS:
         if key in doc and not isinstance(doc[key], dict):
@@ -92,7 +93,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         for key, raw in given.items():
             e = entries().get(key)
             if e is None or e.section != section:
-                other = f" (it belongs in [{e.section}])" if e is not None else _closest(key, [
+                other = f" (it belongs in [{e.section}])" if e is not None else did_you_mean(key, [
                     n for n, x in entries().items() if x.section == section])
                 raise AxleFileError(f"{source}: unknown entry '{key}' in [{section}]{other}")
             v = e.to_si(_number(f"{source}: [{section}] {key}", raw))
@@ -114,7 +115,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         e = entries().get(key)
         if e is None or e.section != "multibody":
             raise AxleFileError(f"{source}: unknown entry '{key}' in [plausible]"
-                                + _closest(key, [n for n, x in entries().items() if x.section == "multibody"]))
+                                + did_you_mean(key, [n for n, x in entries().items() if x.section == "multibody"]))
         lo, hi = _pair(f"{source}: [plausible] {key}", raw)
         lo_si, hi_si = e.to_si(lo), e.to_si(hi)
         for v in (lo_si, hi_si):
@@ -134,7 +135,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     for key in operating:
         if key != "pressure_range_bar":
             raise AxleFileError(f"{source}: unknown key '{key}' in [operating]"
-                                + _closest(key, ["pressure_range_bar"]))
+                                + did_you_mean(key, ["pressure_range_bar"]))
     if "pressure_range_bar" in operating:
         lo, hi = _pair(f"{source}: [operating] pressure_range_bar", operating["pressure_range_bar"])
         try:
@@ -183,8 +184,9 @@ def _comment(text: str) -> str:
     return " ".join(text.split())
 
 
-def format_axle(axle: Axle) -> str:
-    """The axle file text of an axle: every entry, its unit, description and source beside it."""
+def format_axle(axle: Axle, name: str | None = None) -> str:
+    """The axle file text of an axle: every entry, its unit, description and source beside it; ``name`` (default
+    the axle's own) is the file's ``name``."""
     lines = [
         "# shimmy axle file: one truck front axle (written by 'shimmy params --write').",
         "# Values in the units shown: angles in degrees, pressures in bar, everything else SI.",
@@ -192,7 +194,7 @@ def format_axle(axle: Axle) -> str:
         f"# base = \"{PAPER_NAME}\" is set: then missing entries come from the paper's axle and are reported as",
         "# inherited. Read with: shimmy COMMAND --axle THIS_FILE",
         "",
-        f"name = {_toml_string(axle.name)}",
+        f"name = {_toml_string(axle.name if name is None else name)}",
         "",
         "[operating]",
         f"pressure_range_bar = [{_toml_float(axle.pressure_range_bar[0])}, "

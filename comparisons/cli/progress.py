@@ -62,7 +62,9 @@ class StepProgress:
             return
         self._close_substep()
         if text in self._steps:
-            self._step_start[text] = now
+            # a step started again (verify's Plan: announced before the scans, its section after them) keeps its
+            # first start, so that its time counts all of its work
+            self._step_start.setdefault(text, now)
         else:
             self._current = (text, now)
         if self._bar is not None:

@@ -178,6 +178,25 @@ def test_step_progress_messages_and_bar():
     assert "verify: planning the cases" in tty.getvalue() and "[1/1] Plan: done" in tty.getvalue()
 
 
+def test_plan_step_counts_the_planning(monkeypatch):
+    """verify announces the Plan before its scans and the whole list after them; the Plan's time is the scans'
+    (it once read "[1/10] Plan: done in 0.0 s (29 s so far)": only its section, which formats the plan, was
+    timed)."""
+    now = [0.0]
+    monkeypatch.setattr("comparisons.cli.progress.time.perf_counter", lambda: now[0])
+    out = io.StringIO()
+    with StepProgress(stream=out, bar=False) as progress:
+        progress.set_steps(["Plan"])
+        progress("Plan")                       # run_verification, before make_plan
+        progress("scanning the reduced model")  # make_plan's own messages
+        now[0] = 29.0
+        progress.set_steps(["Plan", "Hopf speeds"])
+        progress("Plan")                       # run_sections, before the Plan section
+        progress("done: Plan")
+    line = next(x for x in out.getvalue().splitlines() if "] Plan:" in x)
+    assert line.startswith("verify: [1/2] Plan: done in 29.") and "(29 s so far)" in line
+
+
 def test_continuation_messages_in_interface_units():
     from axles.units import interface_message
     text = "ends on the window boundary at 147.707 km/h, pressure = 50000 | left at 400 km/h, pressure = 128521"
