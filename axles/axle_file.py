@@ -38,7 +38,8 @@ class AxleFileError(InputFileError):
     """A bad axle file: one line naming the file and, where known, the line and the entry; exit code 2."""
 
 
-def _closest(name: str, known) -> str:
+def did_you_mean(name: str, known) -> str:
+    """" (did you mean 'x'?)" for the closest of ``known`` to a misspelt ``name``, else ""."""
     import difflib
     close = difflib.get_close_matches(name, list(known), n=1)
     return f" (did you mean '{close[0]}'?)" if close else ""
@@ -74,7 +75,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     for key in data:
         if key not in TOP_KEYS:
             e = entries().get(key)
-            hint = f" (it belongs in [{e.section}])" if e is not None else _closest(key, TOP_KEYS)
+            hint = f" (it belongs in [{e.section}])" if e is not None else did_you_mean(key, TOP_KEYS)
             raise doc.fail(f"unknown key '{key}'{hint}", "", key)
     for key in SECTIONS:
         if key in data and not isinstance(data[key], dict):
@@ -93,7 +94,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         for key, raw in given.items():
             e = entries().get(key)
             if e is None or e.section != section:
-                other = f" (it belongs in [{e.section}])" if e is not None else _closest(key, [
+                other = f" (it belongs in [{e.section}])" if e is not None else did_you_mean(key, [
                     n for n, x in entries().items() if x.section == section])
                 raise doc.fail(f"unknown entry '{key}' in [{section}]{other}", section, key)
             v = e.to_si(_number(doc, section, key, raw))
@@ -115,7 +116,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
         e = entries().get(key)
         if e is None or e.section != "multibody":
             raise doc.fail(f"unknown entry '{key}' in [plausible]"
-                           + _closest(key, [n for n, x in entries().items() if x.section == "multibody"]),
+                           + did_you_mean(key, [n for n, x in entries().items() if x.section == "multibody"]),
                            "plausible", key)
         lo, hi = _pair(doc, "plausible", key, raw)
         lo_si, hi_si = e.to_si(lo), e.to_si(hi)
@@ -135,7 +136,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     operating = data.get("operating", {})
     for key in operating:
         if key != "pressure_range_bar":
-            raise doc.fail(f"unknown key '{key}' in [operating]" + _closest(key, ["pressure_range_bar"]),
+            raise doc.fail(f"unknown key '{key}' in [operating]" + did_you_mean(key, ["pressure_range_bar"]),
                            "operating", key)
     if "pressure_range_bar" in operating:
         lo, hi = _pair(doc, "operating", "pressure_range_bar", operating["pressure_range_bar"])
@@ -189,8 +190,9 @@ def _comment(text: str) -> str:
     return " ".join(text.split())
 
 
-def format_axle(axle: AxleData) -> str:
-    """The axle file text of an axle: every entry, its unit, description and source beside it."""
+def format_axle(axle: AxleData, name: str | None = None) -> str:
+    """The axle file text of an axle: every entry, its unit, description and source beside it; ``name`` (default
+    the axle's own) is the file's ``name``."""
     lines = [
         "# shimmy axle file: one truck front axle (written by 'shimmy params --write').",
         "# Values in the units shown: angles in degrees, pressures in bar, everything else SI.",
@@ -198,7 +200,7 @@ def format_axle(axle: AxleData) -> str:
         f"# base = \"{PAPER_NAME}\" is set: then missing entries come from the paper's axle and are reported as",
         "# inherited. Read with: shimmy COMMAND --axle THIS_FILE",
         "",
-        f"name = {_toml_string(axle.name)}",
+        f"name = {_toml_string(axle.name if name is None else name)}",
         "",
         "[operating]",
         f"pressure_range_bar = [{_toml_float(axle.pressure_range_bar[0])}, "

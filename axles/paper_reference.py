@@ -1,4 +1,4 @@
-"""Numbers printed in the reference paper (Yang, Knowles & Mavros; shared/seed), for comparison only.
+"""Numbers printed in the reference paper (Yang, Knowles & Mavros, The ANZIAM Journal, 2025), for comparison only.
 
 These are results of the authors' MATLAB/COCO implementation, never inputs: nothing in ``reduced_model`` or
 ``mbs_shimmy`` reads this file.  Units as printed (km/h, bar, m, N/m, degrees, Hz).

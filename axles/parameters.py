@@ -1,9 +1,9 @@
 """Parameter sets of the shimmy model, one frozen typed object with a unit and a source per entry.
 
 The only set so far is :data:`YANG2024`, Table 1 of Yang, Knowles & Mavros, "Bifurcation analysis of the
-effect of tyre inflation pressure on wheel shimmy with multiple tyre properties considered" (the paper in
-``shared/seed``).  Every entry is stored in SI units (the paper prints kN, kN m/rad and bar).  Garbled symbols of
-the OCR'd Table 1 are read as in ``shared/PAPER_NOTES.md``; the paper uses the name ``p_cy1`` twice, for the
+effect of tyre inflation pressure on wheel shimmy with multiple tyre properties considered" (The ANZIAM
+Journal, 2025).  Every entry is stored in SI units (the paper prints kN, kN m/rad and bar).  Garbled symbols of
+the OCR'd Table 1 are read as ``docs/paper-notes.md`` explains; the paper uses the name ``p_cy1`` twice, for the
 lateral shape factor C_y (1.29) and for the pressure coefficient of the relaxation length (0.5, eq. 4.9); the
 second is called ``p_cy1_rl`` here.
 """

@@ -1,7 +1,7 @@
 """Linearisation of the multibody model about straight running, and the model as a family for the Hopf tools.
 
 The built-in ``ComputeODE2Eigenvalues`` / ``ComputeLinearizedSystem`` ignore first-order states (the tyres' slip
-angles) and are wrong for spinning wheels on redundant coordinates (``shared/notes/exudyn.md``).  Instead the
+angles) and are wrong for spinning wheels on redundant coordinates (``mbs_shimmy/README.md``, Linearisation).  Instead the
 Jacobian of the complete first-order system
 
     y = (q, q', alpha1, alpha2),  q = ([y_axle], [z_axle], psi, theta1, theta2, [phi_gear])  (tree order),

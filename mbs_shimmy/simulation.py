@@ -2,7 +2,7 @@
 
 Integrator: Exudyn's explicit Runge-Kutta solvers on the kinematic tree (no constraints), fixed step.  Explicit
 solvers evaluate the tyre states consistently at every stage, so the implicit solvers' trap of a zero initial
-ODE1 derivative (``shared/notes/exudyn.md``) does not arise.  The default is the classical RK44 with
+ODE1 derivative at the start of a run does not arise.  The default is the classical RK44 with
 h = :data:`DEFAULT_STEP` = 1 ms, sampled every millisecond like the reduced model's trajectories: at 1.5 bar and
 100 km/h its error is about 3e-6 of each state's amplitude, and halving the step changes a run by less than 1e-4
 (``tests/test_mbs_simulation.py``).  :data:`FAST_METHOD` / :data:`FAST_STEP` (RK67, 1/240 s) is the cheapest

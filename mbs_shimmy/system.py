@@ -2,7 +2,7 @@
 the steering linkage.
 
 Why a kinematic tree: minimal coordinates need no constraints, so Exudyn's explicit Runge-Kutta solvers apply and
-the mass matrix is exact (``shared/notes/exudyn.md``: with Euler-parameter bodies and joints the built-in
+the mass matrix is exact (with Euler-parameter bodies and joints the built-in
 linearisation is wrong for spinning wheels, and constrained models need implicit solvers).
 
 Links, in the tree's coordinate order (bracketed ones only when their element is on):

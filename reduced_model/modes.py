@@ -177,3 +177,15 @@ class ModeClassifier:
                 current = first.mode
                 run = []
         return ModeHistory(windows=windows, switches=tuple(switches), initial=voting[0].mode)
+
+
+TRAMP_SHARE = ModeClassifier().ratio_split
+"""A mode is tramp where |psi| / max(|theta1|, |theta2|) of its eigenvector exceeds this: the simulations' split."""
+
+
+def tramp_share(vector: np.ndarray) -> float:
+    """|psi| / max(|theta1|, |theta2|) of a state vector in the reduced model's order (an eigenvector's shape)."""
+    from reduced_model.model import STATE_NAMES
+    v = np.abs(vector)
+    th1, th2, psi = (STATE_NAMES.index(n) for n in ("theta1", "theta2", "psi"))
+    return float(v[psi] / max(v[th1], v[th2], 1e-300))

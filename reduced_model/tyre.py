@@ -1,6 +1,7 @@
 """Pressure-dependent tyre of the shimmy model: the one copy of every tyre formula in the project.
 
-Equations of Yang, Knowles & Mavros (the paper in ``shared/seed``):
+Equations of Yang, Knowles & Mavros (The ANZIAM Journal, 2025; reading notes in
+``docs/paper-notes.md``):
 lateral force (2.4)-(2.9) after Pacejka's pressure-extended Magic Formula (Tyre and Vehicle Dynamics, 3rd ed.,
 section 4.3.2) with the E_y pressure polynomial of Hopping; half contact length (4.1) after Guo; pneumatic trail
 (4.2)-(4.8); relaxation length (4.9) and vertical stiffness (4.10) after Besselink.

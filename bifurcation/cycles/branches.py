@@ -364,12 +364,13 @@ def branch_from_cycle(family: Family, point: CyclePoint, free: str, lo: float, h
 
 def cycle_diagram(family: Family, q: float, p_min: float, p_max: float,
                   settings: CycleSettings = CycleSettings(), progress=None, at: tuple[float, ...] = (),
-                  max_step: float | None = None) -> CycleDiagram:
+                  max_step: float | None = None, accept_hook=None) -> CycleDiagram:
     """Every branch of cycles born at a Hopf point of the equilibrium with p in [p_min, p_max] at the second
     parameter q.
 
     A Hopf point that an earlier branch returned to is not started again.  ``at`` (values of p) and
-    ``max_step`` (in p) as in :func:`follow_branch`.
+    ``max_step`` (in p) as in :func:`follow_branch`; ``progress(done, total)`` after each Hopf point,
+    ``accept_hook(cycle)`` after each accepted cycle of any branch (a long branch's progress).
     """
     family.validate(q)
     hopf = hopf_points(family, q, p_min, p_max)
@@ -378,7 +379,7 @@ def cycle_diagram(family: Family, q: float, p_min: float, p_max: float,
     for i, h in enumerate(hopf):
         if not any(h is r for r in reached):
             b = branch_from_hopf(family, h, p_min, p_max, others=tuple(x for x in hopf if x is not h),
-                                 settings=settings, at=at, max_step=max_step)
+                                 settings=settings, at=at, max_step=max_step, accept_hook=accept_hook)
             branches.append(b)
             if b.end is not None:
                 reached.append(b.end)

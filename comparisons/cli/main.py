@@ -10,6 +10,7 @@ import contextlib
 import importlib
 import importlib.util
 import os
+import re
 import signal
 import sys
 import threading
@@ -64,15 +65,61 @@ OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series
 RECORDING_OPTIONS = ("--rerun",)
 
 
+INVALID_CHOICE = re.compile(r"invalid choice: '([^']*)' \(choose from (.*)\)$")
+
+
+def option_names(parser: argparse.ArgumentParser) -> list[str]:
+    return [name for action in parser._actions for name in action.option_strings]
+
+
 class _Parser(argparse.ArgumentParser):
+    """One line per error, with the closest option, command or choice to a misspelt one."""
+
+    commands: dict[str, argparse.ArgumentParser] = {}
+
+    def parse_args(self, args=None, namespace=None):
+        namespace, extras = self.parse_known_args(args, namespace)
+        if extras:
+            from axles.axle_file import did_you_mean
+            # the command's own parser knows its options; argparse reports them on the top-level one
+            parser = self.commands.get(getattr(namespace, "command", None), self)
+            hints = [did_you_mean(a.split("=", 1)[0], option_names(parser)) for a in extras if a.startswith("-")]
+            self.error(f"unrecognized arguments: {' '.join(extras)}{''.join(h for h in hints if h)}")
+        return namespace
+
+    def format_help(self) -> str:
+        """What the command is for first, then its usage and options (argparse puts the usage first)."""
+        text = super().format_help()
+        usage, _, rest = text.partition("\n\n")
+        if not self.description or not rest.startswith(self.description[:20]):
+            return text
+        description, _, options = rest.partition("\n\n")
+        return f"{description}\n\n{usage}\n\n{options}"
+
     def error(self, message: str) -> None:  # one line, not usage + message
+        found = INVALID_CHOICE.search(message)
+        if found:
+            from axles.axle_file import did_you_mean
+            message += did_you_mean(found.group(1), re.findall(r"'([^']*)'", found.group(2)))
         _say(f"shimmy: error: {message}")
         raise SystemExit(2)
+
+
+def described(add_parser):
+    """``sub.add_parser`` that gives every command's ``--help`` a description: what the command is for (its
+    one-line help in the command list, unless the command writes a longer one)."""
+    def add(name: str, **kwargs):
+        text = kwargs.get("help") or ""
+        kwargs.setdefault("description", (text[:1].upper() + text[1:] + ".") if text else None)
+        return add_parser(name, **kwargs)
+    return add
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="shimmy", description="Truck wheel shimmy: reduced model, bifurcations, multibody model")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
+    sub.add_parser = described(sub.add_parser)
+    parser.commands = sub.choices
     for name in COMMANDS:
         # A command whose module is not written yet is simply not offered.
         if importlib.util.find_spec(f"comparisons.cli.commands.{name}") is not None:

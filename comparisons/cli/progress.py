@@ -62,7 +62,9 @@ class StepProgress:
             return
         self._close_substep()
         if text in self._steps:
-            self._step_start[text] = now
+            # a step started again (verify's Plan: announced before the scans, its section after them) keeps its
+            # first start, so that its time counts all of its work
+            self._step_start.setdefault(text, now)
         else:
             self._current = (text, now)
         if self._bar is not None:
@@ -126,8 +128,72 @@ def ticker(bar):
     return tick
 
 
+# Seconds between two plain progress lines: a job shorter than this prints none.
+PLAIN_EVERY_S = 5.0
+
+
+class PlainProgress:
+    """The part of tqdm's interface the commands use (``n``, ``total``, ``update``, ``refresh``,
+    ``set_postfix_str``), as plain lines on stderr for a log or a pipe: at most one every ``every`` seconds, so
+    that a short job prints nothing, and a last one with the time taken if any was printed."""
+
+    def __init__(self, total: int | None, description: str, stream: IO[str] | None = None,
+                 every: float | None = None) -> None:
+        self.total = total
+        self.n = 0
+        self.description = description
+        self.stream = stream if stream is not None else sys.stderr
+        self.every = PLAIN_EVERY_S if every is None else every
+        self.postfix = ""
+        self.started = self._said = time.perf_counter()
+        self.lines = 0
+
+    def __enter__(self) -> "PlainProgress":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def _line(self, text: str) -> None:
+        try:
+            self.stream.write(text + "\n")
+            self.stream.flush()
+        except (OSError, ValueError):
+            pass     # progress is never worth a failure
+        self._said = time.perf_counter()
+        self.lines += 1
+
+    def _state(self) -> str:
+        count = f" {self.n}/{self.total}" if self.total else ""
+        postfix = f": {self.postfix}" if self.postfix else ""
+        return f"{self.description}{count}{postfix} ({time.perf_counter() - self.started:.0f} s)"
+
+    def refresh(self) -> None:
+        if time.perf_counter() - self._said >= self.every:
+            self._line(self._state())
+
+    def update(self, k: int = 1) -> None:
+        self.n += k
+        self.refresh()
+
+    def set_postfix_str(self, text: str, refresh: bool = True) -> None:
+        self.postfix = text
+        if refresh:
+            self.refresh()
+
+    def write(self, text: str, file=None) -> None:
+        self._line(text)
+
+    def close(self) -> None:
+        if self.lines:
+            self._line(f"{self.description}: done in {time.perf_counter() - self.started:.1f} s")
+            self.lines = 0
+
+
 def progress(total: int, description: str, quiet: bool):
-    """A tqdm progress bar on stderr; silent under --json or when stderr is not a terminal."""
+    """Progress on stderr: a tqdm bar on a terminal, otherwise (a pipe, a log, or ``quiet`` under --json, whose
+    stdout carries the JSON) plain lines at most every :data:`PLAIN_EVERY_S` seconds (:class:`PlainProgress`)."""
+    if quiet or not sys.stderr.isatty():
+        return PlainProgress(total, description)
     from tqdm import tqdm
-    return tqdm(total=total, desc=description, disable=quiet or not sys.stderr.isatty(), leave=False,
-                file=sys.stderr)
+    return tqdm(total=total, desc=description, leave=False, file=sys.stderr)

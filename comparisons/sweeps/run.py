@@ -18,6 +18,7 @@ that kills every worker that tries it (``KilledWorker``) becomes failed rows; a 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -165,12 +166,17 @@ def _batch_result(fut, cluster: DaskCluster, task: SweepTask, design: Design, ba
 
 
 def run_sweep(task: SweepTask, design: Design, out: str, *, scheduler: str | None = None, workers: int | None = None,
-              size: int | None = None, resume: bool = False,
+              cluster: DaskCluster | None = None, size: int | None = None, resume: bool = False,
               progress: Callable[[int, int], None] | None = None,
               notice: Callable[[str], None] | None = None) -> SweepRun:
     """Evaluate every sample of ``design`` on Dask, batches written to Parquet as they finish; see module docs.
 
-    ``notice`` is told, one line each, what the run found and did about it (damaged parts, a stale lock)."""
+    ``notice`` is told, one line each, what the run found and did about it (damaged parts, a stale lock).
+    ``cluster``: a cluster this process already holds (kept open), instead of a ``scheduler`` address to check and
+    connect to or a local cluster to start."""
+    own = cluster
+    if own is not None:
+        scheduler = own.address
     t0 = time.perf_counter()
     n = len(design)
     say = notice or (lambda text: None)
@@ -196,7 +202,7 @@ def run_sweep(task: SweepTask, design: Design, out: str, *, scheduler: str | Non
         levels = quiet_distributed()
         cluster = None
         try:
-            with DaskCluster(scheduler, workers) as cluster:
+            with (contextlib.nullcontext(own) if own is not None else DaskCluster(scheduler, workers)) as cluster:
                 if new and scheduler is not None:
                     manifest["batch_size"] = size or batch_size(task, n, cluster.workers)
                     write_manifest(parts, manifest)

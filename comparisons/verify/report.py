@@ -80,7 +80,7 @@ COLUMN_LABELS: dict[str, Column] = {
     "continuation_theta1_deg": Column("continuation: max |theta1| [deg]"),
     "mbs_reduced_theta1_deg": Column("MBS with the reduced model's assumptions: max |theta1| [deg]",
                                      dash="the MBS run did not settle (no finite amplitude)"),
-    "relative_diff": Column("relative difference, MBS against the reduced model [%]", factor=100.0,
+    "relative_diff": Column("relative difference, MBS against the reduced model [relative, not %]",
                             dash="not compared in that row (Hopf table: only the eigenvalue rows hold it), or no "
                                  "finite MBS amplitude to compare"),
     "mbs_full_theta1_deg": Column("MBS, full geometry: max |theta1| [deg]",
@@ -93,8 +93,10 @@ COLUMN_LABELS: dict[str, Column] = {
     "final_1": Column("final mode from the first start"),
     "final_2": Column("final mode from the second start"),
     "assumption_off": Column("assumption switched off in the MBS"),
-    "hopf_shifts_kmh": Column("Hopf speed shifts, MBS minus reduced, per Hopf point [km/h]",
-                              dash="'-' in the list: that Hopf point has no partner in the MBS"),
+    "hopf_shifts_kmh": Column("Hopf speed shifts per Hopf point, the row's MBS side minus its reference side "
+                              "[km/h]",
+                              dash="'-' in the list: that Hopf point has no partner on the MBS side; '-' alone: "
+                                   "neither side of the row has a Hopf point, so there is nothing to shift"),
     "peak_theta1_shift_deg": Column("shift of the peak max |theta1| (continued cycles) [deg]",
                                     dash="not computed in verify (shimmy assumptions continues them), or a cycle branch that did not complete"),
     "reduced_value": Column("reduced model (does not depend on the multibody dimensions)"),
@@ -121,12 +123,12 @@ COLUMN_LABELS: dict[str, Column] = {
                              dash="not a ramp row"),
     "reduced_jump_kmh": Column("reduced model's jump in the same ramp [km/h]",
                                dash="not a ramp row, or the reduced model does not make this jump"),
-    "theta1_diff": Column("max |theta1|, simulation against continuation [%]", factor=100.0,
+    "theta1_diff": Column("max |theta1|, simulation against continuation: relative difference [relative, not %]",
                           dash="no orbit compared in that row"),
     "continuation_hz": Column("continuation: frequency [Hz]", dash="no orbit in that row"),
     "simulation_hz": Column("simulation: frequency [Hz]",
                             dash="no simulation in that row, or no oscillation left to measure"),
-    "frequency_diff": Column("frequency, simulation against continuation [%]", factor=100.0,
+    "frequency_diff": Column("frequency, simulation against continuation: relative difference [relative, not %]",
                              dash="no orbit compared in that row"),
     "damping_ratio": Column("least damping ratio (negative: shimmy)", dash="no value in that row"),
     "mode": Column("least damped mode", dash="no value in that row"),
@@ -306,7 +308,7 @@ def run_metadata(quick: bool, axle=None, seconds: float | None = None, command: 
                  now: datetime.datetime | None = None) -> RunMetadata:
     name, digest = axle_fingerprint(axle)
     now = now or datetime.datetime.now(datetime.timezone.utc)
-    return RunMetadata(date_utc=now.strftime("%Y-%m-%d %H:%M:%S"), shimmy=_version("shimmy"),
+    return RunMetadata(date_utc=now.strftime("%Y-%m-%d %H:%M:%S"), shimmy=_version("shimmy-axle"),
                        git_commit=git_commit(), python=platform.python_version(), numpy=_version("numpy"),
                        scipy=_version("scipy"), exudyn=_version("exudyn"), rerun_sdk=_version("rerun-sdk"),
                        axle=name, axle_sha256=digest, mode="quick" if quick else "full", seconds=seconds,
@@ -316,7 +318,9 @@ def run_metadata(quick: bool, axle=None, seconds: float | None = None, command: 
 # --- cells -----------------------------------------------------------------------------------------------------
 
 def _missing(value) -> bool:
-    return value is None or (isinstance(value, float) and value != value)
+    """No value: shown as "-" and explained under the table (an empty text too, never a blank cell)."""
+    return value is None or (isinstance(value, float) and value != value) or (isinstance(value, str)
+                                                                               and not value.strip())
 
 
 def _dash_inside(value) -> bool:
@@ -328,8 +332,12 @@ def _cell(value, factor: float = 1.0) -> str:
         return "-"
     if isinstance(value, float):
         value = value * factor
-        return f"{value:.4g}" if abs(value) >= 1e4 or (value != 0 and abs(value) < 1e-3) else f"{value:.4f}".rstrip(
-            "0").rstrip(".")
+        if value == 0.0:
+            return "0"
+        if abs(value) >= 1e4 or abs(value) < 1.0:
+            # four significant digits: a relative difference of 1.234e-3 keeps them all (fixed decimals kept two)
+            return f"{value:.4g}"
+        return f"{value:.4f}".rstrip("0").rstrip(".")
     return str(value)
 
 
@@ -412,7 +420,10 @@ def render_markdown(report: Report) -> str:
 
 _CSS = """
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em; }
-table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.88em; }
+p, li, figcaption, blockquote { overflow-wrap: anywhere; }
+.scroll { overflow-x: auto; max-width: 100%; margin: 0.8em 0; }
+table { border-collapse: collapse; font-size: 0.88em; }
+th.text, td.text { min-width: 14em; } th.note, td.note { min-width: 22em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
 th { background: #f2f2f2; text-align: left; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
@@ -424,8 +435,18 @@ figure { margin: 1em 0; } figure img { max-width: 100%; border: 1px solid #ddd; 
 """
 
 
+# Columns of sentences: a minimum width keeps them readable in a wide table (one word per line made a row about
+# 12 lines tall); the table scrolls inside its own box instead of running off the page.
+TEXT_COLUMNS = frozenset({"reason", "what", "kind", "quantity", "hopf_shifts_kmh", "error", "point"})
+
+
+def _width_class(key: str) -> str:
+    return "note" if key == "note" else "text" if key in TEXT_COLUMNS else ""
+
+
 def _html_table(keys, headers, rows, factors, status_key: str | None = "status") -> str:
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in headers)
+    head = "".join(f'<th class="{_width_class(k)}">{html.escape(h)}</th>' if _width_class(k)
+                   else f"<th>{html.escape(h)}</th>" for k, h in zip(keys, headers))
     body = []
     for r in rows:
         cells = []
@@ -435,9 +456,11 @@ def _html_table(keys, headers, rows, factors, status_key: str | None = "status")
             cls = "num" if isinstance(v, (int, float)) and not isinstance(v, bool) else ""
             if k == status_key:
                 cls = {"known difference": "known", "could not check": "nothing"}.get(str(v), str(v))
+            elif _width_class(k) and not cls:
+                cls = _width_class(k)
             cells.append(f'<td class="{cls}">{text}</td>' if cls else f"<td>{text}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+    return f'<div class="scroll"><table><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>'
 
 
 def _embedded_png(folder: str, name: str) -> str:

@@ -143,7 +143,10 @@ class AssumptionShift:
 def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
                             title: str = "What each assumption of the reduced model costs") -> None:
     """One panel per pressure; per assumption one horizontal bar per Hopf point (HB1, HB2, ...), longest on top;
-    a point without partner is marked with a cross at zero."""
+    a point without partner is marked with a cross at zero, a row without any Hopf point says so.  Each row's label
+    names what it compares: an assumption's row the MBS with that assumption off against the reduced model, a
+    geometric element's row the full geometry with the element against it without."""
+    from comparisons.studies.assumption_study import ELEMENTS
     pressures = sorted({s.pressure_bar for s in shifts})
     n = max(len(pressures), 1)
     height = max(3.0, 0.5 * max((sum(s.pressure_bar == p for s in shifts) for p in pressures), default=1) + 1.5)
@@ -156,6 +159,9 @@ def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
         width = 0.8 / max(k_max, 1)
         labelled = set()
         for i, s in enumerate(rows):
+            if not s.hopf_shifts_kmh:
+                ax.text(0.98, i, "no Hopf point on either side", va="center", ha="right", fontsize=7, color="0.35",
+                        transform=ax.get_yaxis_transform())
             for k, x in enumerate(s.hopf_shifts_kmh):
                 y = i - 0.4 + width * (k + 0.5)
                 colour = f"C{k}"
@@ -165,9 +171,12 @@ def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
                     ax.barh(y, x, height=width * 0.9, color=colour,
                             label=None if k in labelled else f"HB{k + 1}")
                     labelled.add(k)
-        ax.set_yticks(range(len(rows)), [s.assumption.replace("_", " ") for s in rows], fontsize=8)
+        ax.set_yticks(range(len(rows)), [
+            f"{s.assumption.replace('_', ' ')}: full geometry with - without" if s.assumption in ELEMENTS
+            else "every assumption off (full geometry): MBS - reduced model" if s.assumption == "full"
+            else f"{s.assumption.replace('_', ' ')} off: MBS - reduced model" for s in rows], fontsize=8)
         ax.axvline(0.0, color="k", lw=0.8)
-        ax.set_xlabel("Hopf speed shift, MBS minus reduced model [km/h]")
+        ax.set_xlabel("Hopf speed shift [km/h], as each row's label says")
         ax.set_title(f"{p:g} bar (x: the point has no MBS partner)", fontsize=9)
         ax.grid(axis="x", alpha=0.3)
         if labelled:

@@ -193,7 +193,7 @@ def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
             path = os.path.join(out_dir, f"robustness_{tag.replace('.', 'p')}bar.parquet")
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
                 shutil.rmtree(path + ".parts")
-            run = run_sweep(task, design, path, scheduler=cluster.address)
+            run = run_sweep(task, design, path, cluster=cluster)
             studies.append(PressureStudy(right, left, design, run.table, os.path.basename(path),
                                          reduced_onset_l1(axle, right, left)))
     return studies

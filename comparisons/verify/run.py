@@ -59,7 +59,7 @@ def run_sections(ctx: Context, announce: Callable[[list[str]], None] | None = No
     if announce is not None:
         announce([title for title, _ in steps])
     for title, make in steps:
-        ctx.progress(f"{title}")
+        ctx.progress(f"{title}")      # the Plan's start was announced before the plan was made: kept
         try:
             section = make(ctx)
             if not section.rows:       # never an empty table that reads as passed
@@ -87,6 +87,11 @@ def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymme
     from comparisons.verify.verdict import verdict_of
     progress = progress or (lambda message: None)
     axle = axle or AxleData()
+    # The Plan step starts here, with the scans: its section only formats the plan made now (the steps to come
+    # depend on the plan, so the first announcement names the Plan alone and the full list follows).
+    if announce is not None:
+        announce(["Plan"])
+    progress("Plan")
     plan = make_plan(axle, quick, asymmetric, from_file, progress)
     verdict = verdict_of(plan)
     with Background() as background:   # jobs that overlap the sections on a second core

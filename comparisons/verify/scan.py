@@ -28,17 +28,14 @@ import numpy as np
 from axles.units import BAR, from_kmh, kmh
 from bifurcation.equilibria.hopf import hopf_points
 from reduced_model.family import MIN_SPEED
-from reduced_model.model import STATE_NAMES
-from reduced_model.modes import ModeClassifier
+from reduced_model.modes import TRAMP_SHARE, tramp_share
 from axles.pressures import TyrePressures
 
 VMAX = from_kmh(400)
 # |psi| / max|theta| of the critical eigenvector above which a window is the tramp mode: the split the simulation's
 # mode classifier uses for cycles, so that a planned mode and a simulated one carry the same name.
-TRAMP_SHARE = ModeClassifier().ratio_split
 BOUNDARY_XTOL_BAR = 1e-4      # the growth-rate root's tolerance in pressure
 GROWTH_SPEEDS = 161           # speed grid of g(p) before the local refinement of its maximum
-_I_TH1, _I_TH2, _I_PSI = (STATE_NAMES.index(n) for n in ("theta1", "theta2", "psi"))
 
 
 class Model(enum.Enum):
@@ -82,10 +79,6 @@ class Window:
         return {"low_kmh": kmh(self.low), "high_kmh": kmh(self.high), "mode": self.mode,
                 "frequency_hz": self.frequency_hz, "closed": self.closed}
 
-
-def tramp_share(vector: np.ndarray) -> float:
-    v = np.abs(vector)
-    return float(v[_I_PSI] / max(v[_I_TH1], v[_I_TH2], 1e-300))
 
 
 def unstable_windows(family, q: float, vmax: float = VMAX, lyapunov: bool = True) -> tuple[list[Window], tuple]:

@@ -268,7 +268,7 @@ def transient_section(ctx: Context) -> Section:
         key="transient", title="Transient: a kick in both models", columns=("case", "speed_kmh", "relative_diff"),
         rows=tuple(rows),
         labels={"relative_diff": "largest difference of a state, MBS against the reduced model, over its amplitude "
-                                 "[%]"},
+                                 "[relative, not %]"},
         text=(f"From a yaw angle of {KICK_RAD:g} rad of wheel 1 at constant speed, {duration:g} s of the MBS with "
               f"every assumption of the reduced model on (Exudyn, RK67) against the reduced model (DOP853, rtol "
               f"1e-12). Check: every state within {TRANSIENT_TOL:g} of its amplitude. At the plan's no-shimmy cases "

@@ -7,7 +7,15 @@ result renders as an HTML table.  Inputs in km/h, bar and degrees; the results' 
 
 # %% An axle: the paper's truck, or an axle file (Axle.from_file("mytruck.toml")), with entries changed in the
 # units of 'shimmy params' (degrees, bar, otherwise SI).
-from comparisons.api import Axle, TyrePressures, cycle_branches, hopf_points, simulate, stability_margins
+from comparisons.api import (
+    Axle,
+    TyrePressures,
+    cycle_branches,
+    hopf_points,
+    shimmy_windows,
+    simulate,
+    stability_margins,
+)
 
 axle = Axle.paper().with_values(gamma=4.0)          # caster 4 degrees instead of the paper's 2.29
 print(axle)
@@ -38,8 +46,20 @@ for run in runs.values():
 # %% The multibody model at full fidelity (every assumption off): how far the full geometry moves the onsets.
 full_hopf = hopf_points(axle.mbs(fidelity="full", effects="hcl,pt").family(pressures), vmax_kmh=400)
 print(full_hopf)
-for a, b in zip(reduced_hopf.points, full_hopf.points):
-    print(f"onset {a.speed_kmh:8.3f} km/h in the reduced model, {b.speed_kmh:8.3f} km/h with the full geometry")
+
+# %% Shimmy windows by mode: each Hopf point is named yaw or tramp by its critical eigenvector and paired with the
+# next one of the same mode, so that a window runs from the speed where the mode becomes unstable (onset) to the
+# speed where it becomes stable again (end).  Pairing the two models' Hopf points by index would compare an onset
+# with an end; no Hopf point is left out.
+windows = {"the reduced model": shimmy_windows(reduced.family(pressures), reduced_hopf),
+           "the full geometry": shimmy_windows(axle.mbs(fidelity="full", effects="hcl,pt").family(pressures),
+                                               full_hopf)}
+for name, found in windows.items():
+    print(found)
+for mode in ("yaw", "tramp"):
+    for name, found in windows.items():
+        texts = [w.text() for w in found.windows if w.mode == mode] or [f"no {mode} window"]
+        print(f"{name}: {'; '.join(texts)}")
 
 # %% Stability margins: the least damping ratio of straight running over speed and pressure (both tyres alike),
 # negative where a mode grows; the minimum over the grid with the speed and pressure where it occurs.

@@ -187,6 +187,24 @@ def test_the_example_notebook_runs():
     assert [p.first_lyapunov for p in mbs.points] == pytest.approx([p.first_lyapunov for p in reduced.points],
                                                                    rel=1e-3)
     assert abs(full.points[0].speed_kmh - reduced.points[0].speed_kmh) > 1.0
+    # Windows by mode: every Hopf point in exactly one window, straight running unstable inside each window, a
+    # mode's windows apart; the reduced model's 134.8 km/h point is the end of its yaw window (the index pairing once called it an onset), and its tramp onset is not dropped.
+    for (name, found), hopf, model in zip(ns["windows"].items(), (reduced, full),
+                                          (ns["reduced"], ns["axle"].mbs(fidelity="full", effects="hcl,pt"))):
+        members = [p for w in found.windows for p in w.points]
+        assert sorted(p.speed for p in members) == [p.speed for p in hopf.points], name
+        problem = model.family(ns["pressures"]).problem
+        for w in found.windows:
+            assert w.low < w.high
+            middle = np.linalg.eigvals(problem.linear_matrix(0.5 * (w.low + w.high), problem.nominal))
+            assert middle.real.max() > 0.0, (name, w.text())
+        for mode in ("yaw", "tramp"):
+            spans = [(w.low, w.high) for w in found.windows if w.mode == mode]
+            assert all(a[1] <= b[0] for a, b in zip(spans, spans[1:])), (name, mode)
+    (yaw,) = [w for w in ns["windows"]["the reduced model"].windows if w.mode == "yaw"]
+    assert yaw.end.speed_kmh == pytest.approx(134.824, abs=1e-3) and yaw.onset.speed_kmh < 20.0
+    assert [w.end for w in ns["windows"]["the reduced model"].windows if w.mode == "tramp"] == [None]
+    assert "tramp from 170.663 to the top of the window" in printed.getvalue()
     (branch,) = ns["cycles"].branches
     assert branch.start.speed == pytest.approx(reduced.points[0].speed, rel=1e-9) and branch.peak_theta1 > 0.0
     assert all(run.status is SimulationStatus.COMPLETE for run in ns["runs"].values())

@@ -29,9 +29,22 @@ def paper_file(tmp_path_factory):
     return path
 
 
+def test_write_says_what_it_wrote_and_names_the_axle_after_the_file(run, tmp_path):
+    path = tmp_path / "my truck.toml"
+    code, out, err = run("params", "--write", str(path), "--set", "gamma=3")
+    assert code == 0 and err == ""
+    lines = out.splitlines()
+    assert len(lines) == 2   # what was written, and what to do with it; not the 80-line table
+    assert lines[0].startswith(f"wrote {path}: axle file name = \"my truck\", {len(entries())} entries")
+    assert "differs from the paper in gamma = 3 deg" in lines[0]
+    axle = read_axle(str(path))
+    assert axle.name == "my truck" and axle.differences()[0]["name"] == "gamma"
+
+
 def test_written_paper_axle_reads_back_bit_for_bit(paper_file):
     axle = read_axle(str(paper_file))
     assert axle.params == YANG2024 and axle.dims == DEFAULT_DIMENSIONS
+    assert axle.name == "paper"     # named after the file: the user's axle from now on
     assert axle.is_paper and axle.differences() == [] and axle.inherited == ()
     assert len(axle.sha256) == 64 and axle.file == str(paper_file)
     text = paper_file.read_text()

@@ -37,7 +37,7 @@ def test_overrides_and_bad_values():
 
 
 def test_nominal_tyre_matches_section3_constants():
-    """At p_i0 the extended relations give sigma = K/c_y0 = 0.650 m and t = D_t = 0.07 m (PAPER_NOTES)."""
+    """At p_i0 the extended relations give sigma = K/c_y0 = 0.650 m and t = D_t = 0.07 m (docs/paper-notes.md)."""
     assert tyre.relaxation_length(YANG2024, 2.5 * BAR) == pytest.approx(0.650, abs=5e-4)
     assert tyre.pneumatic_trail(YANG2024, 0.0, 2.5 * BAR) == pytest.approx(0.07, rel=1e-12)
     assert tyre.half_contact_length(YANG2024, 2.5 * BAR) == pytest.approx(YANG2024.a0, rel=1e-15)

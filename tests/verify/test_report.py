@@ -46,8 +46,8 @@ def test_markdown_headers_in_words_and_dashes_explained():
     text = render_markdown(Report((hopf_section(), cycles_section()), quick=True))
     header = next(line for line in text.splitlines() if line.startswith("| model"))
     assert "mbs_reduced_kmh" not in header and "[km/h]" in header and "tyre pressure [bar]" in header
-    assert "| 0.12 |" in text                                     # relative difference shown in per cent
-    assert "relative difference, MBS against the reduced model [%]" in text
+    assert "| 0.0012 |" in text                                   # a relative difference, as relative
+    assert "relative difference, MBS against the reduced model [relative, not %]" in text
     # Each column holding a "-" is explained under its table, in words.
     dash_lines = [line for line in text.splitlines() if line.startswith('A "-" in the table')]
     assert len(dash_lines) == 2
@@ -55,6 +55,18 @@ def test_markdown_headers_in_words_and_dashes_explained():
     assert "*MBS, full geometry [km/h]*: the full geometry has no Hopf point matching" in dash_lines[0]
     assert "*a column of this section [m]*: does not apply" in dash_lines[1]
     assert "`pass`: the check passed" in text
+
+
+def test_html_tables_scroll_in_their_box_and_no_cell_is_blank():
+    rows = (Row({"case": "2.5 bar", "assumption_off": "no_kingpin_inclination", "hopf_shifts_kmh": ""},
+                CheckStatus.INFO, "an element row without Hopf points"),)
+    s = Section("assumptions", "Assumptions", ("case", "assumption_off", "hopf_shifts_kmh"), rows)
+    page = render_html(Report((s,), quick=True), ".")
+    assert page.count('<div class="scroll"><table>') == 2            # the summary's table and the section's
+    assert '<td class="note">an element row without Hopf points</td>' in page
+    assert '<td class="text">-</td>' in page                           # the empty text shows "-" ...
+    assert "neither side of the row has a Hopf point" in page           # ... and says what it means
+    assert "<td></td>" not in page and '<td class="text"></td>' not in page
 
 
 def test_metadata():
@@ -178,6 +190,25 @@ def test_step_progress_messages_and_bar():
     assert "verify: planning the cases" in tty.getvalue() and "[1/1] Plan: done" in tty.getvalue()
 
 
+def test_plan_step_counts_the_planning(monkeypatch):
+    """verify announces the Plan before its scans and the whole list after them; the Plan's time is the scans'
+    (it once read "[1/10] Plan: done in 0.0 s (29 s so far)": only its section, which formats the plan, was
+    timed)."""
+    now = [0.0]
+    monkeypatch.setattr("comparisons.cli.progress.time.perf_counter", lambda: now[0])
+    out = io.StringIO()
+    with StepProgress(stream=out, bar=False) as progress:
+        progress.set_steps(["Plan"])
+        progress("Plan")                       # run_verification, before make_plan
+        progress("scanning the reduced model")  # make_plan's own messages
+        now[0] = 29.0
+        progress.set_steps(["Plan", "Hopf speeds"])
+        progress("Plan")                       # run_sections, before the Plan section
+        progress("done: Plan")
+    line = next(x for x in out.getvalue().splitlines() if "] Plan:" in x)
+    assert line.startswith("verify: [1/2] Plan: done in 29.") and "(29 s so far)" in line
+
+
 def test_continuation_messages_in_interface_units():
     from axles.units import interface_message
     text = "ends on the window boundary at 147.707 km/h, pressure = 50000 | left at 400 km/h, pressure = 128521"
@@ -185,3 +216,21 @@ def test_continuation_messages_in_interface_units():
         "ends on the window boundary at 147.707 km/h, pressure = 0.5 bar | left at 400 km/h, pressure = 1.28521 bar")
     assert interface_message("t0 = 0.08194", "t0", "m", 1.0) == "t0 = 0.08194 m"
     assert interface_message("pressure_left = 50000", "pressure", "bar", 1e5) == "pressure_left = 50000"
+
+
+def test_tornado_rows_name_what_they_compare(monkeypatch, tmp_path):
+    """An assumption's row compares the MBS with it off against the reduced model, an element's row the full
+    geometry with the element against without (the axis once said "MBS minus reduced model" for both); a row
+    without Hopf points says so instead of staying blank."""
+    kept = {}
+    monkeypatch.setattr(rf, "save_figure", lambda fig, path: kept.setdefault("fig", fig))
+    rf.plot_assumption_tornado([rf.AssumptionShift(2.5, "small_angles", [0.5, -1.2]),
+                                rf.AssumptionShift(2.5, "no_kingpin_inclination", []),
+                                rf.AssumptionShift(2.5, "full", [0.3, None])], str(tmp_path / "t.png"))
+    (ax,) = kept["fig"].axes[:1]
+    labels = [t.get_text() for t in ax.get_yticklabels()]
+    assert "small angles off: MBS - reduced model" in labels
+    assert "no kingpin inclination: full geometry with - without" in labels
+    assert "every assumption off (full geometry): MBS - reduced model" in labels
+    assert "no Hopf point on either side" in [t.get_text() for t in ax.texts]
+    assert "MBS minus reduced" not in ax.get_xlabel()

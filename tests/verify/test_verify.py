@@ -8,6 +8,7 @@ import sys
 import pytest
 
 from comparisons.files import write_atomically
+from comparisons.verify.browser import chromium, layout
 from comparisons.verify.report import CheckStatus, Report, Row, Section, render_markdown
 
 
@@ -31,6 +32,21 @@ def test_verify_quick_passes_and_writes_report(quick_report):
     text = (out / "report.md").read_text()
     assert text.startswith("# shimmy verification report") and "## Summary" in text
     assert not [f for f in os.listdir(out) if f.startswith(".")]
+
+
+@pytest.mark.skipif(chromium() is None, reason="no Chromium here (Debian: apt-get install -y chromium); the "
+                                               "report's layout is checked in a real browser only where one is installed")
+@pytest.mark.parametrize("width", [1280, 1920])
+def test_report_fits_the_page_in_a_real_browser(quick_report, width):
+    """The page never scrolls sideways: a table wider than the page scrolls inside its own box, and note cells
+    keep a readable width (they once shrank to one word per line)."""
+    _, out = quick_report
+    got = layout(str(out / "report.html"), width)
+    assert got["width"] == width
+    assert got["page_width"] <= width, got
+    assert got["tables"] > 5 and got["narrowest_note"] >= 250, got
+    if width == 1280:   # the full geometry's table is wider than the 1200 px column: it scrolls in its box
+        assert got["scrolling_tables"] >= 1, got
 
 
 def section(quick_report, key):

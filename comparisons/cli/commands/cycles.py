@@ -59,6 +59,18 @@ def speed_list(text: str) -> tuple[float, ...]:
     return tuple(out)
 
 
+def cycle_ticker(bar):
+    """An ``accept_hook`` that shows the continuation inside a branch: cycles so far, the speed reached and the
+    collocation mesh (a branch of the MBS takes a minute; the bar alone counts branches)."""
+    count = [0]
+
+    def tick(cycle) -> None:
+        count[0] += 1
+        intervals = len(cycle.orbit.mesh) - 1 if cycle.orbit is not None else 0
+        bar.set_postfix_str(f"{count[0]} cycles, at {kmh(cycle.p):.1f} km/h, {intervals} mesh intervals")
+    return tick
+
+
 def add_parser(sub) -> None:
     p = sub.add_parser("cycles", help="limit cycles (shimmy amplitudes) born at the Hopf points, with their "
                                       "folds, torus and period-doubling points")
@@ -268,7 +280,8 @@ def run(args: argparse.Namespace) -> int:
     if args.tolerance != DEFAULT_SETTINGS.tolerance:
         options["settings"] = CycleSettings(tolerance=args.tolerance)
     with progress(1, "cycle branches", quiet) as bar:
-        diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar), **options)
+        diagram = cycle_diagram(family, q, vmin, vmax, progress=ticker(bar), accept_hook=cycle_ticker(bar),
+                                **options)
     unstable = unstable_without_hopf(diagram, family, q)
     found_kicks = []
     if args.kick:

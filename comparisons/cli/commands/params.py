@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import os
+import shlex
 
 from axles.axle import entries
 from axles.limits import UsageError
@@ -13,8 +15,10 @@ def add_parser(sub) -> None:
     p = sub.add_parser("params", help="print the axle (Table 1 and the multibody dimensions) with units, physical "
                                       "ranges and sources; --write makes an axle file to edit")
     add_axle_option(p)
-    p.add_argument("--write", metavar="FILE.toml", help="write the axle as an axle file (start from the paper's "
-                                                        "truck, edit it, read it back with --axle)")
+    p.add_argument("--write", metavar="FILE.toml", help="write the axle as an axle file named after the file "
+                                                        "(mytruck.toml: name = \"mytruck\"), start from the paper's "
+                                                        "truck, edit it, read it back with --axle; prints what it "
+                                                        "wrote instead of the table")
     add_output_options(p)
     p.set_defaults(run=run)
 
@@ -40,17 +44,29 @@ def run(args: argparse.Namespace) -> int:
         check_output_path(args.write)
     axle = build_axle(args)
     rows = rows_of(axle)
+    written = None
     if args.write is not None:
         from axles.axle_file import format_axle
         from comparisons.files import write_atomically
+        # The file is the user's own axle from now on: it is named after the file, not after the axle it started
+        # from (the paper's YANG2024), so that reports and JSON name the axle the user edits.
+        written = os.path.splitext(os.path.basename(args.write))[0] or axle.name
         try:
-            write_atomically(args.write, format_axle(axle))
+            write_atomically(args.write, format_axle(axle, name=written))
         except OSError as exc:
             raise UsageError(f"cannot write {args.write}: {exc.strerror or exc}") from None
     if args.json:
         emit_json({"parameter_set": axle.name, "axle": axle.describe(),
                    "pressure_range_bar": list(axle.pressure_range_bar), "parameters": rows,
-                   **({"written": args.write} if args.write else {})})
+                   **({"written": args.write, "written_name": written} if args.write else {})})
+        return 0
+    if args.write is not None:
+        sections = [r["section"] for r in rows]
+        print(f"wrote {args.write}: axle file name = \"{written}\", {len(rows)} entries ({sections.count('table1')} "
+              f"of Table 1, {sections.count('multibody')} multibody dimensions with their plausible ranges) and the "
+              f"pressure range {axle.pressure_range_bar[0]:g}-{axle.pressure_range_bar[1]:g} bar, from "
+              f"{axle.label()}")
+        print(f"edit it, then: shimmy verify --axle {shlex.quote(args.write)} --quick")
         return 0
     print(f"Axle {axle.shown_name}: {axle.label().split(': ', 1)[1]}; values in the units shown, "
           f"physical range in brackets")
@@ -71,6 +87,4 @@ def run(args: argparse.Namespace) -> int:
           f" bar")
     if axle.inherited:
         print(f"inherited from the paper's axle (base = YANG2024): {', '.join(axle.inherited)}")
-    if args.write:
-        print(f"axle file written to {args.write}")
     return 0
