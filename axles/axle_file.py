@@ -4,6 +4,7 @@ Layout (values in the interface units that ``shimmy params`` prints: degrees, ba
 
     name = "my-truck"
     base = "YANG2024"          # optional: missing entries come from the paper's axle, listed as inherited
+    tyre_file = "my.tir"       # optional: the tyre entries from an MF 6.1/6.2 file (path relative to this file)
 
     [operating]
     pressure_range_bar = [0.5, 3.5]
@@ -31,9 +32,10 @@ import tomllib
 
 from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, Axle, check_pressure_range, entries, entry
 from axles.parameters import ParameterError
+from axles.tyre_file import apply_tyre, read_tir
 
 SECTIONS = ("operating", "table1", "multibody", "plausible")
-TOP_KEYS = ("name", "base") + SECTIONS
+TOP_KEYS = ("name", "base", "tyre_file") + SECTIONS
 BASES = (PAPER_NAME,)
 
 
@@ -85,10 +87,16 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     if base is not None and base not in BASES:
         raise AxleFileError(f"{source}: base must be one of {', '.join(repr(b) for b in BASES)}, got {base!r}")
 
+    tyre = _tyre_of(doc, source)
+    from_tyre = tyre.entries() if tyre is not None else {}
     values: dict[str, float] = {}
     inherited: list[str] = []
     for section in ("table1", "multibody"):
         given = doc.get(section, {})
+        for key in given:
+            if key in from_tyre:
+                raise AxleFileError(f"{source}: [{section}] {key} is also given by tyre_file {tyre.source}: give "
+                                    f"it in one place")
         for key, raw in given.items():
             e = entries().get(key)
             if e is None or e.section != section:
@@ -102,7 +110,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
                 raise AxleFileError(f"{source}: [{section}] {exc}") from None
             values[key] = v
         for key, e in entries().items():
-            if e.section == section and key not in given:
+            if e.section == section and key not in given and key not in from_tyre:
                 if base is None:
                     raise AxleFileError(f"{source}: missing entry '{key}' in [{section}] ({e.unit}, {e.description};"
                                         f" give it, or write base = \"{PAPER_NAME}\" to inherit the paper's values)")
@@ -151,9 +159,22 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     axle = Axle(name=name.strip(), pressure_range_bar=pressure_range, plausible=tuple(plausible),
                 file=source, sha256=sha256, inherited=tuple(inherited))
     try:
-        return axle.with_values(values)
+        axle = axle.with_values(values)
     except ParameterError as exc:   # a combination the models cannot take
         raise AxleFileError(f"{source}: {exc}") from None
+    return axle if tyre is None else apply_tyre(axle, tyre)
+
+
+def _tyre_of(doc: dict, source: str):
+    """The tyre file an axle file names (``tyre_file``, relative to the axle file), read; None if it names none."""
+    path = doc.get("tyre_file")
+    if path is None:
+        return None
+    if not isinstance(path, str) or not path.strip():
+        raise AxleFileError(f"{source}: tyre_file must be a non-empty string (a .tir file), got {path!r}")
+    if not os.path.isabs(path) and not source.startswith("<"):
+        path = os.path.join(os.path.dirname(source), path)
+    return read_tir(path)
 
 
 def read_axle(path: str) -> Axle:

@@ -58,7 +58,8 @@ GRACE_S = 0.5                 # after a signal: time given to unwind normally be
 # Commands that answer an interrupt themselves: sweep closes its Dask cluster and says which batches it kept.
 GRACE_BY_COMMAND = {"sweep": 10.0}
 # Output options checked before any work, by attribute name; recordings are read back, so no device for them.
-OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
+OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"),
+                  ("write_tir", "--write-tir"))
 RECORDING_OPTIONS = ("--rerun",)
 
 

@@ -93,6 +93,8 @@ def parse_overrides(items: list[str] | None) -> dict[str, float]:
 def add_axle_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--axle", metavar="FILE.toml", help="the axle to use, from an axle file ('shimmy params --write' "
                                                         "makes one); default: the paper's truck")
+    p.add_argument("--tyre", metavar="FILE.tir", help="the tyre entries from a Magic Formula 6.1/6.2 tyre property "
+                                                      "file, on top of --axle and below --set")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", dest="overrides",
                    help="override an axle entry, in the units of 'shimmy params' (degrees, bar, otherwise SI), "
                         "on top of --axle; repeatable")
@@ -178,8 +180,10 @@ def api_axle(args: argparse.Namespace):
         return cached
     from comparisons.api import Axle
     path, items = getattr(args, "axle", None), getattr(args, "overrides", None) or ()
+    tyre = getattr(args, "tyre", None)
     try:
-        axle = (Axle.paper() if path is None else Axle.from_file(path)).with_set(*items)
+        axle = Axle.paper() if path is None else Axle.from_file(path)
+        axle = (axle if tyre is None else axle.with_tyre(tyre)).with_set(*items)
     except ParameterError as exc:
         raise UsageError(str(exc)) from None
     args._axle = axle
