@@ -114,6 +114,7 @@ class AxleData:
     sha256: str | None = None
     inherited: tuple[str, ...] = ()
     overrides: tuple[tuple[str, float], ...] = field(default=())   # --set, interface units, in order
+    tyre_file: str | None = None     # the .tir file the tyre entries were read from (--tyre, an axle's tyre_file)
 
     def value(self, name: str) -> float:
         """SI value of an entry."""
@@ -176,9 +177,12 @@ class AxleData:
 
     def describe(self) -> dict:
         """The ``"axle"`` object of every JSON output and report."""
-        return {"name": self.name, "file": self.file, "sha256": self.sha256,
-                "differs_from_paper": self.differences(), "inherited": list(self.inherited),
-                "overrides": {k: v for k, v in self.overrides}}
+        out = {"name": self.name, "file": self.file, "sha256": self.sha256,
+               "differs_from_paper": self.differences(), "inherited": list(self.inherited),
+               "overrides": {k: v for k, v in self.overrides}}
+        if self.tyre_file is not None:
+            out["tyre_file"] = self.tyre_file
+        return out
 
     def label(self) -> str:
         """One line for text headers."""
@@ -186,6 +190,8 @@ class AxleData:
         # a name or file name holding a line break or an escape character is shown escaped, on one line
         where = f" ({printable(self.file)})" if self.file else ""
         name = self.shown_name
+        if self.tyre_file:
+            where += f" with the tyre {printable(self.tyre_file)}"
         if not diff:
             return f"axle {name}{where}: the paper's values"
         shown = ", ".join(f"{d['name']} = {d['value']:g} {d['unit']}".replace(" -", "") for d in diff[:6])

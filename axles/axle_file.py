@@ -4,6 +4,7 @@ Layout (values in the interface units that ``shimmy params`` prints: degrees, ba
 
     name = "my-truck"
     base = "YANG2024"          # optional: missing entries come from the paper's axle, listed as inherited
+    tyre_file = "my.tir"       # optional: the tyre entries from an MF 6.1/6.2 file (path relative to this file)
 
     [operating]
     pressure_range_bar = [0.5, 3.5]
@@ -25,12 +26,15 @@ Without ``base`` every entry must be given: nothing is ever filled in silently.
 
 from __future__ import annotations
 
+import os
+
 from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, AxleData, check_pressure_range, entries, entry
 from axles.input_file import InputFileError, TomlDocument, finite_number, parse_toml, read_text
 from axles.parameters import ParameterError
+from axles.tyre_file import apply_tyre, read_tir
 
 SECTIONS = ("operating", "table1", "multibody", "plausible")
-TOP_KEYS = ("name", "base") + SECTIONS
+TOP_KEYS = ("name", "base", "tyre_file") + SECTIONS
 BASES = (PAPER_NAME,)
 
 
@@ -87,10 +91,16 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
     if base is not None and base not in BASES:
         raise doc.fail(f"base must be one of {', '.join(repr(b) for b in BASES)}, got {_shown(base)}", "", "base")
 
+    tyre = _tyre_of(data, source)
+    from_tyre = tyre.entries() if tyre is not None else {}
     values: dict[str, float] = {}
     inherited: list[str] = []
     for section in ("table1", "multibody"):
         given = data.get(section, {})
+        for key in given:
+            if key in from_tyre:
+                raise doc.fail(f"[{section}] {key} is also given by tyre_file {tyre.source}: give it in one place",
+                               section, key)
         for key, raw in given.items():
             e = entries().get(key)
             if e is None or e.section != section:
@@ -104,7 +114,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
                 raise doc.fail(f"[{section}] {exc}", section, key) from None
             values[key] = v
         for key, e in entries().items():
-            if e.section == section and key not in given:
+            if e.section == section and key not in given and key not in from_tyre:
                 if base is None:
                     raise doc.fail(f"missing entry '{key}' in [{section}] ({e.unit}, {e.description}; give it, or "
                                    f"write base = \"{PAPER_NAME}\" to inherit the paper's values)")
@@ -155,12 +165,26 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
                 file=source, sha256=sha256, inherited=tuple(inherited))
     try:
         axle = axle.with_values(values)
+        if tyre is not None:
+            axle = apply_tyre(axle, tyre)
         axle.check_consistent()
     except ParameterError as exc:   # a combination the models cannot take: named at the first entry involved
         involved = [k for k in _named_entries(str(exc)) if k in values]
         section = entries()[involved[0]].section if involved else ""
         raise doc.fail(str(exc), section, involved[0] if involved else None) from None
     return axle
+
+
+def _tyre_of(doc: dict, source: str):
+    """The tyre file an axle file names (``tyre_file``, relative to the axle file), read; None if it names none."""
+    path = doc.get("tyre_file")
+    if path is None:
+        return None
+    if not isinstance(path, str) or not path.strip():
+        raise AxleFileError(f"{source}: tyre_file must be a non-empty string (a .tir file), got {path!r}")
+    if not os.path.isabs(path) and not source.startswith("<"):
+        path = os.path.join(os.path.dirname(source), path)
+    return read_tir(path)
 
 
 def _named_entries(message: str) -> list[str]:

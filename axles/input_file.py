@@ -65,11 +65,11 @@ def read_text(path: str, what: str = "input file", max_bytes: int = MAX_BYTES,
     try:
         st = os.fstat(fd)
         if stat.S_ISDIR(st.st_mode):
-            raise error(path, f"is a directory, not an {what}")
+            raise error(path, f"is a directory, not {_a(what)}")
         if not stat.S_ISREG(st.st_mode):
-            raise error(path, f"not a regular file (a device, a FIFO or a socket): give an {what}")
+            raise error(path, f"not a regular file (a device, a FIFO or a socket): give {_a(what)}")
         if st.st_size > max_bytes:
-            raise error(path, f"{st.st_size} bytes, more than the {max_bytes} an {what} may have")
+            raise error(path, f"{st.st_size} bytes, more than the {max_bytes} {_a(what)} may have")
         chunks, size = [], 0
         while size <= max_bytes:
             chunk = os.read(fd, max_bytes + 1 - size)
@@ -83,7 +83,7 @@ def read_text(path: str, what: str = "input file", max_bytes: int = MAX_BYTES,
         os.close(fd)
     data = b"".join(chunks)
     if len(data) > max_bytes:     # it grew while being read
-        raise error(path, f"more than the {max_bytes} bytes an {what} may have")
+        raise error(path, f"more than the {max_bytes} bytes {_a(what)} may have")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -236,3 +236,8 @@ def _nonfinite(value) -> bool:
         return not math.isfinite(float(value))
     except OverflowError:
         return False
+
+
+def _a(what: str) -> str:
+    """'an axle file', 'a tyre file'."""
+    return f"{'an' if what[:1] in 'aeiou' else 'a'} {what}"

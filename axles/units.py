@@ -69,3 +69,24 @@ def interface_message(text: str, name: str, unit: str, factor: float) -> str:
     # A value already followed by its unit has been converted before.
     return re.sub(rf"\b{re.escape(name)} = ([-+0-9.eE]+)(?![-+0-9.eE])(?! ?[A-Za-z/])",
                   lambda m: f"{name} = {float(m.group(1)) / factor:.6g} {unit}", text)
+
+
+# Units a tyre property file (.tir, TYDEX format) may declare in its [UNITS] section: SI per file unit, by the
+# quantity the [UNITS] key names.  Names are matched case-insensitively; a name not listed cannot be converted and
+# the file is refused.  ANGLE has only radians: the Magic Formula's coefficients are defined per radian, and a file
+# in degrees would need every camber coefficient rescaled, which the models' sources never do.
+TIR_UNITS = {
+    "LENGTH": {"meter": 1.0, "metre": 1.0, "m": 1.0, "millimeter": 1e-3, "mm": 1e-3, "centimeter": 1e-2, "cm": 1e-2,
+               "kilometer": 1e3, "km": 1e3, "inch": 0.0254, "in": 0.0254, "foot": 0.3048, "ft": 0.3048},
+    "FORCE": {"newton": 1.0, "n": 1.0, "kilonewton": 1e3, "kn": 1e3, "pound_force": 4.4482216152605,
+              "lbf": 4.4482216152605},
+    "ANGLE": {"radians": 1.0, "radian": 1.0, "rad": 1.0},
+    "MASS": {"kg": 1.0, "kilogram": 1.0, "gram": 1e-3, "g": 1e-3, "pound_mass": 0.45359237, "lbm": 0.45359237},
+    "TIME": {"second": 1.0, "s": 1.0, "sec": 1.0, "millisecond": 1e-3, "ms": 1e-3},
+    "PRESSURE": {"pascal": 1.0, "pa": 1.0, "kpa": 1e3, "kilopascal": 1e3, "bar": BAR, "mpa": 1e6, "psi": 6894.757293168361},
+}
+
+
+def tir_unit_factor(quantity: str, name: str) -> float | None:
+    """SI per unit of a .tir file's ``[UNITS] QUANTITY = 'name'``; None for a unit it cannot convert."""
+    return TIR_UNITS.get(quantity, {}).get(name.strip().lower())

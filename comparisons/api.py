@@ -130,6 +130,12 @@ class Axle:
         :class:`~axles.axle_file.AxleFileError` naming the file and the entry."""
         return cls(axle_from_path_or_paper(os.fspath(path)))
 
+    def with_tyre(self, path: str | os.PathLike) -> "Axle":
+        """A copy with the tyre entries of a Magic Formula 6.1/6.2 property file (``.tir``); a bad file raises
+        :class:`~axles.tyre_file.TyreFileError` naming the file, the line and the key."""
+        from axles.tyre_file import apply_tyre, read_tir
+        return Axle(apply_tyre(self.data, read_tir(os.fspath(path))))
+
     def with_values(self, values: Mapping[str, float] | None = None, **named: float) -> "Axle":
         """A copy with entries replaced, in interface units (degrees, bar, otherwise SI), each checked against
         its physical range: ``axle.with_values(t0=0.25)`` or ``axle.with_values({"t0": 0.25})``."""

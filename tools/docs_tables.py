@@ -46,6 +46,20 @@ def axle_entries() -> str:
     return _table(("name", "section", "paper's axle", "unit", "physical range", "plausible range", "what"), rows)
 
 
+def tyre_file_keys() -> str:
+    """The one table from a .tir file's keys to the axle's tyre entries (:data:`axles.tyre_mapping.TYRE_KEYS`)."""
+    from axles.axle import entries
+    from axles.tyre_mapping import MISSING_MEANING, TYRE_KEYS
+    rows = []
+    for k in TYRE_KEYS:
+        e = entries()[k.entry]
+        how = ("- " if k.sign < 0 else "") + (" x ".join((k.key,) + k.scales))
+        rows.append((f"[{k.section}] {k.key}", f"`{k.entry}`", k.symbol, e.si_unit, how, MISSING_MEANING[k.missing],
+                     k.enters, k.note))
+    return _table(("file section, key", "axle entry", "paper's symbol", "unit (SI)", "entry =", "when the file has none",
+                   "used by", "decision"), rows)
+
+
 def input_ranges() -> str:
     """The command-line inputs that are not axle entries, from :mod:`axles.limits`."""
     from axles.limits import (
@@ -93,7 +107,7 @@ def assumption_switches() -> str:
 
 
 TABLES = {"axle-entries": axle_entries, "input-ranges": input_ranges, "exit-codes": exit_codes,
-          "assumption-switches": assumption_switches}
+          "assumption-switches": assumption_switches, "tyre-file-keys": tyre_file_keys}
 
 
 def doc_files(root: Path = ROOT) -> list[Path]:

@@ -61,7 +61,8 @@ GRACE_S = 0.5                 # after a signal: time given to unwind normally be
 GRACE_BY_COMMAND = {"sweep": 10.0}
 # Output options checked before any work, by attribute name; recordings are read back, so no device for them.
 # A command whose --out is a file (sweep) adds it as ``file_outputs`` in its parser's defaults.
-OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"))
+OUTPUT_OPTIONS = (("plot", "--plot"), ("rerun", "--rerun"), ("series", "--series"), ("write", "--write"),
+                  ("write_tir", "--write-tir"))
 RECORDING_OPTIONS = ("--rerun",)
 
 

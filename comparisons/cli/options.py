@@ -95,6 +95,8 @@ def parse_overrides(items: list[str] | None) -> dict[str, float]:
 def add_axle_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--axle", metavar="FILE.toml", help="the axle to use, from an axle file ('shimmy params --write' "
                                                         "makes one); default: the paper's truck")
+    p.add_argument("--tyre", metavar="FILE.tir", help="the tyre entries from a Magic Formula 6.1/6.2 tyre property "
+                                                      "file, on top of --axle and below --set")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", dest="overrides",
                    help="override an axle entry, in the units of 'shimmy params' (degrees, bar, otherwise SI), "
                         "on top of --axle; repeatable")
@@ -160,22 +162,27 @@ def pressure_label(args: argparse.Namespace) -> str:
 
 def api_axle(args: argparse.Namespace):
     """The axle of the command (:class:`comparisons.api.Axle`): ``--axle`` (or the paper's) with ``--set`` on
-    top."""
-    path = getattr(args, "axle", None)
+    top, and ``--tyre`` between them."""
+    path, tyre = getattr(args, "axle", None), getattr(args, "tyre", None)
+    return _axle_of(path, _stamp(path), tyre, _stamp(tyre), tuple(getattr(args, "overrides", None) or ()))
+
+
+def _stamp(path: str | None):
+    """A file's mtime and size, so that a file written again is read again (None: no file, or the reader reports
+    why it cannot be read)."""
     try:
-        stamp = None if path is None else (os.stat(path).st_mtime_ns, os.stat(path).st_size)
+        return None if path is None else (os.stat(path).st_mtime_ns, os.stat(path).st_size)
     except (OSError, ValueError):
-        stamp = None        # the reader reports it
-    return _axle_of(path, stamp, tuple(getattr(args, "overrides", None) or ()))
+        return None
 
 
 @functools.lru_cache(maxsize=4)
-def _axle_of(path: str | None, stamp, items: tuple[str, ...]):
-    """One reading of the axle file per command, however many parts of it ask (``stamp``: the file's mtime and
-    size, so that a file written again is read again)."""
+def _axle_of(path: str | None, stamp, tyre: str | None, tyre_stamp, items: tuple[str, ...]):
+    """One reading of the axle and tyre files per command, however many parts of it ask."""
     from comparisons.api import Axle
     try:
-        return (Axle.paper() if path is None else Axle.from_file(path)).with_set(*items)
+        axle = Axle.paper() if path is None else Axle.from_file(path)
+        return (axle if tyre is None else axle.with_tyre(tyre)).with_set(*items)
     except ParameterError as exc:
         raise UsageError(str(exc)) from None
 

@@ -83,9 +83,8 @@ def short_runs(monkeypatch):
     import comparisons.cli.commands.simulate as simulate_command
     real = simulate_command.simulate_model
 
-    def short(args, ramp, initial):
-        args.duration = min(args.duration, 0.05)
-        return real(args, ramp, initial)
+    def short(args, ramp, duration, initial):
+        return real(args, ramp, min(duration, 0.05), initial)
     monkeypatch.setattr(simulate_command, "simulate_model", short)
 
 

@@ -19,8 +19,49 @@ def add_parser(sub) -> None:
                                                         "(mytruck.toml: name = \"mytruck\"), start from the paper's "
                                                         "truck, edit it, read it back with --axle; prints what it "
                                                         "wrote instead of the table")
+    p.add_argument("--write-tir", metavar="FILE.tir", help="write the axle's tyre as a Magic Formula 6.1 property file "
+                                                           "(read it back with --tyre)")
     add_output_options(p)
     p.set_defaults(run=run)
+
+
+def tyre_report(axle) -> dict | None:
+    """What the axle's tyre file gave and did not give (None without one), for the text and JSON output: the
+    keys neither model uses, the entries the file lacks, and the extended model's trail and relaxation length at
+    the nominal pressure beside the section 3 model's constants t0 and sigma0."""
+    if axle.tyre_file is None:
+        return None
+    from axles.tyre_file import read_tir
+    from reduced_model.tyre import pneumatic_trail, relaxation_length
+    tyre = read_tir(axle.tyre_file)
+    p = axle.params
+    return {"file": axle.tyre_file, "fittyp": tyre.fittyp, "unused": list(tyre.unused),
+            "absent_zero": list(tyre.zeros), "absent_kept_from_axle": list(tyre.kept),
+            "absent_sections": list(tyre.absent_sections),
+            "nominal_trail_m": float(pneumatic_trail(p, 0.0, p.pi0)),
+            "nominal_relaxation_length_m": relaxation_length(p, p.pi0)}
+
+
+def print_tyre(report: dict, axle) -> None:
+    print(f"\ntyre: {report['file']} (FITTYP {report['fittyp']}); the entries above come from it as "
+          f"docs/axle-files.md's table says")
+    if report["absent_zero"]:
+        print(f"  not in the file, 0 (the term is absent, as in MF 6.1): {', '.join(report['absent_zero'])}")
+    if report["absent_kept_from_axle"]:
+        print(f"  not in the file, kept from the axle: {', '.join(report['absent_kept_from_axle'])}")
+    if report["absent_sections"]:
+        print(f"  sections not in the file: {', '.join(report['absent_sections'])}")
+    print(f"  at the nominal pressure the extended model has trail {report['nominal_trail_m']:.6g} m (t0 = "
+          f"{axle.params.t0:g} m) and relaxation length {report['nominal_relaxation_length_m']:.6g} m (sigma0 = "
+          f"{axle.params.sigma0:g} m)")
+    if report["unused"]:
+        grouped: dict[str, list[str]] = {}
+        for item in report["unused"]:
+            section, _, key = item.partition(" ")
+            grouped.setdefault(section, []).append(key)
+        print(f"  in the file, not used by either model ({len(report['unused'])}):")
+        for section, keys in grouped.items():
+            print(f"    {section} {', '.join(keys)}")
 
 
 def rows_of(axle) -> list[dict]:
@@ -38,13 +79,15 @@ def rows_of(axle) -> list[dict]:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.write is not None:
-        if not args.write.strip():
-            raise UsageError("--write needs a file name")
-        check_output_path(args.write)
+    for given, flag in ((args.write, "--write"), (args.write_tir, "--write-tir")):
+        if given is not None:
+            if not given.strip():
+                raise UsageError(f"{flag} needs a file name")
+            check_output_path(given)
     axle = build_axle(args)
     rows = rows_of(axle)
     written = None
+    tyre = tyre_report(axle)
     if args.write is not None:
         from axles.axle_file import format_axle
         from comparisons.files import write_atomically
@@ -55,10 +98,19 @@ def run(args: argparse.Namespace) -> int:
             write_atomically(args.write, format_axle(axle, name=written))
         except OSError as exc:
             raise UsageError(f"cannot write {args.write}: {exc.strerror or exc}") from None
+    if args.write_tir is not None:
+        from axles.tyre_file import format_tir
+        from comparisons.files import write_atomically
+        try:
+            write_atomically(args.write_tir, format_tir(axle))
+        except OSError as exc:
+            raise UsageError(f"cannot write {args.write_tir}: {exc.strerror or exc}") from None
     if args.json:
         emit_json({"parameter_set": axle.name, "axle": axle.describe(),
                    "pressure_range_bar": list(axle.pressure_range_bar), "parameters": rows,
-                   **({"written": args.write, "written_name": written} if args.write else {})})
+                   **({"tyre": tyre} if tyre else {}),
+                   **({"written": args.write, "written_name": written} if args.write else {}),
+                   **({"written_tir": args.write_tir} if args.write_tir else {})})
         return 0
     if args.write is not None:
         sections = [r["section"] for r in rows]
@@ -67,6 +119,10 @@ def run(args: argparse.Namespace) -> int:
               f"pressure range {axle.pressure_range_bar[0]:g}-{axle.pressure_range_bar[1]:g} bar, from "
               f"{axle.label()}")
         print(f"edit it, then: shimmy verify --axle {shlex.quote(args.write)} --quick")
+        if tyre:
+            print_tyre(tyre, axle)
+        if args.write_tir:
+            print(f"tyre property file written to {args.write_tir}")
         return 0
     print(f"Axle {axle.shown_name}: {axle.label().split(': ', 1)[1]}; values in the units shown, "
           f"physical range in brackets")
@@ -87,4 +143,8 @@ def run(args: argparse.Namespace) -> int:
           f" bar")
     if axle.inherited:
         print(f"inherited from the paper's axle (base = YANG2024): {', '.join(axle.inherited)}")
+    if tyre:
+        print_tyre(tyre, axle)
+    if args.write_tir:
+        print(f"tyre property file written to {args.write_tir}")
     return 0
