@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from axles.axle import interface_text
-from axles.units import BAR, KMH, to_interface
+from axles.units import BAR, kmh, to_interface
 from comparisons.margins import MarginPoint, MarginStudy
 from bifurcation.cycles.problem import CycleBranch as ToolkitCycleBranch
 from bifurcation.cycles.problem import CycleDiagram
@@ -32,11 +32,6 @@ from reduced_model.trajectory import SimulationStatus, Trajectory
 # The seconds at the end of a run over which a simulation's table reports each angle's peak (the shimmy amplitude
 # once the transient has died out).
 LAST_SECONDS = 1.0
-
-
-def kmh(speed: float) -> float:
-    """km/h of a speed in m/s."""
-    return speed / KMH
 
 
 def degrees(value: float, si_unit: str = "rad") -> float:
