@@ -49,7 +49,7 @@ from axles.pressures import TyrePressures
 from axles.units import to_si
 from comparisons.results import (
     CycleBranches,
-    HopfPoint,
+    HopfSummary,
     HopfResult,
     ShimmyWindow,
     ShimmyWindows,
@@ -338,7 +338,7 @@ def hopf_points(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float = 40
     from bifurcation.equilibria.hopf import hopf_points as find
     vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
     found = find(family.problem, family.q, vmin, vmax)
-    return HopfResult(family.label(), vmin, vmax, tuple(HopfPoint.of(p) for p in found))
+    return HopfResult(family.label(), vmin, vmax, tuple(HopfSummary.of(p) for p in found))
 
 
 # A speed step (m/s) either side of a Hopf point at which the critical pair's real part shows its crossing: its
@@ -371,7 +371,7 @@ def shimmy_windows(family: ModelFamily, hopf: HopfResult | None = None, vmin_kmh
     from reduced_model.modes import TRAMP_SHARE, tramp_share
     if hopf is None:
         hopf = hopf_points(family, vmin_kmh, vmax_kmh)
-    by_mode: dict[str, list[tuple[HopfPoint, bool]]] = {}
+    by_mode: dict[str, list[tuple[HopfSummary, bool]]] = {}
     for point in hopf.points:
         mode = "tramp" if tramp_share(point.point.eigenvector) > TRAMP_SHARE else "yaw"
         by_mode.setdefault(mode, []).append((point, crosses_up(family.problem, point.point)))
@@ -410,7 +410,7 @@ def cycle_branches(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float =
     branches = tuple(cycle_branch(b, branch_peak(family.problem, b, "theta1")) for b in diagram.branches
                      if b.points)
     status = next((b.status for b in diagram.branches if not b.complete), BranchStatus.COMPLETE)
-    return CycleBranches(family.label(), vmin, vmax, tuple(HopfPoint.of(h) for h in diagram.hopf), branches,
+    return CycleBranches(family.label(), vmin, vmax, tuple(HopfSummary.of(h) for h in diagram.hopf), branches,
                          status, diagram)
 
 
@@ -425,7 +425,7 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     >>> round(low.damping_ratio, 4), low.mode, round(low.speed_kmh)
     (-0.0038, 'yaw', 57)
     """
-    from comparisons.margins import margin_study
+    from comparisons.studies.margin_study import margin_study
     lo, hi = model.axle.data.pressure_range_bar if pressure_range_bar is None else pressure_range_bar
     lo, hi = (check_range("pressure_range_bar", v, *PRESSURE_RANGE_BAR, "bar") for v in (lo, hi))
     if not lo <= hi:
@@ -524,6 +524,6 @@ def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, 
     return Simulation(f"{model.label()}, {pressures}, axle {model.axle.data.shown_name}", trajectory)
 
 
-__all__ = ["Axle", "CycleBranches", "ModelFamily", "HopfPoint", "HopfResult", "MultibodyModel", "ReducedModel",
+__all__ = ["Axle", "CycleBranches", "ModelFamily", "HopfSummary", "HopfResult", "MultibodyModel", "ReducedModel",
            "ShimmyWindows", "Simulation", "StabilityMargins", "TyrePressures", "check_simulation_work", "cycle_branches",
            "family_of", "fidelity_of", "hopf_points", "parse_settings", "shimmy_windows", "simulate", "stability_margins"]

@@ -21,7 +21,7 @@ import numpy as np
 
 from axles.axle import interface_text
 from axles.units import BAR, kmh, to_interface
-from comparisons.margins import MarginPoint, MarginStudy
+from comparisons.studies.margin_study import MarginPoint, MarginStudy
 from bifurcation.cycles.problem import CycleBranch as ToolkitCycleBranch
 from bifurcation.cycles.problem import CycleDiagram
 from bifurcation.equilibria.hopf import HopfPoint as ToolkitHopfPoint
@@ -89,8 +89,9 @@ class Shown:
 # --- Hopf points ----------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class HopfPoint:
-    """A Hopf point of straight running: where shimmy sets in (SI).  ``first_lyapunov`` is NaN and
+class HopfSummary:
+    """A Hopf point of straight running as the API shows it (the toolkit's :class:`~bifurcation.equilibria.hopf.HopfPoint`
+    is ``point``): where shimmy sets in (SI).  ``first_lyapunov`` is NaN and
     ``criticality`` None where l1 could not be computed.  ``point`` is the toolkit's, for further analysis."""
 
     speed: float                      # m/s
@@ -100,7 +101,7 @@ class HopfPoint:
     point: ToolkitHopfPoint = field(compare=False, repr=False)
 
     @classmethod
-    def of(cls, point: ToolkitHopfPoint) -> "HopfPoint":
+    def of(cls, point: ToolkitHopfPoint) -> "HopfSummary":
         return cls(point.p, point.omega, point.first_lyapunov, point.criticality, point)
 
     @property
@@ -121,7 +122,7 @@ class HopfResult(Shown):
     title: str
     vmin: float                       # m/s
     vmax: float                       # m/s
-    points: tuple[HopfPoint, ...]
+    points: tuple[HopfSummary, ...]
     status: BranchStatus = BranchStatus.COMPLETE
 
     def table(self) -> Table:
@@ -144,9 +145,9 @@ class ShimmyWindow:
     mode: str                         # yaw or tramp
     low: float                        # m/s
     high: float                       # m/s
-    onset: HopfPoint | None
-    end: HopfPoint | None
-    points: tuple[HopfPoint, ...]
+    onset: HopfSummary | None
+    end: HopfSummary | None
+    points: tuple[HopfSummary, ...]
 
     @property
     def low_kmh(self) -> float:
@@ -199,13 +200,14 @@ class CyclePointOnBranch:
 
 
 @dataclass(frozen=True)
-class CycleBranch:
-    """One branch of limit cycles (shimmy oscillations) born at a Hopf point, SI: where it runs, its largest
+class BranchSummary:
+    """One branch of limit cycles as the API shows it (the toolkit's
+    :class:`~bifurcation.cycles.problem.CycleBranch` is ``branch``): limit cycles (shimmy oscillations) born at a Hopf point, SI: where it runs, its largest
     max|theta1| and the speed of that cycle, its frequencies and its special points.  ``status`` says how the
     continuation ended (``message``, in SI as the toolkit writes it); ``branch`` is the toolkit's."""
 
-    start: HopfPoint
-    end: HopfPoint | None
+    start: HopfSummary
+    end: HopfSummary | None
     status: BranchStatus
     message: str
     speeds: tuple[float, float]               # m/s, lowest and highest speed of a computed cycle
@@ -233,8 +235,8 @@ class CycleBranches(Shown):
     title: str
     vmin: float
     vmax: float
-    hopf: tuple[HopfPoint, ...]
-    branches: tuple[CycleBranch, ...]
+    hopf: tuple[HopfSummary, ...]
+    branches: tuple[BranchSummary, ...]
     status: BranchStatus
     diagram: CycleDiagram = field(compare=False, repr=False)
 
@@ -256,13 +258,13 @@ class CycleBranches(Shown):
         return tuple(interface_text(b.message) for b in self.branches)
 
 
-def cycle_branch(branch: ToolkitCycleBranch, peak) -> CycleBranch:
+def cycle_branch(branch: ToolkitCycleBranch, peak) -> BranchSummary:
     """The summary of a toolkit branch; ``peak`` is its cycle of largest max|theta1|
     (:func:`bifurcation.cycles.branches.branch_peak`)."""
     speeds = [p.p for p in branch.points]
     special = tuple(CyclePointOnBranch(s.kind, s.p, float(s.data["amplitude"][0]))
                     for s in sorted(branch.special_points, key=lambda s: s.bracket[0]))
-    return CycleBranch(start=HopfPoint.of(branch.start), end=None if branch.end is None else HopfPoint.of(branch.end),
+    return BranchSummary(start=HopfSummary.of(branch.start), end=None if branch.end is None else HopfSummary.of(branch.end),
                        status=branch.status, message=branch.message, speeds=(min(speeds), max(speeds)),
                        peak_theta1=peak.max_abs("theta1"), peak_speed=peak.p,
                        frequencies=branch.frequency_range, stable=sum(p.stable for p in branch.points),
@@ -274,7 +276,7 @@ def cycle_branch(branch: ToolkitCycleBranch, peak) -> CycleBranch:
 @dataclass(frozen=True)
 class StabilityMargins(Shown):
     """The least damping ratio of straight running over speed and tyre pressure (both tyres alike), with the mode
-    it belongs to (:class:`comparisons.margins.MarginStudy`, SI in its fields); ``minimum`` over the map's window.
+    it belongs to (:class:`comparisons.studies.margin_study.MarginStudy`, SI in its fields); ``minimum`` over the map's window.
     Negative: that mode grows (shimmy)."""
 
     title: str

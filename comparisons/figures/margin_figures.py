@@ -21,7 +21,7 @@ def margin_limits(studies) -> tuple[float, float]:
 
 
 def draw_margin_map(ax, study, title: str, limits: tuple[float, float] | None = None, hopf=()):
-    """The filled map of ``study`` (:class:`comparisons.margins.MarginStudy`) on ``ax``; ``hopf``: (km/h, bar)
+    """The filled map of ``study`` (:class:`comparisons.studies.margin_study.MarginStudy`) on ``ax``; ``hopf``: (km/h, bar)
     points to mark.  Returns the filled contour set (for a colour bar)."""
     lo, hi = limits or margin_limits([study])
     speeds, bars, zeta = kmh(study.speeds), study.pressures / BAR, study.damping_ratio

@@ -28,7 +28,7 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     steps = [("Plan", plan_section)]
     if ctx.axle.is_paper:
         steps.append(("Paper", paper_section))
-    from comparisons.verify.margins import margins_section
+    from comparisons.verify.margin_checks import margins_section
     steps += [("Hopf speeds", hopf_section), ("Stability margins", margins_section), ("Transient", transient_section),
               ("Limit cycles", cycles_section)]
     if ctx.plan.bistable:

@@ -189,7 +189,7 @@ class Disagreement:
 
 class MarginFact(Protocol):
     """What a stability margin adds to the verdict: a sentence and its data
-    (:class:`comparisons.verify.margins.MarginMinimum`, one per model, from the section "Stability margins")."""
+    (:class:`comparisons.verify.margin_checks.MarginMinimum`, one per model, from the section "Stability margins")."""
 
     def text(self) -> str: ...
 

@@ -3,7 +3,7 @@ c4 = 120 N m s/rad): it still checks something, and says the axle is damped ever
 
 from axles.axle import AxleData
 from comparisons.verify.context import Context
-from comparisons.verify.margins import FIGURE, margins_section
+from comparisons.verify.margin_checks import FIGURE, margins_section
 from comparisons.verify.plan import Plan
 from comparisons.verify.report import CheckStatus
 
@@ -68,7 +68,7 @@ def test_a_stable_window_narrower_than_the_grid_is_confirmed_not_missed():
 
     from axles.units import from_kmh
     from bifurcation.equilibria.margins import zero_level
-    from comparisons.verify.margins import hopf_sign_row
+    from comparisons.verify.margin_checks import hopf_sign_row
     from comparisons.verify.plan import VMAX
     from reduced_model.family import MIN_SPEED
     family = TwoModes(from_kmh(196.34), from_kmh(199.37))
@@ -100,7 +100,7 @@ class MissingHopf(TwoModes):
 
 def test_a_hopf_point_the_continuation_missed_fails_the_sign_check(monkeypatch):
     import numpy as np
-    from comparisons.verify import margins
+    from comparisons.verify import margin_checks as margins
     monkeypatch.setattr(margins, "hopf_points", lambda *args, **kw: ())
     from comparisons.verify.plan import VMAX
     from reduced_model.family import MIN_SPEED
@@ -129,7 +129,7 @@ class Divergence(TwoModes):
 def test_a_growing_pair_that_meets_the_real_axis_is_no_missed_hopf_point():
     import numpy as np
 
-    from comparisons.verify.margins import hopf_sign_row
+    from comparisons.verify.margin_checks import hopf_sign_row
     from comparisons.verify.plan import VMAX
     from reduced_model.family import MIN_SPEED
     row, points = hopf_sign_row(Divergence(), "constructed", 0.5, np.linspace(MIN_SPEED, VMAX, 41))

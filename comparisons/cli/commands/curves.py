@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
         import numpy as np
 
         from comparisons.figures.margin_figures import plot_hopf_diagram_with_margins
-        from comparisons.margins import margin_study
+        from comparisons.studies.margin_study import margin_study
         study = margin_study(family, np.linspace(diagram.p_min, diagram.p_max, MARGIN_GRID[0]),
                              np.linspace(diagram.lo, diagram.hi, MARGIN_GRID[1]))
         plot_hopf_diagram_with_margins(diagram, family, study, args.plot)

@@ -39,7 +39,7 @@ def add_parser(sub) -> None:
 
 def _models(args: argparse.Namespace):
     """(key, title, modes) for the reduced model and the MBS."""
-    from comparisons.margins import mode_inertias
+    from comparisons.studies.margin_study import mode_inertias
     axle = api_axle(args)
     effects = Effects.parse(args.effects)
     fidelity = build_fidelity(args, "mbs")

@@ -27,7 +27,7 @@ import numpy as np
 
 from axles.pressures import TyrePressures
 from axles.units import BAR, kmh
-from comparisons.margins import MarginPoint
+from comparisons.studies.margin_study import MarginPoint
 from comparisons.verify.context import Context
 from comparisons.verify.plan import VMAX
 from comparisons.verify.report import CheckStatus, Column, Row, Section
