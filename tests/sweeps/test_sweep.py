@@ -182,9 +182,13 @@ def test_external_scheduler_and_worker_give_identical_results(tmp_path):
                                "--scheduler-file", str(sched_file)], **quiet)]
     try:
         deadline = time.time() + 60
-        while not sched_file.exists() and time.time() < deadline:
-            time.sleep(0.1)
-        address = json.loads(sched_file.read_text())["address"]
+        address = None
+        while address is None and time.time() < deadline:
+            try:   # the scheduler creates the file before it writes it: read it once it parses
+                address = json.loads(sched_file.read_text())["address"]
+            except (OSError, ValueError, KeyError):
+                time.sleep(0.1)
+        assert address is not None, "the scheduler did not write its address within 60 s"
         procs.append(subprocess.Popen([dask, "worker", address, "--nworkers", "1", "--nthreads", "1",
                                        "--no-dashboard"], **quiet))
         design = make_design([parse_vary("pressure=uniform:0.5:3.5"), parse_vary("t0=normal:0.07:0.01")], 40, 7)
