@@ -164,7 +164,8 @@ class CycleProblem:
     """G(u) = 0 for u = (node values, T, p): collocation + phase condition, Jacobian in condensed block form.
 
     ``free`` is the family's ``primary`` or its ``param``; the other of (p, q) stays fixed.  The mesh
-    and the phase reference are state of the problem, updated between continuation steps (:meth:`renormalize`).
+    and the phase reference are state of the problem, updated between continuation steps (:meth:`renormalize`);
+    the continuation's own state (tangent, steps since the last adaptation) stays with the algorithm.
     """
 
     def __init__(self, family: Family, free: str, p: float, q: float, orbit: col.Orbit,
@@ -178,8 +179,6 @@ class CycleProblem:
         self.settings = settings
         self.sch = col.scheme(orbit.degree)
         self.degree, self.n = orbit.degree, orbit.n
-        self.steps_since_adapt = 0
-        self.last_tangent: np.ndarray | None = None
         self._cache: tuple[np.ndarray, dict] | None = None
         self.set_reference(orbit)
 
@@ -337,7 +336,7 @@ class CycleProblem:
         return float(np.sqrt(np.sum(self.orbit_of(u).mean_square() / self.scales ** 2)))
 
     # --- between steps -------------------------------------------------------------------------------
-    def renormalize(self, u: np.ndarray):
+    def renormalize(self, u: np.ndarray, tangent: np.ndarray | None, steps_since_adapt: int):
         """Every ``adapt_every`` accepted points, and at once when the orbit misses the error tolerance: adapt
         the mesh (number of intervals from :meth:`needed_intervals`, distribution by equidistribution) and make
         the current orbit the phase reference (AUTO's IAD; in between the reference is a recent orbit, which
@@ -345,22 +344,22 @@ class CycleProblem:
 
         After re-meshing, the interpolated orbit is corrected on the new mesh (Newton on the hyperplane through
         it, orthogonal to the interpolated tangent), so that the branch stays on solutions of the discretisation
-        actually used.  Returns None when nothing changed, else (new point, previous tangent carried over to the
-        new mesh) for the continuation to orient its tangent.
+        actually used.  ``tangent`` (the continuation's tangent at u; None before the first step: nothing is
+        done) and ``steps_since_adapt`` (accepted points since the last adaptation, this one included) are the
+        caller's state.  Returns None when nothing changed, else (new point, the tangent carried over to the new
+        mesh) for the continuation to orient its tangent; the caller then counts its steps from zero again.
         """
-        self.steps_since_adapt += 1
-        if self.last_tangent is None:
+        if tangent is None:
             return None
         orbit = self.orbit_of(u)
         N = self.needed_intervals(orbit)
-        if N <= orbit.intervals and self.steps_since_adapt < self.settings.adapt_every:
+        if N <= orbit.intervals and steps_since_adapt < self.settings.adapt_every:
             return None
-        self.steps_since_adapt = 0
         new_mesh = mesh_adaptation.adapted_mesh(orbit, self.scales, intervals=N)
         if N != orbit.intervals or mesh_adaptation.mesh_quality(self.mesh, new_mesh) > 0.05:
-            return self.move_to_mesh(u, self.last_tangent, new_mesh)
+            return self.move_to_mesh(u, tangent, new_mesh)
         self.set_reference(orbit)
-        return u, self.last_tangent
+        return u, tangent
 
     def move_to_mesh(self, u: np.ndarray, t: np.ndarray, mesh: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The solution u interpolated onto ``mesh`` and corrected there by Newton on the hyperplane through it
