@@ -58,12 +58,12 @@ def hopf_predictor(family: Family, hopf: HopfPoint, amplitude: float,
                    scales: np.ndarray) -> tuple[float, float, np.ndarray]:
     """(p, |z|, q-eigenvector) of the normal-form cycle whose largest scaled state amplitude is ``amplitude``."""
     A = family.linear_matrix(hopf.p, hopf.q)
-    A_V = primary_derivative(family, hopf.p, hopf.q, A)
+    A_p = primary_derivative(family, hopf.p, hopf.q, A)
     q = hopf.eigenvector / np.linalg.norm(hopf.eigenvector)
     _, _, vh = np.linalg.svd(A.T + 1j * hopf.omega * np.eye(A.shape[0]))
-    p = vh[-1].conj()
-    p = p / np.conj(np.vdot(p, q))                           # p^H q = 1
-    mu_prime = float(np.vdot(p, A_V @ q).real)               # d Re(lambda) / dp
+    adjoint = vh[-1].conj()                                  # Kuznetsov's p (p here is the parameter)
+    adjoint = adjoint / np.conj(np.vdot(adjoint, q))         # p^H q = 1
+    mu_prime = float(np.vdot(adjoint, A_p @ q).real)         # d Re(lambda) / dp
     z = amplitude / (2.0 * np.max(np.abs(q) / scales))
     l1 = hopf.first_lyapunov
     if not np.isfinite(l1) or mu_prime == 0.0:
@@ -80,7 +80,7 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     """Problem, first cycle u0 and the direction away from the Hopf point (``ConvergenceError`` on failure)."""
     scales = state_scales(family, hopf.omega)
     period = 2.0 * np.pi / hopf.omega
-    V1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
+    p1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
     mesh = col.uniform_mesh(settings.intervals)
 
     def harmonic(tau):
@@ -89,7 +89,7 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
     problem = CycleProblem(family, family.primary, hopf.p, hopf.q, guess, scales, family.primary_scale,
                            settings)
-    u_pred = problem.pack(guess, V1)
+    u_pred = problem.pack(guess, p1)
     w = problem.weights()
     direction = np.concatenate([guess.nodes.ravel(), [0.0, 0.0]])
     direction /= np.linalg.norm(direction * w)
@@ -155,8 +155,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                             user=[(0.0, problem.point(u0)) for v in targets if v == u0[ip]])
 
     def where(u) -> str:
-        V, q = problem.parameters(u[ip])
-        return describe(problem.family, V, None if problem.free == problem.family.primary else q)
+        p, q = problem.parameters(u[ip])
+        return describe(problem.family, p, None if problem.free == problem.family.primary else q)
 
     def locate(branch: Branch, k: int, s_hi: float, fun, kind: PointKind) -> None:
         s0 = state.arclength[k]
@@ -448,9 +448,9 @@ def branch_peak(family: Family, branch: CycleBranch, name: str,
     lo, hi = sorted((branch.points[k - 1].p, branch.points[k + 1].p))
     cache: dict[float, CyclePoint] = {}
 
-    def negative(V):
-        cache[V] = cycle_at(family, branch.points[k], V, settings)
-        return -cache[V].max_abs(name)
+    def negative(p):
+        cache[p] = cycle_at(family, branch.points[k], p, settings)
+        return -cache[p].max_abs(name)
 
     res = scipy.optimize.minimize_scalar(negative, bounds=(lo, hi), method="bounded",
                                          options={"xatol": 1e-7 * (1.0 + abs(hi))})

@@ -61,8 +61,8 @@ class CyclePoint:
     p: float                         # the family's primary parameter (SI)
     q: float                         # the family's second parameter (SI)
     period: float                    # s
-    amplitude: np.ndarray = field(repr=False)     # (8,) max over the orbit of |x_i|, SI
-    multipliers: np.ndarray = field(repr=False)   # (8,) complex, by decreasing modulus, trivial one included
+    amplitude: np.ndarray = field(repr=False)     # (n,) max over the orbit of |x_i|, SI
+    multipliers: np.ndarray = field(repr=False)   # (n,) complex, by decreasing modulus, trivial one included
     trivial: complex = 1.0                        # the multiplier taken as the trivial one (nearest +1)
     stable: bool = False
     orbit: col.Orbit = field(default=None, compare=False, repr=False)
@@ -250,12 +250,12 @@ class CycleProblem:
     def _unpack(self, u: np.ndarray) -> dict:
         """Node values per interval, states at the collocation points, period and parameters of u."""
         X = u[:self.size].reshape(-1, self.n)
-        T, p = float(u[self.size]), float(u[self.size + 1])
-        V, q = self.parameters(p)
+        T, free = float(u[self.size]), float(u[self.size + 1])
+        p, q = self.parameters(free)
         Y = X[col.node_index(self.intervals, self.degree)]
         return {"Y": Y, "Xc": col.collocation_states(Y, self.sch),
                 "dX": col.collocation_derivatives(Y, self.widths, self.sch),
-                "T": T, "V": V, "q": q, "p": p}
+                "T": T, "p": p, "q": q, "free": free}
 
     def _phase(self, Xc: np.ndarray) -> float:
         gw = self.widths[:, None] * self.sch.weights[None, :]                       # (N, m) quadrature
@@ -266,7 +266,7 @@ class CycleProblem:
             return self._cache[1]
         N, m, n = self.intervals, self.degree, self.n
         out = self._unpack(u)
-        f, Jf = self.family.rhs_and_jacobians(out["Xc"].reshape(-1, n), out["V"], out["q"])
+        f, Jf = self.family.rhs_and_jacobians(out["Xc"].reshape(-1, n), out["p"], out["q"])
         out.update(f=f.reshape(N, m, n), Jf=Jf.reshape(N, m, n, n))
         self._cache = (u.copy(), out)
         return out
@@ -276,7 +276,7 @@ class CycleProblem:
         N, m, n = self.intervals, self.degree, self.n
         e = self._unpack(u)
         try:
-            f = np.asarray(self.family.rhs(e["Xc"].reshape(-1, n).T, e["V"], e["q"])).T.reshape(N, m, n)
+            f = np.asarray(self.family.rhs(e["Xc"].reshape(-1, n).T, e["p"], e["q"])).T.reshape(N, m, n)
         except ProblemError:
             return np.full(self.size + 1, np.nan)
         return np.concatenate([(e["dX"] - e["T"] * f).ravel(), [self._phase(e["Xc"])]])
@@ -297,7 +297,7 @@ class CycleProblem:
                     col.CondensedJacobian(np.full((N, m, n, m + 1, n), np.nan), nan, nan, nan.reshape(-1, n)))
         T = e["T"]
         G = np.concatenate([(e["dX"] - T * e["f"]).ravel(), [self._phase(e["Xc"])]])
-        dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["V"], e["q"]).reshape(N, m, n)
+        dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["p"], e["q"]).reshape(N, m, n)
         return G, col.CondensedJacobian(self.blocks(u), -e["f"], -T * dfdp, self.phase_gradient)
 
     # --- results -------------------------------------------------------------------------------------
@@ -308,11 +308,11 @@ class CycleProblem:
 
     def point(self, u: np.ndarray) -> CyclePoint:
         orbit = self.orbit_of(u)
-        V, q = self.parameters(u[self.size + 1])
+        p, q = self.parameters(u[self.size + 1])
         mu = self.multipliers(u)
         rest, trivial = classify_multipliers(mu)
         amplitude = orbit.maxima()
-        return CyclePoint(p=V, q=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
+        return CyclePoint(p=p, q=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
                           trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
                           error=mesh_adaptation.relative_error(orbit, self.scales, amplitude),
                           tolerance=self.settings.tolerance,
