@@ -29,9 +29,9 @@ def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last
     p0, q0 = guess
     half_p = max(4.0 * dp, 1e-3 * abs(p0))
     half_q = max(4.0 * dq, 1e-4 * abs(q0))
-    v_lo, v_hi = max(p0 - half_p, p_min), min(p0 + half_p, p_max)
+    p_lo, p_hi = max(p0 - half_p, p_min), min(p0 + half_p, p_max)
     try:
-        candidates = hopf_points(family, q0, v_lo, v_hi, lyapunov=False)
+        candidates = hopf_points(family, q0, p_lo, p_hi, lyapunov=False)
     except (ProblemError, ConvergenceError):
         return None
     if not candidates:
@@ -39,7 +39,7 @@ def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last
     omega = 2.0 * np.pi / last.period
     start = min(candidates, key=lambda h: abs(h.omega - omega))
     try:
-        hc = hopf_curve(family, start, q0 - half_q, q0 + half_q, v_lo, v_hi)
+        hc = hopf_curve(family, start, q0 - half_q, q0 + half_q, p_lo, p_hi)
     except (ProblemError, ConvergenceError, np.linalg.LinAlgError):
         return None
     found = [p for p in hc.special_points if p.kind is END_KIND[kind] and p.status is PointStatus.LOCATED]
