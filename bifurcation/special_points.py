@@ -15,7 +15,7 @@ class PointKind(enum.Enum):
     CYCLE_FOLD = "cycle_fold"
     TORUS = "torus"
     PERIOD_DOUBLING = "period_doubling"
-    CUSP_OF_CYCLES = "cusp_of_cycles"              # on a cycle-fold curve: its (V, q) projection turns back
+    CUSP_OF_CYCLES = "cusp_of_cycles"              # on a cycle-fold curve: its (p, q) projection turns back
     FOLD_FLIP = "fold_flip"                        # on a cycle-fold curve: a multiplier through -1
     FOLD_NEIMARK_SACKER = "fold_neimark_sacker"    # on a cycle-fold curve: a complex pair through the unit circle
     GENERALIZED_PERIOD_DOUBLING = "generalized_period_doubling"  # on a PD curve: the flip coefficient through zero

@@ -169,6 +169,26 @@ def test_the_toolkit_names_no_speed():
     assert found == []
 
 
+# The speed's old letter in the toolkit (V, V0, A_V, hV, V_H, "(V, q)") and state counts in comments ("(8,)").
+SPEED_LETTER = re.compile(r"(?<![A-Za-z0-9])V(?![A-Za-z])|(?<=[a-z_])V(?![A-Za-z])|\(\d+,\)")
+
+
+def test_the_pattern_of_the_speed_letter_finds_it():
+    for text in ("V", "A(V)", "V0", "V_H", "A_V", "hV", "col_V", "(V, q)", "# (8,) max"):
+        assert SPEED_LETTER.search(text), text
+    for text in ("SVD", "VECTOR_WEIGHT", "p, q", "A_p", "(n,)", "(N, m + 1, n)", "ODE"):
+        assert not SPEED_LETTER.search(text), text
+
+
+def test_the_toolkit_calls_its_first_parameter_p():
+    """The primary parameter is p in names, comments and docstrings under ``bifurcation/``, and arrays are sized
+    by n, not by the axle's state count."""
+    found = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}"
+             for path in sorted((ROOT / "bifurcation").rglob("*.py"))
+             for n, line in enumerate(path.read_text().splitlines(), 1) if SPEED_LETTER.search(line)]
+    assert found == []
+
+
 def test_the_models_import_nothing_of_the_comparisons():
     offenders = {m: sorted(t for t in targets if t.split(".")[0] == "comparisons")
                  for m, targets in import_graph().items() if m.split(".")[0] != "comparisons"}

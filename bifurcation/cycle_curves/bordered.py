@@ -1,6 +1,6 @@
 """Following a curve of cycle bifurcations by its bordered defining system (fold, period doubling or torus:
 :mod:`~bifurcation.cycle_curves.fold`, :mod:`~bifurcation.cycle_curves.torus`): the
-sparse bordered Jacobian, the continuation in (V, q) with its window cuts, the end where the amplitude vanishes,
+sparse bordered Jacobian, the continuation in (p, q) with its window cuts, the end where the amplitude vanishes,
 and the codimension-two points of cycles detected along the way (Doedel, Govaerts & Kuznetsov, SIAM J. Numer.
 Anal. 41, 2003; Kuznetsov 2004, section 10.3).
 """
@@ -72,7 +72,7 @@ def curve_q_scale(cycle: CyclePoint) -> float:
 def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                           settings: CycleSettings, continuation: ContinuationSettings, system):
     """Follow the curve of ``point``'s kind through it with a bordered ``system`` (a :class:`FoldSystem` by
-    default; its unknowns end with (V, q) at K + 1, K + 2 and possibly more after them)."""
+    default; its unknowns end with (p, q) at K + 1, K + 2 and possibly more after them)."""
     from bifurcation.cycle_curves.ends import locate_end
     from bifurcation.cycle_curves.result import CycleCurve
 
@@ -80,7 +80,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
     p_min, p_max = clip_window(family, p_min, p_max)
     cycle: CyclePoint = point.data["cycle"]
-    iV, iq = system.K + 1, system.K + 2
+    ip, iq = system.K + 1, system.K + 2
     what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
     U0 = system.start(cycle)
     # Two rounds of border updates make the borders the null vectors at the start point.
@@ -100,7 +100,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
 
         def accept(branch, points=points, ends=ends, kappas=kappas) -> Stop | None:
             U, U_old = branch.points[-1], branch.points[-2]
-            V, q = U[iV], U[iq]
+            p, q = U[ip], U[iq]
             a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
             # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
             # curve would come back on itself.  Near the end amp^2 is affine along the curve.
@@ -108,11 +108,11 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
             if ends_at_zero and (crossed or a_new < END_AMPLITUDE):
                 s2 = -a_new ** 2 if crossed else a_new ** 2
                 lam = a_old ** 2 / (a_old ** 2 - s2) if a_old ** 2 != s2 else 1.0
-                guess = (U_old[iV] + lam * (V - U_old[iV]), U_old[iq] + lam * (q - U_old[iq]))
+                guess = (U_old[ip] + lam * (p - U_old[ip]), U_old[iq] + lam * (q - U_old[iq]))
                 if not crossed:
                     points.append(system.point(U))
                     kappas.append(system.kappa(U))
-                found = locate_end(family, point.kind, guess, points[-1], abs(V - U_old[iV]),
+                found = locate_end(family, point.kind, guess, points[-1], abs(p - U_old[ip]),
                                    abs(q - U_old[iq]), p_min, p_max)
                 ends.append(found)
                 if found is not None:
@@ -131,7 +131,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                                 f"(extrapolated; no {what} point located there)")
                 return Stop(BranchStatus.COMPLETE,
                             f"ends at the {what} point located at {describe(family, found.p, found.q)}")
-            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (iV, p_min, -1), (iV, p_max, 1)):
+            for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (ip, p_min, -1), (ip, p_max, 1)):
                 if side * (U[index] - bound) <= 0.0:
                     continue
                 # Cut the step where it leaves the window (Brent on the corrected curve) and stop there.
@@ -145,17 +145,17 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                     pass    # keep the point just outside
                 points.append(system.point(U))
                 kappas.append(system.kappa(U))
-                return Stop(BranchStatus.COMPLETE, f"left the window at {describe(family, U[iV], U[iq])}")
+                return Stop(BranchStatus.COMPLETE, f"left the window at {describe(family, U[ip], U[iq])}")
             p_new = system.point(U)
             k = len(branch.points) - 2
             step = branch.steps[-1]
-            # Cusp of cycles: the curve is smooth in (x, T, V, q) but its (V, q) projection turns back, its
-            # (V, q) tangent passing through zero: the product with the previous one changes sign.
-            Vq = slice(iV, iq + 1)
-            previous = branch.tangents[k][Vq] * weights[Vq]
-            if folds and np.dot(branch.tangents[-1][Vq] * weights[Vq], previous) < 0.0:
+            # Cusp of cycles: the curve is smooth in (x, T, p, q) but its (p, q) projection turns back, its
+            # (p, q) tangent passing through zero: the product with the previous one changes sign.
+            pq = slice(ip, iq + 1)
+            previous = branch.tangents[k][pq] * weights[pq]
+            if folds and np.dot(branch.tangents[-1][pq] * weights[pq], previous) < 0.0:
                 u, _, ok = locate_on_step(branch, k, step,
-                                          lambda u, t: float(np.dot(t[Vq] * weights[Vq], previous)))
+                                          lambda u, t: float(np.dot(t[pq] * weights[pq], previous)))
                 where, status = system.point(u), PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED
                 special.append(SpecialPoint(kind=PointKind.CUSP_OF_CYCLES, p=where.p, q=where.q,
                                             bracket=(sign * arclength[-1], sign * (arclength[-1] + step)),

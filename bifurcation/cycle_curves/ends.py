@@ -18,20 +18,20 @@ from bifurcation.special_points import (
 )
 
 
-def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last: CyclePoint, dV: float,
+def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last: CyclePoint, dp: float,
                dq: float, p_min: float, p_max: float) -> SpecialPoint | None:
     """The codimension-two point of straight running where a curve of cycle bifurcations of ``kind`` ends, near
-    ``guess`` = (V, q): Hopf points at q = guess[1] within a few curve steps dV of guess[0] (the one with the
-    cycle's frequency), the Hopf curve through it continued in a window of a few steps (dV, dq) around the
+    ``guess`` = (p, q): Hopf points at q = guess[1] within a few curve steps dp of guess[0] (the one with the
+    cycle's frequency), the Hopf curve through it continued in a window of a few steps (dp, dq) around the
     guess, and the point of kind END_KIND[kind] located on it by its test function.  None if there is none."""
     from bifurcation.equilibria.hopf_curves import hopf_curve
 
-    V0, q0 = guess
-    half_V = max(4.0 * dV, 1e-3 * abs(V0))
+    p0, q0 = guess
+    half_p = max(4.0 * dp, 1e-3 * abs(p0))
     half_q = max(4.0 * dq, 1e-4 * abs(q0))
-    v_lo, v_hi = max(V0 - half_V, p_min), min(V0 + half_V, p_max)
+    p_lo, p_hi = max(p0 - half_p, p_min), min(p0 + half_p, p_max)
     try:
-        candidates = hopf_points(family, q0, v_lo, v_hi, lyapunov=False)
+        candidates = hopf_points(family, q0, p_lo, p_hi, lyapunov=False)
     except (ProblemError, ConvergenceError):
         return None
     if not candidates:
@@ -39,10 +39,10 @@ def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last
     omega = 2.0 * np.pi / last.period
     start = min(candidates, key=lambda h: abs(h.omega - omega))
     try:
-        hc = hopf_curve(family, start, q0 - half_q, q0 + half_q, v_lo, v_hi)
+        hc = hopf_curve(family, start, q0 - half_q, q0 + half_q, p_lo, p_hi)
     except (ProblemError, ConvergenceError, np.linalg.LinAlgError):
         return None
     found = [p for p in hc.special_points if p.kind is END_KIND[kind] and p.status is PointStatus.LOCATED]
     if not found:
         return None
-    return min(found, key=lambda p: ((p.p - V0) / half_V) ** 2 + ((p.q - q0) / half_q) ** 2)
+    return min(found, key=lambda p: ((p.p - p0) / half_p) ** 2 + ((p.q - q0) / half_q) ** 2)

@@ -5,7 +5,7 @@ SIAM J. Numer. Anal. 41 (2003) 401-435; Kuznetsov, Elements of Applied Bifurcati
 section 10.3.2; MatCont's LPC continuation (Dhooge, Govaerts, Kuznetsov, Meijer & Sautois, Math. Comput. Model.
 Dyn. Syst. 14, 2008, 147).
 
-Unknowns U = (x nodes, T, V, q).  Equations: the collocation of x' = T f(x; V, q), the integral phase condition
+Unknowns U = (x nodes, T, p, q).  Equations: the collocation of x' = T f(x; p, q), the integral phase condition
 (:class:`bifurcation.cycles.problem.CycleProblem`), and g(U) = 0, where g is the last component of the solution of the
 bordered system
 
@@ -21,7 +21,7 @@ of g is g_U = -w^T M_U z with z = (v, S, g) and w the solution of the transposed
 the second derivatives it needs, f_xx[v, .], come from a central difference of the exact (complex-step)
 Jacobians in the direction v, and the parameter derivatives from central differences.  The system is solved as
 one sparse matrix (SuperLU); the curve is followed by :func:`bifurcation.continuation.continue_curve` and ends
-where it leaves the (V, q) window or where its amplitude vanishes, at a generalized Hopf point that is then
+where it leaves the (p, q) window or where its amplitude vanishes, at a generalized Hopf point that is then
 located by its own test function (:func:`bifurcation.cycle_curves.result.locate_end`).
 """
 
@@ -52,7 +52,7 @@ from bifurcation.special_points import PointKind, SpecialPoint
 
 
 class FoldSystem:
-    """H(U) = (collocation, phase condition, g) for U = (x nodes, T, V, q), with its sparse Jacobian.
+    """H(U) = (collocation, phase condition, g) for U = (x nodes, T, p, q), with its sparse Jacobian.
 
     ``kind`` CYCLE_FOLD: g from the bordered (x, T) Jacobian of the periodic problem (module docstring);
     PERIOD_DOUBLING: g from the bordered collocation of the variational equation v' = T f_x v with the
@@ -97,14 +97,14 @@ class FoldSystem:
         data = (CJ.B * self._signs()[:, None, None, :, None]).ravel()
         return scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K, K))
 
-    def pack(self, orbit: col.Orbit, V: float, q: float) -> np.ndarray:
-        return np.concatenate([orbit.nodes.ravel(), [orbit.period, V, q]])
+    def pack(self, orbit: col.Orbit, p: float, q: float) -> np.ndarray:
+        return np.concatenate([orbit.nodes.ravel(), [orbit.period, p, q]])
 
     def weights(self) -> np.ndarray:
         return np.concatenate([self.cp.weights(), [1.0 / self.q_scale]])
 
     def _pieces(self, U: np.ndarray):
-        """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the columns in V and q."""
+        """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the columns in p and q."""
         K, cp = self.K, self.cp
         q = float(U[K + 2])
         cp.set_fixed(q=q)
@@ -120,19 +120,19 @@ class FoldSystem:
         cols = np.concatenate([cols, np.full(K, K), np.arange(K)])
         data = np.concatenate([data, CJ.col_T.ravel(), CJ.phase.ravel()])
         A = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K + 1, K + 1))
-        col_V = np.append(CJ.col_p.ravel(), 0.0)
-        col_q = np.append(-e["T"] * self._df_dq(e["Xc"].reshape(-1, n), e["V"], q).ravel(), 0.0)
-        return G, A, col_V, col_q, e
+        col_p = np.append(CJ.col_p.ravel(), 0.0)
+        col_q = np.append(-e["T"] * self._df_dq(e["Xc"].reshape(-1, n), e["p"], q).ravel(), 0.0)
+        return G, A, col_p, col_q, e
 
-    def _df_dq(self, P: np.ndarray, V: float, q: float) -> np.ndarray:
+    def _df_dq(self, P: np.ndarray, p: float, q: float) -> np.ndarray:
         h = FD_RELATIVE * self.q_scale
-        return ((self.family.rhs(P.T, V, q + h) - self.family.rhs(P.T, V, q - h)) / (2 * h)).T
+        return ((self.family.rhs(P.T, p, q + h) - self.family.rhs(P.T, p, q - h)) / (2 * h)).T
 
     def evaluate(self, U: np.ndarray):
         if self._cache is not None and np.array_equal(self._cache[0], U):
             return self._cache[1]
         K = self.K
-        G, A, col_V, col_q, e = self._pieces(U)
+        G, A, col_p, col_q, e = self._pieces(U)
         core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
         M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
                                [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
@@ -141,12 +141,12 @@ class FoldSystem:
         rhs[-1] = 1.0
         z = lu.solve(rhs)
         w = lu.solve(rhs, trans="T")
-        out = (G, A, col_V, col_q, e, z, w)
+        out = (G, A, col_p, col_q, e, z, w)
         self._cache = (U.copy(), out)
         return out
 
     def _g_gradient(self, U: np.ndarray, e: dict, z: np.ndarray, w: np.ndarray) -> np.ndarray:
-        """g_U = -w^T M_U z over U = (nodes, T, V, q); only the collocation rows of M depend on U.
+        """g_U = -w^T M_U z over U = (nodes, T, p, q); only the collocation rows of M depend on U.
 
         Collocation row k of M z is R_k = (D v)_k / h - T f_x(x_k) v_k - S f(x_k), v_k = (L v)_k."""
         cp, K = self.cp, self.K
@@ -158,13 +158,13 @@ class FoldSystem:
         vk = col.collocation_states(Yv, cp.sch).reshape(-1, n)                                # (Nm, n)
         xk = e["Xc"].reshape(-1, n)
         wk = w[:K].reshape(-1, n)
-        T, V, q = e["T"], e["V"], e["q"]
+        T, p, q = e["T"], e["p"], e["q"]
         Jf = e["Jf"].reshape(-1, n, n)
         # f_xx[v_k, .] by a central difference of the exact Jacobians along v_k.
         size = np.max(np.abs(vk) / cp.scales)
         eps = FD_RELATIVE / max(size, 1e-300)
-        _, Jp = self.family.rhs_and_jacobians(xk + eps * vk, V, q)
-        _, Jm = self.family.rhs_and_jacobians(xk - eps * vk, V, q)
+        _, Jp = self.family.rhs_and_jacobians(xk + eps * vk, p, q)
+        _, Jm = self.family.rhs_and_jacobians(xk - eps * vk, p, q)
         H = (Jp - Jm) / (2.0 * eps)                                     # (Nm, a, b) = d/dx_b (f_x v)_a
         gx = np.einsum("ka,kab->kb", wk, T * H + S * Jf)               # -w^T dR/dx_k
         per_interval = np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)) * sgn[:, :, None]
@@ -173,25 +173,25 @@ class FoldSystem:
         g_T = float(np.einsum("ka,kab,kb->", wk, Jf, vk))
         # Parameters: psi(p) = T f_x(x_k; p) v_k + S f(x_k; p), g_p = w^T dpsi/dp (central differences).
 
-        def psi(V_, q_):
-            fv = self.family.rhs_and_jacobians(xk, V_, q_)[1]
-            return T * np.einsum("kab,kb->ka", fv, vk) + S * self.family.rhs(xk.T, V_, q_).T
+        def psi(p_, q_):
+            fv = self.family.rhs_and_jacobians(xk, p_, q_)[1]
+            return T * np.einsum("kab,kb->ka", fv, vk) + S * self.family.rhs(xk.T, p_, q_).T
 
-        hV = FD_RELATIVE * cp.p_scale
+        hp = FD_RELATIVE * cp.p_scale
         hq = FD_RELATIVE * self.q_scale
-        g_V = float(np.sum(wk * (psi(V + hV, q) - psi(V - hV, q))) / (2 * hV))
-        g_q = float(np.sum(wk * (psi(V, q + hq) - psi(V, q - hq))) / (2 * hq))
-        return np.concatenate([g_nodes.ravel(), [g_T, g_V, g_q]])
+        g_p = float(np.sum(wk * (psi(p + hp, q) - psi(p - hp, q))) / (2 * hp))
+        g_q = float(np.sum(wk * (psi(p, q + hq) - psi(p, q - hq))) / (2 * hq))
+        return np.concatenate([g_nodes.ravel(), [g_T, g_p, g_q]])
 
     def __call__(self, U: np.ndarray):
         K = self.K
         try:
-            G, A, col_V, col_q, e, z, w = self.evaluate(U)
+            G, A, col_p, col_q, e, z, w = self.evaluate(U)
         except (ProblemError, RuntimeError):
             return np.full(K + 2, np.nan), SparseBordered(scipy.sparse.csr_matrix((K + 2, K + 3)))
         g = z[-1]
         grad = self._g_gradient(U, e, z, w)
-        top = scipy.sparse.hstack([A, scipy.sparse.csc_matrix(col_V[:, None]),
+        top = scipy.sparse.hstack([A, scipy.sparse.csc_matrix(col_p[:, None]),
                                    scipy.sparse.csc_matrix(col_q[:, None])])
         J = scipy.sparse.vstack([top, scipy.sparse.csr_matrix(grad[None, :])], format="csr")
         return np.append(G, g), SparseBordered(J)
@@ -257,7 +257,7 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, 
     """The curve of cycle folds through the located fold ``point`` of a branch in the primary parameter, both
     ways, within [p_min, p_max] x [lo, hi], by the minimally augmented system (module docstring).
 
-    Along the curve, cusps of cycles (the (V, q) tangent through zero), fold-flip points (another multiplier
+    Along the curve, cusps of cycles (the (p, q) tangent through zero), fold-flip points (another multiplier
     through -1) and fold-Neimark-Sacker points (a complex pair through the unit circle) are detected by the change
     in the number of multipliers outside the unit circle, with the two multipliers at +1 left out, and located by
     Brent's method on the period-doubling or torus test function along the corrected curve (Kuznetsov 2004,

@@ -1,10 +1,10 @@
-"""Two-parameter curves of cycle bifurcations in the (V, q) plane (figures 8 and 18): the common result type, the
+"""Two-parameter curves of cycle bifurcations in the (p, q) plane (figures 8 and 18): the common result type, the
 dispatch to the defining systems and the location of the codimension-two points where the curves end.
 
 Each kind of curve solves its standard defining system on the collocation discretisation (Doedel, Govaerts &
 Kuznetsov, SIAM J. Numer. Anal. 41, 2003; Kuznetsov 2004, section 10.3; MatCont): cycle folds and period doublings
 in :mod:`bifurcation.cycle_curves.fold`, torus points in :mod:`bifurcation.cycle_curves.torus`.  The curves run until
-they leave the (V, q) window or their amplitude vanishes: a fold curve then ends at a generalized Hopf (Bautin)
+they leave the (p, q) window or their amplitude vanishes: a fold curve then ends at a generalized Hopf (Bautin)
 point of straight running, a torus curve at a Hopf-Hopf point (Kuznetsov 2004, sections 8.3 and 8.6).  That end
 point is not taken from the extrapolation to zero amplitude: the Hopf curve through the extrapolated point is
 continued in a small window around it (:func:`bifurcation.equilibria.hopf_curves.hopf_curve`) and the codimension-two point
@@ -30,7 +30,7 @@ END_KIND = {PointKind.TORUS: PointKind.HOPF_HOPF, PointKind.CYCLE_FOLD: PointKin
 
 @dataclass(frozen=True)
 class CycleCurve:
-    """A curve of cycle folds, torus or period-doubling points in (V, q): arrays along the curve (SI) and how each end ended."""
+    """A curve of cycle folds, torus or period-doubling points in (p, q): arrays along the curve (SI) and how each end ended."""
 
     kind: PointKind
     param: str
@@ -40,7 +40,7 @@ class CycleCurve:
     periods: np.ndarray
     status: tuple[BranchStatus, BranchStatus]
     messages: tuple[str, str]
-    ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (V, q) where the amplitude vanishes
+    ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (p, q) where the amplitude vanishes
     end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
     special_points: tuple[SpecialPoint, ...] = ()    # codimension-two points of cycles detected along the curve
     kappas: np.ndarray | None = None    # torus curves: cos theta of the critical pair per point (else NaN)

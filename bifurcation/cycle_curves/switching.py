@@ -91,6 +91,6 @@ def _same_curve(a: CycleCurve, b: CycleCurve, q_range: float) -> bool:
     if not b.qs.min() <= q <= b.qs.max():
         return False
     order = np.argsort(b.qs)
-    V = np.interp(q, b.qs[order], b.ps[order])
-    return abs(V - a.ps[k]) < 1e-3 * max(1.0, abs(V)) and abs(
+    p = np.interp(q, b.qs[order], b.ps[order])
+    return abs(p - a.ps[k]) < 1e-3 * max(1.0, abs(p)) and abs(
         np.interp(q, b.qs[order], b.periods[order]) - a.periods[k]) < 1e-3 * a.periods[k]

@@ -7,7 +7,7 @@ periods, v(2) - 2 kappa v(1) + v(0) = 0: a 2K x 2K sparse matrix A(U) (K colloca
 kernel is two-dimensional at a torus point.  Bordered by two columns and two rows, the 2 x 2 block G of the
 solution of [A B; C^T 0] [Z; G] = [0; I] vanishes there; two of its entries, chosen at the start where their
 gradients are the most independent, join the collocation and phase equations in the unknowns
-U = (x nodes, T, V, q, kappa).  Gradients are -W_i^T A_U Z_j with W from the transposed system (same LU), second
+U = (x nodes, T, p, q, kappa).  Gradients are -W_i^T A_U Z_j with W from the transposed system (same LU), second
 derivatives of f from central differences of the exact Jacobians along the columns of Z, as for the cycle folds
 (:mod:`bifurcation.cycle_curves.fold`, whose curve follower is reused).  Borders are reset to the current null
 vectors at every accepted point.  Along the curve kappa itself locates the strong resonances 1:1 (kappa = 1),
@@ -46,7 +46,7 @@ RESONANCE_KAPPA = ((PointKind.RESONANCE_1_1, 1.0), (PointKind.RESONANCE_1_2, -1.
 
 
 class TorusSystem(FoldSystem):
-    """H(U) = (collocation, phase condition, two entries of G) for U = (x nodes, T, V, q, kappa)."""
+    """H(U) = (collocation, phase condition, two entries of G) for U = (x nodes, T, p, q, kappa)."""
 
     def __init__(self, family, cycle: CyclePoint, q_scale: float, settings: CycleSettings = CycleSettings()):
         super().__init__(family, cycle, q_scale, settings, kind=PointKind.TORUS)
@@ -107,7 +107,7 @@ class TorusSystem(FoldSystem):
         if self._cache is not None and np.array_equal(self._cache[0], U):
             return self._cache[1]
         K = self.K
-        G, A, col_V, col_q, e = self._pieces(U)
+        G, A, col_p, col_q, e = self._pieces(U)
         core = self._chain(self._last_jacobian, float(U[K + 3]))
         M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b)],
                                [scipy.sparse.csc_matrix(self.c.T), None]], format="csc")
@@ -116,51 +116,51 @@ class TorusSystem(FoldSystem):
         rhs[-2:, :] = np.eye(2)
         Z = lu.solve(rhs)
         W = lu.solve(rhs, trans="T")
-        out = (G, A, col_V, col_q, e, Z, W)
+        out = (G, A, col_p, col_q, e, Z, W)
         self._cache = (U.copy(), out)
         return out
 
     def _parameter_jacobians(self, e: dict) -> tuple[np.ndarray, np.ndarray]:
-        """d f_x / dV and d f_x / dq at the collocation points (central differences), shared by all entries."""
+        """d f_x / dp and d f_x / dq at the collocation points (central differences), shared by all entries."""
         cp, n = self.cp, self.cp.n
         xk = e["Xc"].reshape(-1, n)
-        V, q = e["V"], e["q"]
-        hV, hq = FD_RELATIVE * cp.p_scale, FD_RELATIVE * self.q_scale
+        p, q = e["p"], e["q"]
+        hp, hq = FD_RELATIVE * cp.p_scale, FD_RELATIVE * self.q_scale
 
-        def jac(V_, q_):
-            return self.family.rhs_and_jacobians(xk, V_, q_)[1]
-        return (jac(V + hV, q) - jac(V - hV, q)) / (2 * hV), (jac(V, q + hq) - jac(V, q - hq)) / (2 * hq)
+        def jac(p_, q_):
+            return self.family.rhs_and_jacobians(xk, p_, q_)[1]
+        return (jac(p + hp, q) - jac(p - hp, q)) / (2 * hp), (jac(p, q + hq) - jac(p, q - hq)) / (2 * hq)
 
     def _entry_gradient(self, U: np.ndarray, e: dict, Z: np.ndarray, W: np.ndarray, i: int, j: int,
                         dJ: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
-        """d G_ij / dU = -W_i^T A_U Z_j over U = (nodes, T, V, q, kappa)."""
+        """d G_ij / dU = -W_i^T A_U Z_j over U = (nodes, T, p, q, kappa)."""
         cp, K = self.cp, self.K
         N, m, n = cp.intervals, cp.degree, cp.n
         kappa = float(U[K + 3])
-        T, V, q = e["T"], e["V"], e["q"]
+        T, p, q = e["T"], e["p"], e["q"]
         xk = e["Xc"].reshape(-1, n)
         Jf = e["Jf"].reshape(-1, n, n)
-        dJ_V, dJ_q = self._parameter_jacobians(e) if dJ is None else dJ
+        dJ_p, dJ_q = self._parameter_jacobians(e) if dJ is None else dJ
         v_copies = self._interval_values(Z[:, j], kappa)
         w_rows = W[:2 * K, i].reshape(2, N * m, n)                      # collocation rows of both periods
         g_nodes = np.zeros((N * m, n))
-        g_T = g_V = g_q = 0.0
+        g_T = g_p = g_q = 0.0
         for Yv, wk in zip(v_copies, w_rows):
             vk = col.collocation_states(Yv, cp.sch).reshape(-1, n)
             eps = FD_RELATIVE / max(np.max(np.abs(vk) / cp.scales), 1e-300)
-            H = (self.family.rhs_and_jacobians(xk + eps * vk, V, q)[1]
-                 - self.family.rhs_and_jacobians(xk - eps * vk, V, q)[1]) / (2.0 * eps)
+            H = (self.family.rhs_and_jacobians(xk + eps * vk, p, q)[1]
+                 - self.family.rhs_and_jacobians(xk - eps * vk, p, q)[1]) / (2.0 * eps)
             gx = np.einsum("ka,kab->kb", wk, T * H)
             np.add.at(g_nodes, col.node_index(N, m), np.einsum("ki,jkb->jib", cp.sch.L, gx.reshape(N, m, n)))
             g_T += float(np.einsum("ka,kab,kb->", wk, Jf, vk))
-            g_V += T * float(np.einsum("ka,kab,kb->", wk, dJ_V, vk))
+            g_p += T * float(np.einsum("ka,kab,kb->", wk, dJ_p, vk))
             g_q += T * float(np.einsum("ka,kab,kb->", wk, dJ_q, vk))
         # kappa enters the last interval of the second period only, through its right node 2 kappa v(1).
         B_last = self._last_jacobian.B[-1]                                # (m, n, m+1, n)
         v1 = Z[:2 * K, j].reshape(2 * N * m, n)[N * m]
         g_kappa = -float(np.sum(w_rows[1].reshape(N, m, n)[-1] * (2.0 * np.einsum("kab,b->ka", B_last[:, :, -1, :],
                                                                                    v1))))
-        return np.concatenate([g_nodes.ravel(), [g_T, g_V, g_q, g_kappa]])
+        return np.concatenate([g_nodes.ravel(), [g_T, g_p, g_q, g_kappa]])
 
     def _choose_entries(self, U: np.ndarray) -> None:
         """The two entries of G whose gradients are the most independent (smallest singular value largest)."""
@@ -175,14 +175,14 @@ class TorusSystem(FoldSystem):
     def __call__(self, U: np.ndarray):
         K = self.K
         try:
-            G, A, col_V, col_q, e, Z, W = self.evaluate(U)
+            G, A, col_p, col_q, e, Z, W = self.evaluate(U)
         except (ProblemError, RuntimeError):
             return np.full(K + 3, np.nan), SparseBordered(scipy.sparse.csr_matrix((K + 3, K + 4)))
         Gblk = Z[2 * K:, :]
         g = [Gblk[i, j] for i, j in self.entries]
         dJ = self._parameter_jacobians(e)
         grads = [self._entry_gradient(U, e, Z, W, i, j, dJ) for i, j in self.entries]
-        top = scipy.sparse.hstack([A, scipy.sparse.csc_matrix(col_V[:, None]), scipy.sparse.csc_matrix(col_q[:, None]),
+        top = scipy.sparse.hstack([A, scipy.sparse.csc_matrix(col_p[:, None]), scipy.sparse.csc_matrix(col_q[:, None]),
                                    scipy.sparse.csc_matrix((K + 1, 1))])
         J = scipy.sparse.vstack([top, scipy.sparse.csr_matrix(np.vstack(grads))], format="csr")
         return np.concatenate([G, g]), SparseBordered(J)

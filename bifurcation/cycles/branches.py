@@ -58,12 +58,12 @@ def hopf_predictor(family: Family, hopf: HopfPoint, amplitude: float,
                    scales: np.ndarray) -> tuple[float, float, np.ndarray]:
     """(p, |z|, q-eigenvector) of the normal-form cycle whose largest scaled state amplitude is ``amplitude``."""
     A = family.linear_matrix(hopf.p, hopf.q)
-    A_V = primary_derivative(family, hopf.p, hopf.q, A)
+    A_p = primary_derivative(family, hopf.p, hopf.q, A)
     q = hopf.eigenvector / np.linalg.norm(hopf.eigenvector)
     _, _, vh = np.linalg.svd(A.T + 1j * hopf.omega * np.eye(A.shape[0]))
-    p = vh[-1].conj()
-    p = p / np.conj(np.vdot(p, q))                           # p^H q = 1
-    mu_prime = float(np.vdot(p, A_V @ q).real)               # d Re(lambda) / dp
+    adjoint = vh[-1].conj()                                  # Kuznetsov's p (p here is the parameter)
+    adjoint = adjoint / np.conj(np.vdot(adjoint, q))         # p^H q = 1
+    mu_prime = float(np.vdot(adjoint, A_p @ q).real)         # d Re(lambda) / dp
     z = amplitude / (2.0 * np.max(np.abs(q) / scales))
     l1 = hopf.first_lyapunov
     if not np.isfinite(l1) or mu_prime == 0.0:
@@ -80,7 +80,7 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     """Problem, first cycle u0 and the direction away from the Hopf point (``ConvergenceError`` on failure)."""
     scales = state_scales(family, hopf.omega)
     period = 2.0 * np.pi / hopf.omega
-    V1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
+    p1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
     mesh = col.uniform_mesh(settings.intervals)
 
     def harmonic(tau):
@@ -89,7 +89,7 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
     problem = CycleProblem(family, family.primary, hopf.p, hopf.q, guess, scales, family.primary_scale,
                            settings)
-    u_pred = problem.pack(guess, V1)
+    u_pred = problem.pack(guess, p1)
     w = problem.weights()
     direction = np.concatenate([guess.nodes.ravel(), [0.0, 0.0]])
     direction /= np.linalg.norm(direction * w)
@@ -115,6 +115,26 @@ def _special(kind: PointKind, problem: CycleProblem, u: np.ndarray, bracket, sta
                               "multipliers": point.multipliers, "free": problem.free, "cycle": point})
 
 
+@dataclasses.dataclass
+class BranchFollowing:
+    """What :func:`follow_branch` has found so far, owned by it and updated after each accepted step: the problem
+    it follows stays free of continuation state.
+
+    ``records``, ``arclength`` and ``amplitudes`` run in step with the accepted points; ``tangent`` is the last
+    accepted tangent (carried onto a new mesh when the problem re-meshes), ``steps_since_adapt`` the accepted
+    points since the mesh was last adapted; ``user`` holds (arclength, orbit) at
+    the requested parameter values; ``end`` is the Hopf point the branch returned to, if any."""
+
+    records: list[CyclePoint]
+    arclength: list[float]
+    amplitudes: list[float]
+    user: list[tuple[float, CyclePoint]]
+    special: list[SpecialPoint] = dataclasses.field(default_factory=list)
+    tangent: np.ndarray | None = None
+    steps_since_adapt: int = 0
+    end: HopfPoint | None = None
+
+
 def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, lo: float, hi: float,
                   hopf: tuple[HopfPoint, ...] = (), start: HopfPoint | None = None,
                   accept_hook: Callable[[CyclePoint], None] | None = None, at: tuple[float, ...] = (),
@@ -129,27 +149,20 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     # The number of unknowns changes with the mesh: the free parameter and the period are always the last two.
     ip, iT = -1, -2
     settings = problem.settings
-    records = [problem.point(u0)]
-    special: list[SpecialPoint] = []
-    arclength = [0.0]
-    amplitudes = [problem.scaled_rms(u0)]
-    start_amplitude = amplitudes[0]
     start_period = float(u0[iT])
-    end: list[HopfPoint] = []
-    name = problem.free
-    user: list[tuple[float, CyclePoint]] = []     # (arclength, orbit)
     targets = tuple(float(v) for v in at)
-    user += [(0.0, problem.point(u0)) for v in targets if v == u0[ip]]
+    state = BranchFollowing(records=[problem.point(u0)], arclength=[0.0], amplitudes=[problem.scaled_rms(u0)],
+                            user=[(0.0, problem.point(u0)) for v in targets if v == u0[ip]])
 
     def where(u) -> str:
-        V, q = problem.parameters(u[ip])
-        return describe(problem.family, V, None if problem.free == problem.family.primary else q)
+        p, q = problem.parameters(u[ip])
+        return describe(problem.family, p, None if problem.free == problem.family.primary else q)
 
     def locate(branch: Branch, k: int, s_hi: float, fun, kind: PointKind) -> None:
-        s0 = arclength[k]
+        s0 = state.arclength[k]
         u, _, ok = locate_on_step(branch, k, s_hi, fun)
-        special.append(_special(kind, problem, u, (s0, s0 + s_hi),
-                                PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED))
+        state.special.append(_special(kind, problem, u, (s0, s0 + s_hi),
+                                      PointStatus.LOCATED if ok else PointStatus.NOT_CONVERGED))
 
     def nontrivial(u):
         return classify_multipliers(problem.multipliers(u))[0]
@@ -158,7 +171,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         k = len(branch.points) - 2
         u_new = branch.points[-1]
         step = branch.steps[-1]
-        problem.last_tangent = branch.tangents[-1]
+        state.tangent = branch.tangents[-1]
         verdict = None
         for bound, side in ((lo, -1), (hi, 1)):
             if side * (u_new[ip] - bound) <= 0.0:
@@ -177,7 +190,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                 break
             u_new = u_cut
             branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_cut, s
-            problem.last_tangent = t_cut
+            state.tangent = t_cut
             step = s
             verdict = Stop(BranchStatus.COMPLETE, f"left the window at {where(u_new)}")
             break
@@ -187,7 +200,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         X_old, X_new = branch.points[k][:problem.size], u_new[:problem.size]
         if np.dot(X_old, X_new) < 0.0:
             branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-            return _hopf_end(branch.points, amplitudes, records[-1]) or Stop(
+            return _hopf_end(branch.points, state.amplitudes, state.records[-1]) or Stop(
                 BranchStatus.COMPLETE, f"amplitude vanishes near {where(branch.points[-1])} (a Hopf point the "
                 f"defining system of the equilibrium did not converge to)")
         p_old = branch.points[k][ip]
@@ -197,12 +210,12 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                     s = step if u_new[ip] == target else scipy.optimize.brentq(
                         lambda s: branch.point_at(k, s)[0][ip] - target, 0.0, step, xtol=1e-13, rtol=1e-12)
                     u_at = u_new if s == step else branch.point_at(k, s)[0]
-                    user.append((arclength[-1] + s, problem.point(u_at)))
+                    state.user.append((state.arclength[-1] + s, problem.point(u_at)))
                 except (RuntimeError, ValueError):
                     pass    # reported as missing by the caller (no orbit at that value on this branch)
-        arclength.append(arclength[-1] + step)
+        state.arclength.append(state.arclength[-1] + step)
         rec = problem.point(u_new)
-        prev = records[-1]
+        prev = state.records[-1]
         if np.sign(branch.tangents[k][ip]) != np.sign(branch.tangents[-1][ip]):
             locate(branch, k, step, lambda u, t: t[ip], PointKind.CYCLE_FOLD)
         mu_prev, mu_new = prev.nontrivial, rec.nontrivial
@@ -210,16 +223,17 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             locate(branch, k, step, lambda u, t: torus_test(nontrivial(u)), PointKind.TORUS)
         if negative_outside(mu_prev) != negative_outside(mu_new):
             locate(branch, k, step, lambda u, t: period_doubling_test(nontrivial(u)), PointKind.PERIOD_DOUBLING)
-        records.append(rec)
-        amplitudes.append(amp)
+        state.records.append(rec)
+        state.amplitudes.append(amp)
         if accept_hook is not None:
             accept_hook(rec)
         if verdict is not None:
             return verdict
         # Near a Hopf point amp^2 is affine in the parameter: when it extrapolates to zero within one more
         # step of the same size, the Hopf point of the equilibrium is solved for and the branch ends there.
-        if len(records) > 2 and amp < amplitudes[-2] and amp ** 2 <= amplitudes[-2] ** 2 - amp ** 2:
-            ended = _hopf_end(branch.points, amplitudes, rec)
+        before = state.amplitudes[-2]
+        if len(state.records) > 2 and amp < before and amp ** 2 <= before ** 2 - amp ** 2:
+            ended = _hopf_end(branch.points, state.amplitudes, rec)
             if ended is not None:
                 return ended
         if u_new[iT] > PERIOD_LIMIT * start_period:
@@ -243,20 +257,23 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         match = [h for h in hopf if abs(h.p - located.p) <= 1e-6 * max(1.0, abs(h.p))
                  and abs(h.omega - located.omega) <= 1e-6 * h.omega]
         h = match[0] if match else located
-        end.append(h)
+        state.end = h
         return Stop(BranchStatus.COMPLETE, f"returns to the Hopf point at {describe(problem.family, h.p)}")
 
     def renormalize(u):
         # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
         # So do the user points of the step just taken (re-solved at their values on the new mesh).
-        result = problem.renormalize(u)
-        if result is not None and records and len(result[0]) != len(u):
-            records[-1] = problem.point(result[0])
-            for i in range(len(user)):
-                s_i, cyc = user[i]
-                if s_i > arclength[-2]:
+        state.steps_since_adapt += 1
+        result = problem.renormalize(u, state.tangent, state.steps_since_adapt)
+        if result is not None:
+            state.steps_since_adapt = 0
+        if result is not None and state.records and len(result[0]) != len(u):
+            state.records[-1] = problem.point(result[0])
+            for i in range(len(state.user)):
+                s_i, cyc = state.user[i]
+                if s_i > state.arclength[-2]:
                     try:
-                        user[i] = (s_i, cycle_at(problem.family, cyc, cyc.p, settings, mesh=problem.mesh))
+                        state.user[i] = (s_i, cycle_at(problem.family, cyc, cyc.p, settings, mesh=problem.mesh))
                     except ConvergenceError:
                         pass    # keeps its coarser orbit, which says so through its error estimate
         return result
@@ -271,8 +288,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                             value=problem.value if problem.family.costly_jacobian else None)
     # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from that
     # cycle shrunk towards the Hopf point as the square root of the distance (amp^2 affine near a Hopf point).
-    for hopf_end, near in ((start, records[0] if records else None), (end[0] if end else None,
-                                                                      records[-1] if records else None)):
+    first, last = (state.records[0], state.records[-1]) if state.records else (None, None)
+    for hopf_end, near in ((start, first), (state.end, last)):
         if hopf_end is None or near is None or problem.free != problem.family.primary:
             continue
         for target in targets:
@@ -281,19 +298,20 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                     cyc = cycle_at(problem.family, toward_hopf(near, hopf_end, target), target, settings)
                 except ConvergenceError:
                     continue
-                user.append((-1.0 if near is records[0] else arclength[-1] + 1.0, cyc))
+                state.user.append((-1.0 if near is first else state.arclength[-1] + 1.0, cyc))
     # The segments between the Hopf ends and the nearest computed cycles, tested like the others.
-    if records and problem.free == problem.family.primary:
+    if state.records and problem.free == problem.family.primary:
         if start is not None:
-            special += end_segment_points(problem.family, records[0], start, settings, 0.0, -1.0)
-        if end:
-            special += end_segment_points(problem.family, records[-1], end[0], settings, arclength[-1], 1.0)
+            state.special += end_segment_points(problem.family, state.records[0], start, settings, 0.0, -1.0)
+        if state.end is not None:
+            state.special += end_segment_points(problem.family, state.records[-1], state.end, settings,
+                                                state.arclength[-1], 1.0)
     message = branch.message
     if not branch.status.is_complete:
         message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
-    return CycleBranch(free=problem.free, points=tuple(records), special_points=tuple(special),
-                       status=branch.status, message=message, start=start, end=end[0] if end else None,
-                       user_points=tuple(c for _, c in sorted(user, key=lambda x: x[0])))
+    return CycleBranch(free=problem.free, points=tuple(state.records), special_points=tuple(state.special),
+                       status=branch.status, message=message, start=start, end=state.end,
+                       user_points=tuple(c for _, c in sorted(state.user, key=lambda x: x[0])))
 
 
 def toward_hopf(near: CyclePoint, hopf: HopfPoint, p: float) -> CyclePoint:
@@ -430,9 +448,9 @@ def branch_peak(family: Family, branch: CycleBranch, name: str,
     lo, hi = sorted((branch.points[k - 1].p, branch.points[k + 1].p))
     cache: dict[float, CyclePoint] = {}
 
-    def negative(V):
-        cache[V] = cycle_at(family, branch.points[k], V, settings)
-        return -cache[V].max_abs(name)
+    def negative(p):
+        cache[p] = cycle_at(family, branch.points[k], p, settings)
+        return -cache[p].max_abs(name)
 
     res = scipy.optimize.minimize_scalar(negative, bounds=(lo, hi), method="bounded",
                                          options={"xatol": 1e-7 * (1.0 + abs(hi))})

@@ -50,8 +50,8 @@ def hopf_multipliers(family: Family, hopf: HopfPoint) -> np.ndarray:
 
 
 def hopf_side(family: Family, hopf: HopfPoint) -> float:
-    """sign(V - V_H) of the small cycles near ``hopf``: -l1 / mu' (Kuznetsov 2004, theorem 3.3, with mu' =
-    d Re lambda / dV); NaN when l1 is unknown."""
+    """sign(p - p_H) of the small cycles near ``hopf``: -l1 / mu' (Kuznetsov 2004, theorem 3.3, with mu' =
+    d Re lambda / dp); NaN when l1 is unknown."""
     if not np.isfinite(hopf.first_lyapunov) or hopf.first_lyapunov == 0.0:
         return float("nan")
     A = family.linear_matrix(hopf.p, hopf.q)
@@ -118,7 +118,7 @@ class EndSegment:
         return classify_multipliers(mu)[0]
 
     def fold_test(self, c: float) -> float:
-        """(dV/dc) / c: finite at the Hopf point, where V - V_H ~ c^2, and through zero at a fold of cycles.  At
+        """(dp/dc) / c: finite at the Hopf point, where p - p_H ~ c^2, and through zero at a fold of cycles.  At
         c = 0 only its sign is exact (the normal form's side of the small cycles): Brent needs no more."""
         if c == 0.0:
             if not np.isfinite(self.side):

@@ -81,12 +81,12 @@ class _Forms:
             self.pieces = system._pieces(U)
             system._last_jacobian = kept
         e = self.pieces[4]
-        self.T, V, q = e["T"], e["V"], e["q"]
+        self.T, p, q = e["T"], e["p"], e["q"]
         self.Jf = e["Jf"]
         self.J0 = self.Jf.reshape(-1, self.n, self.n)
         self.xk = e["Xc"].reshape(-1, self.n)
         self.quad = (cp.widths[:, None] * cp.sch.weights[None, :]).reshape(-1)    # Gauss weights on [0, 1]
-        self.jac = lambda X: system.family.rhs_and_jacobians(X, V, q)[1]   # noqa: E731
+        self.jac = lambda X: system.family.rhs_and_jacobians(X, p, q)[1]   # noqa: E731
 
     def at_points(self, nodes: np.ndarray, signs: np.ndarray | None = None) -> np.ndarray:
         N, m, n = self.N, self.m, self.n

@@ -61,8 +61,8 @@ class CyclePoint:
     p: float                         # the family's primary parameter (SI)
     q: float                         # the family's second parameter (SI)
     period: float                    # s
-    amplitude: np.ndarray = field(repr=False)     # (8,) max over the orbit of |x_i|, SI
-    multipliers: np.ndarray = field(repr=False)   # (8,) complex, by decreasing modulus, trivial one included
+    amplitude: np.ndarray = field(repr=False)     # (n,) max over the orbit of |x_i|, SI
+    multipliers: np.ndarray = field(repr=False)   # (n,) complex, by decreasing modulus, trivial one included
     trivial: complex = 1.0                        # the multiplier taken as the trivial one (nearest +1)
     stable: bool = False
     orbit: col.Orbit = field(default=None, compare=False, repr=False)
@@ -164,7 +164,8 @@ class CycleProblem:
     """G(u) = 0 for u = (node values, T, p): collocation + phase condition, Jacobian in condensed block form.
 
     ``free`` is the family's ``primary`` or its ``param``; the other of (p, q) stays fixed.  The mesh
-    and the phase reference are state of the problem, updated between continuation steps (:meth:`renormalize`).
+    and the phase reference are state of the problem, updated between continuation steps (:meth:`renormalize`);
+    the continuation's own state (tangent, steps since the last adaptation) stays with the algorithm.
     """
 
     def __init__(self, family: Family, free: str, p: float, q: float, orbit: col.Orbit,
@@ -178,8 +179,6 @@ class CycleProblem:
         self.settings = settings
         self.sch = col.scheme(orbit.degree)
         self.degree, self.n = orbit.degree, orbit.n
-        self.steps_since_adapt = 0
-        self.last_tangent: np.ndarray | None = None
         self._cache: tuple[np.ndarray, dict] | None = None
         self.set_reference(orbit)
 
@@ -251,12 +250,12 @@ class CycleProblem:
     def _unpack(self, u: np.ndarray) -> dict:
         """Node values per interval, states at the collocation points, period and parameters of u."""
         X = u[:self.size].reshape(-1, self.n)
-        T, p = float(u[self.size]), float(u[self.size + 1])
-        V, q = self.parameters(p)
+        T, free = float(u[self.size]), float(u[self.size + 1])
+        p, q = self.parameters(free)
         Y = X[col.node_index(self.intervals, self.degree)]
         return {"Y": Y, "Xc": col.collocation_states(Y, self.sch),
                 "dX": col.collocation_derivatives(Y, self.widths, self.sch),
-                "T": T, "V": V, "q": q, "p": p}
+                "T": T, "p": p, "q": q, "free": free}
 
     def _phase(self, Xc: np.ndarray) -> float:
         gw = self.widths[:, None] * self.sch.weights[None, :]                       # (N, m) quadrature
@@ -267,7 +266,7 @@ class CycleProblem:
             return self._cache[1]
         N, m, n = self.intervals, self.degree, self.n
         out = self._unpack(u)
-        f, Jf = self.family.rhs_and_jacobians(out["Xc"].reshape(-1, n), out["V"], out["q"])
+        f, Jf = self.family.rhs_and_jacobians(out["Xc"].reshape(-1, n), out["p"], out["q"])
         out.update(f=f.reshape(N, m, n), Jf=Jf.reshape(N, m, n, n))
         self._cache = (u.copy(), out)
         return out
@@ -277,7 +276,7 @@ class CycleProblem:
         N, m, n = self.intervals, self.degree, self.n
         e = self._unpack(u)
         try:
-            f = np.asarray(self.family.rhs(e["Xc"].reshape(-1, n).T, e["V"], e["q"])).T.reshape(N, m, n)
+            f = np.asarray(self.family.rhs(e["Xc"].reshape(-1, n).T, e["p"], e["q"])).T.reshape(N, m, n)
         except ProblemError:
             return np.full(self.size + 1, np.nan)
         return np.concatenate([(e["dX"] - e["T"] * f).ravel(), [self._phase(e["Xc"])]])
@@ -298,7 +297,7 @@ class CycleProblem:
                     col.CondensedJacobian(np.full((N, m, n, m + 1, n), np.nan), nan, nan, nan.reshape(-1, n)))
         T = e["T"]
         G = np.concatenate([(e["dX"] - T * e["f"]).ravel(), [self._phase(e["Xc"])]])
-        dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["V"], e["q"]).reshape(N, m, n)
+        dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["p"], e["q"]).reshape(N, m, n)
         return G, col.CondensedJacobian(self.blocks(u), -e["f"], -T * dfdp, self.phase_gradient)
 
     # --- results -------------------------------------------------------------------------------------
@@ -309,11 +308,11 @@ class CycleProblem:
 
     def point(self, u: np.ndarray) -> CyclePoint:
         orbit = self.orbit_of(u)
-        V, q = self.parameters(u[self.size + 1])
+        p, q = self.parameters(u[self.size + 1])
         mu = self.multipliers(u)
         rest, trivial = classify_multipliers(mu)
         amplitude = orbit.maxima()
-        return CyclePoint(p=V, q=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
+        return CyclePoint(p=p, q=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
                           trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
                           error=mesh_adaptation.relative_error(orbit, self.scales, amplitude),
                           tolerance=self.settings.tolerance,
@@ -337,7 +336,7 @@ class CycleProblem:
         return float(np.sqrt(np.sum(self.orbit_of(u).mean_square() / self.scales ** 2)))
 
     # --- between steps -------------------------------------------------------------------------------
-    def renormalize(self, u: np.ndarray):
+    def renormalize(self, u: np.ndarray, tangent: np.ndarray | None, steps_since_adapt: int):
         """Every ``adapt_every`` accepted points, and at once when the orbit misses the error tolerance: adapt
         the mesh (number of intervals from :meth:`needed_intervals`, distribution by equidistribution) and make
         the current orbit the phase reference (AUTO's IAD; in between the reference is a recent orbit, which
@@ -345,22 +344,22 @@ class CycleProblem:
 
         After re-meshing, the interpolated orbit is corrected on the new mesh (Newton on the hyperplane through
         it, orthogonal to the interpolated tangent), so that the branch stays on solutions of the discretisation
-        actually used.  Returns None when nothing changed, else (new point, previous tangent carried over to the
-        new mesh) for the continuation to orient its tangent.
+        actually used.  ``tangent`` (the continuation's tangent at u; None before the first step: nothing is
+        done) and ``steps_since_adapt`` (accepted points since the last adaptation, this one included) are the
+        caller's state.  Returns None when nothing changed, else (new point, the tangent carried over to the new
+        mesh) for the continuation to orient its tangent; the caller then counts its steps from zero again.
         """
-        self.steps_since_adapt += 1
-        if self.last_tangent is None:
+        if tangent is None:
             return None
         orbit = self.orbit_of(u)
         N = self.needed_intervals(orbit)
-        if N <= orbit.intervals and self.steps_since_adapt < self.settings.adapt_every:
+        if N <= orbit.intervals and steps_since_adapt < self.settings.adapt_every:
             return None
-        self.steps_since_adapt = 0
         new_mesh = mesh_adaptation.adapted_mesh(orbit, self.scales, intervals=N)
         if N != orbit.intervals or mesh_adaptation.mesh_quality(self.mesh, new_mesh) > 0.05:
-            return self.move_to_mesh(u, self.last_tangent, new_mesh)
+            return self.move_to_mesh(u, tangent, new_mesh)
         self.set_reference(orbit)
-        return u, self.last_tangent
+        return u, tangent
 
     def move_to_mesh(self, u: np.ndarray, t: np.ndarray, mesh: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The solution u interpolated onto ``mesh`` and corrected there by Newton on the hyperplane through it

@@ -1,7 +1,7 @@
 """Hopf points of the equilibrium in a window of the primary parameter p.
 
 Seeding is exact rather than by sampling: the Jacobian at the equilibrium is often affine in p, A(p) = A0 + p A1,
-so the bialternate product 2A(V) (.) I (whose eigenvalues are the sums lambda_i + lambda_j, i < j) is an affine
+so the bialternate product 2A(p) (.) I (whose eigenvalues are the sums lambda_i + lambda_j, i < j) is an affine
 matrix pencil, and *every* p with an eigenvalue pair summing to zero (a Hopf point or a neutral saddle) is a
 finite real generalized eigenvalue of that pencil (Govaerts, Numerical Methods for Bifurcations of Dynamical
 Equilibria, SIAM 2000, ch. 4; Guckenheimer, Myers & Sturmfels, SIAM J. Numer. Anal. 34, 1997).  Close pairs of Hopf
@@ -24,6 +24,7 @@ from bifurcation.problem import Family, clip_window, describe
 from bifurcation.special_points import ConvergenceError, Criticality
 
 NEWTON_MAX_ITER = 30
+PRIMARY_STEPS_PER_SCALE = 1000.0   # the step of dA/dp is primary_scale / this: relative, whatever the unit of p
 
 
 @dataclass(frozen=True)
@@ -56,8 +57,9 @@ def eigenvalues(family: Family, p: float, q: float) -> np.ndarray:
 
 
 def primary_derivative(family: Family, p: float, q: float, A: np.ndarray | None = None) -> np.ndarray:
-    """dA/dp.  One-sided: where A is affine in p (module docstring) the difference quotient is exact."""
-    h = 1e-2
+    """dA/dp by a forward difference of a thousandth of the family's ``primary_scale`` (so the same relative step
+    whatever p's unit).  One-sided: where A is affine in p (module docstring) the difference quotient is exact."""
+    h = family.primary_scale / PRIMARY_STEPS_PER_SCALE
     if A is None:
         A = family.linear_matrix(p, q)
     return (family.linear_matrix(p + h, q) - A) / h
@@ -78,14 +80,14 @@ def hopf_residual(A: np.ndarray, vr, vi, omega, cr, ci) -> np.ndarray:
     return np.concatenate([A @ vr + omega * vi, A @ vi - omega * vr, [cr @ vr + ci @ vi - 1.0, cr @ vi - ci @ vr]])
 
 
-def hopf_jacobian(A, A_V, vr, vi, omega, cr, ci, A_q=None) -> np.ndarray:
-    """Jacobian of :func:`hopf_residual` in (vr, vi, omega, V[, q])."""
+def hopf_jacobian(A, A_p, vr, vi, omega, cr, ci, A_q=None) -> np.ndarray:
+    """Jacobian of :func:`hopf_residual` in (vr, vi, omega, p[, q])."""
     n = A.shape[0]
     I = np.eye(n)
     cols = 2 * n + 2 + (A_q is not None)
     J = np.zeros((2 * n + 2, cols))
-    J[:n, :n], J[:n, n:2 * n], J[:n, 2 * n], J[:n, 2 * n + 1] = A, omega * I, vi, A_V @ vr
-    J[n:2 * n, :n], J[n:2 * n, n:2 * n], J[n:2 * n, 2 * n], J[n:2 * n, 2 * n + 1] = -omega * I, A, -vr, A_V @ vi
+    J[:n, :n], J[:n, n:2 * n], J[:n, 2 * n], J[:n, 2 * n + 1] = A, omega * I, vi, A_p @ vr
+    J[n:2 * n, :n], J[n:2 * n, n:2 * n], J[n:2 * n, 2 * n], J[n:2 * n, 2 * n + 1] = -omega * I, A, -vr, A_p @ vi
     J[2 * n, :n], J[2 * n, n:2 * n] = cr, ci
     J[2 * n + 1, :n], J[2 * n + 1, n:2 * n] = -ci, cr
     if A_q is not None:
@@ -104,10 +106,10 @@ def locate_hopf(family: Family, q: float, p: float, omega: float, v: np.ndarray,
     cr, ci = v.real.copy(), v.imag.copy()
     y = np.concatenate([v.real, v.imag, [omega, p]])
     for it in range(1, NEWTON_MAX_ITER + 1):
-        vr, vi, w, V = y[:n], y[n:2 * n], y[2 * n], y[2 * n + 1]
-        A = family.linear_matrix(V, q)
+        vr, vi, w, p_k = y[:n], y[n:2 * n], y[2 * n], y[2 * n + 1]
+        A = family.linear_matrix(p_k, q)
         r = hopf_residual(A, vr, vi, w, cr, ci)
-        J = hopf_jacobian(A, primary_derivative(family, V, q, A), vr, vi, w, cr, ci)
+        J = hopf_jacobian(A, primary_derivative(family, p_k, q, A), vr, vi, w, cr, ci)
         dy = np.linalg.solve(J, -r)
         y = y + dy
         if np.max(np.abs(dy[2 * n:])) < tol * (1.0 + abs(y[2 * n + 1])) and np.max(np.abs(r)) < 1e-8:
@@ -115,14 +117,14 @@ def locate_hopf(family: Family, q: float, p: float, omega: float, v: np.ndarray,
     else:
         raise ConvergenceError(f"Hopf Newton did not converge near {describe(family, p, q)} "
                                f"(last step {np.max(np.abs(dy)):.2e})")
-    vr, vi, w, V = y[:n], y[n:2 * n], abs(y[2 * n]), y[2 * n + 1]
+    vr, vi, w, p_hopf = y[:n], y[n:2 * n], abs(y[2 * n]), y[2 * n + 1]
     vec = vr + 1j * vi if y[2 * n] > 0 else vr - 1j * vi
     l1 = float("nan")
     if lyapunov:
-        A = family.linear_matrix(V, q)
-        x0 = family.equilibrium(V, q)
-        l1 = first_lyapunov_coefficient(family.multilinear_forms(x0, V, q), A, w, vec)
-    return HopfPoint(p=float(V), q=float(q), omega=float(w), first_lyapunov=l1, eigenvector=vec,
+        A = family.linear_matrix(p_hopf, q)
+        x0 = family.equilibrium(p_hopf, q)
+        l1 = first_lyapunov_coefficient(family.multilinear_forms(x0, p_hopf, q), A, w, vec)
+    return HopfPoint(p=float(p_hopf), q=float(q), omega=float(w), first_lyapunov=l1, eigenvector=vec,
                      newton_iterations=it)
 
 
@@ -168,13 +170,13 @@ def hopf_seeds(family: Family, q: float, p_min: float, p_max: float) -> list[flo
         roots = scipy.linalg.eigvals(B0, -B1)
         finite = roots[np.isfinite(roots)]
         real = finite[np.abs(finite.imag) <= 1e-7 * (1.0 + np.abs(finite.real))].real
-        return sorted(float(V) for V in real if p_min - 1e-9 <= V <= p_max + 1e-9)
+        return sorted(float(p) for p in real if p_min - 1e-9 <= p <= p_max + 1e-9)
     return _scan_hopf_seeds(family, q, p_min, p_max)
 
 
 def _scan_hopf_seeds(family: Family, q: float, p_min: float, p_max: float, n: int = 801) -> list[float]:
     grid = np.linspace(p_min, p_max, n)
-    unstable = np.array([np.sum(np.linalg.eigvals(family.linear_matrix(V, q)).real > 0) for V in grid])
+    unstable = np.array([np.sum(np.linalg.eigvals(family.linear_matrix(p, q)).real > 0) for p in grid])
     idx = np.nonzero(np.diff(unstable))[0]
     return [0.5 * (grid[i] + grid[i + 1]) for i in idx]
 
@@ -190,11 +192,11 @@ def hopf_points(family: Family, q: float, p_min: float, p_max: float,
     family.validate(q)
     p_min, p_max = clip_window(family, p_min, p_max)
     found: list[HopfPoint] = []
-    for V in hopf_seeds(family, q, p_min, p_max):
-        pair = _hopf_pair(family.linear_matrix(V, q))
+    for p in hopf_seeds(family, q, p_min, p_max):
+        pair = _hopf_pair(family.linear_matrix(p, q))
         if pair is None:
             continue
-        point = locate_hopf(family, q, V, *pair, lyapunov=lyapunov)
+        point = locate_hopf(family, q, p, *pair, lyapunov=lyapunov)
         if p_min <= point.p <= p_max and not any(abs(point.p - h.p) < 1e-7 and
                                              abs(point.omega - h.omega) < 1e-6 for h in found):
             found.append(point)

@@ -1,6 +1,6 @@
-"""Two-parameter Hopf curves in the (V, q) plane by pseudo-arclength continuation of the Hopf defining system.
+"""Two-parameter Hopf curves in the (p, q) plane by pseudo-arclength continuation of the Hopf defining system.
 
-Unknowns u = (Re v, Im v, omega, V, q); equations (A(V, q) - i omega I) v = 0 and c^H v = 1, the reference c being
+Unknowns u = (Re v, Im v, omega, p, q); equations (A(p, q) - i omega I) v = 0 and c^H v = 1, the reference c being
 reset to the current eigenvector after each accepted point.  Curves are followed through their folds (the
 arclength parametrisation does not care which way the curve faces).  Along each curve three test functions are
 watched and their zeros located by Brent's method on the corrected curve (Govaerts 2000, ch. 4; Kuznetsov 2004,
@@ -75,7 +75,7 @@ class HopfDiagram:
 
 
 class _HopfProblem:
-    """The residual of the Hopf system in (v, omega, V, q) with a movable phase reference c."""
+    """The residual of the Hopf system in (v, omega, p, q) with a movable phase reference c."""
 
     def __init__(self, family: Family, q_scale: float, v: np.ndarray):
         self.family = family
@@ -92,40 +92,40 @@ class _HopfProblem:
         return u[:n], u[n:2 * n], u[2 * n], u[2 * n + 1], u[2 * n + 2]
 
     def __call__(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        vr, vi, w, V, q = self.unpack(u)
+        vr, vi, w, p, q = self.unpack(u)
         try:
-            A = self.family.linear_matrix(V, q)
-            A_V = primary_derivative(self.family, V, q, A)
-            A_q = parameter_derivative(self.family, V, q, self.q_scale, A)
+            A = self.family.linear_matrix(p, q)
+            A_p = primary_derivative(self.family, p, q, A)
+            A_q = parameter_derivative(self.family, p, q, self.q_scale, A)
         except ProblemError:
             nan = np.full(2 * self.n + 2, np.nan)
             return nan, np.full((2 * self.n + 2, 2 * self.n + 3), np.nan)
         return (hopf_residual(A, vr, vi, w, self.cr, self.ci),
-                hopf_jacobian(A, A_V, vr, vi, w, self.cr, self.ci, A_q))
+                hopf_jacobian(A, A_p, vr, vi, w, self.cr, self.ci, A_q))
 
     def renormalize(self, u: np.ndarray) -> np.ndarray | None:
         """Reset the phase reference to the current eigenvector once it has drifted (None: no change)."""
-        vr, vi, w, V, q = self.unpack(u)
+        vr, vi, w, p, q = self.unpack(u)
         v = vr + 1j * vi
         if abs(np.linalg.norm(v) - 1.0) < 0.05:
             return None
         v = v / np.linalg.norm(v)
         self.set_reference(v)
-        return np.concatenate([v.real, v.imag, [w, V, q]])
+        return np.concatenate([v.real, v.imag, [w, p, q]])
 
     def other_eigenvalues(self, u: np.ndarray) -> np.ndarray:
         """Eigenvalues other than the tracked pair +-i omega."""
-        _, _, w, V, q = self.unpack(u)
-        lam = np.linalg.eigvals(self.family.linear_matrix(V, q))
+        _, _, w, p, q = self.unpack(u)
+        lam = np.linalg.eigvals(self.family.linear_matrix(p, q))
         for target in (1j * w, -1j * w):
             lam = np.delete(lam, np.argmin(np.abs(lam - target)))
         return lam
 
     def first_lyapunov(self, u: np.ndarray) -> float:
-        vr, vi, w, V, q = self.unpack(u)
-        A = self.family.linear_matrix(V, q)
-        x0 = self.family.equilibrium(V, q)
-        return first_lyapunov_coefficient(self.family.multilinear_forms(x0, V, q), A, abs(w),
+        vr, vi, w, p, q = self.unpack(u)
+        A = self.family.linear_matrix(p, q)
+        x0 = self.family.equilibrium(p, q)
+        return first_lyapunov_coefficient(self.family.multilinear_forms(x0, p, q), A, abs(w),
                                           vr + 1j * vi if w > 0 else vr - 1j * vi)
 
 
@@ -153,7 +153,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
             p_max: float, settings: ContinuationSettings) -> tuple[Branch, list[SpecialPoint], list]:
     """Continue from ``start`` along ``direction``; returns the branch, its special points and per-point l1."""
     n = problem.n
-    iq, iV, iw = 2 * n + 2, 2 * n + 1, 2 * n
+    iq, ip, iw = 2 * n + 2, 2 * n + 1, 2 * n
     w = _weights(problem.family, hi - lo)
     found: list[SpecialPoint] = []
     l1s = [problem.first_lyapunov(start)]
@@ -171,7 +171,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         data = {"omega": float(abs(u[iw]))}
         if extra is not None:
             data.update(extra(u))
-        found.append(SpecialPoint(kind=kind, p=float(u[iV]), q=float(u[iq]),
+        found.append(SpecialPoint(kind=kind, p=float(u[ip]), q=float(u[iq]),
                                   bracket=(s0, s0 + s_hi), status=status, data=data))
 
     def accept(branch: Branch) -> Stop | None:
@@ -180,7 +180,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         step = branch.steps[-1]
         verdict = None
         # Window boundary: cut the step at the crossing and stop there.
-        for idx, bound, side in ((iV, p_min, -1), (iV, p_max, 1), (iq, lo, -1), (iq, hi, 1)):
+        for idx, bound, side in ((ip, p_min, -1), (ip, p_max, 1), (iq, lo, -1), (iq, hi, 1)):
             if side * (u_new[idx] - bound) <= 0.0:
                 continue
             if side * (branch.points[k][idx] - bound) >= 0.0:
@@ -188,7 +188,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
                 u_end = branch.points[-1]
                 return Stop(BranchStatus.COMPLETE,
-                            f"ends on the window boundary at {describe(problem.family, u_end[iV], u_end[iq])}")
+                            f"ends on the window boundary at {describe(problem.family, u_end[ip], u_end[iq])}")
             else:
                 s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][idx] - bound, 0.0, step,
                                           xtol=1e-13)
@@ -197,7 +197,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                 branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
                 step = s
                 verdict = Stop(BranchStatus.COMPLETE,
-                               f"left the window at {describe(problem.family, u_new[iV], u_new[iq])}")
+                               f"left the window at {describe(problem.family, u_new[ip], u_new[iq])}")
                 break
         arclength.append(arclength[-1] + step)
         l1_new = problem.first_lyapunov(u_new)
@@ -219,11 +219,11 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         if verdict is not None:
             return verdict
         if abs(u_new[iw]) < MIN_OMEGA:
-            return Stop(BranchStatus.DEGENERATE, f"frequency vanished at {describe(problem.family, u_new[iV])}")
+            return Stop(BranchStatus.DEGENERATE, f"frequency vanished at {describe(problem.family, u_new[ip])}")
         if len(branch.points) > 4:
             a, b = branch.points[-2], branch.points[-1]
-            seg = (b - a)[[iV, iq, iw]] * w[[iV, iq, iw]]
-            rel = (branch.points[0] - a)[[iV, iq, iw]] * w[[iV, iq, iw]]
+            seg = (b - a)[[ip, iq, iw]] * w[[ip, iq, iw]]
+            rel = (branch.points[0] - a)[[ip, iq, iw]] * w[[ip, iq, iw]]
             lam = np.clip(np.dot(rel, seg) / max(np.dot(seg, seg), 1e-300), 0.0, 1.0)
             if np.linalg.norm(rel - lam * seg) < 1e-3:
                 return Stop(BranchStatus.CLOSED, "the curve returned to its start")
@@ -274,7 +274,7 @@ def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, p_min: fl
 
 
 def _on_curve(curve: HopfCurve, point: HopfPoint, q_range: float, tol: float = 5e-3) -> bool:
-    """Whether a Hopf point lies on an already computed curve (same place in (V, q) and same frequency)."""
+    """Whether a Hopf point lies on an already computed curve (same place in (p, q) and same frequency)."""
     P = np.column_stack([curve.ps / PRIMARY_SCALE, curve.qs / q_range])
     x = np.array([point.p / PRIMARY_SCALE, point.q / q_range])
     if len(P) < 2:  # a curve that stopped at its seed (a corner of the window)

@@ -9,7 +9,7 @@ import pytest
 
 from axles import paper_reference as paper
 from axles.units import BAR, KMH, kmh
-from bifurcation.equilibria.hopf import bialternate, hopf_points
+from bifurcation.equilibria.hopf import bialternate, hopf_points, primary_derivative
 from bifurcation.equilibria.hopf_curves import hopf_diagram
 from bifurcation.equilibria.normal_form import CauchyForms, DifferenceForms, first_lyapunov_coefficient
 from bifurcation.special_points import Criticality, PointKind, PointStatus
@@ -24,6 +24,30 @@ def test_bialternate_eigenvalues_are_pair_sums():
     sums = np.array([lam[i] + lam[j] for i in range(8) for j in range(i + 1, 8)])
     bi = np.linalg.eigvals(bialternate(A))
     assert max(np.min(np.abs(bi - s)) for s in sums) < 1e-10
+
+
+class CurvedPencil:
+    """A(p) = exp(p / unit) M: the same family whatever unit p is measured in, primary_scale following the unit."""
+
+    def __init__(self, unit: float):
+        self.unit, self.primary_scale = unit, unit
+        self.M = np.array([[0.0, -1.0], [1.0, -0.5]])
+
+    def linear_matrix(self, p, q):
+        return np.exp(p / self.unit) * self.M
+
+
+def test_the_step_of_dA_dp_is_relative_to_the_primary_scale():
+    """dA/dp by a step relative to the family's primary_scale: the derivative of a family whose A is not affine in
+    p does not depend on the unit p is measured in (an absolute step gave a 1000 times smaller relative step in
+    the finer unit), and its one-sided error is of the order of that step."""
+    coarse, fine = CurvedPencil(1.0), CurvedPencil(1000.0)
+    d_coarse = primary_derivative(coarse, 0.3, 0.0)
+    d_fine = primary_derivative(fine, 300.0, 0.0) * 1000.0
+    np.testing.assert_allclose(d_fine, d_coarse, rtol=1e-9, atol=1e-12)
+    exact = np.exp(0.3) * coarse.M
+    error = np.max(np.abs(d_coarse - exact)) / np.max(np.abs(exact))
+    assert 1e-5 < error < 1e-3
 
 
 def test_first_lyapunov_against_planar_formula():
