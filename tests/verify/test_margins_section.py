@@ -41,6 +41,7 @@ class TwoModes:
     4 km/h step of the old 101-node grid, with both ends between two of its nodes)."""
 
     primary_min = 0.1        # m/s
+    primary_scale = 10.0     # m/s: what a small step in speed is measured against (as the axles)
     n = 4
 
     def __init__(self, low: float, high: float):
