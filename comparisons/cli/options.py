@@ -170,10 +170,13 @@ def api_axle(args: argparse.Namespace):
 def _stamp(path: str | None):
     """A file's mtime and size, so that a file written again is read again (None: no file, or the reader reports
     why it cannot be read)."""
+    if path is None:
+        return None
     try:
-        return None if path is None else (os.stat(path).st_mtime_ns, os.stat(path).st_size)
+        info = os.stat(path)
     except (OSError, ValueError):
         return None
+    return info.st_mtime_ns, info.st_size
 
 
 @functools.lru_cache(maxsize=4)

@@ -85,9 +85,9 @@ def families(axle, pressures, effects=None):
     """(reduced model's family, MBS family at reduced fidelity) at the tyres' ``pressures``."""
     from comparisons.api import Axle
     from reduced_model.model import Effects
-    effects = effects or Effects()
-    return (Axle(axle).reduced(effects).problem(pressures),
-            Axle(axle).mbs(fidelity="reduced", effects=effects).problem(pressures))
+    effects, models = effects or Effects(), Axle(axle)
+    return (models.reduced(effects).problem(pressures),
+            models.mbs(fidelity="reduced", effects=effects).problem(pressures))
 
 
 def eigenvalues(A: np.ndarray) -> np.ndarray:
