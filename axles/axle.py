@@ -13,13 +13,13 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
-import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Mapping
 
 from axles.limits import PRESSURE_RANGE_BAR
-from axles.units import BAR, interface_message, interface_of, to_interface, to_si
+from axles.units import BAR, interface_of, to_interface, to_si
+from bifurcation.messages import Message, Quantity, message_of
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from axles.pressures import PRESSURE_PARAMS
 from axles.text import printable
@@ -70,8 +70,8 @@ class Entry:
         shown = self.to_interface(value_si) if math.isfinite(value_si) else value_si
         if not math.isfinite(value_si) or not lo <= value_si <= hi:
             a, b = self.range
-            raise ParameterError(f"{where}{self.name} = {shown:g} {self.unit} is outside its physical range "
-                                 f"[{a:g}, {b:g}] {self.unit}")
+            raise ParameterError(Message.of(where, Quantity(self.name, shown, 6, self.unit),
+                                            f" is outside its physical range [{a:g}, {b:g}] {self.unit}"))
 
 
 @lru_cache(maxsize=None)
@@ -220,14 +220,24 @@ def interface_unit(name: str) -> tuple[str, float]:
     return interface_of(entry(name).si_unit)
 
 
-def interface_text(text: str) -> str:
-    """A toolkit message (``name = VALUE`` in SI, :func:`bifurcation.problem.describe`) in
-    interface units: the speed, the pressures and every axle entry converted and labelled, so that
-    "speed = 41.66667, pressure = 150000" reads "150 km/h, pressure = 1.5 bar"."""
-    # The unit says which parameter a speed is: "speed = 41.66667" reads "150 km/h".
-    text = re.sub(r"\bspeed = (?=[-+0-9.])", "", interface_message(text, "speed", *interface_of("m/s")))
-    for name in PRESSURE_PARAMS + tuple(entries()):
-        if f"{name} = " in text:
-            unit, factor = interface_unit(name)
-            text = interface_message(text, name, unit, factor)
-    return text
+def interface_quantity(quantity: Quantity) -> str:
+    """One value of a message in interface units: a speed as "150 km/h" (its unit says which parameter it is), a
+    pressure or an axle entry as "pressure = 1.5 bar", "t0 = 0.25 m"; a name the interface has no unit for
+    (a state, a test oscillator's parameter) as the toolkit wrote it, and so is a value its message gave a unit."""
+    if quantity.unit:
+        return str(quantity)
+    if quantity.name == "speed":
+        unit, factor = interface_of("m/s")
+        return f"{quantity.shown_value / factor:.6g} {unit}"
+    if quantity.name not in PRESSURE_PARAMS and quantity.name not in entries():
+        return str(quantity)
+    unit, factor = interface_unit(quantity.name)
+    if factor == 1.0 and unit in ("", "-"):
+        return str(quantity)
+    return f"{quantity.name} = {quantity.shown_value / factor:.6g} {unit}"
+
+
+def interface_text(message: Message | BaseException | str) -> str:
+    """A message of the toolkit or a model (or the exception that carries one) in interface units, so that
+    speed = 41.66667 m/s and pressure = 150000 Pa read "150 km/h, pressure = 1.5 bar"."""
+    return message_of(message).show(interface_quantity)

@@ -32,6 +32,7 @@ from axles.axle import DEFAULT_PRESSURE_RANGE_BAR, PAPER_NAME, AxleData, check_p
 from axles.input_file import InputFileError, TomlDocument, finite_number, parse_toml, read_text
 from axles.parameters import ParameterError
 from axles.tyre_file import apply_tyre, read_tir
+from bifurcation.messages import message_of
 
 SECTIONS = ("operating", "table1", "multibody", "plausible")
 TOP_KEYS = ("name", "base", "tyre_file") + SECTIONS
@@ -169,7 +170,7 @@ def parse_axle(text: str, source: str = "<axle>", sha256: str | None = None) -> 
             axle = apply_tyre(axle, tyre)
         axle.check_consistent()
     except ParameterError as exc:   # a combination the models cannot take: named at the first entry involved
-        involved = [k for k in _named_entries(str(exc)) if k in values]
+        involved = [q.name for q in message_of(exc).quantities if q.name in values]
         section = entries()[involved[0]].section if involved else ""
         raise doc.fail(str(exc), section, involved[0] if involved else None) from None
     return axle
@@ -187,11 +188,6 @@ def _tyre_of(doc: dict, source: str):
     return read_tir(path)
 
 
-def _named_entries(message: str) -> list[str]:
-    """Entry names a consistency message mentions, in the order it mentions them."""
-    import re
-    words = re.findall(r"[A-Za-z_][A-Za-z0-9_]*", message)
-    return [w for w in dict.fromkeys(words) if w in entries()]
 
 
 def read_axle(path: str) -> AxleData:

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from bifurcation.messages import Message, Quantity
 from axles.parameters import ParameterError, ShimmyParameters, check_ranges
 
 
@@ -186,16 +187,17 @@ class AxleDimensions:
         """Knuckle about its kingpin: I1 less the wheel's diametral inertia and its offset l (kg m^2)."""
         value = params.I1 - self.wheel_diametral_inertia - self.wheel_mass * params.l ** 2
         if not value > 0.0:
-            raise ParameterError(f"I1 = {params.I1:g} kg m^2 is smaller than the wheel's own inertia about the "
-                                 f"kingpin ({params.I1 - value:g} kg m^2): choose a lighter wheel")
+            raise ParameterError(Message.of(Quantity("I1", params.I1, 6, "kg m^2"), " is smaller than the wheel's "
+                                            f"own inertia about the kingpin ({params.I1 - value:g} kg m^2): choose a "
+                                            "lighter wheel"))
         return value
 
     def check(self, params: ShimmyParameters) -> None:
         """Raise :class:`ParameterError` if these dimensions cannot reproduce Table 1's I1 and I2."""
         self.knuckle_kingpin_inertia(params)
         if params.I2 > 2.0 * self.wheel_diametral_inertia + 1e-12:
-            raise ParameterError(f"I2 = {params.I2:g} kg m^2 exceeds twice the diametral inertia "
-                                 f"{self.wheel_diametral_inertia:g} kg m^2: no rigid wheel has that")
+            raise ParameterError(Message.of(Quantity("I2", params.I2, 6, "kg m^2"), " exceeds twice the diametral "
+                                            f"inertia {self.wheel_diametral_inertia:g} kg m^2: no rigid wheel has that"))
 
 
 DEFAULT_DIMENSIONS = AxleDimensions()

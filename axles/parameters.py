@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from bifurcation.problem import ProblemError
+from bifurcation.messages import Message, Quantity
 
 _T1 = "Yang et al., Table 1"
 _T1_LI = "Yang et al., Table 1 (from Li et al. [16])"
@@ -44,8 +45,8 @@ def check_ranges(entries: Any, what: str) -> None:
             raise ParameterError(f"{what} {f_.name} must be a finite number, got {value!r}")
         lo, hi = f_.metadata["range"]
         if not lo <= value <= hi:
-            raise ParameterError(f"{what} {f_.name} = {value:g} {f_.metadata['unit']} is outside its physical "
-                                 f"range [{lo:g}, {hi:g}] {f_.metadata['unit']}")
+            raise ParameterError(Message.of(f"{what} ", Quantity(f_.name, value, 6, f_.metadata["unit"]),
+                                            f" is outside its physical range [{lo:g}, {hi:g}] {f_.metadata['unit']}"))
 
 
 @dataclass(frozen=True)

@@ -60,17 +60,6 @@ def from_kmh(speed_kmh):
     return speed_kmh / KMH_PER_M_S
 
 
-def interface_message(text: str, name: str, unit: str, factor: float) -> str:
-    """A continuation message with ``name = VALUE`` (SI, as the toolkit writes it) shown in interface units:
-    "pressure = 128521" becomes "pressure = 1.28521 bar"."""
-    import re
-    if factor == 1.0 and unit in ("", "-"):
-        return text
-    # A value already followed by its unit has been converted before.
-    return re.sub(rf"\b{re.escape(name)} = ([-+0-9.eE]+)(?![-+0-9.eE])(?! ?[A-Za-z/])",
-                  lambda m: f"{name} = {float(m.group(1)) / factor:.6g} {unit}", text)
-
-
 # Units a tyre property file (.tir, TYDEX format) may declare in its [UNITS] section: SI per file unit, by the
 # quantity the [UNITS] key names.  Names are matched case-insensitively; a name not listed cannot be converted and
 # the file is refused.  ANGLE has only radians: the Magic Formula's coefficients are defined per radian, and a file

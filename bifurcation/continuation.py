@@ -18,6 +18,7 @@ import numpy as np
 import scipy.optimize
 
 from bifurcation.special_points import BranchStatus
+from bifurcation.messages import NO_MESSAGE, Message
 
 Residual = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]  # u -> (G(u), DG(u))
 Value = Callable[[np.ndarray], np.ndarray]                         # u -> G(u) alone, for chord iterations
@@ -138,7 +139,7 @@ class Stop:
     """What an ``accept`` callback of :func:`continue_curve` returns to end a curve: its status and where."""
 
     status: BranchStatus
-    message: str = ""
+    message: Message = NO_MESSAGE
 
 
 @dataclass
@@ -152,7 +153,7 @@ class Branch:
     tangents: list[np.ndarray] = field(default_factory=list)
     steps: list[float] = field(default_factory=list)  # ds used to reach point k from k-1
     status: BranchStatus = BranchStatus.MAX_STEPS
-    message: str = ""
+    message: Message = NO_MESSAGE
 
     blocks: tuple[slice, ...] | None = None
     value: Value | None = None          # G alone, for chord iterations (:func:`correct`)
@@ -211,7 +212,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     G, J = residual(u0)
     branch.jacobian = J
     if np.max(np.abs(G)) > 1e-6 * (1.0 + np.max(np.abs(u0))):
-        branch.status, branch.message = BranchStatus.NEWTON_FAILED, "start point is not a solution"
+        branch.status, branch.message = BranchStatus.NEWTON_FAILED, Message.of("start point is not a solution")
         return branch
     t = tangent(J, w, None)
     if direction is not None and np.dot(t * w, direction * w) < 0:
@@ -237,7 +238,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
             ds *= 0.5
             if ds < settings.ds_min:
                 branch.status = BranchStatus.STEP_UNDERFLOW
-                branch.message = f"step size underflow after {len(branch.points)} points"
+                branch.message = Message.of(f"step size underflow after {len(branch.points)} points")
                 return branch
         branch.points.append(u_new)
         branch.tangents.append(t_new)
@@ -265,5 +266,5 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
             ds_next = min(ds_next, 0.95 * ds / ratio)
         ds = min(ds_next, settings.ds_max)
     branch.status = BranchStatus.MAX_STEPS
-    branch.message = f"stopped after {settings.max_steps} steps"
+    branch.message = Message.of(f"stopped after {settings.max_steps} steps")
     return branch

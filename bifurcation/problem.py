@@ -5,8 +5,8 @@ computation continues in (Hopf points, cycle branches); the second, q, is fixed 
 curves.  This is BifurcationKit's separation of the problem from the algorithms (Veltz, BifurcationKit.jl,
 https://hal.archives-ouvertes.fr/hal-02902346): the toolkit evaluates a family only through these members, so any
 model that provides them (the paper's 3-DOF model, the Exudyn multibody model, a test oscillator) runs through the
-same code.  Messages of the toolkit name a parameter as ``name = value`` in SI; the interface turns those into its
-own units.
+same code.  Messages of the toolkit keep the parameter values they name as values (:mod:`bifurcation.messages`); the
+interface shows them in its own units.
 """
 
 from __future__ import annotations
@@ -14,6 +14,8 @@ from __future__ import annotations
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+
+from bifurcation.messages import Message, Quantity
 
 
 class ProblemError(ValueError):
@@ -86,7 +88,8 @@ def clip_window(family: Family, lo: float, hi: float) -> tuple[float, float]:
     return max(float(lo), family.primary_min), float(hi)
 
 
-def describe(family: Family, p: float, q: float | None = None) -> str:
-    """``"<primary> = 12.5, <param> = 150000"``: a location in a message, in SI, named as the family names it."""
-    text = f"{family.primary} = {p:.7g}"
-    return text if q is None else f"{text}, {family.param} = {q:.7g}"
+def describe(family: Family, p: float, q: float | None = None) -> Message:
+    """A location in a message, its parameters named as the family names them: ``str()`` gives
+    ``"<primary> = 12.5, <param> = 150000"`` (SI), the interface its own units."""
+    return Message.of(Quantity(family.primary, float(p)),
+                      None if q is None else Message.of(", ", Quantity(family.param, float(q))))

@@ -335,7 +335,7 @@ def hopf_points(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float = 40
     >>> [round(p.speed_kmh, 1) for p in hopf_points(family, vmax_kmh=100).points]
     [46.1, 70.5]
     """
-    from bifurcation.equilibria.hopf import hopf_points as find
+    from bifurcation.equilibria.hopf import find_hopf_points as find
     vmin, vmax = speed_window(vmin_kmh, vmax_kmh)
     found = find(family.problem, family.q, vmin, vmax)
     return HopfResult(family.label(), vmin, vmax, tuple(HopfSummary.of(p) for p in found))

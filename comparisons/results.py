@@ -25,6 +25,7 @@ from comparisons.studies.margin_study import MarginPoint, MarginStudy
 from bifurcation.cycles.problem import CycleBranch as ToolkitCycleBranch
 from bifurcation.cycles.problem import CycleDiagram
 from bifurcation.equilibria.hopf import HopfPoint as ToolkitHopfPoint
+from bifurcation.messages import Message
 from bifurcation.special_points import BranchStatus, Criticality, PointKind
 from reduced_model.model import STATE_NAMES, STATE_UNITS
 from reduced_model.trajectory import SimulationStatus, Trajectory
@@ -204,12 +205,13 @@ class BranchSummary:
     """One branch of limit cycles as the API shows it (the toolkit's
     :class:`~bifurcation.cycles.problem.CycleBranch` is ``branch``): limit cycles (shimmy oscillations) born at a Hopf point, SI: where it runs, its largest
     max|theta1| and the speed of that cycle, its frequencies and its special points.  ``status`` says how the
-    continuation ended (``message``, in SI as the toolkit writes it); ``branch`` is the toolkit's."""
+    continuation ended (``message``, the toolkit's, with its values by name; :meth:`CycleBranches.messages`
+    shows it in interface units); ``branch`` is the toolkit's."""
 
     start: HopfSummary
     end: HopfSummary | None
     status: BranchStatus
-    message: str
+    message: Message
     speeds: tuple[float, float]               # m/s, lowest and highest speed of a computed cycle
     peak_theta1: float                        # rad
     peak_speed: float                         # m/s
@@ -317,7 +319,7 @@ class Simulation(Shown):
         return self.trajectory.status
 
     @property
-    def message(self) -> str:
+    def message(self) -> Message:
         return self.trajectory.message
 
     @property

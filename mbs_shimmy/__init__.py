@@ -6,7 +6,7 @@ dimensions it needs beyond Table 1 are axle entries (:mod:`axles.dimensions`).  
 * :class:`Fidelity` (``Fidelity.parse("reduced" | "full" | "name,name")``), :class:`Assumption`,
   :func:`assumptions_table` - the reduced model's assumptions as switches (here);
 * :class:`mbs_shimmy.model.MbsModel`, :class:`mbs_shimmy.linearisation.MbsFamily` - the model and its
-  speed family for :func:`bifurcation.equilibria.hopf.hopf_points` (``lyapunov=False``);
+  speed family for :func:`bifurcation.equilibria.hopf.find_hopf_points` (``lyapunov=False``);
 * :func:`mbs_shimmy.simulation.simulate` - an Exudyn simulation returning :class:`reduced_model.trajectory.Trajectory`;
 
 Every module that imports Exudyn imports :mod:`mbs_shimmy.engine` first, which chooses Exudyn's compiled module.

@@ -134,7 +134,7 @@ class MbsEvaluator:
 
 @dataclass
 class MbsFamily(DifferenceDerivatives, ShimmyFamily):
-    """The MBS as a speed family for :func:`bifurcation.equilibria.hopf.hopf_points` (with ``lyapunov=False``).
+    """The MBS as a speed family for :func:`bifurcation.equilibria.hopf.find_hopf_points` (with ``lyapunov=False``).
 
     Same interface as :class:`reduced_model.family.SpeedFamily`: ``n``, ``validate(q)``, ``linear_matrix(V, q)``
     with V in m/s and q the value of ``param`` (``"pressure"``, ``"pressure_right"``, ``"pressure_left"`` in Pa, as

@@ -29,6 +29,7 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 import exudyn as exu
 import numpy as np
 
+from bifurcation.messages import Message
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.geometry import SIDES, quaternions_xyzw
@@ -193,6 +194,7 @@ def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = Non
         last = (f"last stored t = {t[-1]:.6g} s, state {_describe(y[-1][layout.y_to_x], layout)}" if len(t)
                 else "no output")
         message = f"{message or 'Exudyn solver failed'}; {last}"
+    message = Message.of(message)
     x_ext = y[:, layout.y_to_x] if len(t) else np.zeros((0, layout.n))
     x = x_ext[:, :N_STATES]
     speed = np.asarray(schedule.speed(t), dtype=float) if len(t) else np.zeros(0)

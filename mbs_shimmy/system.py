@@ -74,6 +74,7 @@ from mbs_shimmy.geometry import AxleGeometry, cross, dot
 from mbs_shimmy.layout import Layout
 from reduced_model.model import Effects
 from axles.parameters import ParameterError, ShimmyParameters
+from bifurcation.messages import Message, Quantity
 
 CURRENT = exu.ConfigurationType.Current
 REFERENCE = exu.ConfigurationType.Reference
@@ -139,8 +140,9 @@ class TreeInertia:
                 Jw = np.diag([dims.wheel_diametral_inertia, P.I2, dims.wheel_diametral_inertia])
                 Jk_e = P.I1 - e @ (Jw + _shift(dims.wheel_mass, c)) @ e   # knuckle's share of I1 about the kingpin
                 if not Jk_e > 0.0:
-                    raise ParameterError(f"I1 = {P.I1:g} kg m^2 is smaller than the wheel's own inertia about the "
-                                         f"kingpin ({P.I1 - Jk_e:g} kg m^2): choose a lighter wheel")
+                    raise ParameterError(Message.of(Quantity("I1", P.I1, 6, "kg m^2"), " is smaller than the wheel's own "
+                                                    f"inertia about the kingpin ({P.I1 - Jk_e:g} kg m^2): choose a "
+                                                    "lighter wheel"))
                 Jk = dims.knuckle_transverse_inertia * (np.eye(3) - np.outer(e, e)) + Jk_e * np.outer(e, e)
                 com = dims.wheel_mass * c / m
                 J = Jk + _shift(dims.knuckle_mass, -com) + Jw + _shift(dims.wheel_mass, c - com)
@@ -157,8 +159,9 @@ class TreeInertia:
             masses.append(m)
         axle_roll = P.I3 - roll_share
         if not axle_roll > 0.0:
-            raise ParameterError(f"I3 = {P.I3:g} kg m^2 is less than the wheels' and knuckles' share of the roll "
-                                 f"inertia ({roll_share:.4g} kg m^2): choose lighter wheels or knuckles")
+            raise ParameterError(Message.of(Quantity("I3", P.I3, 6, "kg m^2"), " is less than the wheels' and "
+                                            f"knuckles' share of the roll inertia ({roll_share:.4g} kg m^2): choose "
+                                            "lighter wheels or knuckles"))
         axle = np.diag([axle_roll, axle_roll, axle_roll])  # only the roll component is ever used
         gear_extra = 0.5 * links_mass[1] * g.pitman_arm ** 2      # the ball at the Pitman arm's end
         return cls((links[0][0], links[1][0]), (dims.axle_mass, masses[0], masses[1]),

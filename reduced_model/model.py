@@ -19,6 +19,7 @@ from typing import Iterable
 
 import numpy as np
 
+from bifurcation.messages import Message, Quantity
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
 from axles.pressures import TyrePressures
 from reduced_model import tyre
@@ -91,7 +92,7 @@ def contact_lengths(params: ShimmyParameters, effects: Effects, pressure: float)
 
 def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> WheelTyre:
     if not pressure > 0.0:
-        raise ParameterError(f"inflation pressure must be positive, got pressure = {pressure:.10g}")
+        raise ParameterError(Message.of("inflation pressure must be positive, got ", Quantity("pressure", pressure, 10)))
     mf = tyre.magic_formula(params, pressure)
     trail = tyre.trail_formula(params, pressure) if effects.pt else None
     a, sigma = contact_lengths(params, effects, pressure)
@@ -102,8 +103,8 @@ def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> 
               ("pneumatic trail", t_nominal, "m"), ("vertical stiffness k5", k5, "N/m"))
     for what, value, unit in checks:
         if not value > 0.0:
-            raise ParameterError(f"{what} is {value:.4g} {unit} at pressure = {pressure:.10g}: "
-                                 f"the model is meaningless there")
+            raise ParameterError(Message.of(f"{what} is {value:.4g} {unit} at ", Quantity("pressure", pressure, 10),
+                                            ": the model is meaningless there"))
     return WheelTyre(pressure=pressure, force=mf, trail=trail, t0=params.t0, a=a, sigma=sigma, k5=k5)
 
 

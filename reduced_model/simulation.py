@@ -18,6 +18,7 @@ from typing import Callable
 import numpy as np
 import scipy.integrate
 
+from bifurcation.messages import NO_MESSAGE, Message, Quantity
 from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
 from axles.parameters import ParameterError
 from axles.pressures import TyrePressures
@@ -110,14 +111,14 @@ def integrate(model: ShimmyModel, pressures: TyrePressures, schedule: SpeedSched
     else:  # the solver failed on its first step: only what it has
         keep = sol.t <= t_end
         t, x = sol.t[keep], sol.y[:, keep].T
-    status, message = SimulationStatus.COMPLETE, ""
+    status, message = SimulationStatus.COMPLETE, NO_MESSAGE
     if len(beyond):
         status = SimulationStatus.DIVERGED
-        message = (f"an angle passed {DIVERGENCE_ANGLE:g} rad at t = {t_end:.3f} s "
-                   f"(speed = {float(schedule.speed(t_end)):.10g})")
+        message = Message.of(f"an angle passed {DIVERGENCE_ANGLE:g} rad at t = {t_end:.3f} s (",
+                             Quantity("speed", float(schedule.speed(t_end)), 10), ")")
     elif sol.status != 0:
         status = SimulationStatus.SOLVER_FAILED
-        message = f"{method} stopped at t = {t_end:.4f} s: {sol.message}"
+        message = Message.of(f"{method} stopped at t = {t_end:.4f} s: {sol.message}")
     jacobian = " (exact Jacobian)" if "jac" in kwargs else ""
     integrator = (f"scipy.integrate.solve_ivp {method}{jacobian}, rtol={rtol:g}, atol={atol:g}, "
                   f"dense output sampled every {sample_interval:g} s")

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bifurcation.messages import NO_MESSAGE, Message
 from reduced_model.model import STATE_NAMES
 
 
@@ -71,7 +72,7 @@ class Trajectory:
     model: str                        # "reduced" or "mbs"
     integrator: str                   # method, tolerances or step: enough to reproduce the run
     status: SimulationStatus = SimulationStatus.COMPLETE
-    message: str = ""
+    message: Message = NO_MESSAGE
     extra: dict = field(default_factory=dict, compare=False)  # e.g. MBS body poses, tyre forces
 
     def __post_init__(self) -> None:

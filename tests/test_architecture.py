@@ -215,3 +215,31 @@ def test_library_code_chooses_no_matplotlib_backend():
                     and isinstance(node.func.value, ast.Name) and node.func.value.id == "matplotlib"
                     and not path.is_relative_to(ROOT / "tests")})
     assert found == []
+
+
+def test_no_regex_reads_messages():
+    """Messages carry their values by name (``bifurcation.messages``): no library module reads numbers or names back
+    out of a message with a regular expression (the interface once rewrote "speed = 41.67" into km/h that way, and
+    the axle-file reader found the entries a consistency error named by splitting its words).  A library's own
+    exception text (tomllib's line number before Python 3.14) is not ours to structure."""
+    found = sorted(f"{path.relative_to(ROOT)}:{node.lineno}"
+                   for path, tree in _library_sources() for node in ast.walk(tree)
+                   if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+                   and isinstance(node.func.value, ast.Name) and node.func.value.id == "re"
+                   and any(re.search(r"message", ast.unparse(a)) for a in node.args[1:]))
+    assert found == []
+
+
+def test_the_toolkit_results_carry_structured_messages():
+    import typing
+
+    from bifurcation.continuation import Branch, Stop
+    from bifurcation.cycle_curves.result import CycleCurve
+    from bifurcation.cycles.problem import CycleBranch
+    from bifurcation.equilibria.hopf_curves import HopfCurve
+    from bifurcation.messages import Message
+    from reduced_model.trajectory import Trajectory
+    for cls, name in ((Branch, "message"), (Stop, "message"), (CycleBranch, "message"), (Trajectory, "message")):
+        assert typing.get_type_hints(cls)[name] is Message, cls
+    for cls in (HopfCurve, CycleCurve):
+        assert typing.get_type_hints(cls)["messages"] == tuple[Message, Message], cls

@@ -27,6 +27,7 @@ from bifurcation.cycles.problem import (
     CyclePoint,
     CycleSettings,
 )
+from bifurcation.messages import Message
 from bifurcation.problem import clip_window, describe
 from bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
 
@@ -127,10 +128,10 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                             data={"cycle": where, "period": where.period, "multipliers": where.multipliers,
                                   "end_segment": True}))
                 if found is None:
-                    return Stop(BranchStatus.COMPLETE, f"the amplitude vanishes near {describe(family, *guess)} "
-                                f"(extrapolated; no {what} point located there)")
+                    return Stop(BranchStatus.COMPLETE, Message.of("the amplitude vanishes near ", describe(family, *guess),
+                                                                 f" (extrapolated; no {what} point located there)"))
                 return Stop(BranchStatus.COMPLETE,
-                            f"ends at the {what} point located at {describe(family, found.p, found.q)}")
+                            Message.of(f"ends at the {what} point located at ", describe(family, found.p, found.q)))
             for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (ip, p_min, -1), (ip, p_max, 1)):
                 if side * (U[index] - bound) <= 0.0:
                     continue
@@ -145,7 +146,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                     pass    # keep the point just outside
                 points.append(system.point(U))
                 kappas.append(system.kappa(U))
-                return Stop(BranchStatus.COMPLETE, f"left the window at {describe(family, U[ip], U[iq])}")
+                return Stop(BranchStatus.COMPLETE, Message.of("left the window at ", describe(family, U[ip], U[iq])))
             p_new = system.point(U)
             k = len(branch.points) - 2
             step = branch.steps[-1]

@@ -8,7 +8,7 @@ import numpy as np
 
 from bifurcation.cycle_curves.result import END_KIND
 from bifurcation.cycles.problem import CyclePoint
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.problem import Family, ProblemError
 from bifurcation.special_points import (
     ConvergenceError,
@@ -31,7 +31,7 @@ def locate_end(family: Family, kind: PointKind, guess: tuple[float, float], last
     half_q = max(4.0 * dq, 1e-4 * abs(q0))
     p_lo, p_hi = max(p0 - half_p, p_min), min(p0 + half_p, p_max)
     try:
-        candidates = hopf_points(family, q0, p_lo, p_hi, lyapunov=False)
+        candidates = find_hopf_points(family, q0, p_lo, p_hi, lyapunov=False)
     except (ProblemError, ConvergenceError):
         return None
     if not candidates:

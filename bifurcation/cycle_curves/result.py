@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bifurcation.messages import Message
 from bifurcation.special_points import (
     BranchStatus,
     PointKind,
@@ -36,10 +37,10 @@ class CycleCurve:
     param: str
     ps: np.ndarray
     qs: np.ndarray
-    amplitudes: np.ndarray      # (k, 8) max |x_i| of the critical cycle
+    amplitudes: np.ndarray      # (k, n) max |x_i| of the critical cycle
     periods: np.ndarray
     status: tuple[BranchStatus, BranchStatus]
-    messages: tuple[str, str]
+    messages: tuple[Message, Message]
     ends: tuple[tuple[float, float] | None, tuple[float, float] | None]   # (p, q) where the amplitude vanishes
     end_points: tuple[SpecialPoint | None, SpecialPoint | None] = (None, None)  # the located codim-2 points
     special_points: tuple[SpecialPoint, ...] = ()    # codimension-two points of cycles detected along the curve

@@ -21,7 +21,7 @@ from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from bifurcation.cycle_curves.result import CycleCurve
 from bifurcation.cycles.branches import branch_from_hopf
 from bifurcation.cycles.problem import CycleSettings
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.problem import ProblemError
 from bifurcation.special_points import ConvergenceError, PointKind, PointStatus, SpecialPoint
 
@@ -46,7 +46,7 @@ def curves_from_codimension_two(family, hh: SpecialPoint, lo: float, hi: float, 
         if not lo <= q <= hi:
             continue
         try:
-            candidates = hopf_points(family, q, hh.p - half, hh.p + half)
+            candidates = find_hopf_points(family, q, hh.p - half, hh.p + half)
         except (ProblemError, ConvergenceError):
             continue
         for omega in omegas:

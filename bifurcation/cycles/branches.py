@@ -40,7 +40,8 @@ from bifurcation.cycles.problem import (
     CycleSettings,
     state_scales,
 )
-from bifurcation.equilibria.hopf import HopfPoint, hopf_points, primary_derivative
+from bifurcation.equilibria.hopf import HopfPoint, find_hopf_points, primary_derivative
+from bifurcation.messages import Message, message_of
 from bifurcation.problem import Family, ProblemError, clip_window, describe
 from bifurcation.special_points import (
     BranchStatus,
@@ -95,8 +96,8 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     direction /= np.linalg.norm(direction * w)
     result = correct(problem, u_pred, direction, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     if result is None:
-        raise ConvergenceError(f"branch switching at the Hopf point at {describe(family, hopf.p)}: Newton did "
-                               f"not converge on the first cycle")
+        raise ConvergenceError(Message.of("branch switching at the Hopf point at ", describe(family, hopf.p),
+                                          ": Newton did not converge on the first cycle"))
     u0 = result[0]
     problem.set_reference(problem.orbit_of(u0))
     u0 = problem.meet_tolerance(u0, np.concatenate([u0[:-2], [0.0, 0.0]]))
@@ -154,7 +155,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     state = BranchFollowing(records=[problem.point(u0)], arclength=[0.0], amplitudes=[problem.scaled_rms(u0)],
                             user=[(0.0, problem.point(u0)) for v in targets if v == u0[ip]])
 
-    def where(u) -> str:
+    def where(u) -> Message:
         p, q = problem.parameters(u[ip])
         return describe(problem.family, p, None if problem.free == problem.family.primary else q)
 
@@ -178,21 +179,21 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                 continue
             if side * (branch.points[k][ip] - bound) >= 0.0:
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
-                return Stop(BranchStatus.COMPLETE, f"ends on the window boundary at {where(branch.points[-1])}")
+                return Stop(BranchStatus.COMPLETE, Message.of("ends on the window boundary at ", where(branch.points[-1])))
             try:
                 s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][ip] - bound, 0.0, step, xtol=1e-12)
                 u_cut, t_cut = branch.point_at(k, s)
             except (RuntimeError, ValueError):
                 # The corrector failed on the way to the boundary: the accepted point just beyond it ends the
                 # branch (a solution all the same), and the message says that the crossing was not located.
-                verdict = Stop(BranchStatus.COMPLETE, f"left the window (last cycle at {where(u_new)}, just "
-                                                      f"beyond it; the crossing itself was not located)")
+                verdict = Stop(BranchStatus.COMPLETE, Message.of("left the window (last cycle at ", where(u_new), ", just "
+                                                                 "beyond it; the crossing itself was not located)"))
                 break
             u_new = u_cut
             branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_cut, s
             state.tangent = t_cut
             step = s
-            verdict = Stop(BranchStatus.COMPLETE, f"left the window at {where(u_new)}")
+            verdict = Stop(BranchStatus.COMPLETE, Message.of("left the window at ", where(u_new)))
             break
         amp = problem.scaled_rms(u_new)
         # Through zero amplitude, i.e. through a Hopf point: the branch goes on as the same orbits shifted by
@@ -201,8 +202,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         if np.dot(X_old, X_new) < 0.0:
             branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
             return _hopf_end(branch.points, state.amplitudes, state.records[-1]) or Stop(
-                BranchStatus.COMPLETE, f"amplitude vanishes near {where(branch.points[-1])} (a Hopf point the "
-                f"defining system of the equilibrium did not converge to)")
+                BranchStatus.COMPLETE, Message.of("amplitude vanishes near ", where(branch.points[-1]), " (a Hopf point "
+                                                 "the defining system of the equilibrium did not converge to)"))
         p_old = branch.points[k][ip]
         for target in targets:
             if (p_old - target) * (u_new[ip] - target) < 0.0 or u_new[ip] == target:
@@ -237,8 +238,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             if ended is not None:
                 return ended
         if u_new[iT] > PERIOD_LIMIT * start_period:
-            return Stop(BranchStatus.DEGENERATE, f"the period grew to {u_new[iT]:.3g} s at {where(u_new)} "
-                    f"(approach to a homoclinic orbit)")
+            return Stop(BranchStatus.DEGENERATE, Message.of(f"the period grew to {u_new[iT]:.3g} s at ", where(u_new),
+                                                           " (approach to a homoclinic orbit)"))
         return None
 
     def _hopf_end(points, amps, last: CyclePoint) -> Stop | None:
@@ -258,7 +259,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                  and abs(h.omega - located.omega) <= 1e-6 * h.omega]
         h = match[0] if match else located
         state.end = h
-        return Stop(BranchStatus.COMPLETE, f"returns to the Hopf point at {describe(problem.family, h.p)}")
+        return Stop(BranchStatus.COMPLETE, Message.of("returns to the Hopf point at ", describe(problem.family, h.p)))
 
     def renormalize(u):
         # A re-meshed point replaces the recorded one: the record must carry the mesh that met the tolerance.
@@ -308,7 +309,7 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
                                                 state.arclength[-1], 1.0)
     message = branch.message
     if not branch.status.is_complete:
-        message = f"{branch.status.value}: {message} (last cycle at {where(branch.points[-1])})"
+        message = Message.of(f"{branch.status.value}: ", message, " (last cycle at ", where(branch.points[-1]), ")")
     return CycleBranch(free=problem.free, points=tuple(state.records), special_points=tuple(state.special),
                        status=branch.status, message=message, start=start, end=state.end,
                        user_points=tuple(c for _, c in sorted(state.user, key=lambda x: x[0])))
@@ -357,7 +358,7 @@ def branch_from_hopf(family: Family, hopf: HopfPoint, p_min: float, p_max: float
         problem, u0, direction = start_at_hopf(family, hopf, settings)
     except ConvergenceError as exc:
         return CycleBranch(free=family.primary, points=(), special_points=(), status=BranchStatus.NEWTON_FAILED,
-                           message=f"newton_failed: {exc}", start=hopf)
+                           message=Message.of("newton_failed: ", message_of(exc)), start=hopf)
     return follow_branch(problem, u0, direction, p_min, p_max, hopf=others, start=hopf, accept_hook=accept_hook,
                          at=at, max_step=max_step)
 
@@ -391,7 +392,7 @@ def cycle_diagram(family: Family, q: float, p_min: float, p_max: float,
     ``accept_hook(cycle)`` after each accepted cycle of any branch (a long branch's progress).
     """
     family.validate(q)
-    hopf = hopf_points(family, q, p_min, p_max)
+    hopf = find_hopf_points(family, q, p_min, p_max)
     branches: list[CycleBranch] = []
     reached: list[HopfPoint] = []
     for i, h in enumerate(hopf):
@@ -427,8 +428,8 @@ def cycle_at(family: Family, near: CyclePoint, p: float, settings: CycleSettings
     result = correct(problem, u_pred, fix_p, w, settings.continuation, blocks=problem.blocks_of_unknowns())
     # x = 0 with any period solves the discretised problem too; a collapse onto it is a failure here.
     if result is None or problem.scaled_rms(result[0]) < 1e-3 * problem.scaled_rms(u_pred):
-        raise ConvergenceError(f"no cycle found at {describe(family, p)} from the one at "
-                               f"{describe(family, near.p)}")
+        raise ConvergenceError(Message.of("no cycle found at ", describe(family, p), " from the one at ",
+                                          describe(family, near.p)))
     u = result[0]
     if intervals is None and mesh is None:
         fix = np.zeros_like(u)

@@ -16,7 +16,7 @@ Why collocation and not multiple shooting, for this model:
   mesh alone, while shooting would carry an adaptive integrator (and its tolerance) inside every Newton step.
 * The Newton matrix is exact and sparse: f and its Jacobian at all N m collocation points come from one
   vectorised complex-step evaluation of the vector field, the matrix is assembled in scipy.sparse and factorised
-  with SuperLU.  Exact shooting derivatives would need the 8 x 8 variational equations integrated alongside.
+  with SuperLU.  Exact shooting derivatives would need the n x n variational equations integrated alongside.
 * Gauss points are superconvergent at the mesh points, O(h^(2m)) (de Boor & Swartz, SIAM J. Numer. Anal. 10,
   1973), so 20-60 intervals of degree 4 give amplitudes to 1e-8.
 * The Floquet multipliers come from the same Jacobian blocks by condensation of parameters: eliminating the

@@ -23,6 +23,7 @@ from bifurcation.cycles.problem import (
     CycleSettings,
     state_scales,
 )
+from bifurcation.messages import Message
 from bifurcation.problem import clip_window, describe
 from bifurcation.special_points import ConvergenceError, PointKind, SpecialPoint
 
@@ -61,8 +62,8 @@ def branch_from_period_doubling(family, point: SpecialPoint, lo: float, hi: floa
     result = correct(problem, u_pd2 + eps * np.linalg.norm(phi2.ravel() * w[:-2]) * direction, direction, w,
                      settings.continuation, blocks=problem.blocks_of_unknowns())
     if result is None:
-        raise ConvergenceError(f"branch switching at the period doubling at {describe(family, cycle.p)}: Newton "
-                               f"did not converge on the first doubled cycle")
+        raise ConvergenceError(Message.of("branch switching at the period doubling at ", describe(family, cycle.p),
+                                          ": Newton did not converge on the first doubled cycle"))
     u0 = result[0]
     if abs(np.dot((u0 - u_pd2) * w, direction * w)) < 0.5 * eps * np.linalg.norm(phi2.ravel() * w[:-2]):
         raise ConvergenceError("branch switching at the period doubling fell back onto the original cycle")

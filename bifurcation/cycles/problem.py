@@ -30,6 +30,7 @@ from bifurcation.cycles import collocation as col
 from bifurcation.cycles import mesh_adaptation
 from bifurcation.cycles.multipliers import classify_multipliers
 from bifurcation.equilibria.hopf import HopfPoint
+from bifurcation.messages import Message
 from bifurcation.problem import Family, ProblemError
 from bifurcation.special_points import BranchStatus, PointKind, SpecialPoint
 
@@ -99,7 +100,7 @@ class CycleBranch:
     points: tuple[CyclePoint, ...]
     special_points: tuple[SpecialPoint, ...]
     status: BranchStatus
-    message: str
+    message: Message
     start: HopfPoint | None = None              # Hopf point the branch was born at
     end: HopfPoint | None = None                # Hopf point it returned to, if any
     user_points: tuple[CyclePoint, ...] = ()    # orbits at the requested values of the free parameter

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
+from bifurcation.messages import Message
 from bifurcation.equilibria.normal_form import first_lyapunov_coefficient
 from bifurcation.problem import Family, clip_window, describe
 from bifurcation.special_points import ConvergenceError, Criticality
@@ -115,8 +116,8 @@ def locate_hopf(family: Family, q: float, p: float, omega: float, v: np.ndarray,
         if np.max(np.abs(dy[2 * n:])) < tol * (1.0 + abs(y[2 * n + 1])) and np.max(np.abs(r)) < 1e-8:
             break
     else:
-        raise ConvergenceError(f"Hopf Newton did not converge near {describe(family, p, q)} "
-                               f"(last step {np.max(np.abs(dy)):.2e})")
+        raise ConvergenceError(Message.of("Hopf Newton did not converge near ", describe(family, p, q),
+                                          f" (last step {np.max(np.abs(dy)):.2e})"))
     vr, vi, w, p_hopf = y[:n], y[n:2 * n], abs(y[2 * n]), y[2 * n + 1]
     vec = vr + 1j * vi if y[2 * n] > 0 else vr - 1j * vi
     l1 = float("nan")
@@ -181,7 +182,7 @@ def _scan_hopf_seeds(family: Family, q: float, p_min: float, p_max: float, n: in
     return [0.5 * (grid[i] + grid[i + 1]) for i in idx]
 
 
-def hopf_points(family: Family, q: float, p_min: float, p_max: float,
+def find_hopf_points(family: Family, q: float, p_min: float, p_max: float,
                 lyapunov: bool = True) -> tuple[HopfPoint, ...]:
     """Every Hopf point of the equilibrium with p_min <= p <= p_max at the second parameter q, by p.
 

@@ -23,17 +23,17 @@ import scipy.optimize
 from bifurcation.continuation import Branch, ContinuationSettings, Stop, continue_curve, tangent
 from bifurcation.equilibria.hopf import (
     HopfPoint,
+    find_hopf_points,
     hopf_jacobian,
-    hopf_points,
     hopf_residual,
     parameter_derivative,
     primary_derivative,
 )
 from bifurcation.equilibria.normal_form import first_lyapunov_coefficient
+from bifurcation.messages import Message
 from bifurcation.problem import Family, ProblemError, clip_window, describe
 from bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
 
-PRIMARY_SCALE = 10.0  # p per unit of arclength
 OMEGA_SCALE = 30.0    # rad/s per unit of arclength
 VECTOR_WEIGHT = 0.02
 MIN_OMEGA = 1e-3      # rad/s; below this the curve is ending in a Bogdanov-Takens-like point
@@ -48,7 +48,7 @@ class HopfCurve:
     omegas: np.ndarray
     first_lyapunov: np.ndarray
     status: tuple[BranchStatus, BranchStatus]  # backward end, forward end
-    messages: tuple[str, str]
+    messages: tuple[Message, Message]
     special_points: tuple[SpecialPoint, ...] = field(default=())
 
     @property
@@ -131,7 +131,7 @@ class _HopfProblem:
 
 def _weights(family: Family, q_range: float) -> np.ndarray:
     n = family.n
-    return np.concatenate([np.full(2 * n, VECTOR_WEIGHT), [1.0 / OMEGA_SCALE, 1.0 / PRIMARY_SCALE, 1.0 / q_range]])
+    return np.concatenate([np.full(2 * n, VECTOR_WEIGHT), [1.0 / OMEGA_SCALE, 1.0 / family.primary_scale, 1.0 / q_range]])
 
 
 def _crossing_eigenvalue(before: np.ndarray, after: np.ndarray) -> complex | None:
@@ -188,7 +188,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                 branch.points.pop(), branch.tangents.pop(), branch.steps.pop()
                 u_end = branch.points[-1]
                 return Stop(BranchStatus.COMPLETE,
-                            f"ends on the window boundary at {describe(problem.family, u_end[ip], u_end[iq])}")
+                            Message.of("ends on the window boundary at ", describe(problem.family, u_end[ip], u_end[iq])))
             else:
                 s = scipy.optimize.brentq(lambda s: branch.point_at(k, s)[0][idx] - bound, 0.0, step,
                                           xtol=1e-13)
@@ -197,7 +197,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                 branch.points[-1], branch.tangents[-1], branch.steps[-1] = u_new, t_new, s
                 step = s
                 verdict = Stop(BranchStatus.COMPLETE,
-                               f"left the window at {describe(problem.family, u_new[ip], u_new[iq])}")
+                               Message.of("left the window at ", describe(problem.family, u_new[ip], u_new[iq])))
                 break
         arclength.append(arclength[-1] + step)
         l1_new = problem.first_lyapunov(u_new)
@@ -219,14 +219,14 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
         if verdict is not None:
             return verdict
         if abs(u_new[iw]) < MIN_OMEGA:
-            return Stop(BranchStatus.DEGENERATE, f"frequency vanished at {describe(problem.family, u_new[ip])}")
+            return Stop(BranchStatus.DEGENERATE, Message.of("frequency vanished at ", describe(problem.family, u_new[ip])))
         if len(branch.points) > 4:
             a, b = branch.points[-2], branch.points[-1]
             seg = (b - a)[[ip, iq, iw]] * w[[ip, iq, iw]]
             rel = (branch.points[0] - a)[[ip, iq, iw]] * w[[ip, iq, iw]]
             lam = np.clip(np.dot(rel, seg) / max(np.dot(seg, seg), 1e-300), 0.0, 1.0)
             if np.linalg.norm(rel - lam * seg) < 1e-3:
-                return Stop(BranchStatus.CLOSED, "the curve returned to its start")
+                return Stop(BranchStatus.CLOSED, Message.of("the curve returned to its start"))
         return None
 
     branch = continue_curve(problem, start, direction, w, settings, accept=accept,
@@ -273,10 +273,11 @@ def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, p_min: fl
                      messages=(messages[0], messages[1]), special_points=tuple(special))
 
 
-def _on_curve(curve: HopfCurve, point: HopfPoint, q_range: float, tol: float = 5e-3) -> bool:
-    """Whether a Hopf point lies on an already computed curve (same place in (p, q) and same frequency)."""
-    P = np.column_stack([curve.ps / PRIMARY_SCALE, curve.qs / q_range])
-    x = np.array([point.p / PRIMARY_SCALE, point.q / q_range])
+def _on_curve(curve: HopfCurve, point: HopfPoint, p_scale: float, q_range: float, tol: float = 5e-3) -> bool:
+    """Whether a Hopf point lies on an already computed curve (same place in (p, q), measured in the family's
+    scale of p and the window's of q, and same frequency)."""
+    P = np.column_stack([curve.ps / p_scale, curve.qs / q_range])
+    x = np.array([point.p / p_scale, point.q / q_range])
     if len(P) < 2:  # a curve that stopped at its seed (a corner of the window)
         return bool(np.linalg.norm(P[0] - x) < tol and abs(curve.omegas[0] - point.omega) < 0.02 * point.omega)
     a, b = P[:-1], P[1:]
@@ -288,11 +289,11 @@ def _on_curve(curve: HopfCurve, point: HopfPoint, q_range: float, tol: float = 5
     return bool(dist[k] < tol and abs(omega - point.omega) < 0.02 * point.omega)
 
 
-def _dedupe(points: list[SpecialPoint], q_range: float) -> tuple[SpecialPoint, ...]:
+def _dedupe(points: list[SpecialPoint], p_scale: float, q_range: float) -> tuple[SpecialPoint, ...]:
     """One entry per special point: a Hopf-Hopf point lies on two curves and is found on both."""
     kept: list[SpecialPoint] = []
     for p in sorted(points, key=lambda p: (p.kind.value, p.p)):
-        if not any(p.kind is k.kind and abs(p.p - k.p) < 1e-4 * PRIMARY_SCALE
+        if not any(p.kind is k.kind and abs(p.p - k.p) < 1e-4 * p_scale
                    and abs(p.q - k.q) < 1e-4 * q_range for k in kept):
             kept.append(p)
     return tuple(kept)
@@ -315,12 +316,12 @@ def hopf_diagram(family: Family, lo: float, hi: float, p_min: float, p_max: floa
         seeds.append(family.nominal)
     curves: list[HopfCurve] = []
     for i, q in enumerate(seeds):
-        for point in hopf_points(family, q, p_min, p_max):
-            if any(_on_curve(c, point, hi - lo) for c in curves):
+        for point in find_hopf_points(family, q, p_min, p_max):
+            if any(_on_curve(c, point, family.primary_scale, hi - lo) for c in curves):
                 continue
             curves.append(hopf_curve(family, point, lo, hi, p_min, p_max))
         if progress is not None:
             progress(i + 1, len(seeds))
-    special = _dedupe([p for c in curves for p in c.special_points], hi - lo)
+    special = _dedupe([p for c in curves for p in c.special_points], family.primary_scale, hi - lo)
     return HopfDiagram(param=family.param, lo=lo, hi=hi, p_min=p_min, p_max=p_max, curves=tuple(curves),
                        special_points=special)

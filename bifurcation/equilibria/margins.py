@@ -29,6 +29,7 @@ from typing import Callable, Sequence
 import numpy as np
 import scipy.optimize
 
+from bifurcation.messages import Message, Quantity
 from bifurcation.problem import Family, clip_window
 
 IMAG_RTOL = 1e-6
@@ -127,8 +128,8 @@ def margin_map(family: Family, p_values: Sequence[float], q_values: Sequence[flo
     p_all = np.asarray(sorted(float(v) for v in p_values))
     p = p_all[p_all >= family.primary_min]
     if p.size == 0:
-        raise ValueError(f"no {family.primary} of the grid is at or above its lowest meaningful value "
-                         f"{family.primary_min:.7g}")
+        raise ValueError(Message.of(f"no {family.primary} of the grid is at or above its lowest meaningful value, ",
+                                    Quantity(family.primary, family.primary_min)))
     q = np.asarray(sorted(float(v) for v in q_values))
     rows = []
     for qj in q:

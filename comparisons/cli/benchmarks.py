@@ -78,13 +78,13 @@ def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, tuple[fl
 
 
 def _hopf_one_pressure():
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     from comparisons.api import family_of
     from reduced_model.model import ShimmyModel
 
     def run():
         # A fresh model each run: no tyre cache carried over between runs.
-        return hopf_points(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), 1.5e5, 0.0, from_kmh(400))
+        return find_hopf_points(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), 1.5e5, 0.0, from_kmh(400))
     return run
 
 
@@ -100,11 +100,11 @@ def _figure5():
 
 def _cycle_branch_nominal():
     from bifurcation.cycles.branches import branch_from_hopf
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     from comparisons.api import family_of
     from reduced_model.model import ShimmyModel
 
-    hb1, hb2 = hopf_points(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), 2.5e5, 0.0, from_kmh(400))
+    hb1, hb2 = find_hopf_points(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), 2.5e5, 0.0, from_kmh(400))
 
     def run():
         branch = branch_from_hopf(family_of(ShimmyModel(), TyrePressures.uniform(2.5e5)), hb1, 0.0, from_kmh(400), others=(hb2,))
@@ -223,9 +223,9 @@ def _mbs_cycle_branch():
     from comparisons.api import family_of
     from mbs_shimmy.model import MbsModel
     from bifurcation.cycles.branches import branch_from_hopf
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
 
-    hb1, hb2 = hopf_points(family_of(MbsModel(fidelity=Fidelity.full()), TyrePressures.uniform(1.5 * BAR)), 1.5 * BAR, 0.0,
+    hb1, hb2 = find_hopf_points(family_of(MbsModel(fidelity=Fidelity.full()), TyrePressures.uniform(1.5 * BAR)), 1.5 * BAR, 0.0,
                            400 * KMH)
 
     def run():

@@ -8,7 +8,7 @@ from axles.axle import interface_text
 from axles.units import KMH, kmh
 from comparisons.figures.plots import stability_grid
 from comparisons.figures.registry import MIN_LABEL_SPEED_KMH, P_I0_BAR, VMAX_KMH
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.equilibria.hopf_curves import HopfCurve, HopfDiagram
 from bifurcation.special_points import PointKind, PointStatus
 from reduced_model.family import SpeedFamily
@@ -66,7 +66,7 @@ def _mark(ax, point, factor, text, colour="k", offset=(5, 5), marker="o", text_a
 def _label_hopf_points(ax, family: SpeedFamily, q: float, factor: float, vmax_kmh: float, colour="k",
                        offset=(4, -11)) -> list:
     """Label the Hopf points on the line q = const as HB1, HB2, ... by speed (the paper's naming)."""
-    points = hopf_points(family, q, 0.0, vmax_kmh * KMH, lyapunov=False)
+    points = find_hopf_points(family, q, 0.0, vmax_kmh * KMH, lyapunov=False)
     for i, h in enumerate(points, 1):
         ax.plot(kmh(h.p), q / factor, ".", color=colour, ms=6)
         ax.annotate(f"HB{i}", (kmh(h.p), q / factor), textcoords="offset points", xytext=offset, fontsize=8,

@@ -9,7 +9,7 @@ or appears is unmatched: the other side is None), and the largest limit cycle of
 continued cycle branches over the speed window (:mod:`comparisons.studies.cycle_peak`: the MBS variant's branches on
 Exudyn, the reduced model's on its equations), with the speed where it occurs, its mode and stability.  The Hopf
 points of both models come from the same defining system
-(:func:`bifurcation.equilibria.hopf.hopf_points`).
+(:func:`bifurcation.equilibria.hopf.find_hopf_points`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import ASSUMPTIONS, Fidelity
 from comparisons.studies.limit_cycle import VMAX
 from mbs_shimmy.model import MbsModel
-from bifurcation.equilibria.hopf import HopfPoint, hopf_points
+from bifurcation.equilibria.hopf import HopfPoint, find_hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import ShimmyParameters
 from axles.pressures import TyrePressures
@@ -151,7 +151,7 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressures: Tyre
         if progress is not None:
             progress(done, total, "reduced model")
     else:
-        reduced = hopf_points(family, q, 0.0, vmax, lyapunov=False)
+        reduced = find_hopf_points(family, q, 0.0, vmax, lyapunov=False)
     rows = []
     full_points = full_peak = None
     for name, fidelity in fidelities:
@@ -161,7 +161,7 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressures: Tyre
             mbs_peak, mbs_diagram = continued_peak(mbs_family, q, 0.0, vmax)
             mbs = mbs_diagram.hopf
         else:
-            mbs_peak, mbs = None, hopf_points(mbs_family, q, 0.0, vmax, lyapunov=False)
+            mbs_peak, mbs = None, find_hopf_points(mbs_family, q, 0.0, vmax, lyapunov=False)
         seconds = time.perf_counter() - start
         if name in ELEMENTS:
             # the element's worth: full geometry (mbs side) against full geometry without it (reference side)

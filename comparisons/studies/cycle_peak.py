@@ -33,6 +33,7 @@ import numpy as np
 
 from bifurcation.cycles.branches import cycle_at, cycle_diagram
 from bifurcation.cycles.problem import CycleBranch, CycleDiagram, CyclePoint, CycleSettings
+from bifurcation.messages import Message
 from bifurcation.problem import Family
 from bifurcation.special_points import BranchStatus, ConvergenceError
 from reduced_model.modes import ModeClassifier
@@ -66,7 +67,7 @@ class BranchPeak:
     start: float                     # m/s, the Hopf point it was born at
     end: float | None                # m/s, the Hopf point it returned to
     status: BranchStatus
-    message: str                     # the toolkit's, SI
+    message: Message                 # the toolkit's
     cycles: int                      # computed cycles
     cycle: CyclePoint | None = field(default=None, compare=False, repr=False)
     refinement: Refinement | None = None

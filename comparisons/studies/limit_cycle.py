@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.integrate
 
+from axles.axle import interface_text
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.simulation import FAST_METHOD, FAST_STEP, extended_states, integrate
@@ -117,7 +118,7 @@ def mbs_steady_amplitude(params: ShimmyParameters, effects: Effects, fidelity: F
         if not traj.complete:
             return SteadyAmplitude(speed, math.nan, math.nan, False,
                                    extended_states(traj)[-1].copy() if len(traj.t) else x,
-                                   f"MBS run stopped: {traj.message}")
+                                   f"MBS run stopped: {interface_text(traj.message)}")
         total += settle
         a1, ap, settled, hz = _amplitudes(traj.t, traj.x, settle, window)
         x = extended_states(traj)[-1].copy()

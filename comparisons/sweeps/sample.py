@@ -4,7 +4,7 @@ A :class:`SweepTask` is everything a worker needs (the base axle, pressures, eff
 sent to each worker once.  :func:`evaluate_batch` evaluates consecutive samples and returns one Arrow table: a
 sample that fails (a meaningless value, a Newton iteration that does not converge) is a row with status
 ``failed`` and its error message, never a lost batch.  The numbers come from the same calls as the single-point
-commands: :func:`bifurcation.equilibria.hopf.hopf_points` on the same family as ``shimmy hopf``,
+commands: :func:`bifurcation.equilibria.hopf.find_hopf_points` on the same family as ``shimmy hopf``,
 :func:`comparisons.studies.assumption_study.assumption_study` (without cycles) as ``shimmy assumptions --no-cycles``, and
 :func:`bifurcation.cycles.problem.cycle_diagram` as ``shimmy cycles``.
 """
@@ -163,7 +163,7 @@ class SweepTask:
 
     def evaluate(self, values: np.ndarray) -> dict:
         """The output columns of one sample (raises on failure)."""
-        from bifurcation.equilibria.hopf import hopf_points
+        from bifurcation.equilibria.hopf import find_hopf_points
         from reduced_model.model import ShimmyModel
         axle, right, left = self.sample_inputs(values)
         pressures = TyrePressures(right * BAR, left * BAR)
@@ -174,7 +174,7 @@ class SweepTask:
         family = family_of(model, pressures)
         mbs_families = {}
         if "hopf" in self.compute:
-            points = hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
+            points = find_hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
             row.update(_hopf_columns("", points))
             if self.lyapunov:
                 row.update(_criticality_columns("", points))
@@ -193,13 +193,13 @@ class SweepTask:
                     except (RuntimeError, np.linalg.LinAlgError) as exc:
                         # a continuation that raised instead of ending its branch with a status: the sample keeps
                         # its Hopf points, its cycles are unknown (null), never an empty set of branches
-                        mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
+                        mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
                         row.update(failed_cycle_columns(c, f"{type(exc).__name__}: {interface_text(str(exc))}"))
                     else:
                         mp = diagram.hopf
                         row.update(cycle_columns(c, mf, diagram))
                 else:
-                    mp = hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.mbs_l1(f))
+                    mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.mbs_l1(f))
                 row.update(_hopf_columns(c, mp))
                 if self.mbs_l1(f):
                     row.update(_criticality_columns(c, mp))

@@ -11,7 +11,7 @@ from axles.axle import AxleData
 from comparisons.verify.background import Background
 from comparisons.verify.plan import VMAX, Plan
 from comparisons.verify.report import CheckStatus
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from comparisons.api import family_of
 
@@ -55,6 +55,6 @@ def shimmy_cases(ctx: Context):
     out = []
     for c in ctx.plan.cases:
         family = family_of(model, c.pressures)
-        if hopf_points(family, family.nominal, 0.0, VMAX, lyapunov=False):
+        if find_hopf_points(family, family.nominal, 0.0, VMAX, lyapunov=False):
             out.append(c)
     return out

@@ -182,10 +182,10 @@ def test_hopf_points_equal(axle, pressure):
     """Same Hopf points 0-400 km/h (speed to 0.01 km/h, frequency to 1e-6, first Lyapunov coefficient to 1e-4:
     the MBS's from multilinear forms by finite differences of Exudyn's right-hand side, the reduced model's from
     Cauchy integrals), crossing in the same direction; where the reduced model has none, the MBS has none either."""
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     red_family, mbs_family = families(axle, pressure)
-    red = hopf_points(red_family, red_family.nominal, 0.0, VMAX)
-    mbs = hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX)
+    red = find_hopf_points(red_family, red_family.nominal, 0.0, VMAX)
+    mbs = find_hopf_points(mbs_family, mbs_family.nominal, 0.0, VMAX)
     speeds = lambda pts: ", ".join(f"{kmh(h.p):.2f}" for h in pts) or "none"   # noqa: E731
     assert len(mbs) == len(red), f"{label(pressure)}: reduced {speeds(red)} km/h, MBS {speeds(mbs)} km/h"
     for i, (h, r) in enumerate(zip(mbs, red), 1):
@@ -240,10 +240,10 @@ def test_criticality(axle, pressure, quick, cycle_diagrams):
     run started at half the first well-attracting stable cycle grows onto it (within verify's 0.5 %); for a
     subcritical one where straight running is stable, runs started inside and outside the unstable cycle stay on
     their side of it (it separates straight running from the rest).  Quick: the first branch only."""
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     from reduced_model.model import ShimmyModel
     red, diagram = cycle_diagrams(pressure)
-    points = hopf_points(red, red.nominal, 0.0, VMAX, lyapunov=True)
+    points = find_hopf_points(red, red.nominal, 0.0, VMAX, lyapunov=True)
     branches = [b for b in diagram.branches if b.start is not None and len(b.points) >= 2]
     if not points or not branches:
         pytest.skip(f"no Hopf point with a continued cycle branch at {label(pressure)}")

@@ -31,7 +31,7 @@ from comparisons.verify.orbit_checks import LEFT_TOL, ORBIT_TOL
 from comparisons.verify.other_axle import ONSET_TOLERANCE
 from comparisons.verify.report import CheckStatus, Row, Section
 from comparisons.studies.growth import DURATION
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 
 
 def full_geometry_section(ctx: Context) -> Section:
@@ -42,8 +42,8 @@ def full_geometry_section(ctx: Context) -> Section:
     cases = []
     for where in wheres:
         family, reduced = where.family, where.reduced_family
-        points = hopf_points(family, family.nominal, *where.speeds)
-        if points or hopf_points(reduced, reduced.nominal, *where.speeds, lyapunov=False):
+        points = find_hopf_points(family, family.nominal, *where.speeds)
+        if points or find_hopf_points(reduced, reduced.nominal, *where.speeds, lyapunov=False):
             cases.append((where, family, points, reduced))
     if ctx.quick:   # one case, Hopf points only: the branches cost minutes
         cases = [c for c in cases if c[2]][:1] or cases[:1]

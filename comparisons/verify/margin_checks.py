@@ -8,7 +8,7 @@ geometry.  Checks, each of which can fail:
 * the MBS with every assumption of the reduced model on has the reduced model's map (:data:`MAP_TOL`, absolute, on
   every node);
 * along the speed at the planned cases and at the ends and middle of the pressure window, the margin's sign
-  against the Hopf points of ``hopf_points`` (the truth, from continuation of the eigenvalues): read on both sides of
+  against the Hopf points of ``find_hopf_points`` (the truth, from continuation of the eigenvalues): read on both sides of
   every Hopf point, at the middle of every interval between neighbouring ones, however narrow, and at the map's
   speeds (no root is searched between grid nodes, which missed a stable window narrower than the grid's step), no
   oscillating pair crosses the imaginary axis inside an interval and one does across each Hopf point; for the
@@ -31,7 +31,7 @@ from comparisons.studies.margin_study import MarginPoint
 from comparisons.verify.context import Context
 from comparisons.verify.plan import VMAX
 from comparisons.verify.report import CheckStatus, Column, Row, Section
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.equilibria.margins import IMAG_RTOL, least_damped
 from reduced_model.family import MIN_SPEED
 
@@ -113,11 +113,11 @@ def crossed(a: Sample, b: Sample) -> bool:
 
 
 def hopf_sign_row(family, title: str, bar: float, grid=()) -> tuple[Row, list[tuple[float, float]]]:
-    """The margin's sign against the Hopf points at ``bar`` (module docstring): the Hopf points of ``hopf_points``
+    """The margin's sign against the Hopf points at ``bar`` (module docstring): the Hopf points of ``find_hopf_points``
     are the truth; in no interval between them does an oscillating pair cross the imaginary axis, and across every
     Hopf point one does (the growing pairs change by one, the growing eigenvalues by two)."""
     q = bar * BAR
-    points = hopf_points(family, q, 0.0, VMAX, lyapunov=False)
+    points = find_hopf_points(family, q, 0.0, VMAX, lyapunov=False)
     hopf = sorted(h.p for h in points)
     intervals = [[sample(family, v, q) for v in speeds] for speeds in margin_samples(hopf, grid)]
     missed = [(a.speed, b.speed) for iv in intervals for a, b in zip(iv[:-1], iv[1:]) if crossed(a, b)]

@@ -68,11 +68,11 @@ def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxl
     from comparisons.studies.kick import kicks, settle_function
     from bifurcation.cycles.branches import cycle_diagram
     from bifurcation.cycles.problem import CycleSettings
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     ctx = Context(out=out, quick=False, axle=case.axle, recordings=recordings)
     where = Where.of_bistable(case)
     family = where.family
-    points = hopf_points(family, family.nominal, 0.0, VMAX)
+    points = find_hopf_points(family, family.nominal, 0.0, VMAX)
     rows = hopf_rows(family, where, points, DURATION)
     windows = onset_windows(family, family.nominal, points, family.primary_min, VMAX, from_kmh(PAST_HOPF_KMH))
     crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"

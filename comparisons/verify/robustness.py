@@ -165,10 +165,10 @@ def onset_kind(l1: float | None, has_hopf: bool) -> str:
 def reduced_onset_l1(axle: AxleData, right: float, left: float) -> float | None:
     """l1 of the reduced model's lowest Hopf point in 0-400 km/h (the same in every plausible axle)."""
     from axles.units import BAR, KMH
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     from comparisons.api import Axle
     family = Axle(axle).reduced().problem(TyrePressures(right * BAR, left * BAR))
-    points = hopf_points(family, family.nominal, 0.0, 400.0 * KMH)
+    points = find_hopf_points(family, family.nominal, 0.0, 400.0 * KMH)
     return points[0].first_lyapunov if points else None
 
 

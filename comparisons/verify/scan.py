@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from axles.units import BAR, from_kmh, kmh
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.family import MIN_SPEED
 from reduced_model.modes import TRAMP_SHARE, tramp_share
 from axles.pressures import TyrePressures
@@ -84,7 +84,7 @@ class Window:
 def unstable_windows(family, q: float, vmax: float = VMAX, lyapunov: bool = True) -> tuple[list[Window], tuple]:
     """Unstable speed windows of straight running at q, each with the mode of its critical eigenvector (the
     family's first states are the reduced model's, as in both models' families)."""
-    points = hopf_points(family, q, 0.0, vmax, lyapunov=lyapunov)
+    points = find_hopf_points(family, q, 0.0, vmax, lyapunov=lyapunov)
     edges = [MIN_SPEED] + [h.p for h in points] + [vmax]
     windows = []
     for a, b in zip(edges[:-1], edges[1:]):

@@ -28,7 +28,7 @@ from comparisons.verify.context import (
 )
 from comparisons.verify.plan import VMAX, CaseKind
 from comparisons.verify.report import CheckStatus, Row, Section
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.model import ShimmyModel
 from axles.pressures import TyrePressures
 from comparisons.api import family_of
@@ -70,7 +70,7 @@ def paper_section(ctx: Context) -> Section:
     rows = []
     family = family_of(ShimmyModel(params=ctx.axle.params), TyrePressures.uniform(2.5e5))
     for p, printed in HOPF_SPEEDS_KMH.items():
-        computed = hopf_points(family, p * BAR, 0.0, VMAX)
+        computed = find_hopf_points(family, p * BAR, 0.0, VMAX)
         if not printed:
             ok = not computed
             rows.append(Row({"quantity": f"Hopf points at {p:g} bar", "paper": "none",
@@ -118,11 +118,11 @@ def hopf_section(ctx: Context) -> Section:
         for case in ctx.plan.cases:
             ctx.progress(f"Hopf speeds: {label} model, {case.label}")
             family = family_of(model, case.pressures)
-            reduced = hopf_points(family, family.nominal, 0.0, VMAX)
+            reduced = find_hopf_points(family, family.nominal, 0.0, VMAX)
             by_fidelity = {}
             for name in ("reduced", "full"):
                 mfam = family_of(MbsModel(model.params, effects, Fidelity.parse(name), dims), case.pressures)
-                by_fidelity[name] = match_hopf(reduced, hopf_points(mfam, mfam.nominal, 0.0, VMAX,
+                by_fidelity[name] = match_hopf(reduced, find_hopf_points(mfam, mfam.nominal, 0.0, VMAX,
                                                                     lyapunov=False))
             rel = _eigen_check(model, Fidelity.reduced(), case.pressures, dims)
             eig_ok = rel <= EIGEN_TOL

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from axles.axle import interface_text
 from axles.units import from_kmh
 
 TRANSIENT_TOL = 1e-4        # of the amplitude of each state (the MBS's fixed-step RK67 against DOP853 at rtol 1e-12)
@@ -54,7 +55,7 @@ def transient_check(axle, pressures, speed_kmh: float, duration: float) -> Trans
     traj = integrate(axle.params, Effects(), Fidelity.reduced(), pressures, SpeedSchedule.constant(V), x0, duration,
                     dims=axle.dims, poses=False)
     if not traj.complete:
-        return TransientCheck(speed_kmh, duration, False, traj.message, math.inf, math.nan, math.nan)
+        return TransientCheck(speed_kmh, duration, False, interface_text(traj.message), math.inf, math.nan, math.nan)
     ref = solve_ivp(lambda t, x: model.rhs(x, V, pressures), (0.0, duration), x0, method="DOP853", rtol=1e-12,
                     atol=1e-14, dense_output=True)
     xr = ref.sol(traj.t).T

@@ -17,7 +17,7 @@ from bifurcation.cycles import collocation as col
 from bifurcation.cycles import mesh_adaptation
 from bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
 from bifurcation.cycles.problem import CycleSettings
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.special_points import BranchStatus
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
@@ -79,7 +79,7 @@ def isola(X, V):
 
 def test_branch_ends_at_the_hopf_point_of_the_defining_system_even_when_not_listed():
     family = ToyFamily(isola, 2)
-    h0, h1 = hopf_points(family, 0.0, SHIFT - 0.5, SHIFT + 1.5)
+    h0, h1 = find_hopf_points(family, 0.0, SHIFT - 0.5, SHIFT + 1.5)
     listed = branch_from_hopf(family, h0, 0.0, SHIFT + 3.0, others=(h1,))
     assert listed.status is BranchStatus.COMPLETE and listed.end is h1
     alone = branch_from_hopf(family, h0, 0.0, SHIFT + 3.0)      # h1 not given: found by its defining system

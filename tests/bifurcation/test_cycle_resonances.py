@@ -8,14 +8,14 @@ from test_cycle_curve_ends import FLIP_BETA, BautinWithBlock, CycleWithOscillato
 
 from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
 from bifurcation.cycles.branches import branch_from_hopf
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.special_points import PointKind, PointStatus
 from axles.pressures import TyrePressures
 
 
 def located(family, q, kind, lo, hi, near=None):
     """The point of ``kind`` on the branch of ``family``'s cycle (frequency W) at q, near speed ``near``."""
-    (h,) = [h for h in hopf_points(family, q, family.SHIFT - 0.5, family.SHIFT + 0.5)
+    (h,) = [h for h in find_hopf_points(family, q, family.SHIFT - 0.5, family.SHIFT + 0.5)
             if abs(h.omega - family.W) < 1e-9]
     points = branch_from_hopf(family, h, lo, hi).points_of(kind)
     if near is not None:

@@ -15,7 +15,7 @@ from bifurcation.cycles.branches import branch_from_hopf
 from bifurcation.cycles.multipliers import classify_multipliers
 from bifurcation.cycles.problem import CycleSettings
 from bifurcation.derivatives import ComplexStepDerivatives
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.special_points import BranchStatus, PointKind, PointStatus
 
 SHIFT = 3.0      # m/s, speed of the Hopf point
@@ -96,7 +96,7 @@ def with_flip(X, V):
 
 
 def first_hopf(family, vmin=SHIFT - 0.2, vmax=SHIFT + 0.2):
-    (h,) = [h for h in hopf_points(family, 0.0, vmin, vmax) if abs(h.p - SHIFT) < 1e-9]
+    (h,) = [h for h in find_hopf_points(family, 0.0, vmin, vmax) if abs(h.p - SHIFT) < 1e-9]
     return h
 
 
@@ -113,7 +113,7 @@ def test_supercritical_branch_radius_period_and_multipliers():
     h = first_hopf(fam)
     assert h.first_lyapunov == pytest.approx(-2.0 / W, rel=1e-9)  # l1 = 2a/w with a = -1
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0)
-    assert b.status is BranchStatus.COMPLETE and "left the window" in b.message
+    assert b.status is BranchStatus.COMPLETE and "left the window" in str(b.message)
     assert b.points[-1].p == pytest.approx(SHIFT + 1.0, abs=1e-12)
     for p in b.points:
         mu = p.p - SHIFT
@@ -178,13 +178,13 @@ def test_branch_failures_say_where_they_stopped():
     few = CycleSettings(continuation=ContinuationSettings(ds=0.02, ds_max=0.1, max_steps=3))
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0, settings=few)
     assert b.status is BranchStatus.MAX_STEPS and not b.complete
-    assert len(b.points) == 4 and "last cycle at" in b.message
+    assert len(b.points) == 4 and "last cycle at" in str(b.message)
     stiff = CycleSettings(continuation=ContinuationSettings(ds=0.02, ds_min=1e-3, max_turn=1e-9))
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0, settings=stiff)
-    assert b.status is BranchStatus.STEP_UNDERFLOW and "last cycle at" in b.message
+    assert b.status is BranchStatus.STEP_UNDERFLOW and "last cycle at" in str(b.message)
     hopeless = CycleSettings(continuation=ContinuationSettings(newton_max_iter=1, newton_tol=1e-300))
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0, settings=hopeless)
-    assert b.status is BranchStatus.NEWTON_FAILED and b.points == () and "branch switching" in b.message
+    assert b.status is BranchStatus.NEWTON_FAILED and b.points == () and "branch switching" in str(b.message)
 
 
 def test_torus_and_fold_between_the_hopf_start_and_the_first_cycle():
@@ -199,7 +199,7 @@ def test_torus_and_fold_between_the_hopf_start_and_the_first_cycle():
 
     for family, q, kind, expected in ((CloseTorus(), 0.8, PointKind.TORUS, CloseTorus.SHIFT + 1e-5),
                                       (Bautin(), 2e-4, PointKind.CYCLE_FOLD, Bautin.SHIFT - 1e-8)):
-        (h,) = [h for h in hopf_points(family, q, family.SHIFT - 0.2, family.SHIFT + 0.2)
+        (h,) = [h for h in find_hopf_points(family, q, family.SHIFT - 0.2, family.SHIFT + 0.2)
                 if abs(h.omega - family.W) < 1e-9]
         branch = branch_from_hopf(family, h, family.SHIFT - 1.0, family.SHIFT + 1.0)
         first = branch.points[0].p
@@ -260,7 +260,7 @@ def test_a_corrector_failure_at_the_window_boundary_ends_the_branch_and_says_so(
 
     monkeypatch.setattr(continuation.Branch, "point_at", failing)
     b = branch_from_hopf(fam, h, SHIFT - 1.0, SHIFT + 1.0)
-    assert b.status is BranchStatus.COMPLETE and "crossing itself was not located" in b.message
+    assert b.status is BranchStatus.COMPLETE and "crossing itself was not located" in str(b.message)
     assert b.points[-1].p > SHIFT + 1.0 and b.points[-2].p < SHIFT + 1.0
     for p in b.points:
         assert p.amplitude[0] == pytest.approx(np.sqrt(p.p - SHIFT), rel=1e-8)

@@ -9,7 +9,7 @@ import pytest
 
 from axles import paper_reference as paper
 from axles.units import BAR, KMH, kmh
-from bifurcation.equilibria.hopf import bialternate, hopf_points, primary_derivative
+from bifurcation.equilibria.hopf import bialternate, find_hopf_points, primary_derivative
 from bifurcation.equilibria.hopf_curves import hopf_diagram
 from bifurcation.equilibria.normal_form import CauchyForms, DifferenceForms, first_lyapunov_coefficient
 from bifurcation.special_points import Criticality, PointKind, PointStatus
@@ -77,7 +77,7 @@ def test_first_lyapunov_against_planar_formula():
 
 @pytest.mark.parametrize("pressure", [2.5, 1.5, 2.7])
 def test_section3_hopf_speeds(section3, pressure):
-    points = hopf_points(section3, pressure * BAR, 0.0, 400 * KMH)
+    points = find_hopf_points(section3, pressure * BAR, 0.0, 400 * KMH)
     printed = paper.HOPF_SPEEDS_KMH[pressure]
     assert len(points) == len(printed)
     for h, ref in zip(points, printed):
@@ -90,7 +90,7 @@ def test_section3_hopf_speeds(section3, pressure):
 
 
 def test_hopf_points_solve_the_defining_system(section3):
-    for h in hopf_points(section3, 1.5 * BAR, 0.0, 400 * KMH):
+    for h in find_hopf_points(section3, 1.5 * BAR, 0.0, 400 * KMH):
         A = section3.linear_matrix(h.p, 1.5 * BAR)
         assert np.linalg.norm(A @ h.eigenvector - 1j * h.omega * h.eigenvector) < 1e-9
         lam = np.linalg.eigvals(A)
@@ -104,7 +104,7 @@ def test_hopf_points_solve_the_defining_system(section3):
 
 def test_frequency_ranges_of_the_two_modes(section3):
     """Figure 4a: the yaw mode oscillates at 5.28-6.66 Hz, the tramp mode at 10.6-13.2 Hz (ends = Hopf points)."""
-    hb = hopf_points(section3, 1.5 * BAR, 0.0, 400 * KMH)
+    hb = find_hopf_points(section3, 1.5 * BAR, 0.0, 400 * KMH)
     assert [round(h.frequency_hz, 2) for h in hb] == [5.26, 6.66, 10.59, 13.2]
 
 
@@ -201,7 +201,7 @@ def test_figure17_cumulative_effects(effects):
 def test_hopf_curve_passes_through_the_one_parameter_hopf_points(section3):
     """The curve from figure 5 contains the 2.5 bar Hopf points (continuation, not re-found by scanning)."""
     d = hopf_diagram(section3, 0.05 * BAR, 3.0 * BAR, 0.0, 400 * KMH)
-    for h in hopf_points(section3, 2.2 * BAR, 0.0, 400 * KMH):
+    for h in find_hopf_points(section3, 2.2 * BAR, 0.0, 400 * KMH):
         hits = []
         for c in d.curves:
             sign = np.sign(c.qs - 2.2 * BAR)

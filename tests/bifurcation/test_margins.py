@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from axles.units import BAR, from_kmh
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.equilibria.margins import MarginStatus, least_damped, margin_map, zero_level
 
 W0 = 2.0        # rad/s, natural frequency of the oscillator whose damping is q - p
@@ -94,7 +94,7 @@ def test_the_zero_level_is_the_hopf_point(q):
     family = OscillatorFamily()
     zeros = zero_level(family, q, np.linspace(0.0, 3.0, 7))
     assert zeros == pytest.approx((q,), rel=1e-10)
-    (h,) = hopf_points(family, q, 0.0, 3.0, lyapunov=False)
+    (h,) = find_hopf_points(family, q, 0.0, 3.0, lyapunov=False)
     assert h.p == pytest.approx(zeros[0], rel=1e-10)
     assert h.omega == pytest.approx(W0, rel=1e-9)
 
@@ -106,13 +106,13 @@ def _unstable_pairs(family, p, q):
 
 @pytest.mark.parametrize("effects, bar", [("", 1.5), ("", 2.5), ("all", 1.5), ("hcl,pt", 2.0)])
 def test_the_zero_level_meets_the_reduced_models_hopf_points(effects, bar):
-    """Every sign change of the least damping ratio along the speed is a Hopf point of ``hopf_points`` to 1e-6
+    """Every sign change of the least damping ratio along the speed is a Hopf point of ``find_hopf_points`` to 1e-6
     relative, and every Hopf point where the first pair becomes unstable (or the last stable) is one."""
     from reduced_model.family import SpeedFamily
     from reduced_model.model import Effects, ShimmyModel
     family = SpeedFamily(ShimmyModel(effects=Effects.parse(effects)), "pressure")
     q, vmax = bar * BAR, from_kmh(400)
-    hopf = hopf_points(family, q, 0.0, vmax, lyapunov=False)
+    hopf = find_hopf_points(family, q, 0.0, vmax, lyapunov=False)
     zeros = zero_level(family, q, np.linspace(0.0, vmax, 201))
     assert zeros, "no zero level found"
     for z in zeros:

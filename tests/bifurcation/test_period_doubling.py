@@ -64,10 +64,10 @@ class FlipInTwoParameters(ComplexStepFamily):
 
 def test_period_doubling_curve_by_the_minimally_augmented_system():
     from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
 
     family = FlipInTwoParameters()
-    (h,) = [h for h in hopf_points(family, 0.3, toy.SHIFT - 0.2, toy.SHIFT + 0.2) if abs(h.omega - toy.W) < 1e-9]
+    (h,) = [h for h in find_hopf_points(family, 0.3, toy.SHIFT - 0.2, toy.SHIFT + 0.2) if abs(h.omega - toy.W) < 1e-9]
     pd = min(branch_from_hopf(family, h, 0.0, toy.SHIFT + 2.0).points_of(PointKind.PERIOD_DOUBLING),
              key=lambda p: p.p)
     curve = cycle_bifurcation_curve(family, pd, 0.1, 1.0, toy.SHIFT + 1e-3, toy.SHIFT + 3.0)

@@ -152,13 +152,17 @@ def test_curve_end_messages_print_in_interface_units(capsys):
     import numpy as np
 
     from bifurcation.cycle_curves.result import CycleCurve
+    from bifurcation.messages import Message, Quantity
     from bifurcation.special_points import BranchStatus, PointKind
+
+    def at(p, q):
+        return Message.of(Quantity("speed", p), ", ", Quantity("pressure", q))
 
     curve = CycleCurve(kind=PointKind.TORUS, param="pressure", ps=np.array([45.0, 46.0]),
                        qs=np.array([50000.0, 53000.0]), amplitudes=np.zeros((2, 8)), periods=np.ones(2),
                        status=(BranchStatus.COMPLETE,) * 2,
-                       messages=("ends at the Hopf-Hopf point located at speed = 45.30795, pressure = 53204.76",
-                                 "left the window at speed = 53.76107, pressure = 20000"),
+                       messages=(Message.of("ends at the Hopf-Hopf point located at ", at(45.30795, 53204.76)),
+                                 Message.of("left the window at ", at(53.76107, 20000.0))),
                        ends=(None, None))
     cycles_command.print_curves([(curve, "")], ["T1"], "pressure")
     text = capsys.readouterr().out

@@ -17,7 +17,7 @@ from mbs_shimmy.model import MbsModel
 from bifurcation.continuation import ContinuationSettings
 from bifurcation.cycles.branches import branch_from_hopf
 from bifurcation.cycles.problem import CycleSettings
-from bifurcation.equilibria.hopf import eigenvalues, hopf_points
+from bifurcation.equilibria.hopf import eigenvalues, find_hopf_points
 from bifurcation.special_points import Criticality
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
@@ -32,8 +32,8 @@ def test_mbs_first_lyapunov_equals_the_reduced_models_with_every_assumption_on(e
     eff = Effects.parse(effects) if effects else Effects()
     reduced = SpeedFamily(ShimmyModel(effects=eff), pressures=pressure)
     mbs = MbsFamily(MbsModel(effects=eff, fidelity=Fidelity.reduced()), pressures=pressure)
-    r = hopf_points(reduced, reduced.nominal, 0.0, VMAX)
-    m = hopf_points(mbs, mbs.nominal, 0.0, VMAX)
+    r = find_hopf_points(reduced, reduced.nominal, 0.0, VMAX)
+    m = find_hopf_points(mbs, mbs.nominal, 0.0, VMAX)
     assert len(r) == len(m) > 0
     for a, b in zip(r, m):
         assert b.p == pytest.approx(a.p, rel=1e-9)
@@ -55,7 +55,7 @@ def test_full_geometry_criticality_agrees_with_the_side_the_branch_leaves(pressu
     cycles from the continued branch.  (The full axle has no Hopf point at 2.5 bar; with rigid mounts it has two.)"""
     fidelity = Fidelity.parse(kept) if kept else Fidelity.full()
     family = MbsFamily(MbsModel(fidelity=fidelity), pressures=TyrePressures.uniform(pressure_bar * BAR))
-    points = hopf_points(family, family.nominal, 0.0, VMAX)
+    points = find_hopf_points(family, family.nominal, 0.0, VMAX)
     assert points
     for h in points:
         assert h.criticality is not None

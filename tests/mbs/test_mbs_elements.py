@@ -21,7 +21,7 @@ from mbs_shimmy.fidelity import ISSUE_18, Assumption
 from mbs_shimmy.linearisation import constant_speed, MbsFamily
 from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
 from axles.pressures import TyrePressures
@@ -210,5 +210,5 @@ def test_slip_heading_only_terms_one_at_a_time(keep, expected, monkeypatch):
     monkeypatch.setattr(tyre_element.TyreElement, "linear", _slip_with_one_term(keep))
     for bar, speeds in expected.items():
         family = MbsFamily(MbsModel(fidelity=Fidelity.reduced()), pressures=TyrePressures.uniform(bar * BAR))
-        got = [kmh(h.p) for h in hopf_points(family, bar * BAR, 0.0, 400 * KMH, lyapunov=False)]
+        got = [kmh(h.p) for h in find_hopf_points(family, bar * BAR, 0.0, 400 * KMH, lyapunov=False)]
         assert got == pytest.approx(speeds, abs=0.01)

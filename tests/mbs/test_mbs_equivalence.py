@@ -16,7 +16,7 @@ from comparisons.studies.limit_cycle import mbs_steady_amplitude, reduced_steady
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.simulation import integrate
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
@@ -44,9 +44,9 @@ def test_jacobian_eigenvalues_equal_reduced(effects, pressure):
 @pytest.mark.parametrize("overrides,pressure", [({}, 1.5), ({}, 2.5), ({"t0": 0.25}, 1.5), ({"t0": 0.25}, 2.5)])
 def test_hopf_speeds_equal_reduced(overrides, pressure):
     params = YANG2024.replace(**overrides)
-    mbs = hopf_points(MbsFamily(MbsModel(params=params, fidelity=Fidelity.reduced())), pressure * BAR, 0.0,
+    mbs = find_hopf_points(MbsFamily(MbsModel(params=params, fidelity=Fidelity.reduced())), pressure * BAR, 0.0,
                       400 * KMH, lyapunov=False)
-    red = hopf_points(SpeedFamily(ShimmyModel(params)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
+    red = find_hopf_points(SpeedFamily(ShimmyModel(params)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
     assert len(mbs) == len(red) >= 2
     for h, r in zip(mbs, red):
         assert abs(kmh(h.p) - kmh(r.p)) < 0.01
@@ -134,7 +134,7 @@ def test_limit_cycle_amplitude_matches_continuation():
     from bifurcation.cycles.branches import branch_from_hopf, cycle_at
     V, p = 60 * KMH, 1.5 * BAR
     family = SpeedFamily(ShimmyModel())
-    hopf = hopf_points(family, p, 0.0, 400 * KMH)
+    hopf = find_hopf_points(family, p, 0.0, 400 * KMH)
     branch = branch_from_hopf(family, hopf[0], 0.0, 400 * KMH, others=tuple(hopf[1:]))
     near = min(branch.points, key=lambda c: abs(c.p - V))
     cycle = cycle_at(family, near, V)

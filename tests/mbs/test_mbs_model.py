@@ -332,15 +332,15 @@ def test_dimensions_are_checked():
 
 
 def test_family_over_a_table_entry_and_bad_values():
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     by_param = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="t0", pressures=TyrePressures.uniform(1.5 * BAR))
     direct = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
-    a = hopf_points(by_param, 0.25, 0.0, 400 * KMH, lyapunov=False)
-    b = hopf_points(direct, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    a = find_hopf_points(by_param, 0.25, 0.0, 400 * KMH, lyapunov=False)
+    b = find_hopf_points(direct, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
     assert [h.p for h in a] == pytest.approx([h.p for h in b], rel=1e-10)
     with pytest.raises(ParameterError, match="unknown parameter"):
         MbsFamily(param="tyre_colour")
     with pytest.raises(ParameterError, match="pressure must be positive"):
-        hopf_points(MbsFamily(), -1.0 * BAR, 0.0, 100.0, lyapunov=False)
+        find_hopf_points(MbsFamily(), -1.0 * BAR, 0.0, 100.0, lyapunov=False)
     with pytest.raises(ParameterError, match="t0 = -0.1 m is outside its physical range"):
         MbsFamily(param="t0").validate(-0.1)

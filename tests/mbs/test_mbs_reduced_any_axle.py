@@ -16,7 +16,7 @@ from mbs_shimmy import Fidelity
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.simulation import integrate
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
@@ -53,8 +53,8 @@ def test_reduced_fidelity_reproduces_the_reduced_equations_for_any_axle(seed):
         a = _eigs(mbs.direct_linear_matrix(v_kmh * KMH, red.nominal))
         b = _eigs(red.linear_matrix(v_kmh * KMH, red.nominal))
         assert np.max(np.abs(a - b) / np.abs(b)) < 1e-9, (v_kmh, a, b)
-    hm = hopf_points(mbs, red.nominal, 0.0, 400 * KMH, lyapunov=False)
-    hr = hopf_points(red, red.nominal, 0.0, 400 * KMH, lyapunov=False)
+    hm = find_hopf_points(mbs, red.nominal, 0.0, 400 * KMH, lyapunov=False)
+    hr = find_hopf_points(red, red.nominal, 0.0, 400 * KMH, lyapunov=False)
     assert len(hm) == len(hr)
     for h, r in zip(hm, hr):
         assert abs(kmh(h.p) - kmh(r.p)) < 0.01

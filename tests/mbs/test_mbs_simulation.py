@@ -103,8 +103,8 @@ def test_divergence_is_reported_with_time_and_state():
     traj = integrate(params, Effects(), Fidelity.full(), TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(100 * KMH),
                     _x0(theta1=0.1), 5.0, poses=False)
     assert traj.status is SimulationStatus.DIVERGED and not traj.complete
-    assert "diverged at t = " in traj.message and "theta1 = " in traj.message
-    stop = float(traj.message.split("t = ")[1].split(" s")[0])
+    assert "diverged at t = " in str(traj.message) and "theta1 = " in str(traj.message)
+    stop = float(str(traj.message).split("t = ")[1].split(" s")[0])
     assert 0.0 < stop < 5.0 and traj.t[-1] == pytest.approx(stop, abs=2e-3)
     assert len(traj.x) == len(traj.t) == len(traj.speed) and np.max(np.abs(traj.x[:, 0])) > 0.5
 
@@ -120,8 +120,8 @@ def test_solver_failure_keeps_partial_trajectory(monkeypatch):
     monkeypatch.setattr(forces_module.AxleForces, "evaluate", failing)
     traj = integrate(duration=0.2, poses=False)
     assert traj.status is SimulationStatus.SOLVER_FAILED
-    assert "t = 0.05" in traj.message and "FloatingPointError: tyre force not finite" in traj.message
-    assert "last stored t = 0.049" in traj.message
+    assert "t = 0.05" in str(traj.message) and "FloatingPointError: tyre force not finite" in str(traj.message)
+    assert "last stored t = 0.049" in str(traj.message)
     assert 0.04 < traj.t[-1] <= 0.05 and traj.x.shape == (len(traj.t), 8)
 
 

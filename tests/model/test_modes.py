@@ -8,7 +8,7 @@ import pytest
 
 from axles.units import from_kmh
 from comparisons.cli.main import main
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.mode_shapes import mode_shapes
 from reduced_model.model import STATE_NAMES, ShimmyModel
@@ -38,7 +38,7 @@ def test_linear_oscillator_by_hand():
 def test_modes_at_the_first_hopf_point():
     """At HB1 the Hopf solver's frequency (an independent computation) is the undamped yaw mode's."""
     family = SpeedFamily(ShimmyModel(), pressures=TyrePressures.uniform(1.5e5))
-    hb1 = hopf_points(family, 1.5e5, 0.0, from_kmh(400), lyapunov=False)[0]
+    hb1 = find_hopf_points(family, 1.5e5, 0.0, from_kmh(400), lyapunov=False)[0]
     modes = mode_shapes(family.linear_matrix(hb1.p, 1.5e5), 6.0, 160.0)
     critical = modes[0]
     assert abs(critical.eigenvalue.real) < 1e-6

@@ -9,7 +9,7 @@ import pytest
 from axles.units import BAR, KMH
 from comparisons.cli.main import main
 from bifurcation.cycles.branches import branch_from_hopf, cycle_at, cycle_diagram
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from reduced_model.family import SpeedFamily
 from reduced_model.model import ShimmyModel
 from reduced_model.simulation import integrate
@@ -50,7 +50,7 @@ def test_pressure_family_moves_both_tyres_together():
 def test_swapping_pressures_mirrors_the_solution():
     a = SpeedFamily(SYMMETRIC, pressures=TyrePressures(1.5 * BAR, 1.2 * BAR))
     b = SpeedFamily(SYMMETRIC, pressures=TyrePressures(1.2 * BAR, 1.5 * BAR))
-    ha, hb = hopf_points(a, a.nominal, 0.0, 400 * KMH), hopf_points(b, b.nominal, 0.0, 400 * KMH)
+    ha, hb = find_hopf_points(a, a.nominal, 0.0, 400 * KMH), find_hopf_points(b, b.nominal, 0.0, 400 * KMH)
     assert len(ha) == len(hb) > 0
     assert [h.p for h in ha] == pytest.approx([h.p for h in hb], rel=1e-10)
     # the yaw branch near its Hopf point (a narrow speed window keeps the continuation short)

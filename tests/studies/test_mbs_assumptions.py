@@ -18,7 +18,7 @@ from mbs_shimmy import Fidelity
 from comparisons.studies.assumption_study import assumption_study, match_hopf, study_fidelities
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
-from bifurcation.equilibria.hopf import HopfPoint, hopf_points
+from bifurcation.equilibria.hopf import HopfPoint, find_hopf_points
 from reduced_model.model import Effects
 
 # Hopf speeds (km/h) of the MBS, section 3 model; the reduced model has 26.630, 97.128, 192.983, 345.889 at
@@ -68,7 +68,7 @@ COMPUTED = {
 @pytest.mark.parametrize("pressure", [1.5, 2.5])
 @pytest.mark.parametrize("name,fidelity", study_fidelities())
 def test_hopf_speeds_without_each_assumption(pressure, name, fidelity):
-    points = hopf_points(MbsFamily(MbsModel(fidelity=fidelity)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
+    points = find_hopf_points(MbsFamily(MbsModel(fidelity=fidelity)), pressure * BAR, 0.0, 400 * KMH, lyapunov=False)
     assert [kmh(h.p) for h in points] == pytest.approx(COMPUTED[pressure][name], abs=1e-3)
 
 
@@ -79,8 +79,8 @@ def test_nonlinear_assumptions_move_no_hopf_point(name):
     move with the angled arms)."""
     base, without = ((Fidelity.reduced(), Fidelity.reduced().without(name)) if name != "parallel_steering_arms"
                      else (Fidelity.parse(f"{name},massless_links"), Fidelity.parse("massless_links")))
-    reduced = hopf_points(MbsFamily(MbsModel(fidelity=base)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
-    dropped = hopf_points(MbsFamily(MbsModel(fidelity=without)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    reduced = find_hopf_points(MbsFamily(MbsModel(fidelity=base)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    dropped = find_hopf_points(MbsFamily(MbsModel(fidelity=without)), 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
     assert np.max(np.abs(np.array([h.p for h in dropped]) - [h.p for h in reduced])) < 1e-6
 
 
@@ -89,7 +89,7 @@ def test_full_geometry_with_large_trail():
     up."""
     from axles.parameters import YANG2024
     family = MbsFamily(MbsModel(params=YANG2024.replace(t0=0.25), fidelity=Fidelity.full()))
-    assert [kmh(h.p) for h in hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
+    assert [kmh(h.p) for h in find_hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)] == \
         pytest.approx([3.5605, 194.6488, 224.4958], abs=1e-3)
 
 
@@ -221,5 +221,5 @@ def test_steering_gear_row_split_into_compliance_and_roll_steer(dims, expected):
     from axles.dimensions import DEFAULT_DIMENSIONS
     from mbs_shimmy.fidelity import ISSUE_18
     family = MbsFamily(MbsModel(fidelity=Fidelity(ISSUE_18), dims=DEFAULT_DIMENSIONS.replace(**dims)))
-    points = hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
+    points = find_hopf_points(family, 1.5 * BAR, 0.0, 400 * KMH, lyapunov=False)
     assert [kmh(h.p) for h in points] == pytest.approx(expected, abs=1e-3)

@@ -11,7 +11,7 @@ from mbs_shimmy import Fidelity
 from comparisons.studies.growth import RATE_TOL, envelope_rate
 from mbs_shimmy.linearisation import MbsFamily
 from mbs_shimmy.model import MbsModel
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from axles.pressures import TyrePressures
 
 OFFSET_KMH = 4.0
@@ -19,7 +19,7 @@ OFFSET_KMH = 4.0
 
 def full_hopf_speeds(pressure):
     family = MbsFamily(MbsModel(fidelity=Fidelity.full()), pressures=TyrePressures.uniform(pressure))
-    return family, [h.p for h in hopf_points(family, pressure, 0.0, 400 * KMH, lyapunov=False)]
+    return family, [h.p for h in find_hopf_points(family, pressure, 0.0, 400 * KMH, lyapunov=False)]
 
 
 @pytest.mark.parametrize("side", [-1.0, 1.0])

@@ -102,7 +102,7 @@ class MissingHopf(TwoModes):
 def test_a_hopf_point_the_continuation_missed_fails_the_sign_check(monkeypatch):
     import numpy as np
     from comparisons.verify import margin_checks as margins
-    monkeypatch.setattr(margins, "hopf_points", lambda *args, **kw: ())
+    monkeypatch.setattr(margins, "find_hopf_points", lambda *args, **kw: ())
     from comparisons.verify.plan import VMAX
     from reduced_model.family import MIN_SPEED
     row, points = margins.hopf_sign_row(MissingHopf(), "constructed", 1.0, np.linspace(MIN_SPEED, VMAX, 41))

@@ -12,7 +12,7 @@ from comparisons.verify.background import Background, BackgroundJobError
 from comparisons.verify.other_axle import onset_windows
 from comparisons.studies.kick import bistable_windows
 from bifurcation.cycles.branches import cycle_diagram
-from bifurcation.equilibria.hopf import hopf_points
+from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.special_points import PointKind
 from tests.bifurcation.test_cycles_toy import SHIFT, ToyFamily, W, subcritical, supercritical
 
@@ -36,7 +36,7 @@ def two_points(X, V):
 @pytest.mark.parametrize("field, fold", [(subcritical, SHIFT - 1.0), (subcritical_above, SHIFT + 1.0)])
 def test_the_onset_window_of_a_subcritical_point_holds_its_fold_and_bistable_window(field, fold):
     family = ToyFamily(field, 2)
-    hopf = hopf_points(family, 0.0, 0.5, 6.0)
+    hopf = find_hopf_points(family, 0.0, 0.5, 6.0)
     ((a, b),) = onset_windows(family, 0.0, hopf, 0.5, 6.0, PAST)
     (h,) = hopf
     assert min(abs(a - h.p), abs(b - h.p)) == pytest.approx(PAST)       # just past the Hopf point
@@ -51,10 +51,10 @@ def test_the_onset_window_of_a_subcritical_point_holds_its_fold_and_bistable_win
 
 
 def test_no_window_from_a_supercritical_point_and_none_past_the_next_hopf_point():
-    assert onset_windows(ToyFamily(supercritical, 2), 0.0, hopf_points(ToyFamily(supercritical, 2), 0.0, 0.5, 6.0),
+    assert onset_windows(ToyFamily(supercritical, 2), 0.0, find_hopf_points(ToyFamily(supercritical, 2), 0.0, 0.5, 6.0),
                          0.5, 6.0, PAST) == []
     family = ToyFamily(two_points, 4)
-    hopf = hopf_points(family, 0.0, 0.5, 9.0)
+    hopf = find_hopf_points(family, 0.0, 0.5, 9.0)
     assert len(hopf) == 2
     assert onset_windows(family, 0.0, hopf, 0.5, 9.0, PAST) == [(0.5, SHIFT + PAST)]
 

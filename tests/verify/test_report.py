@@ -209,15 +209,6 @@ def test_plan_step_counts_the_planning(monkeypatch):
     assert line.startswith("verify: [1/2] Plan: done in 29.") and "(29 s so far)" in line
 
 
-def test_continuation_messages_in_interface_units():
-    from axles.units import interface_message
-    text = "ends on the window boundary at 147.707 km/h, pressure = 50000 | left at 400 km/h, pressure = 128521"
-    assert interface_message(text, "pressure", "bar", 1e5) == (
-        "ends on the window boundary at 147.707 km/h, pressure = 0.5 bar | left at 400 km/h, pressure = 1.28521 bar")
-    assert interface_message("t0 = 0.08194", "t0", "m", 1.0) == "t0 = 0.08194 m"
-    assert interface_message("pressure_left = 50000", "pressure", "bar", 1e5) == "pressure_left = 50000"
-
-
 def test_tornado_rows_name_what_they_compare(monkeypatch, tmp_path):
     """An assumption's row compares the MBS with it off against the reduced model, an element's row the full
     geometry with the element against without (the axis once said "MBS minus reduced model" for both); a row

@@ -4,19 +4,19 @@ from __future__ import annotations
 
 import argparse
 
-from axles.units import KMH, kmh
+from comparisons.api import hopf_points
 from comparisons.cli.options import (
     add_model_choice,
     add_model_options,
     add_output_options,
     add_speed_window,
     build_axle,
-    build_family,
+    chosen_model,
     emit_json,
     inputs_json,
     pressure_label,
 )
-from bifurcation.equilibria.hopf import HopfPoint, hopf_points
+from comparisons.results import HopfSummary
 
 
 def add_parser(sub) -> None:
@@ -28,25 +28,25 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def hopf_row(h: HopfPoint) -> dict:
-    return {"speed_kmh": kmh(h.p), "frequency_hz": h.frequency_hz,
+def hopf_row(h: HopfSummary) -> dict:
+    return {"speed_kmh": h.speed_kmh, "frequency_hz": h.frequency_hz,
             "first_lyapunov": None if h.criticality is None else h.first_lyapunov,
             "criticality": h.criticality.value if h.criticality else None}
 
 
 def run(args: argparse.Namespace) -> int:
-    family = build_family(args)
+    family = chosen_model(args).family(args.tyre_pressures)
     mbs = args.model == "mbs"
     # Both models carry the first Lyapunov coefficient: the MBS's from multilinear forms by finite differences.
-    points = hopf_points(family, family.nominal, 0.0, args.vmax * KMH)
-    effects = list(family.model.effects.names)
+    points = hopf_points(family, vmax_kmh=args.vmax).points
+    effects = list(family.problem.model.effects.names)
     if args.json:
         out = {**inputs_json(args), "hopf": [hopf_row(h) for h in points]}
         if mbs:
-            out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
+            out["model"], out["fidelity"] = "mbs", family.problem.model.fidelity.label
         emit_json(out)
         return 0
-    what = f"MBS, fidelity {family.model.fidelity.label}" if mbs else "reduced model"
+    what = f"MBS, fidelity {family.problem.model.fidelity.label}" if mbs else "reduced model"
     print(f"Hopf points at {pressure_label(args)}, 0-{args.vmax:g} km/h ({what}), pressure effects: "
           f"{','.join(effects) or 'none (section 3 model)'}")
     print(f"  {build_axle(args).label()}")
@@ -54,5 +54,5 @@ def run(args: argparse.Namespace) -> int:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
         l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
-        print(f"  HB{i}: {kmh(h.p):10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
+        print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
     return 0
