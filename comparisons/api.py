@@ -47,12 +47,11 @@ from axles.limits import (
 from axles.input_file import check_range
 from axles.pressures import TyrePressures
 from axles.units import to_si
+from comparisons.windows import ShimmyWindows, pair_windows
 from comparisons.results import (
     CycleBranches,
     HopfSummary,
     HopfResult,
-    ShimmyWindow,
-    ShimmyWindows,
     Simulation,
     StabilityMargins,
     cycle_branch,
@@ -341,58 +340,18 @@ def hopf_points(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float = 40
     return HopfResult(family.label(), vmin, vmax, tuple(HopfSummary.of(p) for p in found))
 
 
-# A speed step (m/s) either side of a Hopf point at which the critical pair's real part shows its crossing: its
-# slope is O(0.1 1/(m/s)), so the difference is far above the eigenvalues' rounding error.
-CROSSING_STEP = 1e-3
-
-
-def crosses_up(problem, point) -> bool:
-    """True where the Hopf point's critical pair enters the right half-plane as speed rises (an onset), False
-    where it leaves it (the end of a window): the real part of the eigenvalue nearest i omega just above the point
-    against just below it."""
-    def real_part_near(speed: float) -> float:
-        values = np.linalg.eigvals(problem.linear_matrix(speed, point.q))
-        return float(values[np.argmin(np.abs(values - 1j * point.omega))].real)
-    return real_part_near(point.p + CROSSING_STEP) > real_part_near(max(point.p - CROSSING_STEP, 1e-9))
-
-
 def shimmy_windows(family: ModelFamily, hopf: HopfResult | None = None, vmin_kmh: float = 0.5,
                    vmax_kmh: float = 400.0) -> ShimmyWindows:
-    """The speed windows where straight running shimmies, by mode: each Hopf point (of ``hopf``, else found in
-    the window) is named yaw or tramp by its critical eigenvector, as ``verify`` names its windows (the tramp share
-    |psi| / max|theta| against the simulations' mode split), and pairs with the next one of the same mode; an end
-    before any onset means the mode is unstable from the lowest speed, an onset without an end that it is unstable
-    up to the top of the window.  No Hopf point is left out.
+    """The speed windows where straight running shimmies, by mode, from the Hopf points of ``hopf`` (else found in
+    the window), paired as :func:`comparisons.windows.pair_windows` says.
 
     >>> family = Axle.paper().reduced().family(TyrePressures.both(1.5))
     >>> [w.text() for w in shimmy_windows(family).windows]
     ['yaw from 26.630 to 97.128 km/h', 'tramp from 192.983 to 345.889 km/h']
     """
-    from reduced_model.modes import TRAMP_SHARE, tramp_share
     if hopf is None:
         hopf = hopf_points(family, vmin_kmh, vmax_kmh)
-    by_mode: dict[str, list[tuple[HopfSummary, bool]]] = {}
-    for point in hopf.points:
-        mode = "tramp" if tramp_share(point.point.eigenvector) > TRAMP_SHARE else "yaw"
-        by_mode.setdefault(mode, []).append((point, crosses_up(family.problem, point.point)))
-    windows = []
-    for mode, crossings in by_mode.items():
-        # unstable pairs of this mode at the lowest speed: as many as the ends that come before their onsets
-        running, unstable = 0, 0
-        for _, up in crossings:
-            running += 1 if up else -1
-            unstable = max(unstable, -running)
-        low, onset, members = (hopf.vmin, None, []) if unstable else (None, None, [])
-        for point, up in crossings:
-            if up and unstable == 0:
-                low, onset, members = point.speed, point, []
-            members.append(point)
-            unstable += 1 if up else -1
-            if unstable == 0:
-                windows.append(ShimmyWindow(mode, low, point.speed, onset, point, tuple(members)))
-        if unstable:
-            windows.append(ShimmyWindow(mode, low, hopf.vmax, onset, None, tuple(members)))
-    return ShimmyWindows(hopf.title, hopf.vmin, hopf.vmax, tuple(sorted(windows, key=lambda w: w.low)))
+    return pair_windows(family.problem, hopf)
 
 
 def cycle_branches(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float = 400.0) -> CycleBranches:

@@ -135,55 +135,6 @@ class HopfResult(Shown):
                      f"({self.status.value})")
 
 
-@dataclass(frozen=True)
-class ShimmyWindow:
-    """A speed window (m/s) where one mode of straight running is unstable: from its ``onset`` Hopf point, where
-    the mode's critical pair crosses into the right half-plane as speed rises, to its ``end``, where it returns.
-    ``onset`` is None for a window open from the lowest speed, ``end`` None for one open to the top of the speed
-    window.  ``points`` are all the mode's Hopf points in the window, by speed (more than two where a second pair
-    of the same mode crosses inside it)."""
-
-    mode: str                         # yaw or tramp
-    low: float                        # m/s
-    high: float                       # m/s
-    onset: HopfSummary | None
-    end: HopfSummary | None
-    points: tuple[HopfSummary, ...]
-
-    @property
-    def low_kmh(self) -> float:
-        return kmh(self.low)
-
-    @property
-    def high_kmh(self) -> float:
-        return kmh(self.high)
-
-    def text(self) -> str:
-        """"yaw from 12.193 to 134.824 km/h", naming an open end."""
-        low = "the lowest speed" if self.onset is None else f"{self.low_kmh:.3f}"
-        high = f"the top of the window ({self.high_kmh:g} km/h)" if self.end is None else f"{self.high_kmh:.3f} km/h"
-        return f"{self.mode} from {low} to {high}"
-
-
-@dataclass(frozen=True)
-class ShimmyWindows(Shown):
-    """The unstable speed windows of straight running, one per mode and stretch of speed, from the Hopf points
-    paired by the mode of their critical eigenvector (every Hopf point is in exactly one window)."""
-
-    title: str
-    vmin: float                       # m/s
-    vmax: float                       # m/s
-    windows: tuple[ShimmyWindow, ...]
-
-    def table(self) -> Table:
-        rows = tuple((w.mode, "-" if w.onset is None else f"{w.low_kmh:.3f}",
-                      "-" if w.end is None else f"{w.high_kmh:.3f}",
-                      f"{w.points[0].frequency_hz:.3f}", str(len(w.points))) for w in self.windows)
-        return Table(("mode", "onset km/h", "end km/h", "frequency at first Hopf point Hz", "Hopf points"), rows,
-                     f"Shimmy windows, {self.title}, {kmh(self.vmin):g}-{kmh(self.vmax):g} km/h "
-                     "(onset '-': unstable from the lowest speed; end '-': up to the top of the window)")
-
-
 # --- cycle branches -------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)

@@ -317,10 +317,10 @@ def main(argv: list[str] | None = None) -> int:
             args.argv = list(sys.argv[1:] if argv is None else argv)    # echoed in reports
             return _run(args)
         except (UsageError, ParameterError) as exc:
-            _say(f"shimmy: error: {interface_text(str(exc))}")
+            _say(f"shimmy: error: {interface_text(exc)}")
             return EXIT_USAGE
         except ConvergenceError as exc:
-            _say(f"shimmy: failed: {interface_text(str(exc))}")
+            _say(f"shimmy: failed: {interface_text(exc)}")
             return EXIT_INCOMPLETE
         except (FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError) as exc:
             _say(f"shimmy: failed: numerical {type(exc).__name__} in {_where(exc)}: {exc}")

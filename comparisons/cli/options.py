@@ -11,6 +11,7 @@ import sys
 from typing import Any
 
 from reduced_model.model import Effects, ShimmyModel
+from axles.axle import interface_text
 from axles.parameters import ParameterError
 
 # Second parameters of two-parameter diagrams: pressures and the four tyre properties.
@@ -89,7 +90,7 @@ def parse_overrides(items: list[str] | None) -> dict[str, float]:
     try:
         return parse_settings(items or [])
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def add_axle_option(p: argparse.ArgumentParser) -> None:
@@ -143,7 +144,7 @@ def pressures_of(args: argparse.Namespace):
     try:
         return TyrePressures.of_bar(right, left, right_name=names[0], left_name=names[1])
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def pressures_json(args: argparse.Namespace) -> dict:
@@ -187,7 +188,7 @@ def _axle_of(path: str | None, stamp, tyre: str | None, tyre_stamp, items: tuple
         axle = Axle.paper() if path is None else Axle.from_file(path)
         return (axle if tyre is None else axle.with_tyre(tyre)).with_set(*items)
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def build_axle(args: argparse.Namespace):
@@ -228,7 +229,7 @@ def build_fidelity(args: argparse.Namespace, model: str | None = None):
     try:
         return fidelity_of(args.fidelity, args.assume)
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def reduced_model(args: argparse.Namespace):
@@ -236,7 +237,7 @@ def reduced_model(args: argparse.Namespace):
     try:
         return api_axle(args).reduced(effects=args.effects)
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def chosen_model(args: argparse.Namespace):
@@ -268,7 +269,7 @@ def check_output_path(path: str, what: str = "output", recording: bool = False) 
     try:
         check_output(path, what, recording)
     except OutputPathError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def finite_json(obj: Any) -> Any:

@@ -56,7 +56,7 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
         try:
             curve: CycleCurve = cycle_bifurcation_curve(family, point, lo, hi, vmin_kmh * KMH, vmax_kmh * KMH)
         except ConvergenceError as exc:
-            notes.append(f"{text}: INCOMPLETE: {interface_text(str(exc))}")
+            notes.append(f"{text}: INCOMPLETE: {interface_text(exc)}")
             complete = False
             continue
         origin = f"from {kmh(point.p):.2f} km/h at {start / factor:g} {unit}"
@@ -129,7 +129,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
             found = curves_from_codimension_two(family, point, lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
                                                 vmax_kmh * KMH)
         except ConvergenceError as exc:
-            notes.append(f"curves from {origin}: INCOMPLETE: {interface_text(str(exc))}")
+            notes.append(f"curves from {origin}: INCOMPLETE: {interface_text(exc)}")
             complete = False
             continue
         letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"

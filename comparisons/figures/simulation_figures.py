@@ -102,7 +102,7 @@ def draw_phase_portrait(store: DiagramStore) -> Drawing:
         try:
             cycles[mode] = cycle_at(family, min(stable, key=lambda p: abs(p.p - V)), V)
         except (ValueError, ConvergenceError) as exc:
-            notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {interface_text(str(exc))}")
+            notes.append(f"continuation cycle of the {mode} mode at 180 km/h not found: {interface_text(exc)}")
     for name, start, colour, offset in PHASE_STARTS:
         tr = integrate(family.model, TyrePressures.uniform(1.5 * BAR), SpeedSchedule.constant(V), PHASE_DURATION, initial_state(start))
         history = ModeClassifier().classify(tr)

@@ -235,7 +235,7 @@ def draw_stability_map(ax, table: pa.Table, design: Design, task: SweepTask) -> 
     ax.set_xlabel(f"{name} ({_unit(name)})")
     ax.set_ylabel("speed (km/h)")
     others = ", ".join(design.names[1:])
-    ax.set_title(f"Straight running unstable (shaded)" + (f"\nover all samples of {others}" if others else ""),
+    ax.set_title("Straight running unstable (shaded)" + (f"\nover all samples of {others}" if others else ""),
                  fontsize=10)
 
 

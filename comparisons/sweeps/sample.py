@@ -194,7 +194,7 @@ class SweepTask:
                         # a continuation that raised instead of ending its branch with a status: the sample keeps
                         # its Hopf points, its cycles are unknown (null), never an empty set of branches
                         mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
-                        row.update(failed_cycle_columns(c, f"{type(exc).__name__}: {interface_text(str(exc))}"))
+                        row.update(failed_cycle_columns(c, f"{type(exc).__name__}: {interface_text(exc)}"))
                     else:
                         mp = diagram.hopf
                         row.update(cycle_columns(c, mf, diagram))
@@ -351,7 +351,7 @@ def evaluate_batch(task: SweepTask, batch: int, start: int, values: np.ndarray) 
             row.update(task.evaluate(v))
             row["status"] = "ok"
         except Exception as exc:  # recorded in the row: one bad sample never loses its batch
-            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {interface_text(str(exc))}"
+            row["status"], row["error"] = "failed", f"{type(exc).__name__}: {interface_text(exc)}"
     return pa.Table.from_pylist(rows, schema=task.schema())
 
 

@@ -156,11 +156,11 @@ def test_mbs_straight_running(axle, pressure, quick):
     from mbs_shimmy.linearisation import AFFINE_TOL, EQUILIBRIUM_TOL
     _, mbs = families(axle, pressure)
     speeds = EIGEN_SPEEDS_KMH if quick else np.arange(10.0, 401.0, 30.0)
-    for kmh in speeds:
-        residual = float(np.max(np.abs(mbs.rhs(np.zeros(mbs.n), kmh * KMH, mbs.nominal))))
-        assert residual <= EQUILIBRIUM_TOL, f"|f(0)| = {residual:.3g} at {kmh:g} km/h, {label(pressure)}"
-        affine = mbs.affine_residual(kmh * KMH, mbs.nominal)
-        assert affine <= AFFINE_TOL, f"A(V) not affine at {kmh:g} km/h, {label(pressure)}: {affine:.3g}"
+    for speed_kmh in speeds:
+        residual = float(np.max(np.abs(mbs.rhs(np.zeros(mbs.n), speed_kmh * KMH, mbs.nominal))))
+        assert residual <= EQUILIBRIUM_TOL, f"|f(0)| = {residual:.3g} at {speed_kmh:g} km/h, {label(pressure)}"
+        affine = mbs.affine_residual(speed_kmh * KMH, mbs.nominal)
+        assert affine <= AFFINE_TOL, f"A(V) not affine at {speed_kmh:g} km/h, {label(pressure)}: {affine:.3g}"
 
 
 # --- straight running: eigenvalues, Hopf points, criticality ------------------------------------------------
@@ -171,11 +171,11 @@ def test_eigenvalues_equal(axle, pressure, effects, quick):
     from reduced_model.model import Effects
     red, mbs = families(axle, pressure, Effects.parse(effects))
     speeds = EIGEN_SPEEDS_KMH if quick else np.unique(np.r_[EIGEN_SPEEDS_KMH, np.arange(10.0, 401.0, 30.0)])
-    for kmh in speeds:
-        a = eigenvalues(mbs.direct_linear_matrix(kmh * KMH, mbs.nominal))
-        b = eigenvalues(red.linear_matrix(kmh * KMH, red.nominal))
+    for speed_kmh in speeds:
+        a = eigenvalues(mbs.direct_linear_matrix(speed_kmh * KMH, mbs.nominal))
+        b = eigenvalues(red.linear_matrix(speed_kmh * KMH, red.nominal))
         rel = float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
-        assert rel < EIGEN_TOL, f"eigenvalues differ by {rel:.3g} (relative) at {kmh:g} km/h, {label(pressure)}"
+        assert rel < EIGEN_TOL, f"eigenvalues differ by {rel:.3g} (relative) at {speed_kmh:g} km/h, {label(pressure)}"
 
 
 def test_hopf_points_equal(axle, pressure):
@@ -299,10 +299,10 @@ def test_transient_equal(axle, pressure, quick):
     (:func:`comparisons.verify.transient.transient_check`)."""
     from comparisons.verify.transient import transient_check
     duration = 1.0 if quick else 2.0
-    for kmh in (60.0,) if quick else (60.0, 150.0):
-        check = transient_check(axle, pressure, kmh, duration)
-        assert check.complete, f"MBS run stopped at {kmh:g} km/h, {label(pressure)}: {check.message}"
-        assert check.ok, (f"{kmh:g} km/h, {label(pressure)}: largest difference {check.worst_relative:.3g} of a "
+    for speed_kmh in (60.0,) if quick else (60.0, 150.0):
+        check = transient_check(axle, pressure, speed_kmh, duration)
+        assert check.complete, f"MBS run stopped at {speed_kmh:g} km/h, {label(pressure)}: {check.message}"
+        assert check.ok, (f"{speed_kmh:g} km/h, {label(pressure)}: largest difference {check.worst_relative:.3g} of a "
                           f"state's amplitude")
 
 

@@ -51,7 +51,7 @@ from axles.pressures import TyrePressures
 from comparisons.verify.scan import scan_family
 
 __all__ = ["TRAMP_SHARE", "VMAX", "Window", "tramp_share", "unstable_windows", "CaseKind", "Case", "BistableCase",
-           "Plan", "paper_plan", "axle_plan", "stable_segments", "bistable_windows"]
+           "Plan", "paper_plan", "axle_plan", "bistable_windows"]
 
 EDGE_BAR = 0.1        # how far beside a shimmy-free boundary the two boundary cases lie
 MERGE_BAR = 0.01      # cases closer than this in both pressures are one case

@@ -67,7 +67,7 @@ def run_sections(ctx: Context, announce: Callable[[list[str]], None] | None = No
                                                                  "the section found nothing to compare"),))
             sections.append(section)
         except Exception as exc:  # a failed sub-check is reported in the table, never swallowed
-            error = f"{type(exc).__name__}: {interface_text(str(exc))}"
+            error = f"{type(exc).__name__}: {interface_text(exc)}"
             sections.append(Section(key=title.lower().replace(" ", "_"), title=title, columns=("error",),
                                     rows=(Row({"error": error}, CheckStatus.FAIL,
                                               "a computation failed: the section could not be completed"),),

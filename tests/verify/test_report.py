@@ -13,17 +13,8 @@ import pytest
 
 from comparisons.cli.progress import StepProgress
 from comparisons.verify import report_figures as rf
-from comparisons.verify.report import (
-    CheckStatus,
-    Report,
-    Row,
-    Section,
-    axle_fingerprint,
-    render_html,
-    render_markdown,
-    run_metadata,
-    write_report,
-)
+from comparisons.verify.rendering import render_html, render_markdown, write_report
+from comparisons.verify.report import CheckStatus, Report, Row, Section, axle_fingerprint, run_metadata
 
 
 def hopf_section(figures=()):

@@ -15,7 +15,8 @@ import pytest
 from axles.axle_file import read_axle
 from comparisons.verify.context import Context
 from comparisons.verify.plan import CaseKind, axle_plan
-from comparisons.verify.report import CheckStatus, Report, Row, Section, render_html, render_markdown
+from comparisons.verify.rendering import render_html, render_markdown
+from comparisons.verify.report import CheckStatus, Report, Row, Section
 from comparisons.verify.scan import BoundaryKind, BoundaryMethod, Model, growth_root, scan_family
 from comparisons.verify.verdict import DisagreementKind, stretches, verdict_of
 

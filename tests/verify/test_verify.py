@@ -9,7 +9,8 @@ import pytest
 
 from comparisons.files import write_atomically
 from comparisons.verify.browser import chromium, layout
-from comparisons.verify.report import CheckStatus, Report, Row, Section, render_markdown
+from comparisons.verify.rendering import render_markdown
+from comparisons.verify.report import CheckStatus, Report, Row, Section
 
 
 def run_quick_verify(out, *extra):

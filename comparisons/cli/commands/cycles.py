@@ -298,7 +298,7 @@ def run(args: argparse.Namespace) -> int:
                 try:
                     curves.append((cycle_bifurcation_curve(family, p, lo, hi, vmin, vmax), ""))
                 except ConvergenceError as exc:
-                    curves.append((None, f"newton_failed: {interface_text(str(exc))}"))
+                    curves.append((None, f"newton_failed: {interface_text(exc)}"))
                 labels.append(text)
                 bar.update(1)
     if args.plot:

@@ -7,6 +7,7 @@ import os
 import sys
 import time
 
+from axles.axle import interface_text
 from axles.limits import UsageError
 from comparisons.cli.options import add_output_options, emit_json
 from comparisons.cli.progress import progress
@@ -53,7 +54,7 @@ def check_out_dir(path: str) -> None:
     try:
         prepare_folder(path, "--out")
     except OutputPathError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:

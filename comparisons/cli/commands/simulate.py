@@ -94,7 +94,7 @@ def parse_initial(items: list[str] | None) -> dict[str, float] | None:
         try:
             name, text = name_and_text(item, "--initial")
         except ParameterError as exc:
-            raise UsageError(str(exc)) from None
+            raise UsageError(interface_text(exc)) from None
         if name not in STATE_NAMES:
             raise UsageError(f"unknown state '{name}' in --initial (names: {' '.join(STATE_NAMES)})")
         rate = STATE_UNITS[STATE_NAMES.index(name)] == "rad/s"
@@ -110,7 +110,7 @@ def check_work(args: argparse.Namespace, schedule: SpeedSchedule, duration: floa
     try:
         check_simulation_work(chosen_model(args), args.tyre_pressures, schedule, duration, what="--duration")
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | None, duration: float,
@@ -123,7 +123,7 @@ def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | 
                                 duration_s=duration, initial_deg=initial, progress=tick,
                                 poses=bool(args.rerun)).trajectory
         except ParameterError as exc:
-            raise UsageError(str(exc)) from None
+            raise UsageError(interface_text(exc)) from None
 
     if build_fidelity(args) is not None:
         return run()
@@ -179,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             series_format(args.series)
         except ValueError as exc:
-            raise UsageError(str(exc)) from None
+            raise UsageError(interface_text(exc)) from None
     trajectory = simulate_model(args, ramp, duration, initial)
     history = ModeClassifier().classify(trajectory)
     if args.rerun:
@@ -189,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
                             title=f"{trajectory.model} model, {pressure_label(args)}", model=build_model(args),
                             pressures=args.tyre_pressures)
         except RecordingError as exc:
-            raise UsageError(str(exc)) from None
+            raise UsageError(interface_text(exc)) from None
     how = f"{args.speed:g} km/h" if args.speed is not None else f"ramp {args.ramp} (km/h:km/h:s)"
     if args.plot:
         from comparisons.figures.cycle_plots import MODEL_NAMES, plot_trajectory

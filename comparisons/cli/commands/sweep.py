@@ -8,6 +8,7 @@ import shlex
 import sys
 import time
 
+from axles.axle import interface_text
 from comparisons.cli.options import (
     add_model_options,
     add_output_options,
@@ -103,7 +104,7 @@ def build_task(args: argparse.Namespace, names: tuple[str, ...]):
     try:
         effects = Effects.parse(args.effects).names
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
     return SweepTask(axle=build_axle(args), effects=effects, pressure_right_bar=args.tyre_pressures.right_bar,
                      pressure_left_bar=args.tyre_pressures.left_bar, names=names, compute=compute, mbs=mbs,
                      vmax_kmh=args.vmax, lyapunov=args.lyapunov)

@@ -8,12 +8,14 @@ import shlex
 import sys
 import time
 
+from axles.axle import interface_text
 from axles.limits import UsageError
 from axles.parameters import ParameterError
 from comparisons.cli.options import add_axle_option, add_output_options, build_axle, emit_json, positive_float
 from comparisons.cli.progress import StepProgress
 from comparisons.files import OutputPathError, prepare_folder
-from comparisons.verify.report import SUMMARY_COLUMNS, markdown_table, run_metadata, write_report
+from comparisons.verify.rendering import markdown_table, write_report
+from comparisons.verify.report import SUMMARY_COLUMNS, run_metadata
 from comparisons.verify.run import run_verification
 
 
@@ -42,7 +44,7 @@ def prepare_out(path: str) -> None:
     try:
         prepare_folder(path, "--out")
     except OutputPathError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -55,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
     try:   # before planning: entries that contradict each other (after --set too) cannot make a multibody axle
         axle.check_consistent()
     except ParameterError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(interface_text(exc)) from None
     prepare_out(args.out)
     start = time.perf_counter()
     with StepProgress(job="verify") as progress:
