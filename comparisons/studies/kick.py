@@ -126,10 +126,9 @@ def kick_threshold(settle: Callable[[np.ndarray], SteadyAmplitude], speed: float
     return outcome(KickStatus.FOUND, lo, hi)
 
 
-def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, Attractor], float] | None:
-    """The two stable states of least max |theta1| at ``speed`` (straight running where it is stable, and the stable cycles of
-    the diagram's branches there, each computed at exactly that speed) and the max |theta1| of the unstable cycle
-    between them; None where fewer than two stable states coexist."""
+def states_at(family, diagram, speed: float) -> tuple[list[Attractor], list[float]]:
+    """The stable states at ``speed`` (straight running where it is stable, and the stable cycles of the diagram's
+    branches there, each computed at exactly that speed) and the max |theta1| of its unstable cycles there."""
     from bifurcation.cycles.branches import cycle_at
     from bifurcation.equilibria.hopf import eigenvalues
 
@@ -147,6 +146,13 @@ def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, A
                 stable.append(Attractor(f"cycle of branch {i}", cycle.max_abs("theta1"), cycle.max_abs("psi")))
             else:
                 unstable.append(cycle.max_abs("theta1"))
+    return stable, unstable
+
+
+def coexisting_states(family, diagram, speed: float) -> tuple[tuple[Attractor, Attractor], float] | None:
+    """The two stable states of least max |theta1| at ``speed`` (:func:`states_at`) and the max |theta1| of the
+    unstable cycle between them; None where fewer than two stable states coexist."""
+    stable, unstable = states_at(family, diagram, speed)
     if len(stable) < 2:
         return None
     a, b = sorted(stable, key=lambda s: s.theta1)[:2]

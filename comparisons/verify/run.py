@@ -33,6 +33,8 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
               ("Limit cycles", cycles_section)]
     if ctx.plan.bistable:
         steps.append(("Bistable jumps", jumps_section))
+    from comparisons.verify.bistable_rows import bistable_section
+    steps.append(("Bistable regions", bistable_section))
     from comparisons.verify.full_geometry import full_geometry_section
     steps.append(("Full geometry", full_geometry_section))
     steps.append(("Assumptions", assumptions_section))
@@ -100,10 +102,13 @@ def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymme
         start_jump_runs(ctx)
         start_other_axles(ctx)
         sections = run_sections(ctx, announce)
+    from comparisons.verify.bistable_rows import BistableFact
     from comparisons.verify.verdict import RobustnessShare
     facts = [f for s in sections for f in s.verdict_facts]
     shares = tuple(f for f in facts if isinstance(f, RobustnessShare))
-    margins = tuple(f for f in facts if not isinstance(f, RobustnessShare))
+    bistable = tuple(f for f in facts if isinstance(f, BistableFact))
+    margins = tuple(f for f in facts if not isinstance(f, (RobustnessShare, BistableFact)))
     return Report(sections=tuple(sections), quick=quick, plan=plan, axle=axle,
                   verdict=dataclasses.replace(verdict, margins=verdict.margins + margins,
-                                              robustness=verdict.robustness + shares))
+                                              robustness=verdict.robustness + shares,
+                                              bistable=verdict.bistable + bistable))

@@ -206,6 +206,9 @@ class Verdict:
     # the full geometry's share of shimmying axles over its plausible dimensions, by case; added after the section
     # "Robustness" has run (empty when it did not)
     robustness: tuple[RobustnessShare, ...] = ()
+    # per model, its bistable regions in (V, p) and its stable-shimmy-free pressure; added after the section
+    # "Bistable regions" has run (verify.bistable_rows.BistableFact; empty when it did not)
+    bistable: tuple = ()
 
     def of(self, model: Model) -> ModelVerdict | None:
         return next((m for m in self.models if m.model is model), None)
@@ -240,10 +243,14 @@ class Verdict:
             if not self.disagreements:
                 out.append("The models agree at every planned case on whether and in which modes the axle shimmies.")
         out += [m.text() for m in self.margins]
+        out += [_sentence(b.text()) for b in self.bistable]
         return out
 
     def to_json(self) -> dict:
-        return {"headline": self.headline(), "models": [m.to_json() for m in self.models],
+        bistable = {b.model: b.to_json() for b in self.bistable}
+        models = [{**m.to_json(), **({"bistable": bistable[m.model]} if m.model in bistable else {})}
+                  for m in self.models]
+        return {"headline": self.headline(), "models": models,
                 "disagreements": [d.to_json() for d in self.disagreements],
                 "margins": [m.to_json() for m in self.margins],
                 "robustness": [r.to_json() for r in self.robustness],

@@ -198,3 +198,31 @@ def test_the_full_geometrys_line_carries_its_robustness():
                     "shimmies from 40.0 to 60.0 km/h (yaw throughout); over its plausible dimensions the full geometry "
                     "shimmies at 1.5 bar in 39 % of axles (64 sampled).")
     assert verdict.to_json()["robustness"][0]["share"] == 0.39
+
+
+def test_each_models_bistable_map_is_under_its_key_in_the_verdict_json():
+    """The section "Bistable regions" adds each model's map to the verdict: a line per model and, in the JSON, a
+    key ``bistable`` under that model; a map not computed says so, never reads as "no region"."""
+    from comparisons.studies.bistable_map import BistableMap, BistableRegion, MapStatus, Slice
+    from comparisons.verify.bistable_rows import BistableFact
+    from comparisons.verify.scan import Boundary, BoundaryKind
+    from comparisons.verify.verdict import ModelVerdict, Verdict
+    models = tuple(ModelVerdict(m, (0.5, 3.5), Boundary(BoundaryKind.SHIMMY_FREE_ABOVE, 2.6), ())
+                   for m in (Model.REDUCED, Model.FULL))
+    region = BistableRegion(((1.5e5, 44.0, 51.0),), (1e5, 1.5e5), (1.5e5, 2e5))
+    found = BistableMap("the reduced model", (0.1, 111.0), (Slice(1e5, (), True, True),
+                                                            Slice(1.5e5, ((44.0, 51.0),), True, True),
+                                                            Slice(2e5, (), True, True)),
+                        (region,), 2.6e5, (2.55e5, 2.6e5), MapStatus.COMPLETE)
+    verdict = Verdict(models, (), bistable=(BistableFact(Model.REDUCED, found),
+                                            BistableFact(Model.FULL, None, "too slow here")))
+    out = verdict.to_json()
+    reduced, full = out["models"]
+    assert reduced["bistable"]["regions"][0]["pressure_bar"] == [1.5, 1.5]
+    assert reduced["bistable"]["regions"][0]["speed_kmh"] == pytest.approx([158.4, 183.6])
+    assert reduced["bistable"]["stable_shimmy_free_above_bar"] == 2.6
+    assert full["bistable"]["status"] == "not_computed" and full["bistable"]["reason"] == "too slow here"
+    lines = verdict.lines()
+    assert ("The reduced model: bistable at 1.5 bar, 158.4-183.6 km/h; no stable shimmy at any speed above 2.60 bar."
+            in lines)
+    assert "The full geometry: bistable regions not computed (too slow here)." in lines

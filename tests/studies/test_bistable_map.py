@@ -1,0 +1,82 @@
+"""Bistable regions in (speed, pressure) (issue 30, item 5): slices joined into regions, brackets, the
+stable-shimmy-free pressure, and one region of the paper's t0 = 0.25 m axle checked by runs."""
+
+import json
+
+import pytest
+
+from axles.units import BAR, from_kmh, kmh
+from comparisons.studies.bistable_map import MapStatus, Slice, bistable_map, regions_of
+
+KMH = from_kmh(1.0)
+
+
+def test_overlapping_intervals_of_neighbouring_pressures_form_one_region():
+    slices = [Slice(1e5, (), False, True),
+              Slice(2e5, ((100 * KMH, 110 * KMH), (300 * KMH, 310 * KMH)), True, True),
+              Slice(3e5, ((105 * KMH, 120 * KMH),), True, True),
+              Slice(4e5, ((130 * KMH, 140 * KMH),), True, True),      # no overlap with 105-120: a new region
+              Slice(5e5, (), True, True)]
+    regions = regions_of(slices)
+    assert [tuple(p for p, _, _ in r.slices) for r in regions] == [(2e5, 3e5), (2e5,), (4e5,)]
+    first = next(r for r in regions if r.slices[0][1] == 100 * KMH)
+    assert first.low_bracket == (1e5, 2e5) and first.high_bracket == (3e5, 4e5)
+    assert [round(kmh(v), 9) for v in first.speed_range] == [100, 120]
+    lone = next(r for r in regions if r.slices[0][1] == 300 * KMH)
+    assert lone.high_bracket == (2e5, 3e5)
+    json.dumps([r.to_json() for r in regions])
+
+
+def test_no_interval_no_region():
+    assert regions_of([Slice(1e5, (), True, True), Slice(2e5, (), False, True)]) == ()
+
+
+@pytest.fixture(scope="module")
+def paper_t025_map():
+    from axles.axle import paper_axle
+    from comparisons.verify.bistable_rows import family_at
+    from comparisons.verify.scan import VMAX, Model
+    axle = paper_axle().with_values({"t0": 0.25})
+    found = bistable_map(family_at(axle, Model.REDUCED), [b * BAR for b in (0.5, 1.5, 3.5)], from_kmh(0.5), VMAX,
+                         "the reduced model")
+    return axle, found
+
+
+def test_the_paper_t025_axle_is_bistable_at_1p5_bar(paper_t025_map):
+    """The reduced model's window of figures 9-11 (t0 = 0.25 m, 1.5 bar): a stable cycle beside another stable
+    state between 159.2 and 184.7 km/h (the computed cycles' speeds), not at 0.5 bar nor at 3.5 bar."""
+    _, found = paper_t025_map
+    assert found.status is MapStatus.COMPLETE
+    (region,) = found.regions
+    assert [p for p, _, _ in region.slices] == [1.5 * BAR]
+    assert region.low_bracket == (0.5 * BAR, 1.5 * BAR) and region.high_bracket == (1.5 * BAR, 3.5 * BAR)
+    lo, hi = region.speed_range
+    assert kmh(lo) == pytest.approx(159.2, abs=0.1) and kmh(hi) == pytest.approx(184.7, abs=0.1)
+    assert found.stable_shimmy_free is None        # stable shimmy up to 3.5 bar at t0 = 0.25 m
+    assert "bistable at 1.5 bar, 159.2-184.7 km/h" in found.text()
+
+
+def test_a_kick_check_of_the_region_passes(paper_t025_map):
+    """Runs of the same model: the threshold kick leaves the lower state inside the region, and ends on the one
+    stable state just beyond it."""
+    from comparisons.verify.bistable_rows import region_row
+    from comparisons.verify.report import CheckStatus
+    from comparisons.verify.scan import Model
+    axle, found = paper_t025_map
+    row = region_row(axle, Model.REDUCED, found.regions[0])
+    assert row.status is CheckStatus.PASS, row.note
+    assert 5.0 < row.cells["kick_deg"] < 9.0
+
+
+def test_the_stable_shimmy_free_pressure_is_bracketed_by_bisection():
+    """The paper's axle (t0 = 0.133 m): stable cycles at 2.5 bar, none at 3.0 bar: the pressure above which no
+    stable shimmy exists lies between them, to the bisection's tolerance, beside the linear boundary."""
+    from axles.axle import paper_axle
+    from comparisons.verify.bistable_rows import family_at
+    from comparisons.verify.scan import VMAX, Model
+    found = bistable_map(family_at(paper_axle(), Model.REDUCED), [2.5 * BAR, 3.0 * BAR], from_kmh(0.5), VMAX,
+                         "the reduced model", xtol=0.05 * BAR)
+    assert found.regions == ()
+    lo, hi = found.stable_shimmy_free_bracket
+    assert 2.5 * BAR <= lo < hi <= 3.0 * BAR and hi - lo <= 0.05 * BAR and found.stable_shimmy_free == hi
+    assert f"no stable shimmy at any speed above {hi / BAR:.2f} bar" in found.text()
