@@ -26,6 +26,8 @@ from comparisons.verify.scan import VMAX, Model, scan_family
 STEP_BAR = 0.25             # the pressure grid of the map (quick: QUICK_STEP_BAR)
 QUICK_STEP_BAR = 0.5
 QUICK_XTOL_BAR = 0.05       # the stable-shimmy-free pressure's bisection tolerance in a quick run
+KICK_TOL = 0.02             # the kick threshold's bracket, relative (quick: QUICK_KICK_TOL)
+QUICK_KICK_TOL = 0.1
 AMPLITUDE_TOL = 0.01        # a run's max|theta1| against the one stable cycle's (relative)
 OUTSIDE_KMH = 2.0           # how far beyond a bistable interval the kick is repeated
 
@@ -96,7 +98,7 @@ def state_text(state) -> str:
     return state.label if state.theta1 == 0.0 else f"{state.label} (max|theta1| {math.degrees(state.theta1):.2f} deg)"
 
 
-def region_row(axle, model: Model, region: BistableRegion) -> Row:
+def region_row(axle, model: Model, region: BistableRegion, kick_tol: float = KICK_TOL) -> Row:
     """The kick check of one region (module docstring)."""
     from bifurcation.cycles.branches import cycle_diagram
     from comparisons.studies.kick import coexisting_states, kick_start, kick_threshold, settle_function
@@ -112,7 +114,7 @@ def region_row(axle, model: Model, region: BistableRegion) -> Row:
     if found is None:
         return Row(cells, CheckStatus.FAIL, "the map says two stable states coexist here, but the branches at this "
                                             "speed give fewer than two")
-    threshold = kick_threshold(settle_function(family, inside), inside, *found)
+    threshold = kick_threshold(settle_function(family, inside), inside, *found, rel_tol=kick_tol)
     cells["kick_deg"] = math.degrees(threshold.leaves)
     if not threshold.status.is_complete:
         return Row(cells, CheckStatus.COULD_NOT_CHECK, f"the kick threshold was not bracketed "
@@ -155,7 +157,7 @@ def bistable_section(ctx: Context) -> Section:
                     found.text()))
     for region in found.regions:
         ctx.progress(f"Bistable regions: kicks in {model.label} at {region.text()}")
-        rows.append(region_row(ctx.axle, model, region))
+        rows.append(region_row(ctx.axle, model, region, QUICK_KICK_TOL if ctx.quick else KICK_TOL))
     why = ("its cycle branches at every grid pressure cost minutes each with difference Jacobians of Exudyn's "
            "right-hand side")
     facts.append(BistableFact(Model.FULL, None, why))
