@@ -141,12 +141,16 @@ def _record(ctx: Context, name: str, trajectory, history, title: str, case: Bist
     return name
 
 
-def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase) -> list[str]:
-    """The side-by-side recording of one experiment in both models (besides one file per model)."""
+def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase,
+                 mbs_title: str = "MBS, all assumptions on (Exudyn)") -> list[str]:
+    """The side-by-side recording of one experiment in both models (besides one file per model); ``mbs_title``
+    names the MBS run in the recording's views."""
     if not ctx.recordings:
         return []
     from comparisons.recordings.writer import ComparedRun, write_comparison
-    write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches) for t, h in both],
+    write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches,
+                                                               mbs_title if t.model == "mbs" else "")
+                                                   for t, h in both],
                      title, model=ShimmyModel(params=case.axle.params), pressures=TyrePressures.uniform(case.pressure_bar * BAR))
     return [name]
 

@@ -78,7 +78,8 @@ def jump_rows(ctx: Context, label: str, case: BistableCase, family, diagram,
             found, both = run_ramp(setup, ramp, Fidelity.full())
             name = f"full_{ramp.name.replace(' ', '_')}_{tag}_{kmh(window[0]):.0f}kmh_both.rrd"   # unique per window
             recordings += _record_both(ctx, name, both, f"{ramp.name} through the full geometry's {where}: "
-                                                        f"reduced model and full geometry side by side", case)
+                                                        f"reduced model and full geometry side by side", case,
+                                     mbs_title="full geometry, MBS (all assumptions off)")
             reduced = found["reduced"]
             end = setup.v_hi if ramp.up else setup.v_lo
             held = found["mbs"] is not None and abs(found["mbs"] - end) < 1e-6
