@@ -163,7 +163,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
 FIG8_START_T = 0.25
 
 
-@register(8, "trail_hopf_curves_1p5bar", cost=40)
+@register(8, "trail_hopf_curves_1.5bar", cost=40)
 def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
     key = DiagramKey(Effects(), "t0", 1.5, *T0_RANGE, 0.0, VMAX_KMH)
     diagram, family = store.diagram(key), store.family(key)

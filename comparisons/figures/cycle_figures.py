@@ -142,7 +142,7 @@ def draw_cycles_nominal(store: DiagramStore) -> Drawing:
     return Drawing(fig, tuple(notes), complete)
 
 
-@register(4, "cycles_1p5_2p7bar", cost=3)
+@register(4, "cycles_1.5bar_2.7bar", cost=3)
 def draw_cycles_low_high(store: DiagramStore) -> Drawing:
     panels = [("(a) 1.5 bar (0.6 $p_{i0}$)", CycleKey(1.5, VMAX_KMH)),
               ("(b) 2.7 bar (1.08 $p_{i0}$)", CycleKey(2.7, VMAX_KMH))]

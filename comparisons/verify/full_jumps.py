@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from axles.units import from_kmh, kmh
 from comparisons.verify.context import Context
+from comparisons.verify.file_names import pressure_part
 from comparisons.verify.cycles import _record_both
 from comparisons.verify.jump_experiments import (
     RAMP_KMH_S,
@@ -65,7 +66,7 @@ def jump_rows(ctx: Context, label: str, case: BistableCase, family, diagram,
     """Rows and recording names of the ramps through every window of the full geometry."""
     from mbs_shimmy.fidelity import Fidelity
     rows, recordings = [], []
-    tag = f"{case.pressure_bar:g}".replace(".", "p") + "bar"
+    tag = pressure_part(case.pressure_bar)
     for window in windows:
         setup = full_jump_setup(case, family, diagram, window)
         where = f"window {kmh(window[0]):.2f}-{kmh(window[1]):.2f} km/h"

@@ -138,6 +138,12 @@ def test_cycle_envelopes_follow_every_swing():
     np.testing.assert_allclose(envelope_amplitude(t, y, grid, 0.05), 3.0 + grid, atol=0.11)
     assert np.all(np.abs(envelope_amplitude(t, y, np.arange(6.5, 9.9, 0.1), 0.05)) < 1e-8)
     assert swings.any()
+    # At rest for 2 s, then swinging: the envelopes follow the rest, they do not cut across to the first swing.
+    z = np.where(t < 2.0, 0.0, 4.0 * np.sin(2 * np.pi * 5.0 * (t - 2.0)))
+    upper, lower = cycle_envelopes(t, z, 0.05)
+    assert np.max(np.abs(np.interp(np.arange(0.0, 1.95, 0.01), t[upper], z[upper]))) == 0.0
+    assert np.max(np.abs(np.interp(np.arange(0.0, 1.95, 0.01), t[lower], z[lower]))) == 0.0
+    assert np.sum(t[upper] < 2.0) <= 41
 
 
 def test_recording_has_envelopes_waveform_window_and_no_legend_on_the_data(ramp):
