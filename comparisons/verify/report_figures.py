@@ -211,7 +211,6 @@ def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
         rows.sort(key=lambda s: max((abs(x) for x in s.hopf_shifts_kmh if x is not None), default=0.0))
         k_max = max((len(s.hopf_shifts_kmh) for s in rows), default=0)
         width = 0.8 / max(k_max, 1)
-        labelled = set()
         for i, s in enumerate(rows):
             for k, x in enumerate(s.hopf_shifts_kmh):
                 y = i - 0.4 + width * (k + 0.5)
@@ -219,9 +218,7 @@ def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
                 if x is None:
                     ax.plot(0.0, y, "x", color=colour, ms=7, mew=1.5)
                 else:
-                    ax.barh(y, x, height=width * 0.9, color=colour,
-                            label=None if k in labelled else f"HB{k + 1}")
-                    labelled.add(k)
+                    ax.barh(y, x, height=width * 0.9, color=colour)
         ax.set_yticks(range(len(rows)), [
             (f"{s.assumption.replace('_', ' ')}: full geometry with - without" if s.assumption in ELEMENTS
              else "every assumption off (full geometry): MBS - reduced model" if s.assumption == "full"
@@ -231,9 +228,13 @@ def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
         ax.set_xlabel("Hopf speed shift [km/h], as each row's label says")
         ax.set_title(f"{p:g} bar (x: the point has no MBS partner)", fontsize=9)
         ax.grid(axis="x", alpha=0.3)
-        if labelled and ax is axes[-1]:
-            ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), title="Hopf point",
-                      title_fontsize=8)
+    # One key for every panel: the colour is the Hopf point's number at its pressure (HB1 lowest in speed).
+    points = max((len(s.hopf_shifts_kmh) for s in shifts), default=0)
+    if points:
+        from matplotlib.patches import Patch
+        axes[-1].legend(handles=[Patch(color=f"C{k}", label=f"HB{k + 1}") for k in range(points)], fontsize=8,
+                        loc="upper left", bbox_to_anchor=(1.01, 1.0), title="Hopf point\n(at its pressure)",
+                        title_fontsize=8)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     save_figure(fig, path)
