@@ -56,10 +56,10 @@ def draw_margin_map(ax, study, title: str, limits: tuple[float, float] | None = 
         ax.plot(v, p, "o", ms=4, mfc="none", mec="k")
     low = study.minimum
     if low is not None:
+        # The star marks the minimum; its value goes in the title, where it covers nothing.
         ax.plot(low.speed_kmh, low.pressure_bar, "*", ms=11, color="gold", mec="k", zorder=5)
-        ax.annotate(f"min {low.damping_ratio:+.3f} ({low.mode})", (low.speed_kmh, low.pressure_bar),
-                    textcoords="offset points", xytext=(6, 6), fontsize=8,
-                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+        title += (f"\nstar: minimum {low.damping_ratio:+.3f} ({low.mode}) at {low.speed_kmh:.0f} km/h, "
+                  f"{low.pressure_bar:g} bar")
     ax.set_xlabel("speed V [km/h]")
     ax.set_ylabel("tyre pressure [bar]")
     ax.set_title(title, fontsize=9)
@@ -83,7 +83,7 @@ def plot_margin_maps(panels, path: str, title: str = "") -> None:
 
 def plot_margin_map(study, path: str, title: str) -> None:
     """One map (``shimmy margins --plot``); black line: zero damping, the shimmy boundary."""
-    plot_margin_maps([(study, title + "\nblack: zero damping (shimmy boundary); star: minimum", ())], path)
+    plot_margin_maps([(study, title + "\nblack: zero damping (shimmy boundary)", ())], path)
 
 
 def plot_hopf_diagram_with_margins(diagram, family, study, path: str) -> None:
@@ -95,8 +95,7 @@ def plot_hopf_diagram_with_margins(diagram, family, study, path: str) -> None:
     draw_hopf_diagram(left, diagram, family)
     effects = ",".join(family.model.effects.names) or "section 3 model"
     left.set_title(f"Hopf curves ({effects}); shaded: straight running stable", fontsize=9)
-    filled = draw_margin_map(right, study, "least damping ratio; black: zero level; white: Hopf curves; "
-                                           "star: minimum")
+    filled = draw_margin_map(right, study, "least damping ratio; black: zero level; white: Hopf curves")
     for c in diagram.curves:
         right.plot(kmh(c.ps), c.qs / BAR, "-", color="w", lw=1.0)
     right.set_xlim(kmh(diagram.p_min), kmh(diagram.p_max))
