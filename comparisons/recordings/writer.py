@@ -49,7 +49,7 @@ import numpy as np
 from axles.axle import interface_text
 from axles.units import kmh
 from comparisons.files import atomic_path, run_writer
-from comparisons.recordings.decimation import cycle_envelopes, envelope_amplitude, envelope_indices, uniform_indices
+from comparisons.recordings.decimation import uniform_indices
 from comparisons.recordings.layout import (
     ENVELOPE_BOUNDS,
     FORCE_COLOURS,
@@ -69,16 +69,24 @@ from comparisons.recordings.layout import (
     series_leaves,
     single_blueprint,
 )
+from comparisons.recordings.timeseries import (  # noqa: F401 (time_ns, series_indices: part of this module's API)
+    DIFFERENCE_RATE_HZ,
+    SERIES_BIN_S,
+    log_differences,
+    log_envelopes,
+    log_series,
+    series_indices,
+    series_style,
+    time_index,
+    time_ns,
+)
 from comparisons.recordings.scene import BODY_NAMES, SIDES, AxleGeometry, ScenePoses, rotation_about, trajectory_poses
 from reduced_model.model import STATE_NAMES, STATE_UNITS, ShimmyModel
 from reduced_model.trajectory import Trajectory
 
 APP_ID = "shimmy"
 FORCE_ARROW_M_PER_N = 1e-4      # a 5 kN force is drawn 0.5 m long
-SERIES_BIN_S = 0.01             # min and max of every 10 ms: at most 200 samples per second and series
 SCENE_RATE_HZ = 100.0           # poses: 10 per cycle of a 10 Hz shimmy, enough to scrub and to play back
-ENVELOPE_MIN_PERIOD_S = 0.05    # one envelope point per swing of any oscillation below 20 Hz (shimmy: 3-12 Hz)
-DIFFERENCE_RATE_HZ = 50.0       # the amplitude difference: 5-10 points per shimmy cycle
 _ROOT = RunPaths()
 STATE_ENTITIES = {name: _ROOT.state(name) for name in STATE_NAMES}
 SPEED_ENTITY = _ROOT.speed
@@ -109,11 +117,6 @@ class RecordingSummary:
     mode_changes: int
     switches: int
     bytes: int = 0
-
-
-def time_ns(t) -> np.ndarray:
-    """Simulated time as integer nanoseconds (rounded: float durations would be truncated by Rerun)."""
-    return np.round(np.asarray(t, dtype=float) * 1e9).astype(np.int64)
 
 
 def mode_label(mode) -> str:
@@ -201,11 +204,6 @@ class _Run:
         out = {name: UNIT_SUFFIX[unit][2](tr.x[:, k]) for k, (name, unit) in enumerate(zip(STATE_NAMES, STATE_UNITS))}
         out.update({f"F_y {side}": forces[:, k] for k, side in enumerate(SIDES)})
         return out
-
-
-def series_indices(t: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """The samples of one series that go into a recording (module docstring)."""
-    return envelope_indices(t, values, SERIES_BIN_S)
 
 
 def scene_indices(t: np.ndarray) -> np.ndarray:
@@ -381,10 +379,6 @@ def _hex(colour: int | None) -> str:
     return "-" if colour is None else f"#{colour >> 8:06X}"
 
 
-def _index(rr, seconds: np.ndarray):
-    return [rr.TimeColumn(TIMELINE, duration=time_ns(seconds).astype("timedelta64[ns]"))]
-
-
 def _log_static(rec, run: _Run) -> None:
     import rerun as rr
     g, paths = run.geometry, run.paths
@@ -423,29 +417,23 @@ def _log_static(rec, run: _Run) -> None:
     short = run.title.split(" (")[0]
     for name in STATE_NAMES:
         label = f"{name} [{STATE_UNIT_LABELS[name]}]" if run.colour is None else short
-        _series_style(rec, paths.state(name), label, run.colour or STATE_COLOURS[name], run.width)
+        series_style(rec, paths.state(name), label, run.colour or STATE_COLOURS[name], run.width)
     for side in SIDES:
         label = f"F_y {side} [N]" if run.colour is None else f"F_y {side}, {short}"
-        _series_style(rec, paths.force(side), label, run.colour or FORCE_COLOURS[side], run.width)
+        series_style(rec, paths.force(side), label, run.colour or FORCE_COLOURS[side], run.width)
     for key, leaf in series_leaves().items():
         colour = run.colour or (STATE_COLOURS.get(key) or FORCE_COLOURS[key.split()[-1]])
         for bound in ENVELOPE_BOUNDS:
-            _series_style(rec, paths.envelope(leaf, bound), f"{key} {bound}" + (f", {short}" if run.colour else ""),
+            series_style(rec, paths.envelope(leaf, bound), f"{key} {bound}" + (f", {short}" if run.colour else ""),
                           colour, run.width)
-    _series_style(rec, paths.speed, "speed [km/h]" if run.colour is None else short, run.colour or SPEED_COLOUR,
+    series_style(rec, paths.speed, "speed [km/h]" if run.colour is None else short, run.colour or SPEED_COLOUR,
                   run.width)
-
-
-def _series_style(rec, entity: str, name: str, colour: int, width: float = RUN_WIDTHS[0]) -> None:
-    import rerun as rr
-    rec.log(entity, rr.SeriesLines(names=[name], colors=[colour], widths=[width], aggregation_policy="minmax"),
-            static=True)
 
 
 def _log_scene(rec, run: _Run) -> None:
     import rerun as rr
     idx = scene_indices(run.trajectory.t)
-    index = _index(rr, run.trajectory.t[idx])
+    index = time_index(rr, run.trajectory.t[idx])
     n, scene, poses = len(idx), run.paths.scene, run.poses
     for name in BODY_NAMES:
         pose = poses.bodies[name]
@@ -462,50 +450,6 @@ def _log_scene(rec, run: _Run) -> None:
                      ).partition([2] * n))
 
 
-def log_series(rec, run: _Run) -> None:
-    import rerun as rr
-    t = run.trajectory.t
-    for entity, values in run.series().items():
-        idx = series_indices(t, values)
-        rec.send_columns(entity, indexes=_index(rr, t[idx]), columns=rr.Scalars.columns(scalars=values[idx]))
-
-
-def log_envelopes(rec, run: _Run) -> None:
-    """Every series' per-cycle upper and lower envelope (:func:`comparisons.recordings.decimation.cycle_envelopes`)."""
-    import rerun as rr
-    t, leaves = run.trajectory.t, series_leaves()
-    for key, values in run.enveloped().items():
-        for bound, idx in zip(ENVELOPE_BOUNDS, cycle_envelopes(t, values, ENVELOPE_MIN_PERIOD_S)):
-            rec.send_columns(run.paths.envelope(leaves[key], bound), indexes=_index(rr, t[idx]),
-                             columns=rr.Scalars.columns(scalars=values[idx]))
-
-
-def difference_grid(runs: list[_Run]) -> np.ndarray:
-    """The times (s) where every run has data, at :data:`DIFFERENCE_RATE_HZ`."""
-    start = max(float(r.trajectory.t[0]) for r in runs)
-    end = min(float(r.trajectory.t[-1]) for r in runs)
-    return np.arange(start, end, 1.0 / DIFFERENCE_RATE_HZ) if end > start else np.array([])
-
-
-def log_differences(rec, runs: list[_Run]) -> None:
-    """Side by side: each run's amplitude minus the first run's, per series, on :func:`difference_grid`."""
-    import rerun as rr
-    grid = difference_grid(runs)
-    if len(runs) < 2 or len(grid) < 2:
-        return
-    reference, leaves = runs[0], series_leaves()
-    ref_values = reference.enveloped()
-    for run in runs[1:]:
-        for key, values in run.enveloped().items():
-            diff = (envelope_amplitude(run.trajectory.t, values, grid, ENVELOPE_MIN_PERIOD_S)
-                    - envelope_amplitude(reference.trajectory.t, ref_values[key], grid, ENVELOPE_MIN_PERIOD_S))
-            entity = run.paths.difference(leaves[key])
-            colour = STATE_COLOURS.get(key) or FORCE_COLOURS[key.split()[-1]]
-            _series_style(rec, entity, f"{key}: {run.title.split(' (')[0]} minus {reference.title.split(' (')[0]}",
-                          colour)
-            rec.send_columns(entity, indexes=_index(rr, grid), columns=rr.Scalars.columns(scalars=diff))
-
-
 def _log_modes(rec, run: _Run) -> None:
     import rerun as rr
     paths, segments, events, trajectory = run.paths, run.segments, run.events, run.trajectory
@@ -513,7 +457,7 @@ def _log_modes(rec, run: _Run) -> None:
         labels = list(dict.fromkeys(label for _, label in segments))
         colours = np.array([mode_colour(label, i) for i, label in enumerate(labels)], dtype=np.uint32)
         rec.log(paths.mode, rr.StateConfiguration(values=labels, labels=labels, colors=colours), static=True)
-        rec.send_columns(paths.mode, indexes=_index(rr, np.array([s for s, _ in segments])),
+        rec.send_columns(paths.mode, indexes=time_index(rr, np.array([s for s, _ in segments])),
                          columns=rr.StateChange.columns(state=[label for _, label in segments]))
     texts = [f"mode switch at {e.time:.4f} s: {e.before} -> {e.after}" for e in events]
     times = [e.time for e in events]
@@ -525,6 +469,6 @@ def _log_modes(rec, run: _Run) -> None:
         levels.append("WARN")
     if texts:
         order = np.argsort(times, kind="stable")
-        rec.send_columns(paths.events, indexes=_index(rr, np.asarray(times)[order]),
+        rec.send_columns(paths.events, indexes=time_index(rr, np.asarray(times)[order]),
                          columns=rr.TextLog.columns(text=[texts[i] for i in order],
                                                     level=[levels[i] for i in order]))

@@ -12,7 +12,7 @@ from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator
 
 from comparisons.figures.plots import save_figure
 from comparisons.recordings.decimation import cycle_envelopes
-from comparisons.recordings.writer import ENVELOPE_MIN_PERIOD_S
+from comparisons.recordings.timeseries import ENVELOPE_MIN_PERIOD_S
 
 # Hopf-speed sources: marker, colour, legend text.
 HOPF_SOURCES = {
