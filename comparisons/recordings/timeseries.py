@@ -1,19 +1,15 @@
 """The plotted series of a recording (:mod:`comparisons.recordings.writer` writes the rest): each series' waveform
 decimated to its per-bin extremes, its per-cycle envelopes, and in side-by-side files the difference of the runs'
 amplitudes; their styles (name, colour, width, min/max aggregation).  Entity paths are in
-:mod:`comparisons.recordings.layout`."""
+:mod:`comparisons.recordings.layout`; a ``run`` is the writer's prepared run (its ``trajectory``, ``paths``,
+``title``, ``series()`` and ``enveloped()``)."""
 
 from __future__ import annotations
-
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from comparisons.recordings.decimation import cycle_envelopes, envelope_amplitude, envelope_indices
 from comparisons.recordings.layout import ENVELOPE_BOUNDS, FORCE_COLOURS, RUN_WIDTHS, STATE_COLOURS, TIMELINE, series_leaves
-
-if TYPE_CHECKING:
-    from comparisons.recordings.writer import _Run
 
 SERIES_BIN_S = 0.01             # min and max of every 10 ms: at most 200 samples per second and series
 ENVELOPE_MIN_PERIOD_S = 0.05    # one envelope point per swing of any oscillation below 20 Hz (shimmy: 3-12 Hz)
@@ -43,7 +39,7 @@ def series_style(rec, entity: str, name: str, colour: int, width: float = RUN_WI
             static=True)
 
 
-def log_series(rec, run: "_Run") -> None:
+def log_series(rec, run) -> None:
     import rerun as rr
     t = run.trajectory.t
     for entity, values in run.series().items():
@@ -51,7 +47,7 @@ def log_series(rec, run: "_Run") -> None:
         rec.send_columns(entity, indexes=time_index(rr, t[idx]), columns=rr.Scalars.columns(scalars=values[idx]))
 
 
-def log_envelopes(rec, run: "_Run") -> None:
+def log_envelopes(rec, run) -> None:
     """Every series' per-cycle upper and lower envelope (:func:`comparisons.recordings.decimation.cycle_envelopes`)."""
     import rerun as rr
     t, leaves = run.trajectory.t, series_leaves()
@@ -61,14 +57,14 @@ def log_envelopes(rec, run: "_Run") -> None:
                              columns=rr.Scalars.columns(scalars=values[idx]))
 
 
-def difference_grid(runs: list["_Run"]) -> np.ndarray:
+def difference_grid(runs: list) -> np.ndarray:
     """The times (s) where every run has data, at :data:`DIFFERENCE_RATE_HZ`."""
     start = max(float(r.trajectory.t[0]) for r in runs)
     end = min(float(r.trajectory.t[-1]) for r in runs)
     return np.arange(start, end, 1.0 / DIFFERENCE_RATE_HZ) if end > start else np.array([])
 
 
-def log_differences(rec, runs: list["_Run"]) -> None:
+def log_differences(rec, runs: list) -> None:
     """Side by side: each run's amplitude minus the first run's, per series, on :func:`difference_grid`."""
     import rerun as rr
     grid = difference_grid(runs)
