@@ -67,11 +67,14 @@ def _draw_kicks(ax, kicks, color: str, items: list) -> None:
 
 
 def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None,
-                       kicks=()) -> None:
+                       kicks=(), place: bool = True) -> list:
     """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
     max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
     point) pairs; default HB1, HB2, ... by speed); the ``kicks`` that leave the lower state of a bistable window
-    as triangles in the theta1 panel.  Labels are placed so that they do not collide."""
+    as triangles in the theta1 panel.  Labels are placed so that they do not collide; with ``place=False`` they are
+    returned as [(axes, items)] for :func:`place_labels` once the figure's layout is final (a label placed before
+    the axes are resized or their limits change can end up on the data)."""
+    labelled = []
     speeds = np.linspace(diagram.p_min, diagram.p_max, 801)
     unstable = stability_grid(family, speeds, np.array([diagram.q]))[0] > 0
     labels = special_point_labels(diagram)
@@ -100,18 +103,26 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
         ax.set_ylabel(ylabel)
         top = max(ax.get_ylim()[1], 1e-3)
         ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
-        place_labels(ax, items)
+        labelled.append((ax, items))
     axes[-1].set_xlabel("speed V [km/h]")
+    if place:
+        for ax, items in labelled:
+            place_labels(ax, items)
+        return []
+    return labelled
 
 
 def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, title: str | None = None,
                        kicks=()) -> None:
     fig = Figure(figsize=(6.4, 6.4))
     axes = fig.subplots(2, 1, sharex=True)
-    draw_cycle_diagram(axes, diagram, family, kicks=kicks)
+    labelled = draw_cycle_diagram(axes, diagram, family, kicks=kicks, place=False)
     effects = ",".join(family.model.effects.names) or "section 3 model"
     axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar ({effects}); "
                                f"solid stable, dashed unstable", fontsize=10)
+    fig.tight_layout()
+    for ax, items in labelled:
+        place_labels(ax, items)
     save_figure(fig, path)
 
 
@@ -192,7 +203,7 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
     """
     fig = Figure(figsize=(6.4, 6.4))
     axes = fig.subplots(2, 1, sharex=True)
-    draw_cycle_diagram(axes, diagram, family)
+    labelled = draw_cycle_diagram(axes, diagram, family, place=False)
     styles = {"reduced": ("o", "C0", "MBS, all assumptions on"), "full": ("x", "C3", "MBS, full geometry")}
     for label, points in simulated.items():
         marker, color, text = styles.get(label, ("s", "C2", label))
@@ -202,8 +213,11 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
         v, a, b = (np.array(c) for c in zip(*good))
         axes[0].plot(kmh(v), np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
         axes[1].plot(kmh(v), np.degrees(b), marker, color=color, mfc="none", ms=6)
-    axes[0].legend(fontsize=8, loc="upper right")
+    axes[0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar", fontsize=10)
+    fig.tight_layout()
+    for ax, items in labelled:      # after the simulations' markers, so that no label covers them
+        place_labels(ax, items)
     save_figure(fig, path)
 
 

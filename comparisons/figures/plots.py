@@ -126,6 +126,7 @@ def place_labels(ax, items, fontsize: float = 8.0, avoid=(), margin_px: float = 
                                   color=colour, zorder=7, ha="left" if dx > 0 else "right" if dx < 0 else "center",
                                   va="center", bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8),
                                   arrowprops=dict(arrowstyle="-", color=colour, lw=0.5, alpha=0.6) if ring > 16 else None)
+                ann.update_positions(renderer)
                 bb = Text.get_window_extent(ann, renderer)     # the text, without its leader line
                 box = (bb.x0 - 1, bb.y0 - 1, bb.x1 + 1, bb.y1 + 1)
                 score = (int(np.sum((data[:, 0] > box[0]) & (data[:, 0] < box[2]) & (data[:, 1] > box[1])

@@ -189,3 +189,12 @@ def test_margin_map_is_centred_at_zero_with_a_zero_tick(drawn):
     assert 0.0 in filled.levels and filled.norm(0.0) == pytest.approx(0.5)
     assert overlaps(fig) == []
     assert f"star: minimum {zeta.min():+.3f} (yaw) at 72 km/h, 2 bar" in fig.axes[0].get_title()
+
+
+def test_paper_cycle_diagram_labels_clear_of_the_data():
+    """Figure 3 (the paper's cycle-diagram kind, about 2 s): the Hopf points' names sit off the straight-running
+    line and the branches, placed after the figure's layout is final."""
+    from comparisons.figures.registry import REGISTRY, DiagramStore
+    drawing = REGISTRY[3].draw(DiagramStore())
+    assert overlaps(drawing.figure) == []
+    assert {t.get_text() for ax in drawing.figure.axes for t in ax.texts} >= {"HB1", "HB2"}
