@@ -191,13 +191,13 @@ def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
     cycles = cycle_diagram(family, FIG8_START_T, 0.0, VMAX_KMH * KMH)
     items, ok = _draw_cycle_curves(ax, family, cycles, key.lo, key.hi, 0.0, VMAX_KMH, 1.0, "m", FIG8_START_T,
                                    notes, label_at=0.75)
-    place_labels(ax, items, fontsize=9, avoid=[(kmh(p.p), p.q) for p in diagram.special_points])
     ax.axhline(FIG8_START_T, color="0.5", lw=0.7, ls=":")
     ax.legend(fontsize=8, loc="center right", framealpha=0.9)
     ax.axhline(YANG2024.t0, color="0.4", lw=0.7, ls=":")
     _speed_axis(ax)
     ax.set_ylim(key.lo, key.hi)
     ax.set_ylabel("pneumatic trail t [m]")
+    place_labels(ax, items, fontsize=9, avoid=[(kmh(p.p), p.q) for p in diagram.special_points])   # limits final
     ax.set_title("Fig. 8: Hopf curves in (V, t) at 1.5 bar (0.6 $p_{i0}$); shaded: straight running stable\n"
                  f"HB labels on the Table 1 trail (dotted); S, T curves from the cycles at t = {FIG8_START_T:g} m; "
                  "stars: their zero-amplitude ends",
