@@ -105,7 +105,7 @@ def _renderer(fig):
 def place_labels(ax, items, fontsize: float = 8.0, avoid=(), margin_px: float = 10.0) -> None:
     """Annotate points so that no label covers data or another label.
 
-    ``items``: (x, y, text, colour) in data coordinates; ``avoid``: further (x, y) data points to keep clear.
+    ``items``: (x, y, text, colour) in data coordinates, optionally with a fifth element, the item's font size; ``avoid``: further (x, y) data points to keep clear.
     Each label is measured by the renderer and takes the first offset, ring by ring outwards, where its box holds
     no line data of the axes (:func:`data_points_px`), no other label, and stays at least ``margin_px`` from
     every marked point but its own (so that a label never sits beside another model's point); labels further
@@ -116,13 +116,15 @@ def place_labels(ax, items, fontsize: float = 8.0, avoid=(), margin_px: float = 
     axes_box = ax.get_window_extent()
     marks = [ax.transData.transform((x, y)) for x, y, *_ in items] + [ax.transData.transform(xy) for xy in avoid]
     taken = []
-    for k, (x, y, text, colour) in enumerate(items):
-        others = np.array([m for i, m in enumerate(marks) if i != k]).reshape(-1, 2)
+    for k, (x, y, text, colour, *size) in enumerate(items):
+        own = marks[k]
+        others = np.array([m for i, m in enumerate(marks) if i != k and np.hypot(*(m - own)) > 0.5]).reshape(-1, 2)
         best, best_score = None, None
         for ring in _RINGS:
             for dx, dy in _DIRECTIONS:
                 offset = (dx * ring, dy * ring * 0.6)
-                ann = ax.annotate(text, (x, y), textcoords="offset points", xytext=offset, fontsize=fontsize,
+                ann = ax.annotate(text, (x, y), textcoords="offset points", xytext=offset,
+                                  fontsize=size[0] if size else fontsize,
                                   color=colour, zorder=7, ha="left" if dx > 0 else "right" if dx < 0 else "center",
                                   va="center", bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8),
                                   arrowprops=dict(arrowstyle="-", color=colour, lw=0.5, alpha=0.6) if ring > 16 else None)
