@@ -266,11 +266,11 @@ class MultibodyModel:
 
     def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
             progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
-        """The trajectory by Exudyn, with the bodies' poses when ``poses`` (for a 3D recording); it reports no
-        ``progress``."""
+        """The trajectory by Exudyn, with the bodies' poses when ``poses`` (for a 3D recording); ``progress(t)``
+        with the simulated time every 1 % of the duration."""
         from mbs_shimmy.simulation import integrate
         return integrate(self.axle.params, self.effects, self.fidelity, pressures, schedule, x0, duration,
-                         dims=self.axle.dims, poses=poses)
+                         dims=self.axle.dims, poses=poses, progress=progress)
 
 
 def family_of(model, pressures: TyrePressures, param: str = "pressure"):
@@ -375,9 +375,10 @@ def cycle_branches(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float =
 
 def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: tuple[float, float] | None = None,
                       vmin_kmh: float = 0.5, vmax_kmh: float = 400.0, pressure_points: int = 31,
-                      speed_points: int = 201) -> StabilityMargins:
+                      speed_points: int = 201, progress: Callable[[], None] | None = None) -> StabilityMargins:
     """The least damping ratio of straight running on an even grid of speeds (km/h) and tyre pressures (bar, both
-    tyres alike; default: the axle's operating window), with the mode it belongs to, as ``shimmy margins``.
+    tyres alike; default: the axle's operating window), with the mode it belongs to, as ``shimmy margins``;
+    ``progress()`` is called after each pressure of the grid.
 
     >>> result = stability_margins(Axle.paper().reduced(), (2.5, 2.5), 40, 80, pressure_points=1, speed_points=41)
     >>> low = result.minimum
@@ -395,7 +396,7 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     pressures = TyrePressures.both(0.5 * (lo + hi))
     problem = model.problem(pressures, "pressure")
     grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
-    study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p)
+    study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p, progress)
     return StabilityMargins(f"{model.label()}, axle {model.axle.data.shown_name}", study)
 
 

@@ -20,6 +20,7 @@ gives up; either way the trajectory up to that time is kept and ``message`` give
 from __future__ import annotations
 
 import math
+from typing import Callable
 from dataclasses import dataclass, field
 
 
@@ -79,14 +80,21 @@ class _Schedule:
 
 @dataclass
 class _Watch:
-    """Divergence watch run before every step."""
+    """Divergence watch run before every step; it also reports the simulated time to ``progress`` every
+    ``every`` seconds of it."""
 
     limit: float
     stopped_at: float | None = None
     state: np.ndarray | None = None
     reason: str = ""
+    progress: Callable[[float], None] | None = None
+    every: float = math.inf
+    _next: float = 0.0
 
     def __call__(self, mbs, t) -> bool:
+        if self.progress is not None and t >= self._next:
+            self._next = t + self.every
+            self.progress(t)
         sd = mbs.systemData
         q = sd.GetODE2Coordinates()
         v = sd.GetODE2Coordinates_t()      # its last two entries are the slip angles
@@ -104,9 +112,11 @@ def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = Non
              pressures: TyrePressures = TyrePressures.uniform(2.5e5), schedule: SpeedSchedule | None = None,
              x0: np.ndarray | None = None, duration: float = 2.0, *, dims: AxleDimensions = DEFAULT_DIMENSIONS,
              step: float = DEFAULT_STEP, method: str = DEFAULT_METHOD, output_interval: float | None = None,
-             poses: bool = True, rtol: float | None = None, atol: float | None = None) -> Trajectory:
+             poses: bool = True, rtol: float | None = None, atol: float | None = None,
+             progress: Callable[[float], None] | None = None) -> Trajectory:
     """Simulate the MBS over [0, duration] s from ``x0`` (reduced-model state order and SI; default theta1 =
-    0.01 rad) with the speed ``schedule`` (default 60 km/h) at the tyres' ``pressures``.
+    0.01 rad) with the speed ``schedule`` (default 60 km/h) at the tyres' ``pressures``.  ``progress(t)`` is
+    called with the simulated time (s) every 1 % of the duration.
 
     ``poses`` adds body poses and contact forces to ``extra`` (see :func:`pose_record`).  Samples every
     ``output_interval`` s (default the larger of 1 ms and the step).  With an adaptive method (``DOPRI5``)
@@ -145,7 +155,7 @@ def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = Non
     system = model.system(pressures, sched.speed, None if sched.constant else sched.acceleration, y0=x0[layout.x_to_y],
                           output_interval=output_interval)
     mbs = system.mbs
-    watch = _Watch(DIVERGENCE_ANGLE)
+    watch = _Watch(DIVERGENCE_ANGLE, progress=progress, every=0.01 * duration)
     mbs.SetPreStepUserFunction(watch)
 
     settings = exu.SimulationSettings()

@@ -122,7 +122,6 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
         zax.grid(alpha=0.3)
         ax.add_patch(Rectangle((vlo, plo), vhi - vlo, phi - plo, fill=False, ls="--", lw=0.8, color="0.3"))
         ax.annotate(name, (vhi, phi), textcoords="offset points", xytext=(2, 2), fontsize=8)
-    place_labels(zooms[1], z2_labels)
     marker_key(zooms[0], kinds=(PointKind.HOPF_FOLD, PointKind.HOPF_HOPF), loc="lower center")
     _speed_axis(ax)
     ax.set_ylim(*P17_BAR)
@@ -132,4 +131,5 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
                  "LF lateral force, HCL half-contact length, PT pneumatic trail, RL relaxation length, "
                  "VS vertical stiffness", fontsize=9)
     fig.tight_layout()
+    place_labels(zooms[1], z2_labels)     # once the layout is final
     return Drawing(fig, tuple(notes), complete)

@@ -163,7 +163,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
 FIG8_START_T = 0.25
 
 
-@register(8, "trail_hopf_curves_1p5bar", cost=40)
+@register(8, "trail_hopf_curves_1.5bar", cost=40)
 def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
     key = DiagramKey(Effects(), "t0", 1.5, *T0_RANGE, 0.0, VMAX_KMH)
     diagram, family = store.diagram(key), store.family(key)
@@ -171,18 +171,17 @@ def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
     ax = fig.subplots()
     _shade_stable(ax, family, diagram, 1.0)
     _draw_curves(ax, diagram, 1.0, "k")
-    _label_hopf_points(ax, family, YANG2024.t0, 1.0, VMAX_KMH)
-    notes = []
+    hopf_labels = _label_hopf_points(ax, family, YANG2024.t0, 1.0, VMAX_KMH)
+    notes, marks = [], []
     for i, hh in enumerate(_located(diagram, PointKind.HOPF_HOPF), 1):
         name = "HH" if len(_located(diagram, PointKind.HOPF_HOPF)) == 1 else f"HH{i}"
-        _mark(ax, hh, 1.0, f"{name} (t = {hh.q:.3f} m)", colour="tab:red", marker="s", offset=(-95, -3))
+        _mark(ax, hh, 1.0, f"{name} (t = {hh.q:.3f} m)", colour="tab:red", marker="s", items=marks)
         notes.append(_point_note(name, hh, "m", 1.0))
     for i, dh in enumerate(_located(diagram, PointKind.GENERALIZED_HOPF), 1):
-        _mark(ax, dh, 1.0, f"DH{i} (t = {dh.q:.3f} m)", colour="tab:blue", marker="D", offset=(6, -3))
+        _mark(ax, dh, 1.0, f"DH{i} (t = {dh.q:.3f} m)", colour="tab:blue", marker="D", items=marks)
         notes.append(_point_note(f"DH{i} (criticality changes)", dh, "m", 1.0))
-    offsets = iter(((6, -12), (6, -12), (-40, 8), (6, -12)))
     for i, f in enumerate(_located(diagram, PointKind.HOPF_FOLD), 1):
-        _mark(ax, f, 1.0, f"F{i} ({f.q:.3f} m)", offset=next(offsets, (6, 4)))
+        _mark(ax, f, 1.0, f"F{i} ({f.q:.3f} m)", items=marks)
         notes.append(_point_note(f"fold F{i}", f, "m", 1.0))
     for p in diagram.points_of(PointKind.HOPF_FOLD):
         if p.status is not PointStatus.LOCATED or kmh(p.p) < MIN_LABEL_SPEED_KMH:
@@ -191,13 +190,15 @@ def draw_trail_low_pressure(store: DiagramStore) -> Drawing:
     cycles = cycle_diagram(family, FIG8_START_T, 0.0, VMAX_KMH * KMH)
     items, ok = _draw_cycle_curves(ax, family, cycles, key.lo, key.hi, 0.0, VMAX_KMH, 1.0, "m", FIG8_START_T,
                                    notes, label_at=0.75)
-    place_labels(ax, items, fontsize=9, avoid=[(kmh(p.p), p.q) for p in diagram.special_points])
     ax.axhline(FIG8_START_T, color="0.5", lw=0.7, ls=":")
     ax.legend(fontsize=8, loc="center right", framealpha=0.9)
     ax.axhline(YANG2024.t0, color="0.4", lw=0.7, ls=":")
     _speed_axis(ax)
     ax.set_ylim(key.lo, key.hi)
     ax.set_ylabel("pneumatic trail t [m]")
+    # One placement for every label, once the limits are final, so that none lands on another.
+    place_labels(ax, items + [(*item, 8) for item in hopf_labels + marks], fontsize=9,
+                 avoid=[(kmh(p.p), p.q) for p in diagram.special_points])
     ax.set_title("Fig. 8: Hopf curves in (V, t) at 1.5 bar (0.6 $p_{i0}$); shaded: straight running stable\n"
                  f"HB labels on the Table 1 trail (dotted); S, T curves from the cycles at t = {FIG8_START_T:g} m; "
                  "stars: their zero-amplitude ends",

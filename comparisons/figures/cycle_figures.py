@@ -9,6 +9,7 @@ from axles import paper_reference as paper
 from axles.axle import interface_text
 from axles.units import kmh
 from comparisons.figures.cycle_plots import draw_cycle_diagram, special_point_labels
+from comparisons.figures.plots import place_labels
 from comparisons.figures.registry import (
     FIG9_VMAX_KMH,
     P_I0_BAR,
@@ -107,13 +108,13 @@ def _cycle_panels(store: DiagramStore, panels, vmax_kmh: float, figure_title: st
     columns = len(panels)
     fig = Figure(figsize=(5.6 * columns, 6.4))
     axes = fig.subplots(2, columns, sharex="col", squeeze=False)
-    notes, complete = [], True
+    notes, complete, labelled = [], True, []
     for j, (title, key) in enumerate(panels):
         family, diagram = store_cycles(store, key)
         # The Hopf points carry the paper's names (HB1, HB2 bound the yaw mode, HB3, HB4 the second one), not
         # numbers by speed order.
         names = hopf_names(diagram, ((paper_args or [{}] * columns)[j]).get("hopf_labels"))
-        draw_cycle_diagram(axes[:, j], diagram, family, hopf_labels=names)
+        labelled += draw_cycle_diagram(axes[:, j], diagram, family, hopf_labels=names, place=False)
         _no_hopf_text(axes[:, j], diagram)
         axes[0, j].set_title(title, fontsize=10)
         for ax in axes[:, j]:
@@ -125,6 +126,8 @@ def _cycle_panels(store: DiagramStore, panels, vmax_kmh: float, figure_title: st
     fig.suptitle(figure_title + "\nsolid: stable, dashed: unstable (straight running on the axis, cycles above)",
                  fontsize=10)
     fig.tight_layout()
+    for ax, items in labelled:      # once the layout is final
+        place_labels(ax, items)
     return fig, notes, complete
 
 
@@ -142,7 +145,7 @@ def draw_cycles_nominal(store: DiagramStore) -> Drawing:
     return Drawing(fig, tuple(notes), complete)
 
 
-@register(4, "cycles_1p5_2p7bar", cost=3)
+@register(4, "cycles_1.5bar_2.7bar", cost=3)
 def draw_cycles_low_high(store: DiagramStore) -> Drawing:
     panels = [("(a) 1.5 bar (0.6 $p_{i0}$)", CycleKey(1.5, VMAX_KMH)),
               ("(b) 2.7 bar (1.08 $p_{i0}$)", CycleKey(2.7, VMAX_KMH))]

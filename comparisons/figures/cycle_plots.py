@@ -67,11 +67,14 @@ def _draw_kicks(ax, kicks, color: str, items: list) -> None:
 
 
 def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="k", hopf_labels=None,
-                       kicks=()) -> None:
+                       kicks=(), place: bool = True) -> list:
     """Straight running on the axis and the cycle branches above it, in (speed, max|theta1|) and (speed,
     max|psi|) panels; special points S/T/PD named like the paper; Hopf points named by ``hopf_labels`` ((name,
     point) pairs; default HB1, HB2, ... by speed); the ``kicks`` that leave the lower state of a bistable window
-    as triangles in the theta1 panel.  Labels are placed so that they do not collide."""
+    as triangles in the theta1 panel.  Labels are placed so that they do not collide; with ``place=False`` they are
+    returned as [(axes, items)] for :func:`place_labels` once the figure's layout is final (a label placed before
+    the axes are resized or their limits change can end up on the data)."""
+    labelled = []
     speeds = np.linspace(diagram.p_min, diagram.p_max, 801)
     unstable = stability_grid(family, speeds, np.array([diagram.q]))[0] > 0
     labels = special_point_labels(diagram)
@@ -100,18 +103,26 @@ def draw_cycle_diagram(axes, diagram: CycleDiagram, family: SpeedFamily, color="
         ax.set_ylabel(ylabel)
         top = max(ax.get_ylim()[1], 1e-3)
         ax.set_ylim(-0.1 * top, 1.08 * top)    # room for the Hopf points' labels below the axis
-        place_labels(ax, items)
+        labelled.append((ax, items))
     axes[-1].set_xlabel("speed V [km/h]")
+    if place:
+        for ax, items in labelled:
+            place_labels(ax, items)
+        return []
+    return labelled
 
 
 def plot_cycle_diagram(diagram: CycleDiagram, family: SpeedFamily, path: str, title: str | None = None,
                        kicks=()) -> None:
     fig = Figure(figsize=(6.4, 6.4))
     axes = fig.subplots(2, 1, sharex=True)
-    draw_cycle_diagram(axes, diagram, family, kicks=kicks)
+    labelled = draw_cycle_diagram(axes, diagram, family, kicks=kicks, place=False)
     effects = ",".join(family.model.effects.names) or "section 3 model"
     axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar ({effects}); "
                                f"solid stable, dashed unstable", fontsize=10)
+    fig.tight_layout()
+    for ax, items in labelled:
+        place_labels(ax, items)
     save_figure(fig, path)
 
 
@@ -192,7 +203,7 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
     """
     fig = Figure(figsize=(6.4, 6.4))
     axes = fig.subplots(2, 1, sharex=True)
-    draw_cycle_diagram(axes, diagram, family)
+    labelled = draw_cycle_diagram(axes, diagram, family, place=False)
     styles = {"reduced": ("o", "C0", "MBS, all assumptions on"), "full": ("x", "C3", "MBS, full geometry")}
     for label, points in simulated.items():
         marker, color, text = styles.get(label, ("s", "C2", label))
@@ -202,43 +213,89 @@ def plot_cycle_overlay(diagram: CycleDiagram, family: SpeedFamily, simulated: di
         v, a, b = (np.array(c) for c in zip(*good))
         axes[0].plot(kmh(v), np.degrees(a), marker, color=color, mfc="none", ms=6, label=text)
         axes[1].plot(kmh(v), np.degrees(b), marker, color=color, mfc="none", ms=6)
-    axes[0].legend(fontsize=8, loc="upper right")
+    axes[0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes[0].set_title(title or f"Limit cycles at {diagram.q / BAR:g} bar", fontsize=10)
+    fig.tight_layout()
+    for ax, items in labelled:      # after the simulations' markers, so that no label covers them
+        place_labels(ax, items)
     save_figure(fig, path)
 
 
+def plural(count: int, noun: str) -> str:
+    """"1 Hopf point", "2 Hopf points"."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
+
+
+NARROW_SHARE = 0.03     # a branch narrower than this share of the speed axis is also drawn enlarged
+
+
+def _draw_model(ax, diagram: CycleDiagram, color: str, kicks, items: list) -> None:
+    for branch in diagram.branches:
+        for stable, v, a in branch_lines(branch, "theta1"):
+            ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
+    for h in diagram.hopf:
+        ax.plot(kmh(h.p), 0.0, "o", color=color, ms=5, zorder=5)
+    for text, p in special_point_labels(diagram):
+        amp = np.degrees(p.data["amplitude"][STATE_NAMES.index("theta1")])
+        ax.plot(kmh(p.p), amp, LABELS.get(p.kind, ("", "x"))[1], color=color, ms=7, mfc="none")
+        items.append((kmh(p.p), amp, text, color))
+    _draw_kicks(ax, kicks, color, items)
+
+
+def _narrow_spans(models, width_kmh: float) -> list[tuple[float, float]]:
+    """Speed spans (km/h) of the branches narrower than :data:`NARROW_SHARE` of the axis."""
+    spans = []
+    for _, diagram, *_ in models:
+        for branch in diagram.branches:
+            v = [x for _, vs, _ in branch_lines(branch, "theta1") for x in vs]
+            if v and max(v) - min(v) < NARROW_SHARE * width_kmh:
+                spans.append((min(v), max(v)))
+    return spans
+
+
 def plot_model_branches(models, path: str, title: str | None = None) -> None:
-    """Several models' cycle branches at one case in one panel: max |theta1| (deg) against speed (km/h), stable
-    solid, unstable dashed, Hopf points as dots on the axis and cycle folds, torus and period-doubling points
-    marked and named like the paper (S1, T1, ... per model), kick thresholds as triangles.  ``models``: (name,
+    """Several models' cycle branches at one case: max |theta1| (deg) against speed (km/h), stable solid,
+    unstable dashed, Hopf points as dots on the axis and cycle folds, torus and period-doubling points marked and
+    named like the paper (S1, T1, ... per model, in the model's colour, never beside another model's point), kick
+    thresholds as triangles.  A branch too narrow to see at full scale (under :data:`NARROW_SHARE` of the speed
+    axis) is drawn again, enlarged, in a panel of its own.  The key is below the axes.  ``models``: (name,
     CycleDiagram, colour) or (name, CycleDiagram, colour, kicks)."""
     from matplotlib.lines import Line2D
-    fig = Figure(figsize=(7.2, 4.4))
-    ax = fig.subplots()
-    items, handles = [], []
-    vmin, vmax = [], []
+    vmin = min(kmh(d.p_min) for _, d, *_ in models)
+    vmax = max(kmh(d.p_max) for _, d, *_ in models)
+    narrow = _narrow_spans(models, vmax - vmin)
+    fig = Figure(figsize=(9.6 if narrow else 7.2, 5.4))
+    if narrow:
+        ax, zoom = fig.subplots(1, 2, gridspec_kw={"width_ratios": (3, 1)})
+    else:
+        ax, zoom = fig.subplots(), None
+    items, zoom_items, handles = [], [], []
+    hopf = [(kmh(h.p), 0.0) for _, diagram, *_ in models for h in diagram.hopf]
     for label, diagram, color, *kicks in models:
-        vmin.append(kmh(diagram.p_min))
-        vmax.append(kmh(diagram.p_max))
-        for branch in diagram.branches:
-            for stable, v, a in branch_lines(branch, "theta1"):
-                ax.plot(v, a, "-" if stable else "--", color=color, lw=1.5)
-        for h in diagram.hopf:
-            ax.plot(kmh(h.p), 0.0, "o", color=color, ms=5, zorder=5)
-        for text, p in special_point_labels(diagram):
-            amp = np.degrees(p.data["amplitude"][STATE_NAMES.index("theta1")])
-            ax.plot(kmh(p.p), amp, LABELS.get(p.kind, ("", "x"))[1], color=color, ms=7, mfc="none")
-            items.append((kmh(p.p), amp, text, color))
-        _draw_kicks(ax, kicks[0] if kicks else (), color, items)
-        handles.append(Line2D([], [], color=color, lw=1.5, label=f"{label} ({len(diagram.hopf)} Hopf points)"))
+        _draw_model(ax, diagram, color, kicks[0] if kicks else (), items)
+        if zoom is not None:
+            _draw_model(zoom, diagram, color, kicks[0] if kicks else (), zoom_items)
+        handles.append(Line2D([], [], color=color, lw=1.5, label=f"{label} ({plural(len(diagram.hopf), 'Hopf point')})"))
     handles += [Line2D([], [], color="0.3", ls="-", label="stable"), Line2D([], [], color="0.3", ls="--",
                                                                             label="unstable")]
-    ax.set_xlim(min(vmin), max(vmax))
+    ax.set_xlim(vmin, vmax)
     top = max(ax.get_ylim()[1], 1e-3)
-    ax.set_ylim(-0.05 * top, 1.1 * top)
+    ax.set_ylim(-0.05 * top, 1.15 * top)
     ax.set_xlabel("speed V [km/h]")
     ax.set_ylabel(r"max $|\theta_1|$ [deg]")
-    ax.legend(handles=handles, fontsize=8, loc="upper right")
-    place_labels(ax, items)
+    ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
+    if zoom is not None:
+        lo, hi = min(a for a, _ in narrow), max(b for _, b in narrow)
+        pad = max(0.15 * (hi - lo), 0.2)
+        zoom.set_xlim(max(lo - pad, 0.0), hi + pad)
+        shown = [a for line in zoom.get_lines() for v, a in zip(*line.get_data())
+                 if zoom.get_xlim()[0] <= v <= zoom.get_xlim()[1] and np.isfinite(a)]
+        ztop = max(max(shown, default=0.0), 1e-3)
+        zoom.set_ylim(-0.05 * ztop, 1.2 * ztop)
+        zoom.set_xlabel("speed V [km/h]")
+        zoom.set_title(f"enlarged: {lo:.1f}-{hi:.1f} km/h", fontsize=9)
+        ax.axvspan(max(lo - pad, 0.0), hi + pad, color="0.85", zorder=0)
+        place_labels(zoom, [i for i in zoom_items if zoom.get_xlim()[0] <= i[0] <= zoom.get_xlim()[1]], avoid=hopf)
+    place_labels(ax, items, avoid=hopf)
     ax.set_title(title or "Limit cycles", fontsize=10)
     save_figure(fig, path)

@@ -52,26 +52,31 @@ def _fold_is_maximum(diagram: HopfDiagram, point) -> bool:
     return bool(np.mean(around) < point.q)
 
 
-def _mark(ax, point, factor, text, colour="k", offset=(5, 5), marker="o", text_at=None) -> None:
-    """Mark a special point; the label sits ``offset`` points away, or at data position ``text_at`` with an arrow."""
+def _mark(ax, point, factor, text, colour="k", offset=(5, 5), marker="o", text_at=None, items=None) -> None:
+    """Mark a special point; the label sits ``offset`` points away, or at data position ``text_at`` with an arrow,
+    or, when ``items`` is a list, goes into it as (x, y, text, colour) for
+    :func:`comparisons.figures.plots.place_labels` once the axes are final."""
     x, y = kmh(point.p), point.q / factor
     ax.plot(x, y, marker, color=colour, ms=5, mfc="white", mew=1.3, zorder=5)
-    if text:
+    if text and items is not None and text_at is None:
+        items.append((x, y, text, colour))
+    elif text:
         where = dict(xytext=text_at, textcoords="data", arrowprops=dict(arrowstyle="-", color=colour, lw=0.7)) \
             if text_at is not None else dict(xytext=offset, textcoords="offset points")
         ax.annotate(text, (x, y), fontsize=8, color=colour, zorder=6,
                     bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.75), **where)
 
 
-def _label_hopf_points(ax, family: SpeedFamily, q: float, factor: float, vmax_kmh: float, colour="k",
-                       offset=(4, -11)) -> list:
-    """Label the Hopf points on the line q = const as HB1, HB2, ... by speed (the paper's naming)."""
+def _label_hopf_points(ax, family: SpeedFamily, q: float, factor: float, vmax_kmh: float, colour="k") -> list:
+    """Mark the Hopf points on the line q = const; their labels HB1, HB2, ... by speed (the paper's naming) as
+    (x, y, text, colour) items for :func:`comparisons.figures.plots.place_labels`, to be placed once the axes'
+    limits are final."""
     points = find_hopf_points(family, q, 0.0, vmax_kmh * KMH, lyapunov=False)
+    items = []
     for i, h in enumerate(points, 1):
         ax.plot(kmh(h.p), q / factor, ".", color=colour, ms=6)
-        ax.annotate(f"HB{i}", (kmh(h.p), q / factor), textcoords="offset points", xytext=offset, fontsize=8,
-                    color=colour)
-    return list(points)
+        items.append((kmh(h.p), q / factor, f"HB{i}", colour))
+    return items
 
 
 def _point_note(name: str, p, unit: str, factor: float, fmt: str = ".4g") -> str:

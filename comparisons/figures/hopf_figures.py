@@ -23,7 +23,7 @@ from comparisons.figures.drawing import (
     _speed_axis,
     marker_key,
 )
-from comparisons.figures.plots import stability_grid
+from comparisons.figures.plots import place_labels, stability_grid
 from comparisons.figures.registry import (
     FOUR_PRESSURES_BAR,
     K5_PRESSURES_BAR,
@@ -53,7 +53,7 @@ def draw_pressure_curves(store: DiagramStore) -> Drawing:
     ax = fig.subplots()
     _shade_stable(ax, family, diagram, BAR)
     _draw_curves(ax, diagram, BAR, "k")
-    _label_hopf_points(ax, family, 1.5 * BAR, BAR, VMAX_KMH)
+    hopf_labels = _label_hopf_points(ax, family, 1.5 * BAR, BAR, VMAX_KMH)
     folds = _located(diagram, PointKind.HOPF_FOLD)
     notes = []
     if folds:
@@ -72,6 +72,7 @@ def draw_pressure_curves(store: DiagramStore) -> Drawing:
     ax.set_ylabel("inflation pressure $p_i$ [bar]")
     ax.set_title("Fig. 5: Hopf curves, lateral force depends on pressure (section 3 model)\n"
                  "shaded: straight running stable", fontsize=10)
+    place_labels(ax, hopf_labels)      # the limits are final
     notes += _incomplete_notes("", diagram)
     return Drawing(fig, tuple(notes), diagram.complete)
 
@@ -166,6 +167,7 @@ def draw_vertical_stiffness(store: DiagramStore) -> Drawing:
     # The paper's names: at 1.024 p_i0 the modes separate at F1 (vertex of the raised part of the lower curve)
     # and F2 (lowest point of the upper, yaw-mode curve); F2 moves to F3 at higher pressure.
     labelled = [(2.56, "F1", "F2"), (2.7, None, "F3")]
+    marks = []
     for p, low_name, high_name in labelled:
         diagram = diagrams.get(p)
         if diagram is None:
@@ -177,11 +179,11 @@ def draw_vertical_stiffness(store: DiagramStore) -> Drawing:
                            key=lambda f: f.p)
         if len(diagram.curves) > 1 and upper:
             f = min(upper, key=lambda f: f.q)
-            _mark(ax, f, 1.0, f"{high_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
-                  offset=(8, -4))
+            _mark(ax, f, 1.0, f"{high_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p], items=marks)
         if low_name and lower_max:
             f = lower_max[0]
             _mark(ax, f, 1.0, f"{low_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
                   text_at=(105.0, 1.75e5))
     ax.set_title("Fig. 14: Hopf curves in (V, $k_5$) at four pressures\n" + _FOUR_NOTE, fontsize=9)
+    place_labels(ax, marks)     # the limits are final
     return Drawing(fig, tuple(notes), complete)

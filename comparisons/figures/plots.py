@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.text import Text
 
 from axles.axle import interface_unit
 from axles.units import kmh
@@ -63,37 +64,91 @@ def plot_hopf_diagram(diagram: HopfDiagram, family: SpeedFamily, path: str, titl
     save_figure(fig, path)
 
 
-def place_labels(ax, items, fontsize: float = 8.0, avoid=()) -> None:
-    """Annotate points without labels overlapping each other or the marked points.
+# Label offsets from the labelled point, in points: a ring close by first, then wider rings (with a leader line).
+_RINGS = (8.0, 16.0, 28.0, 42.0, 60.0)
+_DIRECTIONS = ((1, 0.6), (1, -1.2), (-1, 0.6), (-1, -1.2), (0, 1.4), (0, -1.8), (1, 0), (-1, 0))
 
-    ``items``: (x, y, text, colour) in data coordinates; ``avoid``: further (x, y) data points to keep clear.
-    Each label takes the first of a ring of offsets whose (estimated) box is free; call after the axes limits
-    are set."""
+
+def data_points_px(ax, step_px: float = 2.0) -> np.ndarray:
+    """The axes' line data (every ``Line2D``: curves, markers, reference lines) in display pixels, segments
+    filled in every ``step_px``, kept where they lie inside the axes."""
+    box = ax.get_window_extent()
+    out = []
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = line.get_transform().transform(np.column_stack(line.get_data()).astype(float))
+        xy = xy[np.all(np.isfinite(xy), axis=1)]
+        if len(xy) == 0:
+            continue
+        if line.get_linestyle() not in ("None", "none", "", " ") and len(xy) > 1:
+            a, b = xy[:-1], xy[1:]
+            n = np.maximum(np.ceil(np.hypot(*(b - a).T) / step_px).astype(int), 1)
+            n = np.minimum(n, 4000)
+            frac = np.concatenate([np.arange(k) / k for k in n])
+            xy = np.vstack([np.repeat(a, n, axis=0) + frac[:, None] * np.repeat(b - a, n, axis=0), xy[-1:]])
+        out.append(xy)
+    if not out:
+        return np.zeros((0, 2))
+    xy = np.vstack(out)
+    inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+    return xy[inside]
+
+
+def _renderer(fig):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    return fig.canvas.get_renderer()
+
+
+def place_labels(ax, items, fontsize: float = 8.0, avoid=(), margin_px: float = 10.0) -> None:
+    """Annotate points so that no label covers data or another label.
+
+    ``items``: (x, y, text, colour) in data coordinates, optionally with a fifth element, the item's font size; ``avoid``: further (x, y) data points to keep clear.
+    Each label is measured by the renderer and takes the first offset, ring by ring outwards, where its box holds
+    no line data of the axes (:func:`data_points_px`), no other label, and stays at least ``margin_px`` from
+    every marked point but its own (so that a label never sits beside another model's point); labels further
+    out get a thin leader line.  Call after the axes limits are set and the data drawn."""
     fig = ax.figure
-    to_px = fig.dpi / 72.0
-    taken = [_box(ax.transData.transform((x, y)), (-4, -4), (8, 8), to_px) for x, y, *_ in items]
-    taken += [_box(ax.transData.transform(xy), (-4, -4), (8, 8), to_px) for xy in avoid]
-    offsets = ((5, 4), (5, -12), (-8, 4), (-8, -12), (5, 14), (-8, 14), (5, -22), (-8, -22), (14, -4), (-16, -4),
-               (5, 24), (-8, 24), (5, -32), (-8, -32))
-    for x, y, text, colour in items:
-        w, h = 0.62 * fontsize * max(len(line) for line in text.split("\n")), 1.25 * fontsize * (text.count("\n") + 1)
-        anchor = ax.transData.transform((x, y))
-        chosen = offsets[0]
-        for dx, dy in offsets:
-            left = dx if dx >= 0 else dx - w + 8
-            box = _box(anchor, (left, dy), (w, h), to_px)
-            if not any(_overlap(box, other) for other in taken):
-                chosen = (dx, dy)
+    renderer = _renderer(fig)
+    data = data_points_px(ax)
+    axes_box = ax.get_window_extent()
+    marks = [ax.transData.transform((x, y)) for x, y, *_ in items] + [ax.transData.transform(xy) for xy in avoid]
+    taken = []
+    for k, (x, y, text, colour, *size) in enumerate(items):
+        own = marks[k]
+        others = np.array([m for i, m in enumerate(marks) if i != k and np.hypot(*(m - own)) > 0.5]).reshape(-1, 2)
+        best, best_score = None, None
+        for ring in _RINGS:
+            for dx, dy in _DIRECTIONS:
+                offset = (dx * ring, dy * ring * 0.6)
+                ann = ax.annotate(text, (x, y), textcoords="offset points", xytext=offset,
+                                  fontsize=size[0] if size else fontsize,
+                                  color=colour, zorder=7, ha="left" if dx > 0 else "right" if dx < 0 else "center",
+                                  va="center", bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8),
+                                  arrowprops=dict(arrowstyle="-", color=colour, lw=0.5, alpha=0.6) if ring > 16 else None)
+                ann.update_positions(renderer)
+                bb = Text.get_window_extent(ann, renderer)     # the text, without its leader line
+                box = (bb.x0 - 1, bb.y0 - 1, bb.x1 + 1, bb.y1 + 1)
+                score = (int(np.sum((data[:, 0] > box[0]) & (data[:, 0] < box[2]) & (data[:, 1] > box[1])
+                                    & (data[:, 1] < box[3])))
+                         + 50 * sum(_overlap(box, t) for t in taken)
+                         + 50 * int(np.any((others[:, 0] > box[0] - margin_px) & (others[:, 0] < box[2] + margin_px)
+                                           & (others[:, 1] > box[1] - margin_px) & (others[:, 1] < box[3] + margin_px)))
+                         + 20 * int(not (box[0] >= axes_box.x0 and box[2] <= axes_box.x1 and box[1] >= axes_box.y0
+                                         and box[3] <= axes_box.y1)))
+                if best_score is None or score < best_score:
+                    if best is not None:
+                        best[0].remove()
+                    best, best_score = (ann, box), score
+                else:
+                    ann.remove()
+                if score == 0:
+                    break
+            if best_score == 0:
                 break
-        left = chosen[0] if chosen[0] >= 0 else chosen[0] - w + 8
-        taken.append(_box(anchor, (left, chosen[1]), (w, h), to_px))
-        ax.annotate(text, (x, y), textcoords="offset points", xytext=(left, chosen[1]), fontsize=fontsize,
-                    color=colour, zorder=7, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
-
-
-def _box(anchor, offset, size, to_px):
-    x0, y0 = anchor[0] + offset[0] * to_px, anchor[1] + offset[1] * to_px
-    return (x0, y0, x0 + size[0] * to_px, y0 + size[1] * to_px)
+        taken.append(best[1])
 
 
 def _overlap(a, b) -> bool:

@@ -83,3 +83,54 @@ def peak_loss(y: np.ndarray, kept: np.ndarray) -> float:
         is_max = peak >= y[ext[j - 1]] and peak >= y[ext[j + 1]]
         worst = max(worst, peak - drawn.max() if is_max else drawn.min() - peak)
     return float(worst / scale)
+
+
+def cycle_envelopes(t: np.ndarray, y: np.ndarray, min_period: float) -> tuple[np.ndarray, np.ndarray]:
+    """(upper, lower): sorted indices of the samples that make the per-cycle envelopes of ``y``.
+
+    The upper envelope runs through the local maxima (one per swing), the lower through the local minima; of
+    several turning points within one bin of ``min_period`` (ripple, or noise after an oscillation has decayed)
+    only the highest maximum and the lowest minimum are kept, so a line through them follows the swings of any
+    oscillation slower than ``1 / min_period`` and never more than one point per bin.  Where no swing turns for
+    longer than ten bins (the signal at rest, or drifting), each bin's highest and lowest sample are kept
+    instead, so that the lines follow the signal there rather than cut across the gap.  Both include the
+    first and the last sample, so that they span the whole signal."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = len(t)
+    if n <= 2:
+        return np.arange(n), np.arange(n)
+    if not min_period > 0.0:
+        raise ValueError(f"minimum period must be positive, got {min_period!r}")
+    inner = np.arange(1, n - 1)
+    rising, falling = y[inner] - y[inner - 1], y[inner + 1] - y[inner]
+    bins = np.floor((t - t[0]) / min_period).astype(np.int64)
+
+    def best_per_bin(candidates: np.ndarray, sign: float) -> np.ndarray:
+        order = np.lexsort((-sign * y[candidates], bins[candidates]))      # by bin, best first
+        ordered = candidates[order]
+        return ordered[np.r_[True, bins[ordered][1:] != bins[ordered][:-1]]] if len(ordered) else ordered
+
+    def keep(turns: np.ndarray, sign: float) -> np.ndarray:
+        kept = np.unique(np.r_[0, best_per_bin(turns, sign), n - 1])
+        long = np.flatnonzero(np.diff(t[kept]) > 10.0 * min_period)
+        if len(long):
+            starts, ends = t[kept[long]], t[kept[long + 1]]
+            k = np.searchsorted(starts, t, side="right") - 1
+            in_gap = np.flatnonzero((k >= 0) & (t > starts[np.maximum(k, 0)]) & (t < ends[np.maximum(k, 0)]))
+            kept = np.unique(np.r_[kept, best_per_bin(in_gap, sign)])
+        return kept
+
+    maxima = inner[(rising >= 0.0) & (falling < 0.0)]
+    minima = inner[(rising <= 0.0) & (falling > 0.0)]
+    return keep(maxima, 1.0), keep(minima, -1.0)
+
+
+def envelope_amplitude(t: np.ndarray, y: np.ndarray, grid: np.ndarray, min_period: float) -> np.ndarray:
+    """Half the distance between the upper and lower per-cycle envelopes of ``y`` (:func:`cycle_envelopes`),
+    interpolated linearly onto ``grid`` (inside ``t``'s span): the amplitude of an oscillation, whatever its
+    offset."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    upper, lower = cycle_envelopes(t, y, min_period)
+    return 0.5 * (np.interp(grid, t[upper], y[upper]) - np.interp(grid, t[lower], y[lower]))

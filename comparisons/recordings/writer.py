@@ -1,7 +1,8 @@
 """Rerun recordings (.rrd) of simulations: 3D scene, every state, speed, detected mode and mode switches.
 
 :func:`write_recording` writes one run; :func:`write_comparison` writes several runs of one experiment side by
-side (both 3D axles next to each other, each state of every run overlaid in one plot, one mode lane per run).
+side (both 3D axles next to each other, each state of every run overlaid in one plot, the difference of their
+amplitudes, one mode lane per run).
 Timeline ``sim_time`` (simulated time, integer nanoseconds).  Entities of a one-run recording (a side-by-side
 recording appends ``/<run>`` to each, see :mod:`comparisons.recordings.layout`):
 
@@ -16,7 +17,15 @@ recording appends ``/<run>`` to each, see :mod:`comparisons.recordings.layout`):
   ``/speed_kmh``: the speed.  Each series keeps, per :data:`SERIES_BIN_S` of simulated time, its lowest and
   highest sample (:func:`comparisons.recordings.decimation.envelope_indices`): every swing's extreme is kept exactly at a
   fifth of the size of 1 kHz data, and the series are drawn with min/max aggregation, so the viewer shows the
-  envelope at any zoom instead of averaging an oscillation away.  Each state has its own fixed colour.
+  envelope at any zoom instead of averaging an oscillation away.  Each state has its own fixed colour.  The
+  stored blueprint shows these waveforms in a window of :data:`~comparisons.recordings.layout.WAVE_WINDOW_S`
+  around the time cursor.
+* ``/envelopes/<state>_<unit>/upper`` and ``.../lower`` (``/envelopes/tyre_forces/<side>_N/...`` for the forces):
+  the per-cycle envelopes, a line through the highest sample of each swing and one through the lowest
+  (:func:`comparisons.recordings.decimation.cycle_envelopes`), shown over the whole run: a 60 s run of a 5 Hz
+  oscillation reads as two lines, not as a filled band.
+* Side by side only, ``/difference/<state>_<unit>/<run>``: that run's amplitude (half the distance between its
+  envelopes) minus the first run's, on a :data:`DIFFERENCE_RATE_HZ` grid where both ran.
 * ``/mode``: the detected mode as a state lane (``rr.StateChange``, one row per change); ``/events``: one
   ``rr.TextLog`` per mode switch at its time; a warning at the end if the simulation did not complete.
 * ``/info``: a static Markdown document (title, model, integrator, units, what the views show), shown in a
@@ -40,20 +49,36 @@ import numpy as np
 from axles.axle import interface_text
 from axles.units import kmh
 from comparisons.files import atomic_path, run_writer
-from comparisons.recordings.decimation import envelope_indices, uniform_indices
+from comparisons.recordings.decimation import uniform_indices
 from comparisons.recordings.layout import (
+    ENVELOPE_BOUNDS,
     FORCE_COLOURS,
     INFO_ENTITY,
     RUN_COLOURS,
+    RUN_WIDTHS,
     SPEED_COLOUR,
     STATE_COLOURS,
     STATE_UNIT_LABELS,
     TIMELINE,
     UNIT_SUFFIX,
+    WAVE_WINDOW_S,
     RunPaths,
+    colour_name,
     comparison_blueprint,
     mode_colour,
+    series_leaves,
     single_blueprint,
+)
+from comparisons.recordings.timeseries import (  # noqa: F401 (time_ns, series_indices: part of this module's API)
+    DIFFERENCE_RATE_HZ,
+    SERIES_BIN_S,
+    log_differences,
+    log_envelopes,
+    log_series,
+    series_indices,
+    series_style,
+    time_index,
+    time_ns,
 )
 from comparisons.recordings.scene import BODY_NAMES, SIDES, AxleGeometry, ScenePoses, rotation_about, trajectory_poses
 from reduced_model.model import STATE_NAMES, STATE_UNITS, ShimmyModel
@@ -61,7 +86,6 @@ from reduced_model.trajectory import Trajectory
 
 APP_ID = "shimmy"
 FORCE_ARROW_M_PER_N = 1e-4      # a 5 kN force is drawn 0.5 m long
-SERIES_BIN_S = 0.01             # min and max of every 10 ms: at most 200 samples per second and series
 SCENE_RATE_HZ = 100.0           # poses: 10 per cycle of a 10 Hz shimmy, enough to scrub and to play back
 _ROOT = RunPaths()
 STATE_ENTITIES = {name: _ROOT.state(name) for name in STATE_NAMES}
@@ -93,11 +117,6 @@ class RecordingSummary:
     mode_changes: int
     switches: int
     bytes: int = 0
-
-
-def time_ns(t) -> np.ndarray:
-    """Simulated time as integer nanoseconds (rounded: float durations would be truncated by Rerun)."""
-    return np.round(np.asarray(t, dtype=float) * 1e9).astype(np.int64)
 
 
 def mode_label(mode) -> str:
@@ -164,25 +183,27 @@ class _Run:
     events: list
     geometry: AxleGeometry
     colour: int | None = None   # the run's colour in side-by-side plots; None: one colour per state
+    width: float = RUN_WIDTHS[0]
 
     @property
     def paths(self) -> RunPaths:
         return RunPaths(self.key)
 
     def series(self) -> dict:
-        """entity -> values (interface units) of every plotted series."""
-        tr = self.trajectory
-        out = {self.paths.state(name): UNIT_SUFFIX[unit][2](tr.x[:, k])
-               for k, (name, unit) in enumerate(zip(STATE_NAMES, STATE_UNITS))}
-        forces = self.poses.lateral_forces()
-        out.update({self.paths.force(side): forces[:, k] for k, side in enumerate(SIDES)})
-        out[self.paths.speed] = kmh(np.asarray(tr.speed, dtype=float))
+        """entity -> values (interface units) of every plotted waveform."""
+        values = self.enveloped()
+        out = {self.paths.state(name): values[name] for name in STATE_NAMES}
+        out.update({self.paths.force(side): values[f"F_y {side}"] for side in SIDES})
+        out[self.paths.speed] = kmh(np.asarray(self.trajectory.speed, dtype=float))
         return out
 
-
-def series_indices(t: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """The samples of one series that go into a recording (module docstring)."""
-    return envelope_indices(t, values, SERIES_BIN_S)
+    def enveloped(self) -> dict:
+        """series key (state name or "F_y <side>") -> values (interface units) of every series that gets
+        envelopes: all but the speed."""
+        tr, forces = self.trajectory, self.poses.lateral_forces()
+        out = {name: UNIT_SUFFIX[unit][2](tr.x[:, k]) for k, (name, unit) in enumerate(zip(STATE_NAMES, STATE_UNITS))}
+        out.update({f"F_y {side}": forces[:, k] for k, side in enumerate(SIDES)})
+        return out
 
 
 def scene_indices(t: np.ndarray) -> np.ndarray:
@@ -191,7 +212,7 @@ def scene_indices(t: np.ndarray) -> np.ndarray:
 
 
 def _prepare(trajectory: Trajectory, modes, switches, model, pressures, geometry, key="", title="",
-             colour=None) -> _Run:
+             colour=None, width=RUN_WIDTHS[0]) -> _Run:
     """Everything that can fail on the input fails here, before a byte is written."""
     t = np.asarray(trajectory.t, dtype=float)
     if len(t) < 2 or np.any(np.diff(t) <= 0.0):
@@ -200,7 +221,7 @@ def _prepare(trajectory: Trajectory, modes, switches, model, pressures, geometry
     geometry = geometry or AxleGeometry.from_params((model or ShimmyModel()).params)
     return _Run(key=key, title=title or MODEL_TITLES.get(trajectory.model, trajectory.model),
                 trajectory=trajectory, poses=poses, segments=mode_segments(modes, t),
-                events=mode_switches(switches, t), geometry=geometry, colour=colour)
+                events=mode_switches(switches, t), geometry=geometry, colour=colour, width=width)
 
 
 def write_recording(path: str, trajectory: Trajectory, modes=None, switches: Sequence = (), title: str = "", *,
@@ -237,13 +258,16 @@ def write_comparison(path: str, runs: Sequence[ComparedRun], title: str = "", *,
     """Write several runs of one experiment (e.g. the reduced model and the MBS) into one recording, side by
     side: their 3D axles in views next to each other, each state of every run overlaid in one plot (one colour
     per run), one mode lane per run.  The runs share the timeline; each is keyed by its ``trajectory.model``,
-    which must differ between runs.  Same errors and atomic write as :func:`write_recording`."""
+    which must differ between runs.  The first run is the reference: the others are drawn wide and translucent
+    over it, and each one's amplitude minus the reference's is a series of its own (``/difference/...``).  Same
+    errors and atomic write as :func:`write_recording`."""
     _check_target(path)
     keys = [r.trajectory.model for r in runs]
     if not runs or len(set(keys)) != len(keys):
         raise ValueError(f"write_comparison needs runs of different models, got {keys}")
     prepared = [_prepare(r.trajectory, r.modes, r.switches, model, pressures, geometry, key=r.trajectory.model,
-                         title=r.title, colour=RUN_COLOURS[k % len(RUN_COLOURS)]) for k, r in enumerate(runs)]
+                         title=r.title, colour=RUN_COLOURS[k % len(RUN_COLOURS)],
+                         width=RUN_WIDTHS[k % len(RUN_WIDTHS)]) for k, r in enumerate(runs)]
     blueprint = comparison_blueprint([(r.key, r.title) for r in prepared], _span(prepared))
     return _write_file(path, prepared, title, blueprint, recording_id)
 
@@ -311,7 +335,9 @@ def write_runs(tmp: str, runs: list[_Run], title: str, blueprint, recording_id: 
                 _log_static(rec, run)
                 _log_scene(rec, run)
                 log_series(rec, run)
+                log_envelopes(rec, run)
                 _log_modes(rec, run)
+            log_differences(rec, runs)
     finally:
         del rec     # the SDK releases a recording's threads and buffers when its last reference goes
 
@@ -327,9 +353,12 @@ def info_text(runs: list[_Run], title: str) -> str:
                   f"km/h.", ""]
     lines += [
         "* **Plots**: angles in degrees, rates in degrees per second, forces in N, speed in km/h, against "
-        f"simulated time `{TIMELINE}`. Each series keeps its lowest and highest sample of every "
-        f"{SERIES_BIN_S * 1e3:g} ms and is drawn with min/max aggregation: zoomed out, a plot shows the envelope "
-        "of an oscillation (its true peaks), never an average.",
+        f"simulated time `{TIMELINE}`. The envelope views show, over the whole run, a line through every swing's "
+        "maximum (upper envelope) and one through every minimum (lower envelope); the waveform views show the "
+        f"signal itself in {WAVE_WINDOW_S:g} s around the time cursor (play or scrub to move it). The waveform "
+        f"keeps its lowest and highest sample of every {SERIES_BIN_S * 1e3:g} ms and is drawn with min/max "
+        "aggregation, so zoomed out it shows its true peaks, never an average. Legends are off: each view's name "
+        "says which colour is which.",
         "* **3D**: x forward, y left, z up, m; the frame travels with the axle; true angles (not exaggerated); "
         f"red arrows: tyre lateral forces, {FORCE_ARROW_M_PER_N * 1e3:g} m per kN; poses at "
         f"{SCENE_RATE_HZ:g} per second.",
@@ -337,17 +366,17 @@ def info_text(runs: list[_Run], title: str) -> str:
         "the events list each switch.",
     ]
     if len(runs) > 1:
-        names = ", ".join(f"{run.title}: {_hex(run.colour)}" for run in runs)
-        lines.append(f"* **Colours** in the plots: {names}.")
+        names = ", ".join(f"{run.title}: {colour_name(run.colour)} ({_hex(run.colour)}"
+                          f"{', wide and translucent' if k else ''})" for k, run in enumerate(runs))
+        lines.append(f"* **Colours** in the plots: {names}. No run hides another: where the lines coincide, the "
+                     "narrow one shows inside the wide one.")
+        lines.append(f"* **Difference**: each run's amplitude (half the distance between its envelopes) minus "
+                     f"{runs[0].title}'s, on a {DIFFERENCE_RATE_HZ:g} Hz grid where both ran.")
     return "\n".join(lines) + "\n"
 
 
 def _hex(colour: int | None) -> str:
     return "-" if colour is None else f"#{colour >> 8:06X}"
-
-
-def _index(rr, seconds: np.ndarray):
-    return [rr.TimeColumn(TIMELINE, duration=time_ns(seconds).astype("timedelta64[ns]"))]
 
 
 def _log_static(rec, run: _Run) -> None:
@@ -388,23 +417,23 @@ def _log_static(rec, run: _Run) -> None:
     short = run.title.split(" (")[0]
     for name in STATE_NAMES:
         label = f"{name} [{STATE_UNIT_LABELS[name]}]" if run.colour is None else short
-        _series_style(rec, paths.state(name), label, run.colour or STATE_COLOURS[name])
+        series_style(rec, paths.state(name), label, run.colour or STATE_COLOURS[name], run.width)
     for side in SIDES:
         label = f"F_y {side} [N]" if run.colour is None else f"F_y {side}, {short}"
-        _series_style(rec, paths.force(side), label, run.colour or FORCE_COLOURS[side])
-    _series_style(rec, paths.speed, "speed [km/h]" if run.colour is None else short, run.colour or SPEED_COLOUR)
-
-
-def _series_style(rec, entity: str, name: str, colour: int) -> None:
-    import rerun as rr
-    rec.log(entity, rr.SeriesLines(names=[name], colors=[colour], widths=[1.5], aggregation_policy="minmax"),
-            static=True)
+        series_style(rec, paths.force(side), label, run.colour or FORCE_COLOURS[side], run.width)
+    for key, leaf in series_leaves().items():
+        colour = run.colour or (STATE_COLOURS.get(key) or FORCE_COLOURS[key.split()[-1]])
+        for bound in ENVELOPE_BOUNDS:
+            series_style(rec, paths.envelope(leaf, bound), f"{key} {bound}" + (f", {short}" if run.colour else ""),
+                          colour, run.width)
+    series_style(rec, paths.speed, "speed [km/h]" if run.colour is None else short, run.colour or SPEED_COLOUR,
+                  run.width)
 
 
 def _log_scene(rec, run: _Run) -> None:
     import rerun as rr
     idx = scene_indices(run.trajectory.t)
-    index = _index(rr, run.trajectory.t[idx])
+    index = time_index(rr, run.trajectory.t[idx])
     n, scene, poses = len(idx), run.paths.scene, run.poses
     for name in BODY_NAMES:
         pose = poses.bodies[name]
@@ -421,14 +450,6 @@ def _log_scene(rec, run: _Run) -> None:
                      ).partition([2] * n))
 
 
-def log_series(rec, run: _Run) -> None:
-    import rerun as rr
-    t = run.trajectory.t
-    for entity, values in run.series().items():
-        idx = series_indices(t, values)
-        rec.send_columns(entity, indexes=_index(rr, t[idx]), columns=rr.Scalars.columns(scalars=values[idx]))
-
-
 def _log_modes(rec, run: _Run) -> None:
     import rerun as rr
     paths, segments, events, trajectory = run.paths, run.segments, run.events, run.trajectory
@@ -436,7 +457,7 @@ def _log_modes(rec, run: _Run) -> None:
         labels = list(dict.fromkeys(label for _, label in segments))
         colours = np.array([mode_colour(label, i) for i, label in enumerate(labels)], dtype=np.uint32)
         rec.log(paths.mode, rr.StateConfiguration(values=labels, labels=labels, colors=colours), static=True)
-        rec.send_columns(paths.mode, indexes=_index(rr, np.array([s for s, _ in segments])),
+        rec.send_columns(paths.mode, indexes=time_index(rr, np.array([s for s, _ in segments])),
                          columns=rr.StateChange.columns(state=[label for _, label in segments]))
     texts = [f"mode switch at {e.time:.4f} s: {e.before} -> {e.after}" for e in events]
     times = [e.time for e in events]
@@ -448,6 +469,6 @@ def _log_modes(rec, run: _Run) -> None:
         levels.append("WARN")
     if texts:
         order = np.argsort(times, kind="stable")
-        rec.send_columns(paths.events, indexes=_index(rr, np.asarray(times)[order]),
+        rec.send_columns(paths.events, indexes=time_index(rr, np.asarray(times)[order]),
                          columns=rr.TextLog.columns(text=[texts[i] for i in order],
                                                     level=[levels[i] for i in order]))

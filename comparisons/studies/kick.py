@@ -21,6 +21,7 @@ from typing import Callable
 
 import numpy as np
 
+from axles.units import kmh
 from comparisons.studies.limit_cycle import DECAYED, SteadyAmplitude
 from reduced_model.model import N_STATES, STATE_NAMES
 
@@ -82,19 +83,22 @@ def settled_on(run: SteadyAmplitude, attractors: tuple[Attractor, Attractor]) ->
 
 
 def kick_threshold(settle: Callable[[np.ndarray], SteadyAmplitude], speed: float,
-                   states: tuple[Attractor, Attractor], unstable_theta1: float, rel_tol: float = 0.02) -> KickThreshold:
+                   states: tuple[Attractor, Attractor], unstable_theta1: float, rel_tol: float = 0.02,
+                   progress: Callable[[str], None] | None = None) -> KickThreshold:
     """The smallest kick in theta1 from straight running that leaves the lower of two coexisting stable
     ``states`` for the other.  The lower state is the one a tiny kick (:data:`SMALLEST_KICK`) settles on:
     straight running itself where it is stable, otherwise the cycle its unstable manifold reaches.
 
     ``settle(x0)`` runs one model at ``speed`` from x0 until it settles (e.g.
     :func:`comparisons.studies.limit_cycle.reduced_steady_amplitude` or :func:`comparisons.studies.limit_cycle.mbs_steady_amplitude`
-    bound to a model, pressure and speed)."""
+    bound to a model, pressure and speed).  ``progress(text)`` is called after each run, saying which."""
     results: dict[float, SteadyAmplitude] = {}
 
     def ends_on(a: float) -> int | None:
         if a not in results:
             results[a] = settle(kick_start(a))
+            if progress is not None:
+                progress(f"{kmh(speed):.2f} km/h, run {len(results)}: kick {math.degrees(a):.3g} deg")
         result = results[a]
         return settled_on(result, states) if result.settled else None
 
@@ -224,11 +228,13 @@ def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplit
     return lambda x0: reduced_steady_amplitude(family.model, family.pressures, speed, x0)
 
 
-def kicks(family, diagram, min_width: float = 0.0) -> list[KickThreshold]:
-    """The kick threshold in the middle of every bistable window of the diagram wider than ``min_width`` (m/s)."""
+def kicks(family, diagram, min_width: float = 0.0, progress: Callable[[str], None] | None = None
+          ) -> list[KickThreshold]:
+    """The kick threshold in the middle of every bistable window of the diagram wider than ``min_width`` (m/s);
+    ``progress(text)`` after each run (:func:`kick_threshold`)."""
     out = []
     for speed in bistable_speeds(family, diagram, min_width):
         found = coexisting_states(family, diagram, speed)
         if found is not None:
-            out.append(kick_threshold(settle_function(family, speed), speed, *found))
+            out.append(kick_threshold(settle_function(family, speed), speed, *found, progress=progress))
     return out

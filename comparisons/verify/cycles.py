@@ -19,6 +19,7 @@ from axles.axle import interface_text
 from axles.paper_reference import FIG9A, KNOWN_DIFFERENCES
 from axles.units import BAR, kmh
 from comparisons.verify.context import Context, agrees_to_printed_digits, shimmy_cases
+from comparisons.verify.file_names import case_file_name
 from comparisons.verify.jump_experiments import PAST_END_KMH, JumpSetup
 from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Column, Row, Section
@@ -111,8 +112,7 @@ def cycles_section(ctx: Context) -> Section:
                                  "mbs_full_theta1_deg": math.degrees(full) if math.isfinite(full) else None},
                                 CheckStatus.PASS if check.ok else CheckStatus.FAIL,
                                 "" if check.ok else f"MBS steady amplitude off by more than {AMPLITUDE_TOL:.1%}"))
-        tag = case.label.replace(" ", "").replace("/", "_").replace(".", "p")
-        name = f"cycles_{tag}.png"
+        name = case_file_name("cycles", "png", case.pressure_right_bar, case.pressure_left_bar)
         plot_cycle_overlay(diagram, family, overlay, os.path.join(ctx.out, name),
                            title=f"Limit cycles at {case.label}: continuation (lines) and MBS simulations (markers)")
         figures.append(name)
@@ -141,12 +141,16 @@ def _record(ctx: Context, name: str, trajectory, history, title: str, case: Bist
     return name
 
 
-def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase) -> list[str]:
-    """The side-by-side recording of one experiment in both models (besides one file per model)."""
+def _record_both(ctx: Context, name: str, both, title: str, case: BistableCase,
+                 mbs_title: str = "MBS, all assumptions on (Exudyn)") -> list[str]:
+    """The side-by-side recording of one experiment in both models (besides one file per model); ``mbs_title``
+    names the MBS run in the recording's views."""
     if not ctx.recordings:
         return []
     from comparisons.recordings.writer import ComparedRun, write_comparison
-    write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches) for t, h in both],
+    write_comparison(os.path.join(ctx.out, name), [ComparedRun(t, h.segments(), h.switches,
+                                                               mbs_title if t.model == "mbs" else "")
+                                                   for t, h in both],
                      title, model=ShimmyModel(params=case.axle.params), pressures=TyrePressures.uniform(case.pressure_bar * BAR))
     return [name]
 
@@ -161,7 +165,7 @@ def _experiment(title: str, both, marks: dict):
 
 def _jump_figure(ctx: Context, experiments, case: BistableCase, paper: bool) -> str:
     from comparisons.verify.report_figures import plot_jump_histories
-    name = "jumps_" + f"{case.pressure_bar:g}".replace(".", "p") + "bar.png"
+    name = case_file_name("jumps", "png", case.pressure_bar)
     ends = "S1 (ramp up) and T2 (ramp down)" if paper else "the window's ends"
     plot_jump_histories(experiments, os.path.join(ctx.out, name),
                         title=f"Jumps between the modes in both models, {case.pressure_bar:g} bar; dashed: the speed "

@@ -15,6 +15,7 @@ from axles.axle import AxleData, interface_text
 from axles.pressures import TyrePressures
 from axles.units import BAR, from_kmh, kmh
 from comparisons.verify.context import Context
+from comparisons.verify.file_names import case_file_name
 from comparisons.verify.orbit_checks import (
     bracket_special_point,
     check_orbit,
@@ -48,6 +49,7 @@ class Where:
     pressures: TyrePressures
     pressure_bar: float | None               # both tyres alike: the pressure in bar (the ramps need it)
     speeds: tuple[float, float] = (0.0, VMAX)   # m/s: the window the branches are continued in
+    overrides: tuple = ()                    # the axle's entries that the label names ((name, interface value))
 
     @classmethod
     def of_case(cls, axle: AxleData, case) -> "Where":
@@ -58,7 +60,15 @@ class Where:
     def of_bistable(cls, case: BistableCase) -> "Where":
         changed = ", ".join(f"{k} = {v:g}" for k, v in case.axle.overrides)
         return cls(f"{case.pressure_bar:g} bar" + (f", {changed}" if changed else ""), case.axle,
-                   TyrePressures.uniform(case.pressure_bar * BAR), case.pressure_bar)
+                   TyrePressures.uniform(case.pressure_bar * BAR), case.pressure_bar,
+                   overrides=tuple(case.axle.overrides))
+
+    @property
+    def shown(self) -> str:
+        """The case for a figure: its pressures and the axle entries the label names, each with its unit."""
+        from axles.axle import interface_unit
+        changed = "".join(f", {k} = {v:g} {interface_unit(k)[0]}" for k, v in self.overrides)
+        return self.label.split(",")[0] + changed
 
     @property
     def family(self):
@@ -230,12 +240,12 @@ def branches_figure(ctx: Context, case: Where, reduced, reduced_kicks, full) -> 
     """Both models' branches at one case; ``full``: the full geometry's (diagram, kicks), one per window it was
     continued in."""
     from comparisons.figures.cycle_plots import plot_model_branches
-    tag = "".join(c for c in case.label.replace(".", "p").replace("/", "_") if c.isalnum() or c in "_p")
-    name = f"full_geometry_{tag}.png"
+    name = case_file_name("full_geometry", "png", case.pressures.right / BAR, case.pressures.left / BAR,
+                          case.overrides)
     several = len(full) > 1
     plot_model_branches([("reduced model", reduced, "C0", reduced_kicks)] +
                         [("full geometry, MBS" + (f" ({kmh(d.p_min):.1f}-{kmh(d.p_max):.1f} km/h)" if several else ""),
                           d, f"C{3 + i}", k) for i, (d, k) in enumerate(full)],
                         os.path.join(ctx.out, name),
-                        title=f"Limit cycles at {case.label}: reduced model and full geometry")
+                        title=f"Limit cycles at {case.shown}: reduced model and full geometry")
     return name

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from axles.units import from_kmh, kmh
 from comparisons.verify.context import Context
+from comparisons.verify.file_names import pressure_part
 from comparisons.verify.cycles import _record_both
 from comparisons.verify.jump_experiments import (
     RAMP_KMH_S,
@@ -65,7 +66,7 @@ def jump_rows(ctx: Context, label: str, case: BistableCase, family, diagram,
     """Rows and recording names of the ramps through every window of the full geometry."""
     from mbs_shimmy.fidelity import Fidelity
     rows, recordings = [], []
-    tag = f"{case.pressure_bar:g}".replace(".", "p") + "bar"
+    tag = pressure_part(case.pressure_bar)
     for window in windows:
         setup = full_jump_setup(case, family, diagram, window)
         where = f"window {kmh(window[0]):.2f}-{kmh(window[1]):.2f} km/h"
@@ -78,7 +79,8 @@ def jump_rows(ctx: Context, label: str, case: BistableCase, family, diagram,
             found, both = run_ramp(setup, ramp, Fidelity.full())
             name = f"full_{ramp.name.replace(' ', '_')}_{tag}_{kmh(window[0]):.0f}kmh_both.rrd"   # unique per window
             recordings += _record_both(ctx, name, both, f"{ramp.name} through the full geometry's {where}: "
-                                                        f"reduced model and full geometry side by side", case)
+                                                        f"reduced model and full geometry side by side", case,
+                                     mbs_title="full geometry, MBS (all assumptions off)")
             reduced = found["reduced"]
             end = setup.v_hi if ramp.up else setup.v_lo
             held = found["mbs"] is not None and abs(found["mbs"] - end) < 1e-6

@@ -220,7 +220,7 @@ def margins_section(ctx: Context) -> Section:
             found += points
         hopf[key] = found
     rows += [minimum_row(models[key][0], studies[key]) for key in ("reduced", "mbs_full")]
-    plot_margin_maps([(studies[key], f"{models[key][0]}\nblack: zero damping; circles: Hopf points; star: minimum",
+    plot_margin_maps([(studies[key], f"{models[key][0]}\nblack: zero damping; circles: Hopf points",
                        hopf[key]) for key in ("reduced", "mbs_full")], os.path.join(ctx.out, FIGURE),
                      title=f"Least damping ratio of straight running, axle {ctx.axle.shown_name}")
     lo, hi = window

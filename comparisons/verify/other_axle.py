@@ -88,7 +88,7 @@ def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxl
     found_recordings, figures, full = [], [], []
     for a, b in windows:
         ctx_where = Where(f"{where.label}, {kmh(a):.2f}-{kmh(b):.2f} km/h", case.axle, where.pressures,
-                          where.pressure_bar, (a, b))
+                          where.pressure_bar, (a, b), where.overrides)
         rows.append(Row({"case": ctx_where.label, "what": "cycle branches"}, CheckStatus.INFO,
                         f"continued from the subcritical Hopf point over its stable side only, at collocation "
                         f"tolerance {ONSET_TOLERANCE:g} (Hopf points over 0-{kmh(VMAX):.0f} km/h: {crit})"))

@@ -8,9 +8,11 @@ from typing import Mapping, Sequence
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator
 
 from comparisons.figures.plots import save_figure
-from comparisons.recordings.decimation import envelope_indices
+from comparisons.recordings.decimation import cycle_envelopes
+from comparisons.recordings.timeseries import ENVELOPE_MIN_PERIOD_S
 
 # Hopf-speed sources: marker, colour, legend text.
 HOPF_SOURCES = {
@@ -23,13 +25,36 @@ RUN_COLOURS = {"reduced": "tab:blue", "mbs": "tab:orange"}
 RUN_NAMES = {"reduced": "reduced model", "mbs": "MBS"}
 
 
+def curve_speeds_at(curves: Sequence[tuple[Sequence[float], Sequence[float]]], pressure_bar: float) -> list[float]:
+    """Every speed (km/h) where one of the Hopf ``curves`` ((pressures bar, speeds km/h) along each) passes
+    ``pressure_bar``, by linear interpolation between its points."""
+    out = []
+    for bars, speeds in curves:
+        q, v = np.asarray(bars, dtype=float) - pressure_bar, np.asarray(speeds, dtype=float)
+        for i in np.flatnonzero(np.sign(q[:-1]) * np.sign(q[1:]) <= 0.0):
+            out.append(float(v[i] if q[i] == q[i + 1] else v[i] - q[i] * (v[i + 1] - v[i]) / (q[i + 1] - q[i])))
+    return out
+
+
 def plot_hopf_speeds(panels: Mapping[str, Mapping[str, Sequence[tuple[float, float]]]], path: str,
-                     title: str = "Hopf speeds against tyre pressure") -> None:
-    """``panels``: panel title -> source (a key of :data:`HOPF_SOURCES`) -> [(pressure bar, speed km/h)]."""
+                     title: str = "Hopf speeds against tyre pressure",
+                     curves: Mapping[str, Sequence[tuple[Sequence[float], Sequence[float]]]] | None = None) -> None:
+    """``panels``: panel title -> source (a key of :data:`HOPF_SOURCES`) -> [(pressure bar, speed km/h)];
+    ``curves``: panel title -> the reduced model's Hopf curves in (pressure, speed), each (pressures bar, speeds
+    km/h).  Top row: the curves, with every source's points over them.  Bottom row: each point's speed minus the
+    curve's at its pressure (symmetric-log axis, linear within 1 km/h), so that a 1 km/h difference between the
+    paper and the curve shows, where at full scale the markers would sit on each other."""
+    curves = curves or {}
     n = max(len(panels), 1)
-    fig = Figure(figsize=(5.2 * n, 4.4))
-    axes = np.atleast_1d(fig.subplots(1, n, sharey=True, squeeze=False)[0])
-    for ax, (name, sources) in zip(axes, panels.items()):
+    fig = Figure(figsize=(4.6 * n + 2.4, 6.2))
+    axes = fig.subplots(2, n, sharex="col", squeeze=False, gridspec_kw={"height_ratios": (3, 1.6)})
+    handles = {}
+    for j, (name, sources) in enumerate(panels.items()):
+        top, bottom = axes[0, j], axes[1, j]
+        mine = curves.get(name, ())
+        for k, (bars, speeds) in enumerate(mine):
+            line, = top.plot(bars, speeds, "-", color="tab:blue", lw=1.3, alpha=0.7)
+            handles.setdefault("curve", (line, "reduced model, Hopf curves (continued in pressure)"))
         for key, points in sources.items():
             marker, colour, label = HOPF_SOURCES.get(key, ("s", "tab:red", key))
             pts = [(p, v) for p, v in points if v is not None and np.isfinite(v)]
@@ -37,13 +62,37 @@ def plot_hopf_speeds(panels: Mapping[str, Mapping[str, Sequence[tuple[float, flo
                 continue
             p, v = np.array(pts).T
             filled = "none" if marker in "o^s" else colour
-            ax.plot(p, v, marker, color=colour, mfc=filled, ms=8 if key == "reduced" else 7, mew=1.4, ls="none",
-                    label=label)
-        ax.set_title(name, fontsize=10)
-        ax.set_xlabel("tyre pressure [bar]")
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("Hopf speed [km/h]")
-    axes[0].legend(fontsize=8, loc="best")
+            size = {"reduced": 9, "paper": 6}.get(key, 7)
+            mark, = top.plot(p, v, marker, color=colour, mfc=filled, ms=size, mew=1.3, ls="none", zorder=4)
+            handles.setdefault(key, (mark, label))
+            if key == "reduced" or not mine:
+                continue
+            residual = []
+            for pb, vb in zip(p, v):
+                near = curve_speeds_at(mine, pb)
+                if near:
+                    residual.append((pb, vb - min(near, key=lambda c: abs(c - vb))))
+            if residual:
+                rp, rv = np.array(residual).T
+                bottom.plot(rp, rv, marker, color=colour, mfc=filled, ms=size, mew=1.3, ls="none", zorder=4)
+        top.set_title(name, fontsize=10)
+        top.set_ylim(bottom=0.0)
+        bottom.axhline(0.0, color="tab:blue", lw=1.0, alpha=0.7)
+        bottom.set_yscale("symlog", linthresh=1.0)
+        limit = max(2.0, *(abs(y) * 1.5 for line in bottom.get_lines() for y in line.get_ydata()))
+        bottom.set_ylim(-limit, limit)
+        bottom.yaxis.set_major_locator(FixedLocator([v for v in (-100, -10, -1, 0, 1, 10, 100) if abs(v) <= limit]))
+        bottom.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        bottom.yaxis.set_minor_locator(NullLocator())
+        bottom.set_xlabel("tyre pressure [bar]")
+        for ax in (top, bottom):
+            ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("Hopf speed [km/h]")
+    axes[1, 0].set_ylabel("minus the curve [km/h]\n(symlog, linear within 1)")
+    order = [k for k in ("curve", "paper", "reduced", "mbs_reduced", "mbs_full") if k in handles]
+    order += [k for k in handles if k not in order]
+    fig.legend([handles[k][0] for k in order], [handles[k][1] for k in order], fontsize=8,
+               loc="upper left", bbox_to_anchor=(1.0, 0.9))
     fig.suptitle(title, fontsize=11)
     fig.tight_layout()
     save_figure(fig, path)
@@ -69,31 +118,36 @@ class Experiment:
     marks: Mapping[str, float] = field(default_factory=dict)   # e.g. {"S1": 184.7}: speeds, km/h
 
 
-def _thin(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Every 20 ms's min and max: a figure of a 100 s run at 1 kHz shows the same envelope from 1/10 the points."""
-    k = envelope_indices(t, y, 0.02)
-    return t[k], y[k]
+# The first run narrow and opaque, the others wide and translucent: where they coincide both show.
+_RUN_STYLE = {False: dict(lw=1.0, alpha=1.0), True: dict(lw=3.2, alpha=0.55)}
 
 
 def plot_jump_histories(experiments: Sequence[Experiment], path: str, title: str = "") -> None:
-    """One column per experiment: max theta1 and psi of every run overlaid against time, the speed on a second
-    axis, the times where the speed passes each mark (S1, T2, ...) dashed, the detected switches dotted."""
+    """One column per experiment: theta1 and psi of every run overlaid against time as their per-cycle envelopes
+    (:func:`comparisons.recordings.decimation.cycle_envelopes`: lines through each swing's highest and lowest
+    point, where the samples themselves would fill a band), the speed on a second
+    axis, the times where the speed passes each mark (S1, T2, ...) dashed, the detected switches dotted.  What
+    each line means, with the switch speeds, is in a key below the column: no label sits on a signal."""
+    from matplotlib.lines import Line2D
     n = len(experiments)
-    fig = Figure(figsize=(6.4 * n, 6.0))
+    fig = Figure(figsize=(6.4 * n, 7.2))
     axes = fig.subplots(2, n, sharex="col", squeeze=False)
     for j, exp in enumerate(experiments):
         top, bottom = axes[0, j], axes[1, j]
+        key = []
         for run in exp.runs:
             colour = RUN_COLOURS.get(run.model, "k")
             name = RUN_NAMES.get(run.model, run.model)
+            style = _RUN_STYLE[run is not exp.runs[0]]
             for ax, y in ((top, run.theta1_deg), (bottom, run.psi_deg)):
-                ax.plot(*_thin(run.t, y), color=colour, lw=0.5, alpha=0.8, label=name if ax is top else None)
+                for idx in cycle_envelopes(run.t, y, ENVELOPE_MIN_PERIOD_S):
+                    ax.plot(run.t[idx], y[idx], color=colour, **style)
+            key.append(Line2D([], [], color=colour, **style, label=f"{name}: highest and lowest point of each swing"))
             for time_s, speed, text in run.switches:
                 for ax in (top, bottom):
                     ax.axvline(time_s, color=colour, ls=":", lw=1.3)
-                top.annotate(f"{name}: {text}\n{speed:.1f} km/h", (time_s, 0.97), xycoords=("data", "axes fraction"),
-                             textcoords="offset points", xytext=(3, -24 - 22 * exp.runs.index(run)), fontsize=7,
-                             color=colour, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
+                key.append(Line2D([], [], color=colour, ls=":", lw=1.3,
+                                  label=f"{name}: {text} at {time_s:.1f} s, {speed:.1f} km/h"))
         ref = exp.runs[0]
         for label, kmh in exp.marks.items():
             crossing = _crossing_time(ref.t, ref.speed_kmh, kmh)
@@ -101,19 +155,19 @@ def plot_jump_histories(experiments: Sequence[Experiment], path: str, title: str
                 continue
             for ax in (top, bottom):
                 ax.axvline(crossing, color="0.3", ls="--", lw=1.0)
-            bottom.annotate(f"speed passes {label}\n({kmh:.2f} km/h)", (crossing, 0.03),
-                            xycoords=("data", "axes fraction"), textcoords="offset points", xytext=(-3, 0),
-                            ha="right", fontsize=7, color="0.25")
+            key.append(Line2D([], [], color="0.3", ls="--", lw=1.0,
+                              label=f"speed passes {label} ({kmh:.2f} km/h) at {crossing:.1f} s"))
         twin = top.twinx()
         twin.plot(ref.t, ref.speed_kmh, color="0.55", lw=1.0)
         twin.set_ylabel("speed [km/h]", color="0.45")
+        key.append(Line2D([], [], color="0.55", lw=1.0, label="speed (right axis)"))
         top.set_title(exp.title, fontsize=10)
         top.set_ylabel(r"$\theta_1$, right wheel yaw [deg]")
         bottom.set_ylabel(r"$\psi$, axle tramp [deg]")
         bottom.set_xlabel("time [s]")
         for ax in (top, bottom):
             ax.grid(alpha=0.3)
-        top.legend(fontsize=8, loc="lower left")
+        bottom.legend(handles=key, fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.2), frameon=False)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
@@ -157,30 +211,30 @@ def plot_assumption_tornado(shifts: Sequence[AssumptionShift], path: str,
         rows.sort(key=lambda s: max((abs(x) for x in s.hopf_shifts_kmh if x is not None), default=0.0))
         k_max = max((len(s.hopf_shifts_kmh) for s in rows), default=0)
         width = 0.8 / max(k_max, 1)
-        labelled = set()
         for i, s in enumerate(rows):
-            if not s.hopf_shifts_kmh:
-                ax.text(0.98, i, "no Hopf point on either side", va="center", ha="right", fontsize=7, color="0.35",
-                        transform=ax.get_yaxis_transform())
             for k, x in enumerate(s.hopf_shifts_kmh):
                 y = i - 0.4 + width * (k + 0.5)
                 colour = f"C{k}"
                 if x is None:
                     ax.plot(0.0, y, "x", color=colour, ms=7, mew=1.5)
                 else:
-                    ax.barh(y, x, height=width * 0.9, color=colour,
-                            label=None if k in labelled else f"HB{k + 1}")
-                    labelled.add(k)
+                    ax.barh(y, x, height=width * 0.9, color=colour)
         ax.set_yticks(range(len(rows)), [
-            f"{s.assumption.replace('_', ' ')}: full geometry with - without" if s.assumption in ELEMENTS
-            else "every assumption off (full geometry): MBS - reduced model" if s.assumption == "full"
-            else f"{s.assumption.replace('_', ' ')} off: MBS - reduced model" for s in rows], fontsize=8)
+            (f"{s.assumption.replace('_', ' ')}: full geometry with - without" if s.assumption in ELEMENTS
+             else "every assumption off (full geometry): MBS - reduced model" if s.assumption == "full"
+             else f"{s.assumption.replace('_', ' ')} off: MBS - reduced model")
+            + ("" if s.hopf_shifts_kmh else "\n(no Hopf point on either side)") for s in rows], fontsize=8)
         ax.axvline(0.0, color="k", lw=0.8)
         ax.set_xlabel("Hopf speed shift [km/h], as each row's label says")
         ax.set_title(f"{p:g} bar (x: the point has no MBS partner)", fontsize=9)
         ax.grid(axis="x", alpha=0.3)
-        if labelled:
-            ax.legend(fontsize=8, loc="lower right")
+    # One key for every panel: the colour is the Hopf point's number at its pressure (HB1 lowest in speed).
+    points = max((len(s.hopf_shifts_kmh) for s in shifts), default=0)
+    if points:
+        from matplotlib.patches import Patch
+        axes[-1].legend(handles=[Patch(color=f"C{k}", label=f"HB{k + 1}") for k in range(points)], fontsize=8,
+                        loc="upper left", bbox_to_anchor=(1.01, 1.0), title="Hopf point\n(at its pressure)",
+                        title_fontsize=8)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     save_figure(fig, path)

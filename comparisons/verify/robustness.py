@@ -178,7 +178,7 @@ def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
                    scheduler: str | None = None, workers: int | None = None, processes: bool = True,
                    message=lambda text: None) -> list[PressureStudy]:
     """One sweep per (right, left) pressure pair over the plausible dimensions; Parquet files
-    ``robustness_<p>bar.parquet`` in ``out_dir``."""
+    ``robustness_<p>bar.parquet`` (``robustness_1.5bar.parquet``) in ``out_dir``."""
     from comparisons.sweeps.run import DaskCluster, run_sweep
     design = make_design(plausible_variations(axle), samples, seed, "sobol")
     studies = []
@@ -189,8 +189,8 @@ def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
             task = SweepTask(axle=axle, effects=(), pressure_right_bar=right, pressure_left_bar=left,
                              names=design.names, compute=("hopf", "margins"), mbs=("reduced", "full"),
                              margin_speeds=margin_speeds, mbs_lyapunov=("full",))
-            tag = f"{right:g}" if right == left else f"R{right:g}_L{left:g}"
-            path = os.path.join(out_dir, f"robustness_{tag.replace('.', 'p')}bar.parquet")
+            from comparisons.verify.file_names import case_file_name
+            path = os.path.join(out_dir, case_file_name("robustness", "parquet", right, left))
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
                 shutil.rmtree(path + ".parts")
             run = run_sweep(task, design, path, cluster=cluster)

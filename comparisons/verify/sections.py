@@ -180,16 +180,34 @@ def _collect_hopf_speeds(speeds: dict, label: str, case, reduced_kmh: float, red
 
 
 def _hopf_figure(ctx: Context, speeds: dict) -> tuple[str, ...]:
-    """Hopf speeds of the paper, the reduced model and both MBS fidelities against pressure, per model set."""
+    """Hopf speeds of the paper, the reduced model and both MBS fidelities against pressure, per model set, over
+    the reduced model's Hopf curves in (pressure, speed)."""
     from comparisons.verify.report_figures import plot_hopf_speeds
     if not speeds:
         return ()
     if ctx.axle.is_paper and MODEL_SETS[0][0] in speeds:
         speeds[MODEL_SETS[0][0]]["paper"] = [(p, v) for p, printed in HOPF_SPEEDS_KMH.items() for v in printed]
+    ctx.progress("Hopf speeds: the reduced model's Hopf curves in pressure")
+    curves = {label: _pressure_curves(ctx, effects, speeds[label]) for label, effects in MODEL_SETS if label in speeds}
     ctx.progress("Hopf speeds: figure")
     plot_hopf_speeds(speeds, os.path.join(ctx.out, "hopf_speeds.png"),
-                     title=f"Hopf speeds against tyre pressure, axle {ctx.axle.shown_name} (both tyres alike)")
+                     title=f"Hopf speeds against tyre pressure, axle {ctx.axle.shown_name} (both tyres alike)",
+                     curves=curves)
     return ("hopf_speeds.png",)
+
+
+def _pressure_curves(ctx: Context, effects, sources: dict) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The reduced model's Hopf curves over the figure's pressures (0.5 bar either side of its points), as
+    (pressures bar, speeds km/h)."""
+    from bifurcation.equilibria.hopf_curves import hopf_diagram
+    bars = [p for points in sources.values() for p, _ in points]
+    if not bars:
+        return []
+    lo, hi = max(min(bars) - 0.5, 0.3), max(bars) + 0.5
+    family = family_of(ShimmyModel(params=ctx.axle.params, effects=effects),
+                       TyrePressures.uniform(0.5 * (lo + hi) * BAR), "pressure")
+    diagram = hopf_diagram(family, lo * BAR, hi * BAR, 0.0, VMAX)
+    return [(c.qs / BAR, kmh(c.ps)) for c in diagram.curves]
 
 
 # --- assumptions ------------------------------------------------------------------------------------------

@@ -7,12 +7,13 @@ import numpy as np
 import pyarrow as pa
 import pytest
 from rerun.chunk import RrdReader
-from rrd_helpers import blueprint_views, rows
+from rrd_helpers import blueprint_views, rows, time_series_views
 
 from axles.units import BAR, from_kmh
 from comparisons.recordings import writer as recording
-from comparisons.recordings.decimation import envelope_indices, peak_loss, uniform_indices
-from comparisons.recordings.layout import RunPaths
+from comparisons.recordings.decimation import (cycle_envelopes, envelope_amplitude, envelope_indices, peak_loss,
+                                               uniform_indices)
+from comparisons.recordings.layout import WAVE_WINDOW_S, RunPaths
 from comparisons.recordings.scene import reduced_model_poses
 from comparisons.recordings.writer import ComparedRun, write_comparison, write_recording
 from reduced_model.model import STATE_NAMES, ShimmyModel
@@ -119,3 +120,85 @@ def test_screenshot_in_the_real_viewer(tmp_path):
     image = matplotlib.image.imread(png)
     assert image.shape[0] >= 800 and image.shape[1] >= 1200
     assert np.std(image[..., :3]) > 0.05          # not a blank frame
+
+
+def test_cycle_envelopes_follow_every_swing():
+    t = np.arange(0.0, 10.0, 1e-3)
+    amplitude = np.where(t < 6.0, 3.0 + t, 0.0)                  # growing, then gone (straight running)
+    y = 1.0 + amplitude * np.sin(2 * np.pi * 5.0 * t) + 1e-9 * np.sin(2 * np.pi * 400.0 * t)
+    upper, lower = cycle_envelopes(t, y, 0.05)
+    swings = t < 6.0
+    # One point per swing (5 Hz for 6 s) and at most one per 50 ms bin after it, plus both ends.
+    assert abs(np.sum(t[upper] < 6.0) - 30) <= 2 and len(upper) <= 30 + 4 * 20 + 2
+    np.testing.assert_allclose(y[upper][t[upper] < 5.9][1:], 1.0 + (3.0 + t[upper][t[upper] < 5.9][1:]), atol=1e-3)
+    np.testing.assert_allclose(y[lower][t[lower] < 5.9][1:], 1.0 - (3.0 + t[lower][t[lower] < 5.9][1:]), atol=1e-3)
+    assert upper[0] == lower[0] == 0 and upper[-1] == lower[-1] == len(t) - 1
+    grid = np.arange(1.0, 5.5, 0.02)
+    # The amplitude ignores the offset 1.0; linear interpolation between swings is exact for a linear growth.
+    np.testing.assert_allclose(envelope_amplitude(t, y, grid, 0.05), 3.0 + grid, atol=0.11)
+    assert np.all(np.abs(envelope_amplitude(t, y, np.arange(6.5, 9.9, 0.1), 0.05)) < 1e-8)
+    assert swings.any()
+    # At rest for 2 s, then swinging: the envelopes follow the rest, they do not cut across to the first swing.
+    z = np.where(t < 2.0, 0.0, 4.0 * np.sin(2 * np.pi * 5.0 * (t - 2.0)))
+    upper, lower = cycle_envelopes(t, z, 0.05)
+    assert np.max(np.abs(np.interp(np.arange(0.0, 1.95, 0.01), t[upper], z[upper]))) == 0.0
+    assert np.max(np.abs(np.interp(np.arange(0.0, 1.95, 0.01), t[lower], z[lower]))) == 0.0
+    assert np.sum(t[upper] < 2.0) <= 41
+
+
+def test_recording_has_envelopes_waveform_window_and_no_legend_on_the_data(ramp):
+    tr, summary = ramp
+    paths = RunPaths()
+    y = np.degrees(tr.state("theta1"))
+    for bound, pick in (("upper", np.max), ("lower", np.min)):
+        table = rows(summary.path, paths.envelope("theta1_deg", bound))
+        values = np.array(table.column("Scalars:scalars").to_pylist())[:, 0]
+        assert len(values) < 0.02 * len(tr.t)          # a point per swing, not a band of samples
+        assert pick(values) == pytest.approx(pick(y), rel=1e-12)
+    assert rows(summary.path, paths.envelope("tyre_forces/right_N", "upper")).num_rows > 10
+    views = time_series_views(summary.path)
+    by_origin = {}
+    for v in views:
+        by_origin.setdefault(v["origin"], []).append(v)
+    assert by_origin["/envelopes"][0]["axis"] == ("Absolute", 0, recording.time_ns(tr.t[-1]))
+    (wave,) = [v for v in by_origin["/states"]]
+    half = int(0.5 * WAVE_WINDOW_S * 1e9)
+    assert wave["axis"] == ("CursorRelative", -half, half)
+    assert all(v["legend"] is False for v in views)               # the view names say which colour is which
+    assert "theta1 blue" in wave["name"] and "psi green" in wave["name"]
+
+
+def test_side_by_side_draws_the_difference_and_every_run_visibly(tmp_path):
+    model, reduced, mbs = side_by_side_runs(n=2001, seconds=4.0)
+    path = str(tmp_path / "both.rrd")
+    write_comparison(path, [ComparedRun(reduced, [(0.0, "yaw")]),
+                            ComparedRun(mbs, [(0.0, "yaw")], title="full geometry, MBS")],
+                     "both", model=model, pressures=TyrePressures.uniform(1.5 * BAR))
+    # The stand-in MBS has twice the reduced model's theta1 and the same psi: the difference of the
+    # amplitudes is the reduced model's theta1 amplitude, and zero for psi.
+    diff = rows(path, RunPaths("mbs").difference("theta1_deg"))
+    t = diff.column("sim_time").cast(pa.int64()).to_numpy() * 1e-9
+    values = np.array(diff.column("Scalars:scalars").to_pylist())[:, 0]
+    theta1 = np.degrees(reduced.state("theta1"))
+    expected = envelope_amplitude(reduced.t, theta1, t, 0.05)
+    np.testing.assert_allclose(values, expected, atol=1e-9)
+    assert np.max(np.abs(values)) > 0.1
+    psi = np.array(rows(path, RunPaths("mbs").difference("psi_deg")).column("Scalars:scalars").to_pylist())
+    assert np.max(np.abs(psi)) < 1e-9
+    for key in ("reduced", "mbs"):
+        assert rows(path, RunPaths(key).envelope("theta1_deg", "upper")).num_rows > 5
+    views = time_series_views(path)
+    origins = {v["origin"] for v in views}
+    assert {"/envelopes/theta1_deg", "/envelopes/psi_deg", "/states/theta1_deg", "/difference"} <= origins
+    (difference,) = [v for v in views if v["origin"] == "/difference"]
+    assert "full geometry, MBS minus reduced model" in difference["name"]
+    assert all(v["legend"] is False for v in views)
+    # Neither run hides the other: the second is drawn wider and translucent around the first.
+    styles = {}
+    for key in ("reduced", "mbs"):
+        static = [c.to_record_batch() for c in RrdReader(path).stream().filter(
+            content=RunPaths(key).envelope("theta1_deg", "upper"), is_static=True)]
+        batch = next(b for b in static if "SeriesLines:widths" in b.schema.names)
+        styles[key] = (batch.column("SeriesLines:widths").to_pylist()[0][0],
+                       batch.column("SeriesLines:colors").to_pylist()[0][0] & 0xFF)
+    assert styles["mbs"][0] > 2 * styles["reduced"][0] and styles["mbs"][1] < 0xFF == styles["reduced"][1]

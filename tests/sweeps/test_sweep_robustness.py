@@ -27,7 +27,7 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
 
     axle = AxleData()
     (study,) = run_robustness(axle, str(tmp_path), 6, pressures=((1.5, 1.5),), processes=False)
-    assert (tmp_path / "robustness_1p5bar.parquet").exists()
+    assert (tmp_path / "robustness_1.5bar.parquet").exists()
     rows = study_rows([study])
     check = next(r for r in rows if r.cells["quantity"].startswith("MBS with every assumption on"))
     assert check.status is CheckStatus.PASS

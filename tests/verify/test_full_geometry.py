@@ -212,7 +212,7 @@ def test_section_on_the_paper_axle_at_1_5_bar(tmp_path):
     assert len(stable) >= 3 and all(r.status is CheckStatus.PASS for r in stable)
     assert all(r.cells["theta1_diff"] <= ORBIT_TOL and r.cells["frequency_diff"] <= ORBIT_TOL for r in stable)
     assert "bistable window: none" in rows and "supercritical" in rows["bistable window: none"].note
-    assert section.figures == ("full_geometry_1p5bar.png",) and (tmp_path / section.figures[0]).stat().st_size
+    assert section.figures == ("full_geometry_1.5bar.png",) and (tmp_path / section.figures[0]).stat().st_size
 
 
 def test_ramps_through_a_subcritical_window_start_on_straight_running():

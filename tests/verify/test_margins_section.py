@@ -83,7 +83,7 @@ def test_a_stable_window_narrower_than_the_grid_is_confirmed_not_missed():
 
 
 class MissingHopf(TwoModes):
-    """The same two oscillators, but the family hides its second Hopf point from ``hopf_points`` (as a continuation
+    """The same two oscillators, but the family hides its second Hopf point from ``find_hopf_points`` (as a continuation
     that missed one would): the margin's sign then changes inside an interval."""
 
     def __init__(self):

@@ -286,7 +286,9 @@ def run(args: argparse.Namespace) -> int:
     found_kicks = []
     if args.kick:
         from comparisons.studies.kick import kicks
-        found_kicks = kicks(family, diagram)
+        with progress(None, "kick thresholds: runs", quiet) as bar:
+            found_kicks = kicks(family, diagram, progress=lambda text: (bar.set_postfix_str(text, refresh=False),
+                                                                        bar.update(1)))
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
     if args.two_param:

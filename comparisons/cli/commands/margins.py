@@ -20,6 +20,7 @@ from comparisons.cli.options import (
     inputs_json,
 )
 from axles.parameters import ParameterError
+from comparisons.cli.progress import progress
 
 # The API's argument names in its messages, as this command's options.
 OPTION_NAMES = {"pressure_points": "--pressures", "speed_points": "--speeds", "vmin_kmh": "--vmin",
@@ -47,9 +48,11 @@ def run(args: argparse.Namespace) -> int:
     if args.range is not None:
         check_window(lo, hi, "pressure", "bar")
     model = chosen_model(args)
+    rows = args.pressures if lo < hi else 1
     try:
-        result = stability_margins(model, (lo, hi), max(args.vmin, SPEED_RANGE_KMH[0]), args.vmax, args.pressures,
-                                   args.speeds)
+        with progress(rows, "margins: pressures of the grid", args.json or not sys.stderr.isatty()) as bar:
+            result = stability_margins(model, (lo, hi), max(args.vmin, SPEED_RANGE_KMH[0]), args.vmax,
+                                       args.pressures, args.speeds, progress=lambda: bar.update(1))
     except ParameterError as exc:
         text = str(exc)
         for name, option in OPTION_NAMES.items():

@@ -116,7 +116,8 @@ def check_work(args: argparse.Namespace, schedule: SpeedSchedule, duration: floa
 def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | None, duration: float,
                    initial: dict[str, float] | None) -> Trajectory:
     """The one place where a trajectory is made, by the API's one call for both models: the reduced model
-    (scipy, with a progress bar) or the multibody model (Exudyn, with the bodies' poses when recording)."""
+    (scipy) or the multibody model (Exudyn, with the bodies' poses when recording), either with progress in
+    simulated time."""
     def run(tick=None) -> Trajectory:
         try:
             return simulate_api(chosen_model(args), args.tyre_pressures, speed_kmh=args.speed, ramp_kmh=ramp,
@@ -125,12 +126,11 @@ def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | 
         except ParameterError as exc:
             raise UsageError(interface_text(exc)) from None
 
-    if build_fidelity(args) is not None:
-        return run()
     quiet = args.json or not sys.stderr.isatty()
     with progress(100, "simulating", quiet) as bar:
         def tick(t):
             bar.n = int(100 * t / duration)
+            bar.set_postfix_str(f"{t:.4g} of {duration:g} s simulated", refresh=False)
             bar.refresh()
         return run(tick)
 
