@@ -168,9 +168,7 @@ def bistable_section(ctx: Context) -> Section:
         key="bistable", title="Bistable regions: where a kick sets shimmy off",
         columns=("model", "grid_step_bar", "pressure_bar", "region_kmh", "inside_kmh", "kick_deg", "outside"),
         rows=tuple(rows),
-        labels={"grid_step_bar": "pressure grid step [bar]", "region_kmh": "bistable interval [km/h]",
-                "inside_kmh": "kick speed inside [km/h]", "kick_deg": "smallest kick that leaves [deg]",
-                "outside": "same kick outside (pressure, speed)", "pressure_bar": "pressure [bar]"},
+        labels={"kick_deg": "smallest kick that leaves [deg]"},
         text=(f"Each model's cycle branches in speed on a grid of pressures {step:g} bar apart over the axle's "
               f"window; a region joins the speed intervals where a stable cycle coexists with stable straight running "
               f"(or two stable cycles) from one grid pressure to the next. A region narrower in pressure than the "
