@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bifurcation.derivatives import ComplexStepDerivatives
+from bifurcation.problem import describe
+from axles.braking import BRAKE_PARAMS, FREE_ROLLING, Braking
 from axles.pressures import PRESSURE_PARAMS, TyrePressures
 from reduced_model.model import N_STATES, STATE_NAMES, STATE_UNITS, ShimmyModel
 from axles.parameters import ParameterError, ShimmyParameters
@@ -52,7 +54,9 @@ class ShimmyFamily:
     primary_min = MIN_SPEED
 
     def check_param(self) -> None:
-        if self.param not in PRESSURE_PARAMS:
+        if self.param in BRAKE_PARAMS:
+            self.braking.value(self.param)     # raises ParameterError under a brake force
+        elif self.param not in PRESSURE_PARAMS:
             ShimmyParameters.unit(self.param)  # raises ParameterError for unknown names
 
     @property
@@ -67,7 +71,27 @@ class ShimmyFamily:
         """Current value of q, used as its scale in continuation."""
         if self.param in PRESSURE_PARAMS:
             return self.pressures.value(self.param)
+        if self.param in BRAKE_PARAMS:
+            return self.braking.value(self.param)
         return float(getattr(self.model.params, self.param))
+
+    def operating(self, q: float) -> tuple[TyrePressures, Braking]:
+        """(pressures, braking) at q: a pressure or brake-slip parameter moves them, any other leaves them."""
+        if self.param in PRESSURE_PARAMS:
+            return self.pressures.moved(self.param, q), self.braking
+        if self.param in BRAKE_PARAMS:
+            return self.pressures, self.braking.moved(self.param, q)
+        return self.pressures, self.braking
+
+    @property
+    def primary_affine(self) -> bool:
+        """The Jacobian at straight running is affine in the speed only at x = 0 (free rolling)."""
+        return not self.braked
+
+    @property
+    def braked(self) -> bool:
+        """Whether straight running may lie off x = 0 (some braking, or a brake slip being continued)."""
+        return self.braking.active or self.param in BRAKE_PARAMS
 
 
 @dataclass(frozen=True)
@@ -77,7 +101,9 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
     model: ShimmyModel
     param: str = "pressure"
     pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
+    braking: Braking = FREE_ROLLING                           # operating braking; "brake_slip" params move it
     _cache: dict = field(default_factory=dict, init=False, compare=False, repr=False)
+    _equilibria: dict = field(default_factory=dict, init=False, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         self.check_param()
@@ -85,42 +111,88 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
     state_names: tuple[str, ...] = field(default=STATE_NAMES, init=False, repr=False)
     state_units: tuple[str, ...] = field(default=STATE_UNITS, init=False, repr=False)
 
-    def at(self, q: float) -> tuple[ShimmyModel, TyrePressures]:
+    def at(self, q: float) -> tuple[ShimmyModel, TyrePressures, Braking]:
         q = float(q)
         found = self._cache.get(q)
         if found is None:
-            if self.param in PRESSURE_PARAMS:
-                found = (self.model, self.pressures.moved(self.param, q))
-            else:
-                found = (self.model.with_params(**{self.param: q}), self.pressures)
+            pressures, braking = self.operating(q)
+            model = (self.model if self.param in PRESSURE_PARAMS + BRAKE_PARAMS
+                     else self.model.with_params(**{self.param: q}))
+            found = (model, pressures, braking)
             if len(self._cache) > 4096:
                 self._cache.clear()
             self._cache[q] = found
         return found
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        model, pressures = self.at(q)
-        return model.rhs(x, speed, pressures)
+        model, pressures, braking = self.at(q)
+        return model.rhs(x, speed, pressures, braking)
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        model, pressures = self.at(q)
-        return model.jacobian(x, speed, pressures)
+        model, pressures, braking = self.at(q)
+        return model.jacobian(x, speed, pressures, braking)
 
     def equilibrium(self, speed: float, q: float) -> np.ndarray:
-        """Straight running; checked, because everything downstream assumes f(0) = 0."""
+        """Straight running: x = 0 when free rolling (checked, because everything downstream assumes f(0) = 0);
+        under braking the steady state Newton finds from x = 0 (:func:`steady_state`)."""
+        if self.braked:
+            key = (float(speed), float(q))
+            found = self._equilibria.get(key)
+            if found is None:
+                if len(self._equilibria) > 4096:
+                    self._equilibria.clear()
+                found = self._equilibria[key] = steady_state(self, speed, q, self.nearest_equilibrium(speed, q))
+            return found.copy()
         x0 = np.zeros(N_STATES)
         residual = np.max(np.abs(self.rhs(x0, speed, q)))
         if residual > 1e-12:
             raise ParameterError(f"straight running is not an equilibrium here (|f(0)| = {residual:.3g})")
         return x0
 
+    def nearest_equilibrium(self, speed: float, q: float) -> np.ndarray | None:
+        """The steady state found nearest (speed, q) so far, Newton's start for the next (None: x = 0)."""
+        if not self._equilibria:
+            return None
+        scale = max(abs(self.nominal), 1e-3)
+        key = min(self._equilibria, key=lambda k: abs(k[0] - speed) / SPEED_SCALE + abs(k[1] - q) / scale)
+        return self._equilibria[key]
+
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running x = 0 (an equilibrium everywhere; :meth:`validate` checks it)."""
-        model, pressures = self.at(q)
+        """Jacobian at straight running: x = 0 free rolling (an equilibrium everywhere; :meth:`validate` checks
+        it), the steady state under braking."""
+        model, pressures, braking = self.at(q)
+        if self.braked:
+            return model.jacobian(self.equilibrium(speed, q), speed, pressures, braking)
         return model.linear_matrix(speed, pressures)
 
     def validate(self, q: float) -> None:
         """Raise :class:`ParameterError` if the model is meaningless at q or straight running is no equilibrium."""
-        model, pressures = self.at(q)
-        model.tyres(pressures)
+        model, pressures, braking = self.at(q)
+        model.tyres(pressures, braking)
         self.equilibrium(1.0, q)
+
+
+EQUILIBRIUM_TOL = 1e-12    # |f| at a steady state found by Newton (rad/s, rad/s^2)
+
+
+def steady_state(family, speed: float, q: float, x0: np.ndarray | None = None, max_iter: int = 50) -> np.ndarray:
+    """The equilibrium of ``family`` at (speed, q) by Newton's method from ``x0`` (default x = 0, straight running
+    free rolling): under braking the steady brake moments deflect the steering, so straight running is not x = 0.
+    Raises :class:`ParameterError` when Newton does not converge (a braking level the axle cannot hold straight)."""
+    x = np.zeros(family.n) if x0 is None else np.array(x0, dtype=float)
+    scale = np.array([family.state_scales(1.0)[i] for i in range(family.n)])
+    for _ in range(max_iter):
+        f = family.rhs(x, speed, q)
+        if np.max(np.abs(f)) <= EQUILIBRIUM_TOL * max(1.0, np.max(np.abs(x) / scale)):
+            return x
+        J = family.jacobian(x, speed, q)
+        try:
+            dx = np.linalg.solve(J, -f)
+        except np.linalg.LinAlgError:
+            break
+        # damped where a step would take an angle beyond a radian: the steady state is small or it is none
+        worst = np.max(np.abs(dx) / scale) * 0.1
+        x = x + (dx / worst if worst > 1.0 else dx)
+    residual = float(np.max(np.abs(family.rhs(x, speed, q))))
+    raise ParameterError(f"no steady straight running under braking found at {describe(family, speed, q)} "
+                         f"(Newton from x = 0 left |f| = {residual:.3g})")
