@@ -47,6 +47,7 @@ from mbs_shimmy.layout import Layout
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import MbsSystem
 from bifurcation.derivatives import DifferenceDerivatives
+from axles.braking import BRAKE_PARAMS, FREE_ROLLING, Braking
 from axles.pressures import PRESSURE_PARAMS, TyrePressures
 from reduced_model.family import ShimmyFamily
 from axles.parameters import ParameterError
@@ -146,8 +147,10 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     model: MbsModel = field(default_factory=MbsModel)
     param: str = "pressure"
     pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
+    braking: Braking = FREE_ROLLING                           # operating braking; "brake_slip" params move it
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
+    _equilibria: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.check_param()
@@ -171,13 +174,13 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
             if len(self._cache) > 64:
                 self._cache.clear()
                 self._affine.clear()
-            if self.param in PRESSURE_PARAMS:
-                model, pressures = self.model, self.pressures.moved(self.param, q)
-            else:
+                self._equilibria.clear()
+            pressures, braking = self.operating(q)
+            model = self.model
+            if self.param not in PRESSURE_PARAMS + BRAKE_PARAMS:
                 model = MbsModel(self.model.params.replace(**{self.param: q}), self.model.effects,
                                  self.model.fidelity, self.model.dims)
-                pressures = self.pressures
-            found = MbsEvaluator(model.system(pressures, speed_is_time))
+            found = MbsEvaluator(model.system(pressures, speed_is_time, braking=braking))
             self._cache[q] = found
         return found
 
@@ -234,7 +237,10 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return found
 
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running x = 0 (reduced-model state order): A0 + V A1, see :meth:`validate`."""
+        """Jacobian at straight running x = 0 (reduced-model state order): A0 + V A1, see :meth:`validate`; under
+        braking the Jacobian by differences at the steady state."""
+        if self.braked:
+            return self.jacobian(self.equilibrium(speed, q), speed, q)
         A0, A1 = self.affine_matrices(q)
         return A0 + speed * A1
 
@@ -244,6 +250,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return float(np.max(np.abs(direct - self.linear_matrix(speed, q))) / np.max(np.abs(direct)))
 
     def equilibrium(self, speed: float, q: float) -> np.ndarray:
+        """Straight running: x = 0 free rolling (checked), the steady state by Newton under braking."""
+        if self.braked:
+            return self.steady(speed, q)
         x0 = np.zeros(self.n)
         residual = float(np.max(np.abs(self.rhs(x0, speed, q))))
         if residual > EQUILIBRIUM_TOL:
@@ -255,6 +264,8 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         raise RuntimeError if the Jacobian is not affine in the speed (it must be: module docstring)."""
         self._at(q)
         self.equilibrium(1.0, q)
+        if self.braked:          # the steady state moves with the speed: no affine form to check
+            return
         residual = self.affine_residual(V_CHECK, q)
         if residual > AFFINE_TOL:
             raise RuntimeError(f"the MBS Jacobian at straight running is not affine in the speed "

@@ -93,6 +93,22 @@ class ShimmyFamily:
         """Whether straight running may lie off x = 0 (some braking, or a brake slip being continued)."""
         return self.braking.active or self.param in BRAKE_PARAMS
 
+    def steady(self, speed: float, q: float) -> np.ndarray:
+        """Straight running under braking (:func:`steady_state`), Newton started from the steady state found
+        nearest so far; kept per (speed, q) in the subclass's ``_equilibria``."""
+        key = (float(speed), float(q))
+        found = self._equilibria.get(key)
+        if found is None:
+            start = None
+            if self._equilibria:
+                scale = max(abs(self.nominal), 1e-3)
+                near = min(self._equilibria, key=lambda k: abs(k[0] - speed) / SPEED_SCALE + abs(k[1] - q) / scale)
+                start = self._equilibria[near]
+            if len(self._equilibria) > 4096:
+                self._equilibria.clear()
+            found = self._equilibria[key] = steady_state(self, speed, q, start)
+        return found.copy()
+
 
 @dataclass(frozen=True)
 class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
@@ -136,26 +152,12 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
         """Straight running: x = 0 when free rolling (checked, because everything downstream assumes f(0) = 0);
         under braking the steady state Newton finds from x = 0 (:func:`steady_state`)."""
         if self.braked:
-            key = (float(speed), float(q))
-            found = self._equilibria.get(key)
-            if found is None:
-                if len(self._equilibria) > 4096:
-                    self._equilibria.clear()
-                found = self._equilibria[key] = steady_state(self, speed, q, self.nearest_equilibrium(speed, q))
-            return found.copy()
+            return self.steady(speed, q)
         x0 = np.zeros(N_STATES)
         residual = np.max(np.abs(self.rhs(x0, speed, q)))
         if residual > 1e-12:
             raise ParameterError(f"straight running is not an equilibrium here (|f(0)| = {residual:.3g})")
         return x0
-
-    def nearest_equilibrium(self, speed: float, q: float) -> np.ndarray | None:
-        """The steady state found nearest (speed, q) so far, Newton's start for the next (None: x = 0)."""
-        if not self._equilibria:
-            return None
-        scale = max(abs(self.nominal), 1e-3)
-        key = min(self._equilibria, key=lambda k: abs(k[0] - speed) / SPEED_SCALE + abs(k[1] - q) / scale)
-        return self._equilibria[key]
 
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
         """Jacobian at straight running: x = 0 free rolling (an equilibrium everywhere; :meth:`validate` checks
