@@ -151,6 +151,8 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
     _equilibria: dict = field(default_factory=dict, init=False, repr=False)
+    # the full geometry's forces carry ~1e-10 of rounding (module docstring): a steady state is found to that
+    steady_tolerance = EQUILIBRIUM_TOL
 
     def __post_init__(self) -> None:
         self.check_param()

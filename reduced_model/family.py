@@ -52,6 +52,7 @@ class ShimmyFamily:
     primary = "speed"
     primary_scale = SPEED_SCALE
     primary_min = MIN_SPEED
+    steady_tolerance = 1e-12    # |f| (rad/s, rad/s^2) at which Newton's steady state under braking is accepted
 
     def check_param(self) -> None:
         if self.param in BRAKE_PARAMS:
@@ -174,9 +175,6 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
         self.equilibrium(1.0, q)
 
 
-EQUILIBRIUM_TOL = 1e-12    # |f| at a steady state found by Newton (rad/s, rad/s^2)
-
-
 def steady_state(family, speed: float, q: float, x0: np.ndarray | None = None, max_iter: int = 50) -> np.ndarray:
     """The equilibrium of ``family`` at (speed, q) by Newton's method from ``x0`` (default x = 0, straight running
     free rolling): under braking the steady brake moments deflect the steering, so straight running is not x = 0.
@@ -185,7 +183,7 @@ def steady_state(family, speed: float, q: float, x0: np.ndarray | None = None, m
     scale = np.array([family.state_scales(1.0)[i] for i in range(family.n)])
     for _ in range(max_iter):
         f = family.rhs(x, speed, q)
-        if np.max(np.abs(f)) <= EQUILIBRIUM_TOL * max(1.0, np.max(np.abs(x) / scale)):
+        if np.max(np.abs(f)) <= family.steady_tolerance * max(1.0, np.max(np.abs(x) / scale)):
             return x
         J = family.jacobian(x, speed, q)
         try:

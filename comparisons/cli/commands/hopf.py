@@ -7,7 +7,9 @@ import argparse
 from axles.units import KMH, kmh
 from comparisons.cli.options import (
     add_model_choice,
+    add_braking_options,
     add_model_options,
+    braking_label,
     add_output_options,
     add_speed_window,
     build_axle,
@@ -22,6 +24,7 @@ from bifurcation.equilibria.hopf import HopfPoint, hopf_points
 def add_parser(sub) -> None:
     p = sub.add_parser("hopf", help="Hopf points (shimmy onset speeds) at one pressure")
     add_model_options(p)
+    add_braking_options(p)
     add_model_choice(p)
     add_speed_window(p)
     add_output_options(p)
@@ -47,9 +50,11 @@ def run(args: argparse.Namespace) -> int:
         emit_json(out)
         return 0
     what = f"MBS, fidelity {family.model.fidelity.label}" if mbs else "reduced model"
-    print(f"Hopf points at {pressure_label(args)}, 0-{args.vmax:g} km/h ({what}), pressure effects: "
+    print(f"Hopf points at {pressure_label(args)}{braking_label(args)}, 0-{args.vmax:g} km/h ({what}), pressure effects: "
           f"{','.join(effects) or 'none (section 3 model)'}")
     print(f"  {build_axle(args).label()}")
+    if args.braking.active:
+        print("  straight running under braking: the steady state found by Newton at each speed (not x = 0)")
     if not points:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
