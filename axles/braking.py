@@ -112,3 +112,8 @@ class Braking:
 
 FREE_ROLLING = Braking()
 """No braking: both wheels roll freely (the paper's assumption of no longitudinal slip)."""
+
+PLANNED_BRAKINGS = (Braking.of_slip(0.05, 0.05), Braking.of_slip(0.05, 0.0))
+"""The planned braking levels where a study needs some (``shimmy assumptions``' "no longitudinal slip" rows, verify's
+"Under braking" section): a brake slip of 0.05 on both wheels (about 80 % of the paper's tyre's peak brake force at
+2.5 bar), then on the right wheel alone."""
