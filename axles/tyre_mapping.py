@@ -58,8 +58,8 @@ _RL = "both models; the relaxation length (4.9) with --effects rl"
 _PT = "both models; the trail (4.2)-(4.8) with --effects pt"
 _LONG = "LONGITUDINAL_COEFFICIENTS"
 _BRAKE = "both models, under braking (--brake-slip, --brake-force)"
-_LONG_NOTE = ("not in the paper's Table 1: the paper's axle takes them from Pacejka's MF 6.1 example tyre (whose lateral "
-              "coefficients the paper took); no shifts S_Hx, S_Vx (PHX1, PHX2, PVX1, PVX2 not used, as the paper's F_y "
+_LONG_NOTE = ("not in the paper's Table 1: the paper's axle takes them from Pacejka's MF 6.1 example tyre (whose "
+              "lateral coefficients the paper took); no shifts S_Hx, S_Vx (PHX1, PHX2, PVX1, PVX2 not used, as the paper's F_y "
               "has no S_Hy, S_Vy); zero camber (PDX3 not used); a file without them keeps the axle's")
 _PURE_NOTE = ("the combined-slip R coefficients: a file without them gives 0, the pure-slip model (G_xa = G_yk = 1, "
               "S_Vyk = 0); the camber terms RBX3, RBY4, RVY3 are not used (zero camber)")

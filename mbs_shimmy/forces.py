@@ -83,8 +83,8 @@ class AxleForces:
     """
 
     def __init__(self, params: ShimmyParameters, effects: Effects, fidelity: Fidelity, dims: AxleDimensions,
-                 pressures: TyrePressures, speed: Callable[[float], float], acceleration: Callable[[float], float] | None = None,
-                 braking: Braking = FREE_ROLLING):
+                 pressures: TyrePressures, speed: Callable[[float], float],
+                 acceleration: Callable[[float], float] | None = None, braking: Braking = FREE_ROLLING):
         self.params, self.effects, self.fidelity, self.dims = params, effects, fidelity, dims
         self.linear = Assumption.SMALL_ANGLES in fidelity
         if self.linear:

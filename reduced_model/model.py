@@ -153,8 +153,8 @@ class ShimmyModel:
             braking: Braking = FREE_ROLLING) -> np.ndarray:
         """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s.
 
-        Under ``braking`` each wheel's tyre gives F_x and the combined-slip F_y (:class:`~reduced_model.tyre.CombinedSlip`)
-        and F_x steers the wheel about its kingpin at the wheel offset l, as the rolling resistance does in
+        Under ``braking`` each wheel's tyre gives F_x and the combined-slip F_y
+        (:class:`~reduced_model.tyre.CombinedSlip`), and F_x steers the wheel about its kingpin at the wheel offset l, as the rolling resistance does in
         (2.1)-(2.2): -side l F_x, side -1 right, +1 left (docs/numerics.md, "Braking")."""
         P = self.params
         w1, w2 = self.tyres(pressures, braking)

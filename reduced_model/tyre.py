@@ -4,7 +4,9 @@ Equations of Yang, Knowles & Mavros (The ANZIAM Journal, 2025; reading notes in
 ``docs/paper-notes.md``):
 lateral force (2.4)-(2.9) after Pacejka's pressure-extended Magic Formula (Tyre and Vehicle Dynamics, 3rd ed.,
 section 4.3.2) with the E_y pressure polynomial of Hopping; half contact length (4.1) after Guo; pneumatic trail
-(4.2)-(4.8); relaxation length (4.9) and vertical stiffness (4.10) after Besselink.
+(4.2)-(4.8); relaxation length (4.9) and vertical stiffness (4.10) after Besselink.  Under braking: the MF 6.1
+longitudinal force and the combined-slip weighting functions of Pacejka (2012), section 4.3.2, (4.E9)-(4.E18) and
+(4.E50)-(4.E67) (:class:`CombinedSlip`; decisions in docs/numerics.md, "Braking").
 
 All functions are pure and accept numpy arrays (real or complex, so that complex-step and Cauchy-integral
 derivatives pass through).  Pressures are in Pa, forces in N, lengths in m, slip angles in rad.

@@ -53,7 +53,8 @@ def published(c: dict, Fz: float, p: float, alpha: float, kappa: float, mirrored
     muy = (c["PDY1"] + c["PDY2"] * dfz) * (1 + c["PPY3"] * dpi + c["PPY4"] * dpi ** 2)
     Dy = muy * Fz
     Ey = c["PEY1"] + c["PEY2"] * dfz
-    Ky = c["PKY1"] * Fz0 * (1 + c["PPY1"] * dpi) * math.sin(c["PKY4"] * math.atan(Fz / (c["PKY2"] * Fz0 * (1 + c["PPY2"] * dpi))))
+    Ky = (c["PKY1"] * Fz0 * (1 + c["PPY1"] * dpi)
+          * math.sin(c["PKY4"] * math.atan(Fz / (c["PKY2"] * Fz0 * (1 + c["PPY2"] * dpi)))))
     By = Ky / (Cy * Dy)
     Fy0 = Dy * math.sin(Cy * math.atan(By * alpha - Ey * (By * alpha - math.atan(By * alpha))))
     # combined (4.E50)-(4.E57)

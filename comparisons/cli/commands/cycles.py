@@ -314,7 +314,8 @@ def run(args: argparse.Namespace) -> int:
             from comparisons.figures.cycle_plots import plot_cycle_diagram
             effects = ",".join(model.effects.names) or "section 3 tyre"
             plot_cycle_diagram(diagram, family, args.plot, kicks=found_kicks,
-                               title=f"Limit cycles at {pressure_label(args)}{braking_label(args)} ({model_text(args, family)}, "
+                               title=f"Limit cycles at {pressure_label(args)}{braking_label(args)} "
+                                     f"({model_text(args, family)}, "
                                      f"{effects}); solid stable, dashed unstable")
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
     if args.json:

@@ -50,7 +50,8 @@ def run(args: argparse.Namespace) -> int:
         emit_json(out)
         return 0
     what = f"MBS, fidelity {family.model.fidelity.label}" if mbs else "reduced model"
-    print(f"Hopf points at {pressure_label(args)}{braking_label(args)}, 0-{args.vmax:g} km/h ({what}), pressure effects: "
+    print(f"Hopf points at {pressure_label(args)}{braking_label(args)}, 0-{args.vmax:g} km/h ({what}), "
+          f"pressure effects: "
           f"{','.join(effects) or 'none (section 3 model)'}")
     print(f"  {build_axle(args).label()}")
     if args.braking.active:
