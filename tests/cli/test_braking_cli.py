@@ -53,3 +53,6 @@ def test_json_has_braking_only_under_braking(capsys):
     assert braked["braking"] == {"quantity": "brake_slip", "unit": "-", "right": 0.05, "left": 0.0}
     # braking the right wheel widens the 2.5 bar yaw window at both ends (docs/results.md, "Braking")
     assert [round(h["speed_kmh"], 2) for h in braked["hopf"]] == [35.79, 85.97]
+    # and holds both wheels steered toward the braked (right) wheel: theta < 0 about +z
+    steady = braked["steady_state"]
+    assert steady["speed_kmh"] == 60.0 and steady["theta1_deg"] < steady["theta2_deg"] < -0.5

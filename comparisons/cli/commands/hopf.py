@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from axles.units import KMH, kmh
 from comparisons.cli.options import (
@@ -37,14 +38,28 @@ def hopf_row(h: HopfPoint) -> dict:
             "criticality": h.criticality.value if h.criticality else None}
 
 
+STEADY_KMH = 60.0     # where hopf reports the braked steady state
+
+
+def steady_state(family) -> dict:
+    """The braked steady state at :data:`STEADY_KMH`: the steer and tramp angles, deg."""
+    x = family.equilibrium(STEADY_KMH * KMH, family.nominal)
+    names = family.state_names
+    angles = {f"{n}_deg": math.degrees(x[names.index(n)]) for n in ("theta1", "theta2", "psi")}
+    return {"speed_kmh": STEADY_KMH, **angles}
+
+
 def run(args: argparse.Namespace) -> int:
     family = build_family(args)
     mbs = args.model == "mbs"
     # Both models carry the first Lyapunov coefficient: the MBS's from multilinear forms by finite differences.
     points = hopf_points(family, family.nominal, 0.0, args.vmax * KMH)
     effects = list(family.model.effects.names)
+    steady = steady_state(family) if args.braking.active else {}
     if args.json:
         out = {**inputs_json(args), "hopf": [hopf_row(h) for h in points]}
+        if steady:
+            out["steady_state"] = steady
         if mbs:
             out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
         emit_json(out)
@@ -55,7 +70,9 @@ def run(args: argparse.Namespace) -> int:
           f"{','.join(effects) or 'none (section 3 model)'}")
     print(f"  {build_axle(args).label()}")
     if args.braking.active:
-        print("  straight running under braking: the steady state found by Newton at each speed (not x = 0)")
+        shown = ", ".join(f"{k.replace('_deg', '')} {v:+.4f}" for k, v in steady.items() if k != "speed_kmh")
+        print(f"  straight running under braking is a steady state off x = 0 (Newton at each speed); at "
+              f"{STEADY_KMH:g} km/h, deg: {shown}")
     if not points:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
