@@ -68,9 +68,8 @@ class Family(Protocol):
     def validate(self, q: float) -> None:
         """Raise where the family is meaningless at q."""
 
-    # Optional: ``primary_affine = False`` says the Jacobian at the equilibrium is not affine in p (an equilibrium
-    # that moves with p), so that Hopf seeding scans instead of testing A(0), A(1)
-    # (:func:`~bifurcation.equilibria.hopf.hopf_seeds`).
+    # Optional: ``origin_equilibrium = False`` says the equilibrium may lie off x = 0, so that the size of a cycle is
+    # measured about its mean (:meth:`~bifurcation.cycles.problem.CycleProblem.scaled_rms`); default True.
 
     # How the derivatives are formed: inherit one of :mod:`bifurcation.derivatives`.
     costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)

@@ -10,9 +10,10 @@ result's fields; results show themselves in interface units (:mod:`comparisons.r
     result = hopf_points(family, vmax_kmh=400)
     print(result)                                # a table: speed km/h, frequency Hz, l1, criticality
 
-* inputs: :class:`Axle` (``paper``, ``from_file``, ``with_values``, ``with_set``), :class:`TyrePressures`;
+* inputs: :class:`Axle` (``paper``, ``from_file``, ``with_values``, ``with_set``), :class:`TyrePressures`,
+  :class:`Braking` (``Braking.of_slip(0.05, 0.0)``: a steady braking, right and left; default free rolling);
 * models: ``axle.reduced(effects=...)`` (:class:`ReducedModel`) and ``axle.mbs(fidelity=..., assume=...)``
-  (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure")`` (:class:`ModelFamily`);
+  (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure", braking=...)`` (:class:`ModelFamily`);
 * jobs: :func:`hopf_points`, :func:`cycle_branches`, :func:`stability_margins`, :func:`simulate` (one signature
   for both models).
 

@@ -28,7 +28,9 @@ straight running is affine in V, A(V) = A0 + V A1, as for the reduced model.  :c
 from the Jacobians at V = 0 and V = V_REF and checks the affine form against a direct Jacobian at a third speed
 (:meth:`MbsFamily.validate`).  The Hopf Newton iteration then sees an exactly affine family and converges to
 rounding, where direct difference Jacobians at each speed would leave it ~1e-9 of noise to chase (with the full
-geometry it then stalled above its 1e-11 tolerance).
+geometry it then stalled above its 1e-11 tolerance).  Under braking straight running is the steady state Newton
+finds, the same at every speed (:meth:`~reduced_model.family.ShimmyFamily.steady`), and the Jacobian there is affine
+in V in the same way.
 """
 
 from __future__ import annotations
@@ -54,6 +56,7 @@ from axles.parameters import ParameterError
 
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
+V_LOW = 1.0            # m/s: first speed of the affine form under braking (above the kink at V = 0)
 V_CHECK = 37.0         # m/s: speed where the affine form is checked against a direct Jacobian
 AFFINE_TOL = 1e-8      # relative to max |A|
 EQUILIBRIUM_TOL = 1e-9   # |y'| at straight running (rad/s, rad/s^2) above which it is not an equilibrium
@@ -225,24 +228,30 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return self._at(q).mass_matrix(np.zeros(self.n))
 
     def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running by differences at this speed (reduced-model state order)."""
-        return self.jacobian(np.zeros(self.n), speed, q)
+        """Jacobian at straight running by differences at this speed (reduced-model state order): at x = 0, or
+        under braking at the steady state (which does not depend on the speed, :meth:`ShimmyFamily.steady`)."""
+        x0 = self.equilibrium(speed, q) if self.braked else np.zeros(self.n)
+        return self.jacobian(x0, speed, q)
 
     def affine_matrices(self, q: float) -> tuple[np.ndarray, np.ndarray]:
         """(A0, A1) with A(V) = A0 + V A1 at straight running (module docstring)."""
         q = float(q)
         found = self._affine.get(q)
         if found is None:
-            A0 = self.direct_linear_matrix(0.0, q)
-            A1 = (self.direct_linear_matrix(V_REF, q) - A0) / V_REF
+            if self.braked:
+                # off x = 0 the full geometry's slip rate |v_x| alpha has a kink at V = 0 (v_x of a steered wheel's
+                # leading point changes sign with the yaw rate): the affine form from two speeds above it
+                low = self.direct_linear_matrix(V_LOW, q)
+                A1 = (self.direct_linear_matrix(V_REF, q) - low) / (V_REF - V_LOW)
+                A0 = low - V_LOW * A1
+            else:
+                A0 = self.direct_linear_matrix(0.0, q)
+                A1 = (self.direct_linear_matrix(V_REF, q) - A0) / V_REF
             found = self._affine[q] = (A0, A1)
         return found
 
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running x = 0 (reduced-model state order): A0 + V A1, see :meth:`validate`; under
-        braking the Jacobian by differences at the steady state."""
-        if self.braked:
-            return self.jacobian(self.equilibrium(speed, q), speed, q)
+        """Jacobian at straight running (reduced-model state order): A0 + V A1, see :meth:`validate`."""
         A0, A1 = self.affine_matrices(q)
         return A0 + speed * A1
 
@@ -266,8 +275,6 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         raise RuntimeError if the Jacobian is not affine in the speed (it must be: module docstring)."""
         self._at(q)
         self.equilibrium(1.0, q)
-        if self.braked:          # the steady state moves with the speed: no affine form to check
-            return
         residual = self.affine_residual(V_CHECK, q)
         if residual > AFFINE_TOL:
             raise RuntimeError(f"the MBS Jacobian at straight running is not affine in the speed "

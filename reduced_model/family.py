@@ -85,8 +85,8 @@ class ShimmyFamily:
         return self.pressures, self.braking
 
     @property
-    def primary_affine(self) -> bool:
-        """The Jacobian at straight running is affine in the speed only at x = 0 (free rolling)."""
+    def origin_equilibrium(self) -> bool:
+        """Straight running is x = 0 only free rolling (the toolkit then measures cycles about x = 0)."""
         return not self.braked
 
     @property
@@ -96,8 +96,15 @@ class ShimmyFamily:
 
     def steady(self, speed: float, q: float) -> np.ndarray:
         """Straight running under braking (:func:`steady_state`), Newton started from the steady state found
-        nearest so far; kept per (speed, q) in the subclass's ``_equilibria``."""
-        key = (float(speed), float(q))
+        nearest so far; kept per (speed, q) in the subclass's ``_equilibria``.
+
+        The steady state does not depend on the speed: its rates are zero, so no gyroscopic moment acts, and the slip
+        equations give alpha = -theta (the MBS: alpha = v_y / |v_x| of the steered wheel) at every V > 0.  At V = 0
+        the slip equations vanish and leave it undetermined: below :data:`MIN_SPEED` it is the one at MIN_SPEED.
+        So the Jacobian there is again affine in V, A0 + V A1, and the Hopf seeding by the bialternate pencil
+        applies as free rolling (:func:`bifurcation.equilibria.hopf.hopf_seeds` checks the affine form)."""
+        speed = max(float(speed), MIN_SPEED)
+        key = (speed, float(q))
         found = self._equilibria.get(key)
         if found is None:
             start = None
@@ -162,7 +169,7 @@ class SpeedFamily(ComplexStepDerivatives, ShimmyFamily):
 
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
         """Jacobian at straight running: x = 0 free rolling (an equilibrium everywhere; :meth:`validate` checks
-        it), the steady state under braking."""
+        it), the steady state under braking (the same at every speed: affine in V as free rolling)."""
         model, pressures, braking = self.at(q)
         if self.braked:
             return model.jacobian(self.equilibrium(speed, q), speed, pressures, braking)
@@ -180,7 +187,7 @@ def steady_state(family, speed: float, q: float, x0: np.ndarray | None = None, m
     free rolling): under braking the steady brake moments deflect the steering, so straight running is not x = 0.
     Raises :class:`ParameterError` when Newton does not converge (a braking level the axle cannot hold straight)."""
     x = np.zeros(family.n) if x0 is None else np.array(x0, dtype=float)
-    scale = np.array([family.state_scales(1.0)[i] for i in range(family.n)])
+    scale = family.state_scales(1.0)          # 0.1 rad a coordinate (and 0.1 rad/s a rate)
     for _ in range(max_iter):
         f = family.rhs(x, speed, q)
         if np.max(np.abs(f)) <= family.steady_tolerance * max(1.0, np.max(np.abs(x) / scale)):

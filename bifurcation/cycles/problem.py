@@ -333,9 +333,9 @@ class CycleProblem:
 
     def scaled_rms(self, u: np.ndarray) -> float:
         """Size of the orbit in the weighted norm (zero at a Hopf point): about x = 0, or about its mean for a family
-        whose equilibrium moves with p (``primary_affine`` False)."""
+        whose equilibrium lies off x = 0 (``origin_equilibrium`` False)."""
         orbit = self.orbit_of(u)
-        size = orbit.mean_square() if getattr(self.family, "primary_affine", True) else orbit.variance()
+        size = orbit.mean_square() if getattr(self.family, "origin_equilibrium", True) else orbit.variance()
         return float(np.sqrt(np.sum(size / self.scales ** 2)))
 
     # --- between steps -------------------------------------------------------------------------------

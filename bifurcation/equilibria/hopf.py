@@ -161,10 +161,7 @@ def _hopf_pair(A: np.ndarray) -> tuple[float, np.ndarray] | None:
 
 
 def hopf_seeds(family: Family, q: float, p_min: float, p_max: float) -> list[float]:
-    """The p in [p_min, p_max] where two eigenvalues sum to zero (Hopf points and neutral saddles).  A family whose
-    ``primary_affine`` is False (its equilibrium moves with p, or has none at p = 0) is scanned at once."""
-    if not getattr(family, "primary_affine", True):
-        return _scan_hopf_seeds(family, q, p_min, p_max)
+    """The p in [p_min, p_max] where two eigenvalues sum to zero (Hopf points and neutral saddles)."""
     A0 = family.linear_matrix(0.0, q)
     A1 = family.linear_matrix(1.0, q) - A0
     Avmax = family.linear_matrix(p_max, q)

@@ -167,3 +167,17 @@ def test_full_geometry_growth_rate_under_asymmetric_braking_against_exudyn():
     result = envelope_rate(family, 60 * KMH, duration=2.0)
     assert result.complete and result.real > 0.1                # growing: measured 0.358 1/s, agreeing to 3e-8
     assert result.agrees, (result.rate, result.real)
+
+
+def test_hopf_points_and_criticality_under_braking_equal_in_both_models():
+    """Braking the right wheel (slip 0.05) at 2.5 bar: both Hopf points and their first Lyapunov coefficients, the reduced
+    model's from complex-step multilinear forms at the braked steady state, the MBS's (every assumption on) from
+    finite-difference forms at its own steady state. Braking makes them subcritical (free rolling: supercritical)."""
+    from bifurcation.equilibria.hopf import hopf_points
+    red, mbs = _pair("", Braking.of_slip(0.05, 0.0), 2.5)
+    q = red.nominal
+    a, b = hopf_points(red, q, 0.0, 150 * KMH), hopf_points(mbs, q, 0.0, 150 * KMH)
+    assert len(a) == len(b) == 2
+    for h, g in zip(a, b):
+        assert abs(h.p - g.p) * 3.6 < 1e-6 and abs(h.omega - g.omega) < 1e-8 * h.omega
+        assert h.first_lyapunov > 0.0 and g.first_lyapunov == pytest.approx(h.first_lyapunov, rel=1e-3)

@@ -71,8 +71,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"  {build_axle(args).label()}")
     if args.braking.active:
         shown = ", ".join(f"{k.replace('_deg', '')} {v:+.4f}" for k, v in steady.items() if k != "speed_kmh")
-        print(f"  straight running under braking is a steady state off x = 0 (Newton at each speed); at "
-              f"{STEADY_KMH:g} km/h, deg: {shown}")
+        print(f"  straight running under braking is a steady state off x = 0 (found by Newton; the same at every "
+              f"speed), deg: {shown}")
     if not points:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
