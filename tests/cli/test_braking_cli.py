@@ -56,3 +56,15 @@ def test_json_has_braking_only_under_braking(capsys):
     # and holds both wheels steered toward the braked (right) wheel: theta < 0 about +z
     steady = braked["steady_state"]
     assert steady["speed_kmh"] == 60.0 and steady["theta1_deg"] < steady["theta2_deg"] < -0.5
+
+
+def test_hopf_curve_in_brake_slip_closes_the_yaw_window(capsys):
+    """curves --param brake_slip at 2.5 bar: the yaw mode's Hopf curve runs from both free-rolling Hopf points
+    (46.14, 70.50 km/h at slip 0) to a fold where the window closes (docs/results.md, "Braking")."""
+    out = _json(capsys, "curves", "--param", "brake_slip", "--range", "0", "0.1", "--pressure", "2.5", "--vmax", "120",
+                "--json")
+    assert out["param"] == "brake_slip" and out["unit"] == "-" and out["complete"]
+    (fold,) = [s for s in out["special_points"] if s["kind"] == "hopf_fold"]
+    assert fold["speed_kmh"] == pytest.approx(58.256, abs=1e-3) and fold["value"] == pytest.approx(0.0769, abs=1e-4)
+    ends = sorted(p[0] for c in out["curves"] for p in (c["points"][0], c["points"][-1]))
+    assert ends == pytest.approx([46.1426, 70.5006], abs=1e-3)
