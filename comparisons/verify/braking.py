@@ -39,7 +39,7 @@ replaces them with the one given."""
 STEADY_TOL = 1e-9          # relative: the two models' steady states under braking
 STEADY_SPEED_KMH = 60.0
 COLUMNS = ("case", "braking", "point", "free_kmh", "braked_kmh", "shift_kmh", "mbs_reduced_kmh", "frequency_hz",
-           "value", "relative_diff")
+           "steady_state_deg", "relative_diff")
 
 
 def brakings_of(ctx: Context) -> tuple[Braking, ...]:
@@ -77,7 +77,6 @@ def braking_section(ctx: Context) -> Section:
     return Section(
         key="braking", title="Under braking: both models at a planned braking level", columns=COLUMNS,
         rows=tuple(rows),
-        labels={"value": "steady state at 60 km/h [deg]", "relative_diff": "MBS against the reduced model [relative]"},
         text=(f"Steady braking (MF 6.1 combined slip; the brake force steers each wheel at its offset from the "
               f"kingpin) at the first {'' if ctx.quick else 'two '}planned case{'' if ctx.quick else 's'} with "
               f"shimmy. Straight running under braking is the steady state Newton finds, not x = 0; the Hopf points "
@@ -93,7 +92,7 @@ def steady_rows(base: dict, reduced, mbs, q: float) -> list[Row]:
     rel = float(np.max(np.abs(a - b)) / max(np.max(np.abs(a)), 1e-300))
     shown = ", ".join(f"{name} {math.degrees(a[i]):+.4f}" for i, name in ((0, "theta1"), (2, "theta2"), (4, "psi")))
     ok = rel <= STEADY_TOL
-    return [Row({**base, "point": f"steady state at {STEADY_SPEED_KMH:g} km/h", "value": shown,
+    return [Row({**base, "point": f"steady state at {STEADY_SPEED_KMH:g} km/h", "steady_state_deg": shown,
                  "relative_diff": rel}, CheckStatus.PASS if ok else CheckStatus.FAIL,
                 "the braking holds the steering deflected; both models' Newton steady states agree" if ok else
                 f"the MBS (reduced fidelity) steady state differs by more than {STEADY_TOL:g}")]

@@ -126,6 +126,12 @@ COLUMN_LABELS: dict[str, Column] = {
     "theta1_diff": Column("max |theta1|, simulation against continuation: relative difference [relative, not %]",
                           dash="no orbit compared in that row"),
     "continuation_hz": Column("continuation: frequency [Hz]", dash="no orbit in that row"),
+    "braking": Column("braking (brake slip of both wheels, or right / left)"),
+    "free_kmh": Column("free rolling, reduced model [km/h]", dash="no free-rolling partner: a Hopf point braking adds"),
+    "braked_kmh": Column("under braking, reduced model [km/h]",
+                         dash="no partner under braking: the mode's window closed or left 0-400 km/h"),
+    "shift_kmh": Column("braked minus free rolling [km/h]", dash="a point without a partner, so no shift"),
+    "steady_state_deg": Column("straight running under braking: theta1, theta2, psi [deg]"),
     "simulation_hz": Column("simulation: frequency [Hz]",
                             dash="no simulation in that row, or no oscillation left to measure"),
     "frequency_diff": Column("frequency, simulation against continuation: relative difference [relative, not %]",
@@ -437,7 +443,8 @@ figure { margin: 1em 0; } figure img { max-width: 100%; border: 1px solid #ddd; 
 
 # Columns of sentences: a minimum width keeps them readable in a wide table (one word per line made a row about
 # 12 lines tall); the table scrolls inside its own box instead of running off the page.
-TEXT_COLUMNS = frozenset({"reason", "what", "kind", "quantity", "hopf_shifts_kmh", "error", "point"})
+TEXT_COLUMNS = frozenset({"reason", "what", "kind", "quantity", "hopf_shifts_kmh", "error", "point", "braking",
+                          "steady_state_deg"})
 
 
 def _width_class(key: str) -> str:
