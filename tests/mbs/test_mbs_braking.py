@@ -181,3 +181,60 @@ def test_hopf_points_and_criticality_under_braking_equal_in_both_models():
     for h, g in zip(a, b):
         assert abs(h.p - g.p) * 3.6 < 1e-6 and abs(h.omega - g.omega) < 1e-8 * h.omega
         assert h.first_lyapunov > 0.0 and g.first_lyapunov == pytest.approx(h.first_lyapunov, rel=1e-3)
+
+
+def _rot(axis, angle):
+    a = np.asarray(axis, dtype=float)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+
+
+def _brake_moment(side, theta, psi, kpi, Fx):
+    """Independent pose (as tests/mbs/test_mbs_elements.py builds it): the axle rolled by psi about x through
+    O = (0, 0, R), the knuckle steered by theta about the kingpin e through K (caster g, inclination kpi); the wheel
+    centre C = K + R_k (0, s l, 0), spin axis s = R_k (0, 1, 0), the contact point P the wheel plane's lowest point;
+    the brake force F_x along the heading s x z at P.  Returns its moments about the kingpin and about the roll axis."""
+    P = YANG2024
+    O = np.array([0.0, 0.0, P.R])
+    Rx = _rot([1.0, 0.0, 0.0], psi)
+    e = np.array([-math.tan(P.gamma), -side * math.tan(kpi), 1.0])
+    e = Rx @ (e / np.linalg.norm(e))
+    K = O + Rx @ (np.array([0.0, side * (0.5 * P.L - P.l), P.R]) - O)
+    Rk = _rot(e, theta) @ Rx
+    C = K + Rk @ np.array([0.0, side * P.l, 0.0])
+    s = Rk @ np.array([0.0, 1.0, 0.0])
+    d = -np.array([0.0, 0.0, 1.0]) + s[2] * s
+    d /= np.linalg.norm(d)
+    Pc = C + (C[2] / -d[2]) * d
+    heading = np.cross(s, [0.0, 0.0, 1.0])
+    F = Fx * heading / np.linalg.norm(heading)
+    return float(e @ np.cross(Pc - K, F)), float(np.cross(Pc - O, F)[0])
+
+
+@pytest.mark.parametrize("theta,psi", [(0.05, 0.0), (-0.2, 0.03), (0.1, -0.05)])
+def test_brake_moments_at_a_steered_and_tramped_pose_against_an_independent_pose(theta, psi):
+    """The full geometry's brake moments away from straight running (both wheels steered by theta, the axle rolled
+    by psi about an axis at wheel-centre height, no lateral travel), against the independent pose above: the force
+    turns with the wheel and its arm follows the pose."""
+    from mbs_shimmy.fidelity import Assumption
+    params = YANG2024.replace(r_vy1=0.0, r_vy2=0.0)          # alpha = 0: braking adds F_x alone
+    braking = Braking.of_slip(0.06, 0.03)
+    pressures = TyrePressures.uniform(2.0 * BAR)
+    fidelity = Fidelity(frozenset({Assumption.RIGID_AXLE_MOUNTS, Assumption.ROLL_AXIS_AT_WHEEL_CENTRE,
+                                   Assumption.RIGID_STEERING_GEAR}) | ISSUE_18)
+    system = MbsModel(params=params, fidelity=fidelity).system(pressures, constant_speed(20.0), braking=braking)
+    L = system.layout
+    m = L.n_mech
+    q = np.zeros(m)
+    q[L.index("theta1")], q[L.index("theta2")], q[L.index("psi")] = theta, theta, psi
+    system.set_state(np.concatenate([q, np.zeros(m + 2)]))
+    args = (0.0, list(q) + [0.0, 0.0], [0.0] * (m + 2))
+    dQ = (np.array(system.forces.evaluate(*args, python=True))
+          - np.array(system.forces.evaluate(*args, python=True, free_rolling=True)))
+    lf = tyre.longitudinal_formula(params, pressures.right)
+    roll = 0.0
+    for name, side, slip in (("theta1", -1.0, braking.right), ("theta2", 1.0, braking.left)):
+        kingpin, about_x = _brake_moment(side, theta, psi, DEFAULT_DIMENSIONS.kingpin_inclination, lf.force(-slip))
+        assert dQ[L.index(name)] == pytest.approx(kingpin, rel=1e-9, abs=1e-9)
+        roll += about_x
+    assert dQ[L.index("psi")] == pytest.approx(roll, rel=1e-9, abs=1e-9)
