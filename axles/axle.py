@@ -21,6 +21,7 @@ from axles.limits import PRESSURE_RANGE_BAR
 from axles.units import BAR, interface_of, to_interface, to_si
 from bifurcation.messages import Message, Quantity, message_of
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
+from axles.braking import BRAKE_PARAMS
 from axles.pressures import PRESSURE_PARAMS
 from axles.text import printable
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
@@ -213,9 +214,11 @@ def check_pressure_range(lo: float, hi: float, where: str = "") -> tuple[float, 
 
 
 def interface_unit(name: str) -> tuple[str, float]:
-    """(unit label, SI per interface unit) of an axle entry or a pressure at the command line."""
+    """(unit label, SI per interface unit) of an axle entry, a pressure or a brake slip at the command line."""
     if name in PRESSURE_PARAMS:
         return "bar", BAR
+    if name in BRAKE_PARAMS:
+        return "-", 1.0
     from axles.axle import entry
     return interface_of(entry(name).si_unit)
 

@@ -23,6 +23,7 @@ _T1_LI = "Yang et al., Table 1 (from Li et al. [16])"
 _T1_PAC = "Yang et al., Table 1 (from Pacejka [19])"
 _T1_HOP = "Yang et al., Table 1 (from Hopping [12])"
 _TEXT = "Yang et al., section 2 text"
+_PAC61 = "Pacejka (2012), MF 6.1 example tyre 205/60R15 (not in Table 1)"
 
 
 def _p(value: float, unit: str, source: str, description: str, printed: str = "", *,
@@ -116,6 +117,48 @@ class ShimmyParameters:
                          "p_cy1 (second row)", range=(-5.0, 5.0))
     p_fz1: float = _p(0.7, "-", _T1_PAC, "variation of vertical stiffness with pressure (eq. 4.10)",
                       range=(-5.0, 5.0))
+
+    # --- longitudinal force and combined slip (MF 6.1), only under braking --------------------------------
+    # Not in Table 1: the paper's tyre has no longitudinal or combined-slip coefficients.  Its lateral ones come
+    # from Pacejka's MF 6.1 example tyre (205/60R15); these are that tyre's, from the same example set
+    # (tests/data/mf61-205-60R15-example.tir).  Pure longitudinal force: Pacejka (2012) eqs. (4.E9)-(4.E18);
+    # combined slip: (4.E50)-(4.E67).  All r_ coefficients 0 is the pure-slip model (G_xa = G_yk = 1, S_Vyk = 0).
+    p_cx1: float = _p(1.579, "-", _PAC61, "shape factor C_x", range=(0.1, 3.0))
+    p_dx1: float = _p(1.0422, "-", _PAC61, "peak friction mu_x at nominal load", range=(0.1, 3.0))
+    p_dx2: float = _p(-0.08285, "-", _PAC61, "variation of mu_x with load", range=(-2.0, 2.0))
+    p_ex1: float = _p(0.11113, "-", _PAC61, "curvature factor E_x at nominal load", range=(-10.0, 1.0))
+    p_ex2: float = _p(0.3143, "-", _PAC61, "variation of E_x with load", range=(-10.0, 10.0))
+    p_ex3: float = _p(0.0, "-", _PAC61, "variation of E_x with load squared", range=(-10.0, 10.0))
+    p_ex4: float = _p(0.001719, "-", _PAC61, "E_x's asymmetry between driving and braking", range=(-1.0, 1.0))
+    p_kx1: float = _p(21.687, "-", _PAC61, "longitudinal slip stiffness K_xk / Fz at nominal load",
+                      range=(0.1, 200.0))
+    p_kx2: float = _p(13.728, "-", _PAC61, "variation of K_xk with load", range=(-200.0, 200.0))
+    p_kx3: float = _p(-0.4098, "-", _PAC61, "exponential variation of K_xk with load", range=(-10.0, 10.0))
+    p_px1: float = _p(-0.3485, "-", _PAC61, "variation of K_xk with pressure", range=(-5.0, 5.0))
+    p_px2: float = _p(0.37824, "-", _PAC61, "variation of K_xk with pressure squared", range=(-5.0, 5.0))
+    p_px3: float = _p(-0.09603, "-", _PAC61, "variation of mu_x with pressure", range=(-5.0, 5.0))
+    p_px4: float = _p(0.06518, "-", _PAC61, "variation of mu_x with pressure squared", range=(-5.0, 5.0))
+    r_bx1: float = _p(13.046, "-", _PAC61, "slope factor of G_xa (F_x's reduction by slip angle)",
+                      range=(0.0, 100.0))
+    r_bx2: float = _p(9.718, "-", _PAC61, "variation of G_xa's slope with longitudinal slip", range=(-100.0, 100.0))
+    r_cx1: float = _p(0.9995, "-", _PAC61, "shape factor of G_xa", range=(0.0, 3.0))
+    r_ex1: float = _p(-0.4403, "-", _PAC61, "curvature factor of G_xa", range=(-10.0, 1.0))
+    r_ex2: float = _p(-0.4663, "-", _PAC61, "variation of G_xa's curvature with load", range=(-10.0, 10.0))
+    r_hx1: float = _p(-9.968e-5, "-", _PAC61, "slip-angle shift of G_xa", range=(-0.1, 0.1))
+    r_by1: float = _p(10.622, "-", _PAC61, "slope factor of G_yk (F_y's reduction by longitudinal slip)",
+                      range=(0.0, 100.0))
+    r_by2: float = _p(7.82, "-", _PAC61, "variation of G_yk's slope with slip angle", range=(-100.0, 100.0))
+    r_by3: float = _p(0.002037, "-", _PAC61, "slip-angle shift of G_yk's slope", range=(-0.5, 0.5))
+    r_cy1: float = _p(1.0587, "-", _PAC61, "shape factor of G_yk", range=(0.0, 3.0))
+    r_ey1: float = _p(0.3148, "-", _PAC61, "curvature factor of G_yk", range=(-10.0, 1.0))
+    r_ey2: float = _p(0.004867, "-", _PAC61, "variation of G_yk's curvature with load", range=(-10.0, 10.0))
+    r_hy1: float = _p(0.009472, "-", _PAC61, "longitudinal-slip shift of G_yk", range=(-0.1, 0.1))
+    r_hy2: float = _p(0.009754, "-", _PAC61, "variation of G_yk's shift with load", range=(-1.0, 1.0))
+    r_vy1: float = _p(0.05187, "-", _PAC61, "slip-induced side force S_Vyk / (mu_y Fz)", range=(-1.0, 1.0))
+    r_vy2: float = _p(4.853e-4, "-", _PAC61, "variation of S_Vyk with load", range=(-1.0, 1.0))
+    r_vy4: float = _p(94.63, "-", _PAC61, "variation of S_Vyk with slip angle", range=(-1000.0, 1000.0))
+    r_vy5: float = _p(1.8914, "-", _PAC61, "shape of S_Vyk against longitudinal slip", range=(-10.0, 10.0))
+    r_vy6: float = _p(23.8, "-", _PAC61, "slope of S_Vyk against longitudinal slip", range=(-1000.0, 1000.0))
 
     def __post_init__(self) -> None:
         check_ranges(self, "parameter")

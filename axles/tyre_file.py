@@ -270,8 +270,6 @@ def format_tir(axle: AxleData) -> str:
         if section == "SCALING_COEFFICIENTS":
             for name in scale_keys():
                 lines.append(f"{name:24s} = {_value(SCALES_MUST_BE.get(name, 1.0)):21s} $scaling factor")
-        if section == "LONGITUDINAL_COEFFICIENTS":
-            lines.append("$ none: neither model has longitudinal slip")
         for row in TYRE_KEYS:
             if row.section != section:
                 continue

@@ -56,6 +56,15 @@ class TyreKey:
 
 _RL = "both models; the relaxation length (4.9) with --effects rl"
 _PT = "both models; the trail (4.2)-(4.8) with --effects pt"
+_LONG = "LONGITUDINAL_COEFFICIENTS"
+_BRAKE = "both models, under braking (--brake-slip, --brake-force)"
+_LONG_NOTE = ("not in the paper's Table 1: the paper's axle takes them from Pacejka's MF 6.1 example tyre (whose "
+              "lateral coefficients the paper took); no shifts S_Hx, S_Vx (PHX1, PHX2, PVX1, PVX2 not used, as the paper's F_y "
+              "has no S_Hy, S_Vy); zero camber (PDX3 not used); a file without them keeps the axle's")
+_PURE_NOTE = ("the combined-slip R coefficients: a file without them gives 0, the pure-slip model (G_xa = G_yk = 1, "
+              "S_Vyk = 0); the camber terms RBX3, RBY4, RVY3 are not used (zero camber)")
+_MIRROR_NOTE = ("the file's tyre is the left wheel's (TYRESIDE is not read); the right wheel's is the mirror image, "
+                "with RHX1, RBY3, RVY1 and RVY2 of opposite sign")
 
 TYRE_KEYS: tuple[TyreKey, ...] = (
     TyreKey("DIMENSION", "UNLOADED_RADIUS", "R", "R", "length", REQUIRED, BOTH,
@@ -113,6 +122,40 @@ TYRE_KEYS: tuple[TyreKey, ...] = (
     TyreKey("ALIGNING_COEFFICIENTS", "QDZ8", "camber_q_dz8", "QDZ8", None, ZERO, CAMBER),
     TyreKey("ALIGNING_COEFFICIENTS", "QDZ9", "camber_q_dz9", "QDZ9", None, ZERO, CAMBER),
     TyreKey("ALIGNING_COEFFICIENTS", "QBZ9", "camber_q_bz9", "QBZ9", None, ZERO, CAMBER),
+    # --- longitudinal force and combined slip (MF 6.1 (4.E9)-(4.E18), (4.E50)-(4.E67)): only under braking ---------
+    TyreKey(_LONG, "PCX1", "p_cx1", "PCX1", None, AXLE, _BRAKE, scales=("LCX",), note=_LONG_NOTE),
+    TyreKey(_LONG, "PDX1", "p_dx1", "PDX1", None, AXLE, _BRAKE, scales=("LMUX",)),
+    TyreKey(_LONG, "PDX2", "p_dx2", "PDX2", None, AXLE, _BRAKE, scales=("LMUX",)),
+    TyreKey(_LONG, "PEX1", "p_ex1", "PEX1", None, AXLE, _BRAKE, scales=("LEX",)),
+    TyreKey(_LONG, "PEX2", "p_ex2", "PEX2", None, AXLE, _BRAKE, scales=("LEX",)),
+    TyreKey(_LONG, "PEX3", "p_ex3", "PEX3", None, AXLE, _BRAKE, scales=("LEX",)),
+    TyreKey(_LONG, "PEX4", "p_ex4", "PEX4", None, AXLE, _BRAKE),
+    TyreKey(_LONG, "PKX1", "p_kx1", "PKX1", None, AXLE, _BRAKE, scales=("LKX",)),
+    TyreKey(_LONG, "PKX2", "p_kx2", "PKX2", None, AXLE, _BRAKE, scales=("LKX",)),
+    TyreKey(_LONG, "PKX3", "p_kx3", "PKX3", None, AXLE, _BRAKE),
+    TyreKey(_LONG, "PPX1", "p_px1", "PPX1", None, AXLE, _BRAKE),
+    TyreKey(_LONG, "PPX2", "p_px2", "PPX2", None, AXLE, _BRAKE),
+    TyreKey(_LONG, "PPX3", "p_px3", "PPX3", None, AXLE, _BRAKE),
+    TyreKey(_LONG, "PPX4", "p_px4", "PPX4", None, AXLE, _BRAKE),
+    TyreKey(_LONG, "RBX1", "r_bx1", "RBX1", None, ZERO, _BRAKE, scales=("LXAL",), note=_PURE_NOTE),
+    TyreKey(_LONG, "RBX2", "r_bx2", "RBX2", None, ZERO, _BRAKE),
+    TyreKey(_LONG, "RCX1", "r_cx1", "RCX1", None, ZERO, _BRAKE),
+    TyreKey(_LONG, "REX1", "r_ex1", "REX1", None, ZERO, _BRAKE),
+    TyreKey(_LONG, "REX2", "r_ex2", "REX2", None, ZERO, _BRAKE),
+    TyreKey(_LONG, "RHX1", "r_hx1", "RHX1", None, ZERO, _BRAKE, note=_MIRROR_NOTE),
+    TyreKey("LATERAL_COEFFICIENTS", "RBY1", "r_by1", "RBY1", None, ZERO, _BRAKE, scales=("LYKA",)),
+    TyreKey("LATERAL_COEFFICIENTS", "RBY2", "r_by2", "RBY2", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RBY3", "r_by3", "RBY3", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RCY1", "r_cy1", "RCY1", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "REY1", "r_ey1", "REY1", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "REY2", "r_ey2", "REY2", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RHY1", "r_hy1", "RHY1", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RHY2", "r_hy2", "RHY2", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RVY1", "r_vy1", "RVY1", None, ZERO, _BRAKE, scales=("LVYKA",)),
+    TyreKey("LATERAL_COEFFICIENTS", "RVY2", "r_vy2", "RVY2", None, ZERO, _BRAKE, scales=("LVYKA",)),
+    TyreKey("LATERAL_COEFFICIENTS", "RVY4", "r_vy4", "RVY4", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RVY5", "r_vy5", "RVY5", None, ZERO, _BRAKE),
+    TyreKey("LATERAL_COEFFICIENTS", "RVY6", "r_vy6", "RVY6", None, ZERO, _BRAKE),
     # --- the paper's extensions beyond MF 6.1 ---------------------------------------------------------------
     TyreKey(EXTENSIONS, "PEY_DFZ2", "p_ey3", "p_ey3", None, ZERO, BOTH,
             note="Hopping's E_y terms: the paper's p_ey3 multiplies df_z^2, not MF 6.1's PEY3; without them E_y "

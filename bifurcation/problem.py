@@ -70,6 +70,9 @@ class Family(Protocol):
     def validate(self, q: float) -> None:
         """Raise where the family is meaningless at q."""
 
+    # Optional: ``origin_equilibrium = False`` says the equilibrium may lie off x = 0, so that the size of a cycle is
+    # measured about its mean (:meth:`~bifurcation.cycles.problem.CycleProblem.scaled_rms`); default True.
+
     # How the derivatives are formed: inherit one of :mod:`bifurcation.derivatives`.
     costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)
 

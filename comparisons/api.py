@@ -10,9 +10,10 @@ result's fields; results show themselves in interface units (:mod:`comparisons.r
     result = hopf_points(family, vmax_kmh=400)
     print(result)                                # a table: speed km/h, frequency Hz, l1, criticality
 
-* inputs: :class:`Axle` (``paper``, ``from_file``, ``with_values``, ``with_set``), :class:`TyrePressures`;
+* inputs: :class:`Axle` (``paper``, ``from_file``, ``with_values``, ``with_set``), :class:`TyrePressures`,
+  :class:`Braking` (``Braking.of_slip(0.05, 0.0)``: a steady braking, right and left; default free rolling);
 * models: ``axle.reduced(effects=...)`` (:class:`ReducedModel`) and ``axle.mbs(fidelity=..., assume=...)``
-  (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure")`` (:class:`ModelFamily`);
+  (:class:`MultibodyModel`), each with ``.family(pressures, param="pressure", braking=...)`` (:class:`ModelFamily`);
 * jobs: :func:`hopf_points`, :func:`cycle_branches`, :func:`stability_margins`, :func:`simulate` (one signature
   for both models).
 
@@ -45,6 +46,7 @@ from axles.limits import (
     SPEED_RANGE_KMH,
 )
 from axles.input_file import check_range
+from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 from axles.units import to_si
 from comparisons.windows import ShimmyWindows, pair_windows
@@ -222,14 +224,17 @@ class ReducedModel:
     def label(self) -> str:
         return f"reduced model, pressure effects {','.join(self.effects.names) or 'none'}"
 
-    def family(self, pressures: TyrePressures, param: str = "pressure") -> "ModelFamily":
-        """The model over speed and ``param`` (``"pressure"``, ``"pressure_left"``, ``"pressure_right"`` or a
-        Table 1 entry) at these tyre pressures."""
-        return ModelFamily(self, pressures, param)
+    def family(self, pressures: TyrePressures, param: str = "pressure",
+               braking: Braking = FREE_ROLLING) -> "ModelFamily":
+        """The model over speed and ``param`` (``"pressure"``, ``"pressure_left"``, ``"pressure_right"``,
+        ``"brake_slip"`` or a Table 1 entry) at these tyre pressures and this braking
+        (:class:`~axles.braking.Braking`; default free rolling)."""
+        return ModelFamily(self, pressures, param, braking)
 
-    def problem(self, pressures: TyrePressures, param: str = "pressure") -> SpeedFamily:
+    def problem(self, pressures: TyrePressures, param: str = "pressure",
+                braking: Braking = FREE_ROLLING) -> SpeedFamily:
         """The toolkit's family (:func:`family_of`)."""
-        return family_of(self.model, pressures, param)
+        return family_of(self.model, pressures, param, braking)
 
     def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
             progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
@@ -256,13 +261,14 @@ class MultibodyModel:
     def label(self) -> str:
         return f"MBS, fidelity {self.fidelity.label}, pressure effects {','.join(self.effects.names) or 'none'}"
 
-    def family(self, pressures: TyrePressures, param: str = "pressure") -> "ModelFamily":
+    def family(self, pressures: TyrePressures, param: str = "pressure",
+               braking: Braking = FREE_ROLLING) -> "ModelFamily":
         """As :meth:`ReducedModel.family`."""
-        return ModelFamily(self, pressures, param)
+        return ModelFamily(self, pressures, param, braking)
 
-    def problem(self, pressures: TyrePressures, param: str = "pressure"):
+    def problem(self, pressures: TyrePressures, param: str = "pressure", braking: Braking = FREE_ROLLING):
         """The toolkit's family (:func:`family_of`)."""
-        return family_of(self.model, pressures, param)
+        return family_of(self.model, pressures, param, braking)
 
     def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
             progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
@@ -273,19 +279,21 @@ class MultibodyModel:
                          dims=self.axle.dims, poses=poses, progress=progress)
 
 
-def family_of(model, pressures: TyrePressures, param: str = "pressure"):
-    """The toolkit's family of a model over speed and ``param`` at the tyres' ``pressures``: a
+def family_of(model, pressures: TyrePressures, param: str = "pressure", braking: Braking = FREE_ROLLING):
+    """The toolkit's family of a model over speed and ``param`` at the tyres' ``pressures`` under ``braking``: a
     :class:`~reduced_model.family.SpeedFamily` of a :class:`~reduced_model.model.ShimmyModel`, an
     :class:`~mbs_shimmy.linearisation.MbsFamily` of an :class:`~mbs_shimmy.model.MbsModel`.  The one place a family
     is constructed (``tests/test_architecture.py``); everything else asks here or through :meth:`ModelFamily.problem`."""
     if not isinstance(pressures, TyrePressures):
         raise TypeError(f"pressures must be TyrePressures, got {type(pressures).__name__}")
+    if not isinstance(braking, Braking):
+        raise TypeError(f"braking must be Braking, got {type(braking).__name__}")
     if isinstance(model, ShimmyModel):
-        return SpeedFamily(model, param, pressures)
+        return SpeedFamily(model, param, pressures, braking)
     from mbs_shimmy.linearisation import MbsFamily
     from mbs_shimmy.model import MbsModel
     if isinstance(model, MbsModel):
-        return MbsFamily(model, param, pressures)
+        return MbsFamily(model, param, pressures, braking)
     raise TypeError(f"no family for a {type(model).__name__}")
 
 
@@ -302,17 +310,19 @@ class ModelFamily:
     model: ReducedModel | MultibodyModel
     pressures: TyrePressures
     param: str = "pressure"
+    braking: Braking = FREE_ROLLING
 
     @cached_property
     def problem(self):
-        return self.model.problem(self.pressures, self.param)
+        return self.model.problem(self.pressures, self.param, self.braking)
 
     @property
     def q(self) -> float:
         return self.problem.nominal
 
     def label(self) -> str:
-        return f"{self.model.label()}, {self.pressures}, axle {self.model.axle.data.shown_name}"
+        braking = f", {self.braking}" if self.braking.active else ""
+        return f"{self.model.label()}, {self.pressures}{braking}, axle {self.model.axle.data.shown_name}"
 
 
 # --- jobs -----------------------------------------------------------------------------------------------------

@@ -67,9 +67,11 @@ ASSUMPTIONS: tuple[AssumptionInfo, ...] = (
         True),
     AssumptionInfo(
         Assumption.FIXED_STATIC_LOAD_ARMS,
-        "the static wheel load Fz and its rolling resistance f Fz act through the straight-running lever arms",
+        "the static wheel load Fz and its rolling resistance f Fz (and, under braking, the brake force F_x) act "
+        "through the straight-running lever arms",
         "absent from (2.1)-(2.3), which keep only load changes (the k5 terms)",
-        "Fz and f Fz act at the moving contact point: geometric stiffness -2 Fz R in tramp (the contact of the "
+        "Fz, f Fz and the brake force act at the moving contact point: geometric stiffness -2 Fz R in tramp (the "
+        "contact of the "
         "cambered wheel moves R psi sideways), -Fz R sin(gamma)^2 in yaw, yaw-tramp couplings of about "
         "100 N m/rad",
         True),

@@ -45,9 +45,10 @@ from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.geometry import SIDES, AxleGeometry
 from mbs_shimmy.knuckle import knuckle_pose, ramp_moments, rotor_moment
-from mbs_shimmy.tyre_element import TyreElement
+from mbs_shimmy.tyre_element import TyreElement, brake_forces
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import ParameterError, ShimmyParameters
+from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 
 _POS, _VEL = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
@@ -82,7 +83,8 @@ class AxleForces:
     """
 
     def __init__(self, params: ShimmyParameters, effects: Effects, fidelity: Fidelity, dims: AxleDimensions,
-                 pressures: TyrePressures, speed: Callable[[float], float], acceleration: Callable[[float], float] | None = None):
+                 pressures: TyrePressures, speed: Callable[[float], float],
+                 acceleration: Callable[[float], float] | None = None, braking: Braking = FREE_ROLLING):
         self.params, self.effects, self.fidelity, self.dims = params, effects, fidelity, dims
         self.linear = Assumption.SMALL_ANGLES in fidelity
         if self.linear:
@@ -102,7 +104,9 @@ class AxleForces:
             separate_lateral_spring=Assumption.SEPARATE_LATERAL_SPRING in fidelity)
         # exact poses: for the exact kinematics, and for the static load's geometric stiffness
         self.need_exact = (not self.linear) or not self.flags.fixed_static_load_arms
-        wheels = ShimmyModel(params, effects).tyres(pressures)   # raises ParameterError where meaningless
+        # raises ParameterError where meaningless; under braking each wheel carries its combined slip
+        wheels = ShimmyModel(params, effects).tyres(pressures, braking)
+        self.braking = braking
         load_dependent = Assumption.CONSTANT_LOAD not in fidelity
         camber = None
         if Assumption.NO_CAMBER_FORCE not in fidelity:
@@ -150,11 +154,12 @@ class AxleForces:
         n = len(q0)
         sd.SetODE2Coordinates([0.0] * n)
         sd.SetODE2Coordinates_t([0.0] * n)
-        Q = self.evaluate(0.0, [0.0] * n, [0.0] * n)
+        # the alignment trims the free-rolling axle to run straight: braking then deflects it
+        Q = self.evaluate(0.0, [0.0] * n, [0.0] * n, free_rolling=True)
         self.alignment = [-float(v) for v in Q[:self.n_mech]] + [0.0, 0.0]
         sd.SetODE2Coordinates(q0)
         sd.SetODE2Coordinates_t(v0)
-        if not self.linear and len(self.markers) == 2:
+        if not self.linear and len(self.markers) == 2 and not self.braking.active:
             from mbs_shimmy import compiled_stage  # numba's import only where a compiled stage is used
             self.stage_constants, self.stage_tables = compiled_stage.constants(self)
             self.stage = compiled_stage.STAGE
@@ -178,14 +183,15 @@ class AxleForces:
         return tuple(out)
 
     # ------------------------------------------------------------------------------------------------------
-    def evaluate(self, t: float, q, qd, states: list | None = None, python: bool = False):
+    def evaluate(self, t: float, q, qd, states: list | None = None, python: bool = False,
+                 free_rolling: bool = False):
         """Generalized forces on the tree's coordinates, then (alpha1', alpha2'), at time t and tree state
         (q, q'); the slip angles are the last two velocities.  ``states``, if a list, receives the two wheels'
         :class:`~mbs_shimmy.tyre_element.ContactState`.
 
         The exact kinematics run compiled (:meth:`compiled`) unless ``python``; the Python path below calls the
-        functions the compiled stage is built from, and serves the first-order kinematics, ``states`` and loads
-        outside the load table."""
+        functions the compiled stage is built from, and serves the first-order kinematics, ``states``, loads
+        outside the load table and braking (``free_rolling``: without the braking, for the alignment)."""
         if self.stage is not None and states is None and not python:
             out = self.compiled(t, q, qd)
             if out is not None:
@@ -203,8 +209,9 @@ class AxleForces:
         if self.need_exact:
             p1, p2 = self.knuckle_poses(q, qd)
         if self.linear:
-            r1 = t1.linear(psi, th1, psid, thd1, al1, V, record)
-            r2 = t2.linear(psi, th2, psid, thd2, al2, V, record)
+            braked = not free_rolling
+            r1 = t1.linear(psi, th1, psid, thd1, al1, V, record, braked)
+            r2 = t2.linear(psi, th2, psid, thd2, al2, V, record, braked)
             # spinning wheels, first order: g = 1
             Qp = r1[0] + r2[0] + kg * (thd1 + thd2)
             Q1 = r1[1] - kg * psid
@@ -216,12 +223,18 @@ class AxleForces:
                 Qp += s1[0] + s2[0]
                 Q1 += s1[1]
                 Q2 += s2[1]
+                if braked and self.braking.active:      # the brake forces at the actual contact points too
+                    b1 = brake_forces(-self.params.l, p1, 0.0, self.Oz, self.ux, self.uz, t1.brake_force(al1))
+                    b2 = brake_forces(self.params.l, p2, 0.0, self.Oz, self.ux, self.uz, t2.brake_force(al2))
+                    Qp += b1[0] + b2[0]
+                    Q1 += b1[1]
+                    Q2 += b2[1]
         else:
             cpsi, spsi = math.cos(psi), math.sin(psi)
             Oy = q[self.i_lat] if self.i_lat >= 0 else 0.0
             Oz = self.Oz + q[self.i_vert] if self.i_vert >= 0 else self.Oz
-            r1 = t1.exact(p1, Oy, Oz, self.roll_height, al1, V, cpsi, spsi, self.ux, self.uz, record)
-            r2 = t2.exact(p2, Oy, Oz, self.roll_height, al2, V, cpsi, spsi, self.ux, self.uz, record)
+            r1 = t1.exact(p1, Oy, Oz, self.roll_height, al1, V, cpsi, spsi, self.ux, self.uz, record, not free_rolling)
+            r2 = t2.exact(p2, Oy, Oz, self.roll_height, al2, V, cpsi, spsi, self.ux, self.uz, record, not free_rolling)
             gp, g1, g2 = self.rotor_moments(p1, p2, V)
             Qp, Q1, Q2 = r1[0] + r2[0] + gp, r1[1] + g1, r2[1] + g2
             Qy = r1[3] + r2[3]

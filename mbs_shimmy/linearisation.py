@@ -28,7 +28,9 @@ straight running is affine in V, A(V) = A0 + V A1, as for the reduced model.  :c
 from the Jacobians at V = 0 and V = V_REF and checks the affine form against a direct Jacobian at a third speed
 (:meth:`MbsFamily.validate`).  The Hopf Newton iteration then sees an exactly affine family and converges to
 rounding, where direct difference Jacobians at each speed would leave it ~1e-9 of noise to chase (with the full
-geometry it then stalled above its 1e-11 tolerance).
+geometry it then stalled above its 1e-11 tolerance).  Under braking straight running is the steady state Newton
+finds, the same at every speed (:meth:`~reduced_model.family.ShimmyFamily.steady`), and the Jacobian there is affine
+in V in the same way.
 """
 
 from __future__ import annotations
@@ -47,12 +49,14 @@ from mbs_shimmy.layout import Layout
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import MbsSystem
 from bifurcation.derivatives import DifferenceDerivatives
+from axles.braking import BRAKE_PARAMS, FREE_ROLLING, Braking
 from axles.pressures import PRESSURE_PARAMS, TyrePressures
 from reduced_model.family import ShimmyFamily
 from axles.parameters import ParameterError
 
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
+V_LOW = 1.0            # m/s: first speed of the affine form under braking (above the kink at V = 0)
 V_CHECK = 37.0         # m/s: speed where the affine form is checked against a direct Jacobian
 AFFINE_TOL = 1e-8      # relative to max |A|
 EQUILIBRIUM_TOL = 1e-9   # |y'| at straight running (rad/s, rad/s^2) above which it is not an equilibrium
@@ -146,8 +150,12 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     model: MbsModel = field(default_factory=MbsModel)
     param: str = "pressure"
     pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
+    braking: Braking = FREE_ROLLING                           # operating braking; "brake_slip" params move it
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
+    _equilibria: dict = field(default_factory=dict, init=False, repr=False)
+    # the full geometry's forces carry ~1e-10 of rounding (module docstring): a steady state is found to that
+    steady_tolerance = EQUILIBRIUM_TOL
 
     def __post_init__(self) -> None:
         self.check_param()
@@ -171,13 +179,13 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
             if len(self._cache) > 64:
                 self._cache.clear()
                 self._affine.clear()
-            if self.param in PRESSURE_PARAMS:
-                model, pressures = self.model, self.pressures.moved(self.param, q)
-            else:
+                self._equilibria.clear()
+            pressures, braking = self.operating(q)
+            model = self.model
+            if self.param not in PRESSURE_PARAMS + BRAKE_PARAMS:
                 model = MbsModel(self.model.params.replace(**{self.param: q}), self.model.effects,
                                  self.model.fidelity, self.model.dims)
-                pressures = self.pressures
-            found = MbsEvaluator(model.system(pressures, speed_is_time))
+            found = MbsEvaluator(model.system(pressures, speed_is_time, braking=braking))
             self._cache[q] = found
         return found
 
@@ -220,21 +228,30 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return self._at(q).mass_matrix(np.zeros(self.n))
 
     def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running by differences at this speed (reduced-model state order)."""
-        return self.jacobian(np.zeros(self.n), speed, q)
+        """Jacobian at straight running by differences at this speed (reduced-model state order): at x = 0, or
+        under braking at the steady state (which does not depend on the speed, :meth:`ShimmyFamily.steady`)."""
+        x0 = self.equilibrium(speed, q) if self.braked else np.zeros(self.n)
+        return self.jacobian(x0, speed, q)
 
     def affine_matrices(self, q: float) -> tuple[np.ndarray, np.ndarray]:
         """(A0, A1) with A(V) = A0 + V A1 at straight running (module docstring)."""
         q = float(q)
         found = self._affine.get(q)
         if found is None:
-            A0 = self.direct_linear_matrix(0.0, q)
-            A1 = (self.direct_linear_matrix(V_REF, q) - A0) / V_REF
+            if self.braked:
+                # off x = 0 the full geometry's slip rate |v_x| alpha has a kink at V = 0 (v_x of a steered wheel's
+                # leading point changes sign with the yaw rate): the affine form from two speeds above it
+                low = self.direct_linear_matrix(V_LOW, q)
+                A1 = (self.direct_linear_matrix(V_REF, q) - low) / (V_REF - V_LOW)
+                A0 = low - V_LOW * A1
+            else:
+                A0 = self.direct_linear_matrix(0.0, q)
+                A1 = (self.direct_linear_matrix(V_REF, q) - A0) / V_REF
             found = self._affine[q] = (A0, A1)
         return found
 
     def linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running x = 0 (reduced-model state order): A0 + V A1, see :meth:`validate`."""
+        """Jacobian at straight running (reduced-model state order): A0 + V A1, see :meth:`validate`."""
         A0, A1 = self.affine_matrices(q)
         return A0 + speed * A1
 
@@ -244,6 +261,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return float(np.max(np.abs(direct - self.linear_matrix(speed, q))) / np.max(np.abs(direct)))
 
     def equilibrium(self, speed: float, q: float) -> np.ndarray:
+        """Straight running: x = 0 free rolling (checked), the steady state by Newton under braking."""
+        if self.braked:
+            return self.steady(speed, q)
         x0 = np.zeros(self.n)
         residual = float(np.max(np.abs(self.rhs(x0, speed, q))))
         if residual > EQUILIBRIUM_TOL:

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from axles.parameters import YANG2024, ShimmyParameters
+from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 from mbs_shimmy.fidelity import Fidelity
 from mbs_shimmy.forces import AxleForces, layout_of
@@ -27,13 +28,15 @@ class MbsModel:
     fidelity: Fidelity = field(default_factory=Fidelity.reduced)
     dims: AxleDimensions = DEFAULT_DIMENSIONS
 
-    def forces(self, pressures: TyrePressures, speed, acceleration=None) -> AxleForces:
-        return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressures, speed, acceleration)
+    def forces(self, pressures: TyrePressures, speed, acceleration=None,
+               braking: Braking = FREE_ROLLING) -> AxleForces:
+        return AxleForces(self.params, self.effects, self.fidelity, self.dims, pressures, speed, acceleration,
+                          braking)
 
     def system(self, pressures: TyrePressures, speed, acceleration=None, y0=None, output_interval=None,
-               drawing: bool = False) -> MbsSystem:
+               drawing: bool = False, braking: Braking = FREE_ROLLING) -> MbsSystem:
         return build_system(self.params, self.effects, self.fidelity, self.dims,
-                            self.forces(pressures, speed, acceleration), y0, output_interval, drawing)
+                            self.forces(pressures, speed, acceleration, braking), y0, output_interval, drawing)
 
     @property
     def layout(self) -> Layout:

@@ -30,6 +30,7 @@ from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's co
 import exudyn as exu
 import numpy as np
 
+from axles.braking import FREE_ROLLING, Braking
 from bifurcation.messages import Message
 from axles.dimensions import DEFAULT_DIMENSIONS, AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
@@ -113,7 +114,7 @@ def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = Non
              x0: np.ndarray | None = None, duration: float = 2.0, *, dims: AxleDimensions = DEFAULT_DIMENSIONS,
              step: float = DEFAULT_STEP, method: str = DEFAULT_METHOD, output_interval: float | None = None,
              poses: bool = True, rtol: float | None = None, atol: float | None = None,
-             progress: Callable[[float], None] | None = None) -> Trajectory:
+             progress: Callable[[float], None] | None = None, braking: Braking = FREE_ROLLING) -> Trajectory:
     """Simulate the MBS over [0, duration] s from ``x0`` (reduced-model state order and SI; default theta1 =
     0.01 rad) with the speed ``schedule`` (default 60 km/h) at the tyres' ``pressures``.  ``progress(t)`` is
     called with the simulated time (s) every 1 % of the duration.
@@ -121,7 +122,8 @@ def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = Non
     ``poses`` adds body poses and contact forces to ``extra`` (see :func:`pose_record`).  Samples every
     ``output_interval`` s (default the larger of 1 ms and the step).  With an adaptive method (``DOPRI5``)
     ``step`` is the largest step and ``rtol`` / ``atol`` the relative / absolute error tolerances of a step
-    (default Exudyn's); the samples are then the first steps past each ``output_interval``.
+    (default Exudyn's); the samples are then the first steps past each ``output_interval``.  ``braking``: a steady
+    braking of the wheels (:class:`~axles.braking.Braking`; the speed is then held, as in the families).
     """
     effects = effects or Effects()
     fidelity = fidelity or Fidelity.reduced()
@@ -153,7 +155,7 @@ def integrate(params: ShimmyParameters = YANG2024, effects: Effects | None = Non
 
     sched = _Schedule(schedule)
     system = model.system(pressures, sched.speed, None if sched.constant else sched.acceleration, y0=x0[layout.x_to_y],
-                          output_interval=output_interval)
+                          output_interval=output_interval, braking=braking)
     mbs = system.mbs
     watch = _Watch(DIVERGENCE_ANGLE, progress=progress, every=0.01 * duration)
     mbs.SetPreStepUserFunction(watch)

@@ -261,6 +261,22 @@ def contact_forces(el: tuple, contact: tuple, pose: tuple, Oy: float, Oz: float,
     return q_psi, q_theta, alpha_d, Fyv, vert, lat
 
 
+def brake_forces(hl: float, pose: tuple, Oy: float, Oz: float, ux: float, uz: float,
+                 Fx: float) -> tuple[float, float, float]:
+    """(Q_psi, Q_theta, Q_y) of a brake force ``Fx`` (N, forward positive, so braking is negative) acting along the
+    wheel's heading x_w at its contact point P on the knuckle: the brake caliper is on the knuckle, so the brake
+    torque F_x |P - C| about the spin axis is the knuckle's (the road force does not pass to the wheel centre, as
+    the free-rolling wheel's rolling resistance does).  Virtual work as in :func:`contact_forces`: u.((P - O) x F)
+    about the roll axis u through O = (0, Oy, Oz), e.((P - K) x F) about the kingpin e through K; ``hl`` = side l."""
+    K, _, e, s, _ = pose
+    _, _, _, Px, Py, _, cphi = wheel_contact(hl, K, s)
+    Fxx, Fxy = Fx * s[1] / cphi, -Fx * s[0] / cphi         # F along x_w (horizontal)
+    q_psi = ux * Oz * Fxy + uz * (Px * Fxy - (Py - Oy) * Fxx)
+    rx, ry, rz = Px - K[0], Py - K[1], -K[2]
+    q_theta = -e[0] * rz * Fxy + e[1] * rz * Fxx + e[2] * (rx * Fxy - ry * Fxx)
+    return q_psi, q_theta, Fxy
+
+
 # the first-order element's lateral() runs at every stage of the reduced fidelity: no attribute look-ups
 _mf_force, _sin, _atan = tyre.mf_force, math.sin, math.atan
 
@@ -316,6 +332,20 @@ class TyreElement:
             tf.q_ez4 if tf is not None else math.nan)
         self.slip_constants = (self.C, self.Ct, self.q_ez4, self.t0, self.pt, camber is not None)
         self.camber_coefficients = camber.coefficients if camber is not None else (0.0,) * 10
+        # under braking: F_x and the combined-slip weighting of F_y at the static load (None: free rolling)
+        self.combined = wheel.combined
+
+    def brake_force(self, alpha: float) -> float:
+        """F_x = G_xa(alpha) F_x0 of the braking wheel (N, ISO: braking negative); 0 free rolling."""
+        if self.combined is None:
+            return 0.0
+        return self.combined.forces(0.0, alpha, math.cos, math.atan)[0]
+
+    def combine(self, Fy: float, mz: float, alpha: float, trail: float) -> tuple[float, float]:
+        """(F_y, M_z) under braking from the slip forces at zero longitudinal slip: F_y = G_yk F_y0 + S_Vyk (MF 6.1
+        (4.E58)), the trail moment -t F_y of the combined force (the camber terms, where on, weighted as F_y0)."""
+        _, Gyk, SVyk = self.combined.weights(alpha, math.cos, math.atan)
+        return Gyk * Fy + SVyk, Gyk * mz - trail * SVyk
 
     def properties(self, load: float) -> tuple[float, ...]:
         """(B, D, E, Bt, Dt, Et0, a, sigma) at this vertical load (the static wheel's with ``constant_load``)."""
@@ -339,7 +369,8 @@ class TyreElement:
 
     # --- exact kinematics ----------------------------------------------------------------------------------
     def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
-              cpsi: float, spsi: float, ux: float = 1.0, uz: float = 0.0, record: bool = False):
+              cpsi: float, spsi: float, ux: float = 1.0, uz: float = 0.0, record: bool = False,
+              braked: bool = True):
         """(Q_psi, Q_theta, alpha_dot, Q_y, Q_z[, ContactState]) from the knuckle's pose as Exudyn gives it.
 
         ``pose`` = (K, v_K, e, s, omega): kingpin point and its velocity, kingpin axis, spin axis and angular
@@ -352,19 +383,28 @@ class TyreElement:
         values = self.properties(Fz)
         Fy, mz, _ = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2],
                                 self.table is not None)
+        Fx = 0.0
+        if braked and self.combined is not None:
+            t = tyre.mf_trail(values[3], self.Ct, values[4], values[5], self.q_ez4, alpha, math.cos,
+                              math.atan) if self.pt else self.t0
+            Fy, mz = self.combine(Fy, mz, alpha, t)
+            Fx = self.brake_force(alpha)
         q_psi, q_theta, alpha_d, Fyv, vert, lat = contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y,
                                                                  Fy, mz, values[6], values[7], alpha, speed)
+        if Fx != 0.0:
+            b_psi, b_theta, b_y = brake_forces(self.side * self.l, pose, Oy, Oz, ux, uz, Fx)
+            q_psi, q_theta, Fyv = q_psi + b_psi, q_theta + b_theta, Fyv + b_y
         if record:
             cphi = contact[6]
             xwx, xwy, ywx, ywy = s[1] / cphi, -s[0] / cphi, s[0] / cphi, s[1] / cphi
-            total = (-self.f * Fz * xwx + lat * ywx, -self.f * Fz * xwy + lat * ywy, Fz)
+            total = ((Fx - self.f * Fz) * xwx + lat * ywx, (Fx - self.f * Fz) * xwy + lat * ywy, Fz)
             return (q_psi, q_theta, alpha_d, Fyv, vert,
                     ContactState((contact[3], contact[4], 0.0), total, Fz, Fy, alpha_d))
         return q_psi, q_theta, alpha_d, Fyv, vert
 
     # --- first-order kinematics (the reduced model's) --------------------------------------------------------
     def linear(self, psi: float, theta: float, psi_d: float, theta_d: float, alpha: float, speed: float,
-               record: bool = False):
+               record: bool = False, braked: bool = True):
         """(Q_psi, Q_theta, alpha_dot[, ContactState]) with the kinematics to first order in the states and in
         gamma (sin gamma -> gamma, cos gamma -> 1).
 
@@ -380,10 +420,16 @@ class TyreElement:
         dFz = -self.k5 * side * lift      # the wheel centre rises by side*lift: the deflection falls by as much
         Fz = self.static_load + dFz
         Fy, t, a, sigma = self.lateral(alpha, Fz)
+        Fb = 0.0
+        if braked and self.combined is not None:
+            # the brake force along x at the straight-running arm, as the rolling resistance in (2.1)-(2.2)
+            # (fixed_static_load_arms; without it AxleForces adds its moments at the actual pose instead)
+            Fy = self.combine(Fy, 0.0, alpha, t)[0]
+            Fb = self.brake_force(alpha) if self.fixed_arms else 0.0
         y4 = R * psi if self.k4_tramp else R * sz
         lat = Fy - self.k4 * y4 if self.separate else Fy
         # only load changes: the static load times constant lever arms is balanced by the alignment
-        Fx = -self.f * dFz
+        Fx = Fb - self.f * dFz
         q_psi = R * lat + side * 0.5 * L * dFz
         q_theta = -side * l * Fx - gam * R * lat - gam * side * l * dFz - t * Fy
         vy = speed * sx + a * theta_d

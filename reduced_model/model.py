@@ -21,6 +21,7 @@ import numpy as np
 
 from bifurcation.messages import Message, Quantity
 from axles.parameters import YANG2024, ParameterError, ShimmyParameters
+from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 from reduced_model import tyre
 
@@ -77,6 +78,7 @@ class WheelTyre:
     a: float
     sigma: float
     k5: float
+    combined: tyre.CombinedSlip | None = None   # under braking: F_x and the combined-slip F_y (None: pure slip)
 
     def trail_at(self, alpha):
         return self.t0 if self.trail is None else self.trail.trail(alpha)
@@ -88,6 +90,22 @@ def contact_lengths(params: ShimmyParameters, effects: Effects, pressure: float)
     a = tyre.half_contact_length(params, pressure) if effects.hcl else params.a0
     sigma = tyre.relaxation_length(params, pressure) if effects.rl else params.sigma0
     return a, sigma
+
+
+def wheel_slip(params: ShimmyParameters, pressure: float, braking: Braking, side: float) -> float:
+    """ISO longitudinal slip kappa (braking negative) of the wheel on ``side`` (-1 right, +1 left) under ``braking``:
+    the brake slip given, or the one at which the tyre gives the brake force given at straight running."""
+    value = braking.right if side < 0.0 else braking.left
+    return -(tyre.brake_slip_for_force(params, pressure, value) if braking.by_force else value)
+
+
+def braked(wheel: "WheelTyre", params: ShimmyParameters, braking: Braking, side: float) -> "WheelTyre":
+    """The wheel under ``braking`` (unchanged without): its combined-slip forces at its slip, the right wheel's
+    (``side`` -1) tyre mirrored (:class:`~reduced_model.tyre.CombinedSlip`)."""
+    if not braking.active:
+        return wheel
+    kappa = wheel_slip(params, wheel.pressure, braking, side)
+    return dataclasses.replace(wheel, combined=tyre.combined_slip(params, wheel.pressure, kappa, mirrored=side < 0.0))
 
 
 def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> WheelTyre:
@@ -120,45 +138,57 @@ class ShimmyModel:
     def with_params(self, **overrides: float) -> "ShimmyModel":
         return dataclasses.replace(self, params=self.params.replace(**overrides))
 
-    def tyres(self, pressures: TyrePressures) -> tuple[WheelTyre, WheelTyre]:
-        """(right, left) tyre properties at the tyres' pressures."""
-        found = self._tyre_cache.get(pressures)
+    def tyres(self, pressures: TyrePressures, braking: Braking = FREE_ROLLING) -> tuple[WheelTyre, WheelTyre]:
+        """(right, left) tyre properties at the tyres' pressures, under ``braking``."""
+        key = (pressures, braking)
+        found = self._tyre_cache.get(key)
         if found is None:
-            found = (_wheel_tyre(self.params, self.effects, pressures.right),
-                     _wheel_tyre(self.params, self.effects, pressures.left))
+            found = (braked(_wheel_tyre(self.params, self.effects, pressures.right), self.params, braking, -1.0),
+                     braked(_wheel_tyre(self.params, self.effects, pressures.left), self.params, braking, 1.0))
             if len(self._tyre_cache) > 4096:
                 self._tyre_cache.clear()
-            self._tyre_cache[pressures] = found
+            self._tyre_cache[key] = found
         return found
 
-    def rhs(self, x: np.ndarray, speed: float, pressures: TyrePressures) -> np.ndarray:
-        """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s."""
+    def rhs(self, x: np.ndarray, speed: float, pressures: TyrePressures,
+            braking: Braking = FREE_ROLLING) -> np.ndarray:
+        """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s.
+
+        Under ``braking`` each wheel's tyre gives F_x and the combined-slip F_y
+        (:class:`~reduced_model.tyre.CombinedSlip`), and F_x steers the wheel about its kingpin at the wheel offset l, as the rolling resistance does in
+        (2.1)-(2.2): -side l F_x, side -1 right, +1 left (docs/numerics.md, "Braking")."""
         P = self.params
-        w1, w2 = self.tyres(pressures)
+        w1, w2 = self.tyres(pressures, braking)
         th1, th1d, th2, th2d, psi, psid, al1, al2 = x
         Fy1 = w1.force.force(al1)
         Fy2 = w2.force.force(al2)
+        brake1 = brake2 = 0.0
+        if w1.combined is not None:
+            Fx1, Fy1 = w1.combined.forces(Fy1, al1)
+            Fx2, Fy2 = w2.combined.forces(Fy2, al2)
+            brake1, brake2 = P.l * Fx1, -P.l * Fx2
         gyro = P.I2 * speed / P.R
         coupling1 = 0.5 * P.L * w1.k5 * P.l * (P.gamma - P.f) + P.k4 * P.R ** 2 * P.gamma
         coupling2 = 0.5 * P.L * w2.k5 * P.l * (P.gamma - P.f) + P.k4 * P.R ** 2 * P.gamma
         # L^2/2 k5 of eq. (2.3) is the two tyres' vertical springs at +-L/2; split per wheel.
         tramp_stiffness = P.k3 + 0.25 * P.L ** 2 * (w1.k5 + w2.k5) + 2.0 * P.k4 * P.R ** 2
         th1dd = (P.k1 * (th2 - th1) + P.c1 * (th2d - th1d) - P.c4 * th1d - gyro * psid + coupling1 * psi
-                 - Fy1 * (P.R * P.gamma + w1.trail_at(al1))) / P.I1
+                 - Fy1 * (P.R * P.gamma + w1.trail_at(al1)) + brake1) / P.I1
         th2dd = (P.k1 * (th1 - th2) + P.c1 * (th1d - th2d) - (P.c4 + P.c2) * th2d - P.k2 * th2 - gyro * psid
-                 + coupling2 * psi - Fy2 * (P.R * P.gamma + w2.trail_at(al2))) / P.I1
+                 + coupling2 * psi - Fy2 * (P.R * P.gamma + w2.trail_at(al2)) + brake2) / P.I1
         psidd = (-P.c3 * psid - tramp_stiffness * psi + gyro * (th1d + th2d) + (Fy1 + Fy2) * P.R) / P.I3
         al1d = (-speed * (al1 + th1) + w1.a * th1d) / w1.sigma
         al2d = (-speed * (al2 + th2) + w2.a * th2d) / w2.sigma
         return np.array([th1d, th1dd, th2d, th2dd, psid, psidd, al1d, al2d])
 
-    def jacobian(self, x: np.ndarray, speed: float, pressures: TyrePressures) -> np.ndarray:
+    def jacobian(self, x: np.ndarray, speed: float, pressures: TyrePressures,
+                 braking: Braking = FREE_ROLLING) -> np.ndarray:
         """Exact Jacobian df/dx by complex-step differentiation (Squire & Trapp, SIAM Rev. 40, 1998)."""
         X = np.asarray(x, dtype=float)[:, None] + _STEP_MATRIX
-        return self.rhs(X, speed, pressures).imag / _COMPLEX_STEP
+        return self.rhs(X, speed, pressures, braking).imag / _COMPLEX_STEP
 
     def linear_matrix(self, speed: float, pressures: TyrePressures) -> np.ndarray:
-        """Jacobian at straight running (x = 0)."""
+        """Jacobian at straight running (x = 0) of the free-rolling axle."""
         return self.jacobian(np.zeros(N_STATES), speed, pressures)
 
 

@@ -4,7 +4,9 @@ Equations of Yang, Knowles & Mavros (The ANZIAM Journal, 2025; reading notes in
 ``docs/paper-notes.md``):
 lateral force (2.4)-(2.9) after Pacejka's pressure-extended Magic Formula (Tyre and Vehicle Dynamics, 3rd ed.,
 section 4.3.2) with the E_y pressure polynomial of Hopping; half contact length (4.1) after Guo; pneumatic trail
-(4.2)-(4.8); relaxation length (4.9) and vertical stiffness (4.10) after Besselink.
+(4.2)-(4.8); relaxation length (4.9) and vertical stiffness (4.10) after Besselink.  Under braking: the MF 6.1
+longitudinal force and the combined-slip weighting functions of Pacejka (2012), section 4.3.2, (4.E9)-(4.E18) and
+(4.E50)-(4.E67) (:class:`CombinedSlip`; decisions in docs/numerics.md, "Braking").
 
 All functions are pure and accept numpy arrays (real or complex, so that complex-step and Cauchy-integral
 derivatives pass through).  Pressures are in Pa, forces in N, lengths in m, slip angles in rad.
@@ -17,7 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from axles.parameters import ShimmyParameters
+from bifurcation.messages import Message, Quantity
+from axles.parameters import ParameterError, ShimmyParameters
 
 
 def pressure_increment(params: ShimmyParameters, pressure: float) -> float:
@@ -130,3 +133,136 @@ def relaxation_length(params: ShimmyParameters, pressure: float) -> float:
 def vertical_stiffness(params: ShimmyParameters, pressure: float) -> float:
     """k5(p_i), eq. (4.10): k5_0 (1 + p_fz1 dp_i), N/m."""
     return float(params.k5_0 * (1.0 + params.p_fz1 * pressure_increment(params, pressure)))
+
+
+# --- longitudinal force and combined slip (MF 6.1), for a braking wheel ---------------------------------------
+# Pacejka, Tire and Vehicle Dynamics, 3rd ed. (2012), section 4.3.2: the pure longitudinal force (4.E9)-(4.E18)
+# and the combined-slip weighting functions G_xa, G_yk with the slip-induced side force S_Vyk (4.E50)-(4.E67), at
+# zero camber.  Slip kappa is ISO's (braking negative), alpha the models' slip angle (MF's tan-slip alpha*, the
+# same sign as the lateral force of (2.4)-(2.5) takes it).  Decisions (docs/numerics.md, "Braking"): the pure
+# longitudinal force has no shifts S_Hx, S_Vx (as the paper's lateral force has no S_Hy, S_Vy); df_z is the
+# paper's (F_z - F_z0)/F_z, as in (2.7)-(2.9); the combined-slip shifts r_Hx1, r_Hy1, r_Hy2, r_By3 and the side force
+# S_Vyk are kept.
+
+
+def mf_sine(B, C, D, E, x, sin, atan):
+    """D sin(C arctan(B x - E (B x - arctan(B x)))): the Magic Formula's sine form, (4.E9)."""
+    bx = B * x
+    return D * sin(C * atan(bx - E * (bx - atan(bx))))
+
+
+def mf_weight(B, C, E, x, shift, cos, atan):
+    """cos(C arctan(B x_s - E (B x_s - arctan(B x_s)))) / (the same at x = 0), x_s = x + shift: the combined-slip
+    weighting function G of (4.E51)-(4.E53) (G_xa, x = alpha) and (4.E59)-(4.E61) (G_yk, x = kappa)."""
+    xs = x + shift
+    bx, b0 = B * xs, B * shift
+    return cos(C * atan(bx - E * (bx - atan(bx)))) / cos(C * atan(b0 - E * (b0 - atan(b0))))
+
+
+@dataclass(frozen=True)
+class LongitudinalFormula:
+    """Factors of the pure longitudinal force (4.E9)-(4.E16) at one load and pressure (no shifts); ``E0`` is E_x
+    before its driving/braking asymmetry (1 - p_ex4 sgn kappa)."""
+
+    B: float
+    C: float
+    D: float
+    E0: float
+    p_ex4: float
+
+    def force(self, kappa: float) -> float:
+        """F_x0(kappa), N (ISO: braking, kappa < 0, gives F_x0 < 0)."""
+        E = self.E0 * (1.0 - self.p_ex4 * math.copysign(1.0, kappa)) if kappa != 0.0 else self.E0
+        return float(mf_sine(self.B, self.C, self.D, E, kappa, math.sin, math.atan))
+
+
+def longitudinal_formula(params: ShimmyParameters, pressure: float) -> LongitudinalFormula:
+    """F_x0's factors at the parameter set's load and the given pressure, (4.E11)-(4.E16) with the pressure terms
+    of Besselink, Schmeitz & Pacejka (2010) and zero camber."""
+    dp = pressure_increment(params, pressure)
+    dfz = load_increment(params)
+    P = params
+    C = P.p_cx1
+    D = P.Fz * (P.p_dx1 + P.p_dx2 * dfz) * (1.0 + P.p_px3 * dp + P.p_px4 * dp ** 2)
+    K = P.Fz * (P.p_kx1 + P.p_kx2 * dfz) * math.exp(P.p_kx3 * dfz) * (1.0 + P.p_px1 * dp + P.p_px2 * dp ** 2)
+    E0 = P.p_ex1 + P.p_ex2 * dfz + P.p_ex3 * dfz ** 2
+    return LongitudinalFormula(B=float(K / (C * D)), C=float(C), D=float(D), E0=float(E0), p_ex4=P.p_ex4)
+
+
+@dataclass(frozen=True)
+class CombinedSlip:
+    """One wheel's forces at a fixed longitudinal slip ``kappa`` (ISO) against its slip angle: F_x = G_xa F_x0
+    (4.E50) and F_y = G_yk F_y0 + S_Vyk (4.E58), at one load and pressure.
+
+    ``mirrored``: the tyre turned round for the other side of the axle (MF's TYRESIDE): F_y(alpha) becomes
+    -F_y(-alpha) and F_x(alpha) becomes F_x(-alpha), which flips the signs of r_By3, r_Vy1, r_Vy2 and r_Hx1 (the
+    paper's F_y0 is odd in alpha and unchanged)."""
+
+    kappa: float
+    Fx0: float                 # F_x0(kappa), N
+    Bxa: float                 # (4.E54) at kappa, zero camber
+    Cxa: float
+    Exa: float
+    SHxa: float
+    r_by1: float
+    r_by2: float
+    r_by3: float
+    Cyk: float
+    Eyk: float
+    SHyk: float
+    DVyk0: float               # mu_y F_z (r_Vy1 + r_Vy2 df_z), N (4.E67 without its cosine)
+    r_vy4: float
+    SVyk_sine: float           # sin(r_Vy5 arctan(r_Vy6 kappa)) of (4.E66)
+
+    def weights(self, alpha, cos=np.cos, atan=np.arctan):
+        """(G_xa, G_yk, S_Vyk) at slip angle alpha (array or complex too)."""
+        Gxa = mf_weight(self.Bxa, self.Cxa, self.Exa, alpha, self.SHxa, cos, atan)
+        Byk = self.r_by1 * cos(atan(self.r_by2 * (alpha - self.r_by3)))
+        Gyk = mf_weight(Byk, self.Cyk, self.Eyk, self.kappa, self.SHyk, cos, atan)
+        SVyk = self.DVyk0 * cos(atan(self.r_vy4 * alpha)) * self.SVyk_sine
+        return Gxa, Gyk, SVyk
+
+    def forces(self, fy0, alpha, cos=np.cos, atan=np.arctan):
+        """(F_x, F_y) at slip angle alpha from the pure lateral force ``fy0`` = F_y0(alpha)."""
+        Gxa, Gyk, SVyk = self.weights(alpha, cos, atan)
+        return Gxa * self.Fx0, Gyk * fy0 + SVyk
+
+
+def combined_slip(params: ShimmyParameters, pressure: float, kappa: float, mirrored: bool = False) -> CombinedSlip:
+    """:class:`CombinedSlip` of a wheel at the parameter set's load, the given pressure and slip ``kappa`` (ISO:
+    braking negative)."""
+    P = params
+    dfz = load_increment(P)
+    m = -1.0 if mirrored else 1.0
+    mu_y_fz = magic_formula(P, pressure).D
+    return CombinedSlip(
+        kappa=float(kappa), Fx0=longitudinal_formula(P, pressure).force(kappa),
+        Bxa=P.r_bx1 * math.cos(math.atan(P.r_bx2 * kappa)), Cxa=P.r_cx1, Exa=P.r_ex1 + P.r_ex2 * dfz,
+        SHxa=m * P.r_hx1, r_by1=P.r_by1, r_by2=P.r_by2, r_by3=m * P.r_by3, Cyk=P.r_cy1,
+        Eyk=P.r_ey1 + P.r_ey2 * dfz, SHyk=P.r_hy1 + P.r_hy2 * dfz,
+        DVyk0=m * mu_y_fz * (P.r_vy1 + P.r_vy2 * dfz), r_vy4=P.r_vy4,
+        SVyk_sine=math.sin(P.r_vy5 * math.atan(P.r_vy6 * kappa)))
+
+
+def peak_brake_slip(params: ShimmyParameters, pressure: float) -> tuple[float, float]:
+    """(brake slip, brake force N) at the peak of -F_x0 for braking: the largest steady brake force the tyre gives
+    at straight running."""
+    from scipy.optimize import minimize_scalar
+    lf = longitudinal_formula(params, pressure)
+    res = minimize_scalar(lambda s: lf.force(-s), bounds=(1e-6, 1.0), method="bounded",
+                          options={"xatol": 1e-12})
+    return float(res.x), float(-lf.force(-res.x))
+
+
+def brake_slip_for_force(params: ShimmyParameters, pressure: float, force: float) -> float:
+    """The brake slip (positive; ISO kappa = -slip) at which the tyre gives the brake force ``force`` (N, rearward)
+    at straight running (alpha = 0, where G_xa = 1); at most the peak's, or a :class:`ParameterError`."""
+    from scipy.optimize import brentq
+    if force == 0.0:
+        return 0.0
+    s_peak, f_peak = peak_brake_slip(params, pressure)
+    if not force < f_peak:
+        raise ParameterError(Message.of(f"brake force = {force:.6g} N is beyond the tyre's grip: at most {f_peak:.6g} N at ",
+                                        Quantity("pressure", pressure, 10), f" (brake slip {s_peak:.4g})"))
+    lf = longitudinal_formula(params, pressure)
+    return float(brentq(lambda s: -lf.force(-s) - force, 0.0, s_peak, xtol=1e-15, rtol=1e-15))

@@ -64,6 +64,8 @@ def input_ranges() -> str:
     """The command-line inputs that are not axle entries, from :mod:`axles.limits`."""
     from axles.limits import (
         ANGLE_RANGE_DEG,
+        BRAKE_FORCE_RANGE_N,
+        BRAKE_SLIP_RANGE,
         DURATION_RANGE_S,
         MAX_CYCLES,
         MBS_MAX_DURATION,
@@ -85,7 +87,12 @@ def input_ranges() -> str:
          f"(`--model mbs`: at most {MBS_MAX_DURATION:g} s of duration)"),
         ("`--initial` angles / rates", f"{ANGLE_RANGE_DEG[0]:g} to {ANGLE_RANGE_DEG[1]:g} deg / "
                                        f"{RATE_RANGE_DEG_S[0]:g} to {RATE_RANGE_DEG_S[1]:g} deg/s"),
-        ("`--range LO HI`", f"inside the physical range of the parameter (pressures {p_lo:g}-{p_hi:g} bar), LO < HI"),
+        ("`--brake-slip SLIP[,SLIP]`", f"{BRAKE_SLIP_RANGE[0]:g}-{BRAKE_SLIP_RANGE[1]:g} per wheel (0 free rolling, "
+                                       f"1 locked)"),
+        ("`--brake-force N[,N]`", f"{BRAKE_FORCE_RANGE_N[0]:g}-{BRAKE_FORCE_RANGE_N[1]:g} N per wheel, and below the "
+                                  f"tyre's peak brake force at its pressure"),
+        ("`--range LO HI`", f"inside the physical range of the parameter (pressures {p_lo:g}-{p_hi:g} bar, brake slip "
+                            f"{BRAKE_SLIP_RANGE[0]:g}-{BRAKE_SLIP_RANGE[1]:g}), LO < HI"),
         ("`simulate` work", f"the fastest oscillation of the axle times the duration must stay below {MAX_CYCLES:g} "
                             f"periods (a stiff tie rod on a light wheel oscillates at kHz; the integrators must "
                             f"resolve every period)"),

@@ -84,8 +84,10 @@ def start_at_hopf(family: Family, hopf: HopfPoint, settings: CycleSettings = Cyc
     p1, z, q = hopf_predictor(family, hopf, settings.start_amplitude, scales)
     mesh = col.uniform_mesh(settings.intervals)
 
+    x0 = family.equilibrium(hopf.p, hopf.q)
+
     def harmonic(tau):
-        return 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
+        return x0[None, :] + 2.0 * (z * q[None, :] * np.exp(2j * np.pi * tau)[:, None]).real
 
     guess = col.orbit_from_function(harmonic, period, mesh, settings.degree)
     problem = CycleProblem(family, family.primary, hopf.p, hopf.q, guess, scales, family.primary_scale,

@@ -178,6 +178,14 @@ class Orbit:
         Xc = np.einsum("ki,jin->jkn", sch.L, self.interval_values())
         return np.einsum("j,k,jkn->n", self.widths, sch.weights, Xc ** 2)
 
+    def variance(self) -> np.ndarray:
+        """Time averages of (x_i - mean x_i)^2 by Gauss quadrature: the size of an orbit about an equilibrium
+        off x = 0."""
+        sch = scheme(self.degree)
+        Xc = np.einsum("ki,jin->jkn", sch.L, self.interval_values())
+        mean = np.einsum("j,k,jkn->n", self.widths, sch.weights, Xc)
+        return np.einsum("j,k,jkn->n", self.widths, sch.weights, (Xc - mean) ** 2)
+
 
 def uniform_mesh(n_intervals: int) -> np.ndarray:
     return np.linspace(0.0, 1.0, n_intervals + 1)

@@ -333,8 +333,11 @@ class CycleProblem:
         return int(min(max(N, st.min_intervals), st.max_intervals))
 
     def scaled_rms(self, u: np.ndarray) -> float:
-        """Size of the orbit in the weighted norm (zero at a Hopf point)."""
-        return float(np.sqrt(np.sum(self.orbit_of(u).mean_square() / self.scales ** 2)))
+        """Size of the orbit in the weighted norm (zero at a Hopf point): about x = 0, or about its mean for a family
+        whose equilibrium lies off x = 0 (``origin_equilibrium`` False)."""
+        orbit = self.orbit_of(u)
+        size = orbit.mean_square() if getattr(self.family, "origin_equilibrium", True) else orbit.variance()
+        return float(np.sqrt(np.sum(size / self.scales ** 2)))
 
     # --- between steps -------------------------------------------------------------------------------
     def renormalize(self, u: np.ndarray, tangent: np.ndarray | None, steps_since_adapt: int):

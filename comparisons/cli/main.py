@@ -261,10 +261,12 @@ def check_output_options(args: argparse.Namespace) -> None:
 
 def parse_command(argv: list[str] | None, parser: argparse.ArgumentParser | None = None) -> argparse.Namespace:
     """The parsed command line, completed with its typed values: ``tyre_pressures`` (the one typed pressure of the
-    command, from here to the tyre formula).  The only place a Namespace is written."""
-    from comparisons.cli.options import pressures_of
+    command, from here to the tyre formula) and ``braking`` (the one typed braking).  The only place a Namespace is
+    written."""
+    from comparisons.cli.options import braking_of, pressures_of
     args = (parser or build_parser()).parse_args(argv)
     args.tyre_pressures = pressures_of(args)
+    args.braking = braking_of(args)
     return args
 
 

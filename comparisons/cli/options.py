@@ -15,9 +15,10 @@ from axles.axle import interface_text
 from axles.parameters import ParameterError
 
 # Second parameters of two-parameter diagrams: pressures and the four tyre properties.
-SECOND_PARAMETERS = ("pressure", "pressure_left", "pressure_right", "a0", "t0", "sigma0", "k5_0")
+SECOND_PARAMETERS = ("pressure", "pressure_left", "pressure_right", "a0", "t0", "sigma0", "k5_0", "brake_slip")
 from axles.limits import PRESSURE_RANGE_BAR, SPEED_RANGE_KMH, UsageError
 from axles.pressures import PRESSURE_PARAMS
+from axles.braking import BRAKE_PARAMS
 
 
 def parse_number(text: str, what: str, lo: float, hi: float, unit: str, lo_open: bool = False) -> float:
@@ -74,6 +75,9 @@ def check_window(lo: float, hi: float, name: str, unit: str) -> None:
     """A second-parameter window (``--range LO HI``, interface units) inside the parameter's physical range."""
     if name in PRESSURE_PARAMS:
         a, b = PRESSURE_RANGE_BAR
+    elif name in BRAKE_PARAMS:
+        from axles.limits import BRAKE_SLIP_RANGE
+        a, b = BRAKE_SLIP_RANGE
     else:
         from axles.axle import entry
         a, b = entry(name).range
@@ -147,6 +151,57 @@ def pressures_of(args: argparse.Namespace):
         raise UsageError(interface_text(exc)) from None
 
 
+def add_braking_options(p: argparse.ArgumentParser) -> None:
+    """``--brake-slip`` / ``--brake-force``: a steady braking of the front wheels (both models)."""
+    from axles.limits import BRAKE_FORCE_RANGE_N, BRAKE_SLIP_RANGE
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--brake-slip", metavar="SLIP[,SLIP]", default=None,
+                       help=f"steady brake slip of both wheels, or right,left (0 free rolling, 1 locked; within "
+                            f"[{BRAKE_SLIP_RANGE[0]:g}, {BRAKE_SLIP_RANGE[1]:g}]); MF 6.1 combined slip")
+    group.add_argument("--brake-force", metavar="N[,N]", default=None,
+                       help=f"steady brake force of both wheels, or right,left, N rearward (within "
+                            f"[{BRAKE_FORCE_RANGE_N[0]:g}, {BRAKE_FORCE_RANGE_N[1]:g}] N and the tyre's grip)")
+
+
+def braking_of(args: argparse.Namespace):
+    """The braking of ``--brake-slip``/``--brake-force``: a :class:`~axles.braking.Braking`, made here and only
+    here for the command line (its range checked once, here); free rolling without them, None for a command
+    without braking options.  The parser module stores it as ``args.braking``."""
+    if not hasattr(args, "brake_slip"):
+        return None
+    from axles.braking import FREE_ROLLING, Braking
+    text, option = ((args.brake_slip, "--brake-slip") if args.brake_slip is not None
+                    else (args.brake_force, "--brake-force"))
+    if text is None:
+        return FREE_ROLLING
+    items = [t.strip() for t in text.split(",")]
+    if len(items) not in (1, 2) or not all(items):
+        raise UsageError(f"{option} takes one value or right,left, got '{text}'")
+    values = []
+    for item in items:
+        try:
+            values.append(float(item))
+        except ValueError:
+            raise UsageError(f"{option} must be a number (or right,left), got '{item}'") from None
+    right, left = (values[0], values[0]) if len(values) == 1 else values
+    try:
+        return Braking.of_slip(right, left) if option == "--brake-slip" else Braking.of_force(right, left)
+    except ParameterError as exc:
+        raise UsageError(f"{option}: {exc}") from None
+
+
+def braking_json(args: argparse.Namespace) -> dict:
+    """The ``"braking"`` field of a JSON output, only under braking (free rolling: nothing, as before braking)."""
+    braking = getattr(args, "braking", None)
+    return {"braking": braking.describe()} if braking is not None and braking.active else {}
+
+
+def braking_label(args: argparse.Namespace) -> str:
+    """', brake slip 0.05' for text headers under braking, '' free rolling."""
+    braking = getattr(args, "braking", None)
+    return f", {braking}" if braking is not None and braking.active else ""
+
+
 def pressures_json(args: argparse.Namespace) -> dict:
     """The pressure fields of every JSON output: left and right always, ``pressure_bar`` when they are equal."""
     p = args.tyre_pressures
@@ -203,6 +258,7 @@ def inputs_json(args: argparse.Namespace) -> dict:
         out.update(pressures_json(args))
     if hasattr(args, "effects"):
         out["effects"] = list(Effects.parse(args.effects).names)
+    out.update(braking_json(args))
     return out
 
 
@@ -247,9 +303,23 @@ def chosen_model(args: argparse.Namespace):
     return reduced if fidelity is None else reduced.axle.mbs(fidelity, effects=reduced.effects)
 
 
+def build_model_family(args: argparse.Namespace, param: str = "pressure"):
+    """The API's family (:class:`comparisons.api.ModelFamily`) of the chosen model (reduced or MBS) over ``param``,
+    at the operating pressures and braking."""
+    from axles.braking import FREE_ROLLING
+    braking = getattr(args, "braking", None) or FREE_ROLLING
+    try:
+        family = chosen_model(args).family(args.tyre_pressures, param, braking)
+        if braking.active or param in BRAKE_PARAMS:
+            family.problem.validate(family.q)   # a brake force beyond the tyre's grip, no steady state
+    except ParameterError as exc:
+        raise UsageError(interface_text(exc)) from None
+    return family
+
+
 def build_family(args: argparse.Namespace, param: str = "pressure"):
-    """The toolkit's speed family of the chosen model (reduced or MBS) over ``param``, at the operating pressures."""
-    return chosen_model(args).family(args.tyre_pressures, param).problem
+    """The toolkit's speed family of the chosen model over ``param`` (:func:`build_model_family`)."""
+    return build_model_family(args, param).problem
 
 
 def add_output_options(p: argparse.ArgumentParser, plot: bool = False) -> None:

@@ -29,6 +29,7 @@ from mbs_shimmy.model import MbsModel
 from bifurcation.equilibria.hopf import HopfPoint, find_hopf_points
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import ShimmyParameters
+from axles.braking import Braking
 from axles.pressures import TyrePressures
 from comparisons.api import family_of
 
@@ -111,6 +112,15 @@ def match_hopf(reduced: Sequence[HopfPoint], mbs: Sequence[HopfPoint]) -> tuple[
     return tuple(sorted(out, key=lambda h: h.reduced_speed if h.reduced_speed is not None else h.mbs_speed))
 
 
+NO_SLIP = "no_longitudinal_slip"
+
+
+def braking_row_name(braking: Braking) -> str:
+    """'no_longitudinal_slip (brake slip 0.05)': the row of the paper's assumption of free-rolling wheels, dropped
+    at one braking level."""
+    return f"{NO_SLIP} ({braking})"
+
+
 def study_fidelities() -> list[tuple[str, Fidelity]]:
     """Each assumption of the paper off alone, then all off (``full``), then ``full`` with one of the new
     geometric elements taken out again (that element's assumption on): the element's row compares that with
@@ -124,12 +134,15 @@ def study_fidelities() -> list[tuple[str, Fidelity]]:
 def assumption_study(params: ShimmyParameters, effects: Effects, pressures: TyrePressures, *,
                      dims: AxleDimensions = DEFAULT_DIMENSIONS, vmax: float = VMAX, cycles: bool = True,
                      only: Sequence[str] | None = None,
-                     progress: Callable[[int, int, str], None] | None = None) -> AssumptionStudy:
+                     progress: Callable[[int, int, str], None] | None = None,
+                     brakings: Sequence[Braking] = ()) -> AssumptionStudy:
     """The shifts table at the tyres' ``pressures`` over speeds up to ``vmax`` (m/s).
 
     ``cycles=False`` skips the continuation of cycles (peaks None).  ``only``: the names of the rows wanted (an
     element's row brings ``full`` with it, whose peak it needs).  ``progress(done, total, name)`` after each row
-    (the reduced model's continuation counts as one)."""
+    (the reduced model's continuation counts as one).  ``brakings``: one row per braking level for the paper's
+    assumption of no longitudinal slip (:func:`braking_row_name`): the reduced model free rolling (reference side)
+    against the reduced model under that braking, from its steady state (other side)."""
     names = [n for n, _ in study_fidelities()]
     wanted = set(names if only is None else only)
     unknown = wanted - set(names)
@@ -138,7 +151,7 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressures: Tyre
     if wanted & ELEMENTS:
         wanted.add("full")
     fidelities = [(n, f) for n, f in study_fidelities() if n in wanted]
-    total = len(fidelities) + (1 if cycles else 0)
+    total = len(fidelities) + len(brakings) + (1 if cycles else 0)
     done = 0
     model = ShimmyModel(params, effects)
     family = family_of(model, pressures)
@@ -173,6 +186,19 @@ def assumption_study(params: ShimmyParameters, effects: Effects, pressures: Tyre
         done += 1
         if progress is not None:
             progress(done, total, name)
-    rows = [r for r in rows if only is None or r.assumption in only]
+    for braking in brakings:
+        start = time.perf_counter()
+        braked = family_of(model, pressures, "pressure", braking)
+        if cycles:
+            braked_peak, braked_diagram = continued_peak(braked, q, 0.0, vmax)
+            points = braked_diagram.hopf
+        else:
+            braked_peak, points = None, find_hopf_points(braked, q, 0.0, vmax, lyapunov=False)
+        rows.append(AssumptionRow(braking_row_name(braking), match_hopf(reduced, points), braked_peak, peak,
+                                  time.perf_counter() - start))
+        done += 1
+        if progress is not None:
+            progress(done, total, rows[-1].assumption)
+    rows = [r for r in rows if only is None or r.assumption in only or r.assumption.startswith(NO_SLIP)]
     return AssumptionStudy(q, effects.names, tuple(h.p for h in reduced), peak, tuple(rows))
 

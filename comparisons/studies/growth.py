@@ -41,7 +41,8 @@ def envelope_rate(family: MbsFamily, speed: float, duration: float = DURATION,
                   near: complex | None = None) -> EnvelopeRate:
     """The envelope rate of a small oscillation started along a mode at ``speed`` (m/s), at the family's own
     operating point, against Re of its eigenvalue: the critical one (largest real part), or with ``near`` the
-    eigenvalue closest to it (e.g. i omega of a Hopf point, whose mode another unstable one must not hide)."""
+    eigenvalue closest to it (e.g. i omega of a Hopf point, whose mode another unstable one must not hide).  Under
+    the family's braking the run starts at the braked steady state x* plus the mode, and z = w^H (x - x*)."""
     A = family.linear_matrix(speed, family.nominal)
     lam, right = np.linalg.eig(A)
     k = int(np.argmax(lam.real)) if near is None else int(np.argmin(np.abs(lam - near)))
@@ -49,10 +50,11 @@ def envelope_rate(family: MbsFamily, speed: float, duration: float = DURATION,
     w = left[:, int(np.argmin(np.abs(lam_left - lam[k])))]
     v = right[:, k] / np.max(np.abs(right[:, k]))
     m = family.model
+    steady = family.equilibrium(speed, family.nominal)
     traj = integrate(m.params, m.effects, m.fidelity, family.pressures, SpeedSchedule.constant(speed),
-                    AMPLITUDE * v.real, duration, dims=m.dims, poses=False)
+                     steady + AMPLITUDE * v.real, duration, dims=m.dims, poses=False, braking=family.braking)
     if not traj.complete:
         return EnvelopeRate(speed, float("nan"), float(lam[k].real), False)
-    z = np.abs(extended_states(traj) @ w)
+    z = np.abs((extended_states(traj) - steady) @ w)
     slope = np.polyfit(traj.t, np.log(z), 1)[0]
     return EnvelopeRate(speed, float(slope), float(lam[k].real), True)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from axles.axle import AxleData
+from axles.braking import Braking
 from comparisons.verify.background import Background
 from comparisons.verify.plan import VMAX, Plan
 from comparisons.verify.report import CheckStatus
@@ -30,6 +31,7 @@ class Context:
     recordings: bool = True
     progress: Callable[[str], None] = field(default=lambda message: None, compare=False)
     background: Background | None = field(default=None, compare=False)   # jobs started early, collected later
+    braking: Braking | None = None    # verify --brake-slip/--brake-force: the "Under braking" section's level
 
 
 def printed_decimals(value: float) -> int:

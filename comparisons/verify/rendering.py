@@ -130,7 +130,8 @@ figure { margin: 1em 0; } figure img { max-width: 100%; border: 1px solid #ddd; 
 
 # Columns of sentences: a minimum width keeps them readable in a wide table (one word per line made a row about
 # 12 lines tall); the table scrolls inside its own box instead of running off the page.
-TEXT_COLUMNS = frozenset({"reason", "what", "kind", "quantity", "hopf_shifts_kmh", "error", "point"})
+TEXT_COLUMNS = frozenset({"reason", "what", "kind", "quantity", "hopf_shifts_kmh", "error", "point", "braking",
+                          "steady_state_deg"})
 
 
 def _width_class(key: str) -> str:

@@ -38,6 +38,8 @@ def sections_for(ctx: Context) -> list[tuple[str, Callable[[Context], Section]]]
     from comparisons.verify.full_geometry import full_geometry_section
     steps.append(("Full geometry", full_geometry_section))
     steps.append(("Assumptions", assumptions_section))
+    from comparisons.verify.braking import braking_section
+    steps.append(("Under braking", braking_section))
     from comparisons.verify.robustness import robustness_section
     steps.append(("Robustness", robustness_section))
     return steps
@@ -81,11 +83,12 @@ def run_sections(ctx: Context, announce: Callable[[list[str]], None] | None = No
 def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymmetric: tuple[float, float] | None = None,
                      from_file: bool = False, recordings: bool = True,
                      progress: Callable[[str], None] | None = None,
-                     announce: Callable[[list[str]], None] | None = None) -> Report:
+                     announce: Callable[[list[str]], None] | None = None, braking=None) -> Report:
     """Plan, then run every section; a section that raises is reported as a FAIL row with its error.
 
     ``progress(message)`` is called as each step starts (and with "done: ..." as it ends); ``announce(titles)``
-    with the sections' titles once the plan is made (a progress bar's total)."""
+    with the sections' titles once the plan is made (a progress bar's total); ``braking``
+    (:class:`~axles.braking.Braking`) replaces the "Under braking" section's planned levels."""
     from comparisons.verify.verdict import verdict_of
     progress = progress or (lambda message: None)
     axle = axle or AxleData()
@@ -98,7 +101,7 @@ def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymme
     verdict = verdict_of(plan)
     with Background() as background:   # jobs that overlap the sections on a second core
         ctx = Context(out=out, quick=quick, axle=axle, plan=plan, recordings=recordings, progress=progress,
-                      background=background)
+                      background=background, braking=braking)
         start_jump_runs(ctx)
         start_other_axles(ctx)
         sections = run_sections(ctx, announce)

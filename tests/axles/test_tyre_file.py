@@ -82,7 +82,11 @@ def test_example_tyre_values_and_what_it_lacks():
     assert (p.c_y0, p.a0, p.t0, p.sigma0) == (YANG2024.c_y0, YANG2024.a0, YANG2024.t0, YANG2024.sigma0)
     assert set(tyre.zeros) == {"p_ey3", "p_epy1", "p_epy2", "p_epey1"} and p.p_epy1 == 0.0
     # keys neither model uses are listed, PFZ1 is found in the source's [LOADED_RADIUS_COEFFICIENTS]
-    assert "[LATERAL_COEFFICIENTS] PEY3" in tyre.unused and "[LONGITUDINAL_COEFFICIENTS] RBX1" in tyre.unused
+    assert "[LATERAL_COEFFICIENTS] PEY3" in tyre.unused and "[LONGITUDINAL_COEFFICIENTS] PHX1" in tyre.unused
+    # the longitudinal and combined-slip coefficients are read (braking), their shifts and camber terms are not
+    assert (p.p_cx1, p.p_kx1, p.r_bx1, p.r_hx1, p.r_by3, p.r_vy6) == (1.579, 21.687, 13.046, -9.968e-5, 0.002037, 23.8)
+    assert not any(u.endswith((" RBX1", " RBY1", " RVY1", " PCX1")) for u in tyre.unused)
+    assert "[LATERAL_COEFFICIENTS] RVY3" in tyre.unused and "[LONGITUDINAL_COEFFICIENTS] RBX3" in tyre.unused
     assert not any(u.endswith(" PFZ1") or u.endswith(" PKY4") for u in tyre.unused)
 
 
@@ -178,7 +182,7 @@ def test_params_lists_the_tyre_and_writes_an_axle_file(tmp_path, run):
     toml = tmp_path / "mytruck.toml"
     code, out, _ = run("params", "--tyre", EXAMPLE_TIR, "--write", toml)
     assert code == 0 and "not in the file, kept from the axle: c_y0, p_cy1_rl, a0, t0, sigma0" in out
-    assert "[LONGITUDINAL_COEFFICIENTS] PCX1, PDX1" in out and "trail 0.0417566 m (t0 = 0.07 m)" in out
+    assert "[LONGITUDINAL_COEFFICIENTS] PDX3, PHX1" in out and "trail 0.0417566 m (t0 = 0.07 m)" in out
     from axles.axle_file import read_axle
     assert read_axle(str(toml)).params == apply_tyre(paper_axle(), read_tir(str(EXAMPLE_TIR))).params
     code, out, _ = run("params", "--tyre", EXAMPLE_TIR, "--json")

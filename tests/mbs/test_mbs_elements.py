@@ -191,9 +191,9 @@ def _slip_with_one_term(keep):
     """TyreElement.linear whose slip rate has only one of the two terms slip_heading_only leaves out."""
     original = tyre_element.TyreElement.linear
 
-    def linear(self, psi, theta, psi_d, theta_d, alpha, speed, record=False):
+    def linear(self, psi, theta, psi_d, theta_d, alpha, speed, record=False, braked=True):
         self.heading_only = True
-        r = list(original(self, psi, theta, psi_d, theta_d, alpha, speed, record))
+        r = list(original(self, psi, theta, psi_d, theta_d, alpha, speed, record, braked))
         r[2] += {"roll": self.R * psi_d, "trail": -self.gamma * self.R * theta_d}[keep] / self.sigma
         return tuple(r)
     return linear

@@ -112,10 +112,10 @@ def test_divergence_is_reported_with_time_and_state():
 def test_solver_failure_keeps_partial_trajectory(monkeypatch):
     original = forces_module.AxleForces.evaluate
 
-    def failing(self, t, q, qd, states=None):
+    def failing(self, t, q, qd, states=None, **options):
         if t > 0.05:
             raise FloatingPointError("tyre force not finite")
-        return original(self, t, q, qd, states)
+        return original(self, t, q, qd, states, **options)
 
     monkeypatch.setattr(forces_module.AxleForces, "evaluate", failing)
     traj = integrate(duration=0.2, poses=False)

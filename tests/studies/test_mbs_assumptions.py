@@ -133,8 +133,13 @@ def test_cli_json(capsys):
     assert main(["assumptions", "--pressure", "2.5", "--no-cycles", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["pressure_bar"] == 2.5
-    assert [r["assumption"] for r in out["rows"]][-1] == study_fidelities()[-1][0]
-    assert "full" in [r["assumption"] for r in out["rows"]]
+    names = [r["assumption"] for r in out["rows"]]
+    # the fidelity rows, then the paper's no-longitudinal-slip assumption dropped at the two planned braking levels
+    assert names[-3] == study_fidelities()[-1][0] and "full" in names
+    assert names[-2:] == ["no_longitudinal_slip (brake slip 0.05)",
+                          "no_longitudinal_slip (brake slip right 0.05 / left 0)"]
+    braked = out["rows"][-2]["hopf"]
+    assert braked[0]["reduced_kmh"] == pytest.approx(46.143, abs=1e-3) and braked[0]["shift_kmh"] < -5.0
     for row in out["rows"]:
         assert set(row) == {"assumption", "hopf", "peak_theta1_shift_deg", "mbs_peak", "reference_peak"}
         assert row["mbs_peak"] is row["reference_peak"] is row["peak_theta1_shift_deg"] is None

@@ -7,6 +7,7 @@ import argparse
 from comparisons import assumption_shifts as shifts
 from axles.units import KMH, kmh
 from comparisons.cli.options import (
+    add_braking_options,
     add_model_options,
     add_output_options,
     add_speed_window,
@@ -18,7 +19,8 @@ from comparisons.cli.options import (
 )
 from comparisons.cli.progress import StepProgress
 from mbs_shimmy import assumptions_table
-from comparisons.studies.assumption_study import assumption_study, study_fidelities
+from axles.braking import PLANNED_BRAKINGS
+from comparisons.studies.assumption_study import NO_SLIP, assumption_study, study_fidelities
 
 
 def add_parser(sub) -> None:
@@ -26,6 +28,7 @@ def add_parser(sub) -> None:
                                            "assumption of the reduced model is dropped, and what each geometric "
                                            "element of the full axle adds (multibody model)")
     add_model_options(p)
+    add_braking_options(p)
     add_speed_window(p)
     p.add_argument("--no-cycles", action="store_true",
                    help="skip the limit cycles (a continuation of every cycle branch of each row's model, about "
@@ -45,11 +48,13 @@ def _fmt(value: float | None, spec: str) -> str:
 def run(args: argparse.Namespace) -> int:
     model = build_model(args)
     cycles = not args.no_cycles
-    rows = len(study_fidelities()) + (1 if cycles else 0)
+    # the paper's assumption of no longitudinal slip, dropped at the command's braking or the planned levels
+    brakings = (args.braking,) if args.braking.active else PLANNED_BRAKINGS
+    rows = len(study_fidelities()) + len(brakings) + (1 if cycles else 0)
     # one line per row on stderr (a bar on a terminal): the continuation takes 10-30 s a row
     with StepProgress(total=rows, job="assumptions") as bar:
         study = assumption_study(model.params, model.effects, args.tyre_pressures, dims=build_axle(args).dims,
-                                 vmax=args.vmax * KMH, cycles=cycles, progress=bar)
+                                 vmax=args.vmax * KMH, cycles=cycles, progress=bar, brakings=brakings)
     if args.json:
         out = shifts.study_json(study)
         del out["pressure_bar"], out["effects"]
@@ -66,7 +71,11 @@ def run(args: argparse.Namespace) -> int:
     summary = {r.name: r.summary for r in assumptions_table().rows}
     elements = {r.name for r in assumptions_table().rows if r.element}
     for row in study.rows:
-        if row.assumption in elements:
+        if row.assumption.startswith(NO_SLIP):
+            print(f"\n{row.assumption}: the paper's free-rolling wheels (reduced model) -> braking (reduced model, "
+                  f"MF 6.1 combined slip, from the braked steady state)")
+            sides = ("free rolling", "braking")
+        elif row.assumption in elements:
             # a new element: full geometry without it (left) -> full geometry (right)
             print(f"\n{row.assumption} (full geometry without -> with the element): {summary[row.assumption]}")
             sides = ("without", "with")

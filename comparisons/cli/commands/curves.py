@@ -11,7 +11,9 @@ from axles.units import KMH, kmh
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
     add_model_choice,
+    add_braking_options,
     add_model_options,
+    braking_label,
     add_output_options,
     add_speed_window,
     build_axle,
@@ -36,6 +38,7 @@ def add_parser(sub) -> None:
     p.add_argument("--range", required=True, nargs=2, type=float, metavar=("LO", "HI"),
                    help="parameter window (bar for pressures, otherwise the units of 'shimmy params')")
     add_model_options(p, pressure_required=False)
+    add_braking_options(p)
     add_model_choice(p)
     add_speed_window(p)
     add_output_options(p, plot=True)
@@ -90,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
               f"[{kmh(diagram.p_min):g}, {args.vmax:g}] km/h"
-              + ("" if args.param == "pressure" else f", at {pressure_label(args)}")
+              + ("" if args.param == "pressure" else f", at {pressure_label(args)}") + braking_label(args)
               + (f" (MBS, fidelity {family.model.fidelity.label})" if args.model == "mbs" else ""))
         print(f"  {build_axle(args).label()}")
         for i, c in enumerate(diagram.curves, 1):

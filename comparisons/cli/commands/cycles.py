@@ -14,7 +14,9 @@ from axles.units import KMH, interface_of, kmh, to_interface
 from comparisons.cli.options import (
     SECOND_PARAMETERS,
     add_model_choice,
+    add_braking_options,
     add_model_options,
+    braking_label,
     add_output_options,
     add_speed_window,
     build_axle,
@@ -75,6 +77,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("cycles", help="limit cycles (shimmy amplitudes) born at the Hopf points, with their "
                                       "folds, torus and period-doubling points")
     add_model_options(p)
+    add_braking_options(p)
     add_model_choice(p)
     add_speed_window(p, vmin=True)
     p.add_argument("--two-param", metavar="NAME", choices=TWO_PARAMS,
@@ -207,7 +210,7 @@ def _two_param_window(args: argparse.Namespace, model) -> tuple[str, float, floa
     lo, hi = args.range
     unit, factor = interface_unit(name)
     check_window(lo, hi, name, unit)
-    value = family_of(model, args.tyre_pressures, name).nominal
+    value = family_of(model, args.tyre_pressures, name, args.braking).nominal
     if not lo * factor <= value <= hi * factor:
         raise UsageError(f"--range {lo:g} {hi:g} {unit} must contain the current {name} = {value / factor:g} {unit}")
     return name, value, lo * factor, hi * factor
@@ -313,7 +316,8 @@ def run(args: argparse.Namespace) -> int:
             from comparisons.figures.cycle_plots import plot_cycle_diagram
             effects = ",".join(model.effects.names) or "section 3 tyre"
             plot_cycle_diagram(diagram, family, args.plot, kicks=found_kicks,
-                               title=f"Limit cycles at {pressure_label(args)} ({model_text(args, family)}, "
+                               title=f"Limit cycles at {pressure_label(args)}{braking_label(args)} "
+                                     f"({model_text(args, family)}, "
                                      f"{effects}); solid stable, dashed unstable")
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
     if args.json:
@@ -445,7 +449,7 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
     from comparisons.figures.cycle_plots import special_point_labels
 
     effects = ",".join(build_model(args).effects.names) or "none (section 3 model)"
-    print(f"Limit cycles at {pressure_label(args)}, {args.vmin:g}-{args.vmax:g} km/h ({model_text(args, family)}), "
+    print(f"Limit cycles at {pressure_label(args)}{braking_label(args)}, {args.vmin:g}-{args.vmax:g} km/h ({model_text(args, family)}), "
           f"pressure effects: {effects}")
     print(f"  {build_axle(args).label()}")
     if not diagram.hopf:

@@ -11,7 +11,14 @@ import time
 from axles.axle import interface_text
 from axles.limits import UsageError
 from axles.parameters import ParameterError
-from comparisons.cli.options import add_axle_option, add_output_options, build_axle, emit_json, positive_float
+from comparisons.cli.options import (
+    add_axle_option,
+    add_braking_options,
+    add_output_options,
+    build_axle,
+    emit_json,
+    positive_float,
+)
 from comparisons.cli.progress import StepProgress
 from comparisons.files import OutputPathError, prepare_folder
 from comparisons.verify.rendering import markdown_table, write_report
@@ -36,6 +43,7 @@ def add_parser(sub) -> None:
     p.add_argument("--pressure-right", type=positive_float("--pressure-right"), metavar="BAR",
                    help="right tyre (wheel 1) pressure of the asymmetric case, bar")
     p.add_argument("--no-recordings", action="store_true", help="write no Rerun recordings")
+    add_braking_options(p)
     add_output_options(p)
     p.set_defaults(run=run)
 
@@ -64,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         report = run_verification(args.out, args.quick, axle=axle, asymmetric=asymmetric,
                                   from_file=args.axle is not None or bool(args.overrides),
                                   recordings=not args.no_recordings, progress=progress,
-                                  announce=progress.set_steps)
+                                  announce=progress.set_steps, braking=args.braking)
     command = "shimmy " + " ".join(shlex.quote(a) for a in args.argv)
     report = dataclasses.replace(report, metadata=run_metadata(args.quick, axle, time.perf_counter() - start,
                                                                command))

@@ -1,0 +1,149 @@
+"""The MF 6.1 longitudinal and combined-slip forces (reduced_model.tyre) against a second, independent evaluation of
+the published equations (Pacejka, Tire and Vehicle Dynamics, 3rd ed., 2012, (4.E9)-(4.E18), (4.E19)-(4.E30) and
+(4.E50)-(4.E67)) written out below from the raw numbers of the MF 6.1 example file, in ISO signs (PKY1 negative), and
+their limits.
+
+The second method shares no code with the models: it parses the .tir file with a few lines of its own, keeps MF
+6.1's own names and signs, and applies the equations term by term.  It makes the same modelling decisions the models
+state (docs/numerics.md, "Braking"): zero camber, no pure-slip shifts S_Hx, S_Vx, S_Hy, S_Vy, no E_y asymmetry PEY3,
+and the paper's E_y and df_z = (F_z - F_z0)/F_z (at F_z = F_z0, the first load checked, it is MF 6.1's too).
+"""
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from axles.axle import paper_axle
+from axles.parameters import YANG2024
+from axles.tyre_file import apply_tyre, read_tir
+from reduced_model import tyre
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "data" / "mf61-205-60R15-example.tir"
+
+
+def raw_coefficients(path: Path) -> dict[str, float]:
+    """KEY = number lines of a .tir file, every section (the example's keys are unique across sections)."""
+    out = {}
+    for line in path.read_text().splitlines():
+        m = re.match(r"^\s*([A-Z][A-Z0-9_]*)\s*=\s*([-+0-9.eE]+)", line)
+        if m:
+            out[m.group(1)] = float(m.group(2))
+    return out
+
+
+def published(c: dict, Fz: float, p: float, alpha: float, kappa: float, mirrored: bool = False):
+    """(F_x, F_y) of MF 6.1 at zero camber, term by term, in ISO signs."""
+    Fz0, pi0 = c["FNOMIN"], c["NOMPRES"]
+    dfz = (Fz - Fz0) / Fz            # the paper's load increment (as the models; MF 6.1's at Fz = Fz0)
+    dpi = (p - pi0) / pi0
+    sgn = -1.0 if mirrored else 1.0
+    # pure longitudinal (4.E9)-(4.E16), S_Hx = S_Vx = 0
+    Cx = c["PCX1"]
+    mux = (c["PDX1"] + c["PDX2"] * dfz) * (1 + c["PPX3"] * dpi + c["PPX4"] * dpi ** 2)
+    Dx = mux * Fz
+    Ex = (c["PEX1"] + c["PEX2"] * dfz + c["PEX3"] * dfz ** 2) * (1 - c["PEX4"] * np.sign(kappa))
+    Kx = Fz * (c["PKX1"] + c["PKX2"] * dfz) * math.exp(c["PKX3"] * dfz) * (1 + c["PPX1"] * dpi + c["PPX2"] * dpi ** 2)
+    Bx = Kx / (Cx * Dx)
+    Fx0 = Dx * math.sin(Cx * math.atan(Bx * kappa - Ex * (Bx * kappa - math.atan(Bx * kappa))))
+    # pure lateral (4.E19)-(4.E30) at zero camber, S_Hy = S_Vy = 0, E_y without PEY3
+    Cy = c["PCY1"]
+    muy = (c["PDY1"] + c["PDY2"] * dfz) * (1 + c["PPY3"] * dpi + c["PPY4"] * dpi ** 2)
+    Dy = muy * Fz
+    Ey = c["PEY1"] + c["PEY2"] * dfz
+    Ky = (c["PKY1"] * Fz0 * (1 + c["PPY1"] * dpi)
+          * math.sin(c["PKY4"] * math.atan(Fz / (c["PKY2"] * Fz0 * (1 + c["PPY2"] * dpi)))))
+    By = Ky / (Cy * Dy)
+    Fy0 = Dy * math.sin(Cy * math.atan(By * alpha - Ey * (By * alpha - math.atan(By * alpha))))
+    # combined (4.E50)-(4.E57)
+    Bxa = c["RBX1"] * math.cos(math.atan(c["RBX2"] * kappa))
+    Cxa, Exa, SHxa = c["RCX1"], c["REX1"] + c["REX2"] * dfz, sgn * c["RHX1"]
+    aS = alpha + SHxa
+    Gxa = (math.cos(Cxa * math.atan(Bxa * aS - Exa * (Bxa * aS - math.atan(Bxa * aS))))
+           / math.cos(Cxa * math.atan(Bxa * SHxa - Exa * (Bxa * SHxa - math.atan(Bxa * SHxa)))))
+    # (4.E58)-(4.E67)
+    Byk = c["RBY1"] * math.cos(math.atan(c["RBY2"] * (alpha - sgn * c["RBY3"])))
+    Cyk, Eyk, SHyk = c["RCY1"], c["REY1"] + c["REY2"] * dfz, c["RHY1"] + c["RHY2"] * dfz
+    kS = kappa + SHyk
+    Gyk = (math.cos(Cyk * math.atan(Byk * kS - Eyk * (Byk * kS - math.atan(Byk * kS))))
+           / math.cos(Cyk * math.atan(Byk * SHyk - Eyk * (Byk * SHyk - math.atan(Byk * SHyk)))))
+    DVyk = muy * Fz * sgn * (c["RVY1"] + c["RVY2"] * dfz) * math.cos(math.atan(c["RVY4"] * alpha))
+    SVyk = DVyk * math.sin(c["RVY5"] * math.atan(c["RVY6"] * kappa))
+    return Gxa * Fx0, Gyk * Fy0 + SVyk, Fx0, Fy0
+
+
+def model_forces(params, p, alpha, kappa, mirrored=False):
+    cs = tyre.combined_slip(params, p, kappa, mirrored)
+    fy0 = float(tyre.lateral_force(params, alpha, p))
+    fx, fy = cs.forces(fy0, alpha)
+    return float(fx), float(fy), cs.Fx0, fy0
+
+
+@pytest.fixture(scope="module")
+def example():
+    return raw_coefficients(EXAMPLE), apply_tyre(paper_axle(), read_tir(str(EXAMPLE))).params
+
+
+@pytest.mark.parametrize("Fz", [4000.0, 5200.0])
+@pytest.mark.parametrize("mirrored", [False, True])
+def test_forces_match_the_published_equations(example, Fz, mirrored):
+    raw, params = example
+    params = params.replace(Fz=Fz)
+    worst = 0.0
+    for p in (1.5e5, 2e5, 2.6e5):
+        for alpha in (-0.2, -0.03, 0.0, 0.004, 0.05, 0.3):
+            for kappa in (-0.6, -0.1, -0.02, -1e-3, 0.0, 0.03):
+                want = published(raw, Fz, p, alpha, kappa, mirrored)
+                got = model_forces(params, p, alpha, kappa, mirrored)
+                for w, g in zip(want, got):
+                    worst = max(worst, abs(w - g) / max(1.0, abs(w)))
+    assert worst < 1e-12
+
+
+def test_no_longitudinal_slip_is_pure_slip_exactly(example):
+    """kappa = 0: F_y is F_y0 bit for bit (G_yk = 1, S_Vyk = 0) and F_x = 0."""
+    _, params = example
+    for alpha in np.linspace(-0.3, 0.3, 13):
+        fx, fy, _, fy0 = model_forces(params, 2e5, float(alpha), 0.0)
+        assert fy == fy0 and fx == 0.0
+
+
+def test_straight_running_gives_the_pure_longitudinal_force(example):
+    """alpha = 0: G_xa = 1 exactly, F_x = F_x0(kappa)."""
+    _, params = example
+    for kappa in (-0.5, -0.05, -0.01):
+        fx, _, fx0, _ = model_forces(params, 2e5, 0.0, kappa)
+        assert fx == fx0
+
+
+def test_without_r_coefficients_the_model_is_pure_slip():
+    """A tyre without the R coefficients (all 0, as a file without them is read): F_x = F_x0, F_y = F_y0."""
+    names = [n for n in YANG2024.names() if n.startswith("r_")]
+    params = YANG2024.replace(**{n: 0.0 for n in names})
+    for alpha, kappa in ((0.05, -0.1), (-0.1, -0.3)):
+        fx, fy, fx0, fy0 = model_forces(params, 2.5e5, alpha, kappa)
+        assert fx == fx0 and fy == fy0
+
+
+def test_combined_slip_reduces_both_forces(example):
+    """The friction ellipse's qualitative content: braking lowers the cornering force and the cornering stiffness,
+    side slip lowers the brake force."""
+    _, params = example
+    fx_a, fy_a, fx0, fy0 = model_forces(params, 2e5, 0.05, -0.1)
+    assert abs(fy_a - tyre.combined_slip(params, 2e5, -0.1).weights(0.05)[2]) < abs(fy0)
+    assert abs(fx_a) < abs(fx0)
+    h = 1e-7
+    k_free = (model_forces(params, 2e5, h, 0.0)[1] - model_forces(params, 2e5, -h, 0.0)[1]) / (2 * h)
+    k_brake = (model_forces(params, 2e5, h, -0.1)[1] - model_forces(params, 2e5, -h, -0.1)[1]) / (2 * h)
+    assert abs(k_brake) < 0.8 * abs(k_free)
+
+
+def test_brake_force_inverts_the_longitudinal_force():
+    for p in (1.5e5, 2.5e5):
+        s = tyre.brake_slip_for_force(YANG2024, p, 3000.0)
+        assert abs(tyre.longitudinal_formula(YANG2024, p).force(-s) + 3000.0) < 1e-9
+        _, peak = tyre.peak_brake_slip(YANG2024, p)
+        with pytest.raises(Exception, match="beyond the tyre's grip"):
+            tyre.brake_slip_for_force(YANG2024, p, peak * 1.01)
