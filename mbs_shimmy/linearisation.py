@@ -72,11 +72,17 @@ def constant_speed(speed: float) -> Callable[[float], float]:
 
 
 class MbsEvaluator:
-    """First-order right-hand side of an assembled MBS at arbitrary states, through Exudyn's solver."""
+    """First-order right-hand side of an assembled MBS at arbitrary states, through Exudyn's solver; its
+    derivatives from the compiled twin (:mod:`mbs_shimmy.twin`) where it covers the system, else from differences
+    of that right-hand side."""
 
     def __init__(self, system: MbsSystem):
         self.system = system
         self.calls = 0          # right-hand-side evaluations, for the cost reports of the benchmarks
+        self.twin_jacobians = 0          # Jacobians from the twin, and from differences (which derivatives a
+        self.difference_jacobians = 0    # result used: MbsFamily.derivatives)
+        self._twin = None
+        self._twin_built = False
         self.m = system.layout.n_mech
         self.n = system.layout.n
         settings = exu.SimulationSettings()
@@ -98,6 +104,26 @@ class MbsEvaluator:
         acc = np.linalg.solve(M, f)
         return np.concatenate([y[self.m:2 * self.m], acc])
 
+    @property
+    def twin(self):
+        """The system's twin (built at the first use), or None where it does not cover the system."""
+        if not self._twin_built:
+            from mbs_shimmy.twin import twin_of     # CasADi's import only where derivatives are asked for
+            self._twin, self._twin_built = twin_of(self.system), True
+        return self._twin
+
+    def exact_jacobian(self, y: np.ndarray, speed: float, key: int = 0) -> tuple[np.ndarray, np.ndarray] | None:
+        """(df/dy, df/dV) from the twin at (y, speed), or None where it has none (no twin, a load outside the
+        load table); ``key``: the caller's node (:mod:`mbs_shimmy.twin`)."""
+        twin = self.twin
+        if twin is None:
+            return None
+        _, J, Jv, ok = twin.rhs_and_jacobian(np.asarray(y, dtype=float), speed, key)
+        if not ok:
+            return None
+        self.twin_jacobians += 1
+        return J, Jv
+
     def mass_matrix(self, y: np.ndarray) -> np.ndarray:
         """The mass matrix of the mechanical coordinates (tree order, :class:`~mbs_shimmy.system.Layout`)."""
         self.system.set_state(y)
@@ -107,6 +133,7 @@ class MbsEvaluator:
     def jacobian(self, y: np.ndarray, speed: float, step: float = FD_STEP) -> np.ndarray:
         """d y'/d y (MBS order) by fourth-order central differences (five-point stencil)."""
         y = np.asarray(y, dtype=float)
+        self.difference_jacobians += 1
         J = np.empty((self.n, self.n))
 
         def f(z):
@@ -123,6 +150,7 @@ class MbsEvaluator:
         Newton's convergence on a collocation system (the residual is exact) and moves Floquet multipliers by
         about that much; the linearisation about straight running keeps the five-point stencil."""
         y = np.asarray(y, dtype=float)
+        self.difference_jacobians += 1
         f = self.rhs(y, speed)
         J = np.empty((self.n, self.n))
         for j in range(self.n):
@@ -195,20 +223,55 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        """df/dx (extended order): the twin's, or Exudyn's five-point differences where the twin has none."""
         L = self.layout
-        J = self._at(q).jacobian(np.asarray(x, dtype=float)[L.x_to_y], speed)
+        ev = self._at(q)
+        y = np.asarray(x, dtype=float)[L.x_to_y]
+        exact = ev.exact_jacobian(y, speed)
+        J = exact[0] if exact is not None else ev.jacobian(y, speed)
         return J[np.ix_(L.y_to_x, L.y_to_x)]
 
     def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float) -> tuple[np.ndarray, np.ndarray]:
-        """f and df/dx at the states P (M, n) (extended order): what collocation needs, by
-        :meth:`MbsEvaluator.rhs_and_jacobian` at each state."""
+        """f and df/dx at the states P (M, n) (extended order): what collocation needs.  f is Exudyn's, one call
+        per state; df/dx the twin's (:meth:`MbsEvaluator.exact_jacobian`), or where it has none
+        :meth:`MbsEvaluator.rhs_and_jacobian`'s differences."""
         ev = self._at(q)
         L = self.layout
         f, J = np.empty(P.shape), np.empty(P.shape + (P.shape[1],))
         for k, x in enumerate(np.asarray(P, dtype=float)):
-            fy, Jy = ev.rhs_and_jacobian(x[L.x_to_y], speed)
+            y = x[L.x_to_y]
+            exact = ev.exact_jacobian(y, speed, key=k)
+            if exact is None:
+                fy, Jy = ev.rhs_and_jacobian(y, speed)
+            else:
+                fy, Jy = ev.rhs(y, speed), exact[0]
             f[k], J[k] = fy[L.y_to_x], Jy[np.ix_(L.y_to_x, L.y_to_x)]
         return f, J
+
+    def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
+        """df/d(free) at the states P (M, n): in the speed from the twin where it covers every state, else (and
+        in the second parameter, which rebuilds the model) by central differences of Exudyn's right-hand side."""
+        if free == self.primary:
+            ev = self._at(q)
+            L = self.layout
+            out = np.empty(np.shape(P))
+            for k, x in enumerate(np.asarray(P, dtype=float)):
+                exact = ev.exact_jacobian(x[L.x_to_y], p, key=k)
+                if exact is None:
+                    break
+                out[k] = exact[1][L.y_to_x]
+            else:
+                return out
+        return super().parameter_derivative(P, p, q, free, scale)
+
+    @property
+    def derivatives(self) -> str:
+        """Which derivatives the results so far used: ``"twin"`` (exact, :mod:`mbs_shimmy.twin`),
+        ``"differences"`` (of Exudyn's right-hand side) or ``"twin and differences"``."""
+        twin = sum(ev.twin_jacobians for ev in self._cache.values())
+        diff = sum(ev.difference_jacobians for ev in self._cache.values())
+        return {(True, False): "twin", (False, True): "differences", (True, True): "twin and differences"}.get(
+            (twin > 0, diff > 0), "none")
 
     @property
     def rhs_calls(self) -> int:

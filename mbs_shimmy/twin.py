@@ -1,0 +1,145 @@
+"""The differentiable twin of the multibody axle: Exudyn's equations of motion as a CasADi graph, for exact
+derivatives.
+
+Exudyn stays the model: every right-hand side a reported result rests on is Exudyn's.  The twin gives what
+differences of Exudyn's right-hand side gave before, at a fraction of the cost and to rounding: the Jacobian, the
+derivative in the speed and directional second derivatives.  It is generated from the assembled Exudyn system
+itself (:mod:`mbs_shimmy.twin_equations`: its kinematic trees, markers and connectors as Exudyn stores them, and
+the compiled user function's own generic text and constants), never typed from the model again;
+``tests/mbs/test_mbs_twin.py`` checks that its right-hand side equals Exudyn's to 1e-10 relative and its Jacobian
+Exudyn's differences.  CasADi builds the SX graph of the equations, differentiates it (Lagrange's equations from
+the kinetic energy, then the Jacobian) and evaluates it in its virtual machine; JAX was measured against it
+(``tools/twin_candidates.py``, numbers in the commit that chose CasADi): its compile time per axle was 12 s for
+the right-hand side alone, against 1-2 s here for everything, and every new parameter value is a new axle.
+
+The load table's interpolation reads four rows chosen by the load.  An SX graph has no lookup by a computed
+index, so the interval k of each wheel is an input, with its rows: the function also returns each wheel's table
+position x and whether x lies in the interval it was given; a call that guessed k wrong is repeated with k from x.
+The guess is the last k at the same node of the caller (``key``): in a continuation loads move little.
+
+Coverage: the exact kinematics at a steady speed (every fidelity with ``small_angles`` off).  The first-order
+kinematics (``small_angles``) run a Python user function with Exudyn's coordinate connectors and keep difference
+derivatives (:func:`twin_of` returns None); at a state whose load leaves the load table the twin says so
+(``ok`` False) and its caller uses differences there.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from mbs_shimmy import compiled_stage
+from mbs_shimmy.twin_equations import NotCovered, TwinData, applied_forces, kinetic_energy
+from mbs_shimmy.tyre_element import lagrange_weights
+
+OPS = (ca.sin, ca.cos, ca.atan, ca.sqrt, ca.asin, ca.if_else)
+
+
+class _WheelInput:
+    """The symbols that stand for one wheel's load-table interval: k and its four rows."""
+
+    def __init__(self, name: str, columns: int):
+        self.k = ca.SX.sym(f"k_{name}")
+        self.rows = ca.SX.sym(f"rows_{name}", 4, columns)
+        self.x = None
+
+
+def _lookup(table: _WheelInput, c, t: int, Fz):
+    x = (ca.log(Fz) - c[t + 1]) / c[t + 2]
+    table.x = x
+    k = table.k
+    ok = ca.logic_and(ca.logic_and(Fz > 0.0, x >= k + 1.0), x < k + 2.0)
+    w0, w1, w2, w3 = lagrange_weights(x - (k + 1.0))
+    r = table.rows
+    v = [r[0, j] * w0 + r[1, j] * w1 + r[2, j] * w2 + r[3, j] * w3 for j in range(r.shape[1])]
+    v[1] = v[1] * Fz
+    if c[t + 4] != 0.0:
+        v[4] = v[4] * Fz
+    return ok, v
+
+
+class Twin:
+    """Right-hand side, Jacobian and second derivatives of one assembled system (MBS state order); ``key`` names
+    the caller's node for the load-table guess (module docstring)."""
+
+    def __init__(self, data: TwinData):
+        self.data = data
+        m, n = data.m, data.m + 2
+        N = 2 * m + 2
+        c = data.constants
+        tables = np.asarray(data.tables)
+        self.tables = tables
+        self.table_sizes = [int(c[w + compiled_stage.TABLE + 3]) for w in compiled_stage.WHEELS]
+        self.load_dependent = [c[w + compiled_stage.TABLE] != 0.0 for w in compiled_stage.WHEELS]
+        y = ca.SX.sym("y", N)
+        V = ca.SX.sym("V")
+        wheels = (_WheelInput("1", tables.shape[2]), _WheelInput("2", tables.shape[2]))
+        q = [y[i] for i in range(m)] + [0.0, 0.0]
+        qd = [y[m + i] for i in range(n)]
+        qs, qds = ca.SX.sym("q", n), ca.SX.sym("qd", n)
+        T = kinetic_energy(data.trees[0], [qs[i] for i in range(n)], [qds[i] for i in range(n)], OPS)
+        M, g = ca.hessian(T, qds)
+        h = ca.jacobian(g, qs) @ qds - ca.gradient(T, qs)
+        qv = ca.vertcat(*[ca.SX(v) if isinstance(v, float) else v for v in q])
+        M = ca.substitute(M, ca.vertcat(qs, qds), ca.vertcat(qv, y[m:]))
+        h = ca.substitute(h, ca.vertcat(qs, qds), ca.vertcat(qv, y[m:]))
+        ok, Q = applied_forces(data, q, qd, V, OPS, _lookup, wheels)
+        acc = ca.solve(M, ca.vertcat(*Q) - h)
+        f = ca.vertcat(y[m:2 * m], acc)
+        xs = ca.vertcat(*[w.x if self.load_dependent[i] else ca.SX(0.0) for i, w in enumerate(wheels)])
+        inputs = [y, V, wheels[0].k, wheels[0].rows, wheels[1].k, wheels[1].rows]
+        J = ca.jacobian(f, y)
+        u, v = ca.SX.sym("u", N), ca.SX.sym("v", N)
+        second = ca.jtimes(ca.jtimes(f, y, u), y, v)
+        ok = ok if isinstance(ok, ca.SX) else ca.SX(float(ok))
+        self.f = ca.Function("f", inputs, [f, ok, xs])
+        self.fJ = ca.Function("fJ", inputs, [f, J, ca.jacobian(f, V), ok, xs])
+        self.second = ca.Function("second", inputs + [u, v], [second])
+        self._k = {}
+
+    def _args(self, k: tuple[int, int]) -> list:
+        out = []
+        for i, kk in enumerate(k):
+            size = self.table_sizes[i]
+            kk = min(max(kk, 0), size - 4)
+            out += [float(kk), self.tables[i, kk:kk + 4, :]]
+        return out
+
+    def _call(self, fn, y, speed, key):
+        """fn's outputs at (y, speed) with the load-table intervals that the loads select (module docstring)."""
+        k = self._k.get(key, (0, 0))
+        for _ in range(3):
+            res = fn(y, speed, *self._args(k))
+            if bool(res[-2]):
+                self._k[key] = k
+                return res
+            x = np.asarray(res[-1]).ravel()
+            guess = tuple(int(np.floor(v)) - 1 if self.load_dependent[i] else 0 for i, v in enumerate(x))
+            if guess == k or not np.all(np.isfinite(x)):
+                break
+            k = guess
+        return res
+
+    def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:
+        f, ok, _ = self._call(self.f, y, speed, key)
+        return np.asarray(f).ravel(), bool(ok)
+
+    def rhs_and_jacobian(self, y, speed: float, key=0) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        """f, df/dy, df/dV and ok at (y, speed)."""
+        f, J, Jv, ok, _ = self._call(self.fJ, y, speed, key)
+        return np.asarray(f).ravel(), np.asarray(J), np.asarray(Jv).ravel(), bool(ok)
+
+    def second_derivative(self, y, speed: float, u, v, key=0) -> np.ndarray:
+        """d/de (df/dy (y + e v)) u, exact (:attr:`second`); NaN where the load leaves the table."""
+        if not self.rhs(y, speed, key)[1]:
+            return np.full(len(y), np.nan)
+        return np.asarray(self.second(y, speed, *self._args(self._k[key]), u, v)).ravel()
+
+
+def twin_of(system) -> "Twin | None":
+    """The twin of an assembled :class:`~mbs_shimmy.system.MbsSystem`, or None where it has no counterpart
+    (module docstring: those keep difference derivatives)."""
+    try:
+        return Twin(TwinData.of(system))
+    except NotCovered:
+        return None
