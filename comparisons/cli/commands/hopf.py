@@ -43,7 +43,9 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         out = {**inputs_json(args), "hopf": [hopf_row(h) for h in points]}
         if mbs:
+            # the Jacobians (and so the Hopf conditions) from the compiled twin or from differences of Exudyn's rhs
             out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
+            out["derivatives"] = {"jacobian": family.derivatives, "lyapunov_forms": "differences"}
         emit_json(out)
         return 0
     what = f"MBS, fidelity {family.model.fidelity.label}" if mbs else "reduced model"
