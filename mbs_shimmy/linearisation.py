@@ -78,7 +78,8 @@ class MbsEvaluator:
 
     def __init__(self, system: MbsSystem):
         self.system = system
-        self.calls = 0          # right-hand-side evaluations, for the cost reports of the benchmarks
+        self.calls = 0          # right-hand-side evaluations by Exudyn, for the cost reports of the benchmarks
+        self.twin_calls = 0     # and by the twin
         self.twin_jacobians = 0          # Jacobians from the twin, and from differences (which derivatives a
         self.difference_jacobians = 0    # result used: MbsFamily.derivatives)
         self._twin = None
@@ -123,6 +124,25 @@ class MbsEvaluator:
             return None
         self.twin_jacobians += 1
         return J, Jv
+
+    def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False) -> tuple | None:
+        """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order;
+        None where there is no twin or a load leaves the load table at one of them."""
+        twin = self.twin
+        if twin is None:
+            return None
+        if jacobians:
+            f, J, Jv, ok = twin.rhs_and_jacobians(Y, speed)
+            out = (f, J, Jv)
+        else:
+            f, ok = twin.rhs_batch(Y, speed)
+            out = (f,)
+        if not np.all(ok):
+            return None
+        self.twin_calls += len(Y)
+        if jacobians:
+            self.twin_jacobians += len(Y)
+        return out
 
     def mass_matrix(self, y: np.ndarray) -> np.ndarray:
         """The mass matrix of the mechanical coordinates (tree order, :class:`~mbs_shimmy.system.Layout`)."""
@@ -214,11 +234,24 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return self._at(q).rhs(np.asarray(y, dtype=float), speed)
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) or for
-        each column of x (n, k): Exudyn evaluates one state at a time."""
+        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) (Exudyn's)
+        or for each column of x (n, k): the twin's where it covers every column (what continuation evaluates;
+        equal to Exudyn's to rounding, and every reported orbit is checked against Exudyn's,
+        :meth:`exudyn_rhs`), else Exudyn's."""
+        x = np.asarray(x, dtype=float)
+        L = self.layout
+        if x.ndim == 2:
+            twin = self._at(q).twin_batch(x.T[:, L.x_to_y], speed)
+            if twin is not None:
+                return twin[0][:, L.y_to_x].T
+            return self.exudyn_rhs(x, speed, q)
+        return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
+
+    def exudyn_rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        """x' by Exudyn for each column of x (n, k) (or for x of shape (n,)): one call each."""
         x = np.asarray(x, dtype=float)
         if x.ndim == 2:
-            return np.stack([self.rhs(column, speed, q) for column in x.T], axis=1)
+            return np.stack([self.exudyn_rhs(column, speed, q) for column in x.T], axis=1)
         L = self.layout
         return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
 
@@ -232,13 +265,17 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return J[np.ix_(L.y_to_x, L.y_to_x)]
 
     def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float) -> tuple[np.ndarray, np.ndarray]:
-        """f and df/dx at the states P (M, n) (extended order): what collocation needs.  f is Exudyn's, one call
-        per state; df/dx the twin's (:meth:`MbsEvaluator.exact_jacobian`), or where it has none
-        :meth:`MbsEvaluator.rhs_and_jacobian`'s differences."""
+        """f and df/dx at the states P (M, n) (extended order): what collocation needs.  Both from the twin in one
+        call where it covers every state, else per state Exudyn's f with the twin's df/dx
+        (:meth:`MbsEvaluator.exact_jacobian`) or :meth:`MbsEvaluator.rhs_and_jacobian`'s differences."""
         ev = self._at(q)
         L = self.layout
+        P = np.asarray(P, dtype=float)
+        twin = ev.twin_batch(P[:, L.x_to_y], speed, jacobians=True)
+        if twin is not None:
+            return twin[0][:, L.y_to_x], twin[1][np.ix_(np.arange(len(P)), L.y_to_x, L.y_to_x)]
         f, J = np.empty(P.shape), np.empty(P.shape + (P.shape[1],))
-        for k, x in enumerate(np.asarray(P, dtype=float)):
+        for k, x in enumerate(P):
             y = x[L.x_to_y]
             exact = ev.exact_jacobian(y, speed, key=k)
             if exact is None:
@@ -252,16 +289,10 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         """df/d(free) at the states P (M, n): in the speed from the twin where it covers every state, else (and
         in the second parameter, which rebuilds the model) by central differences of Exudyn's right-hand side."""
         if free == self.primary:
-            ev = self._at(q)
             L = self.layout
-            out = np.empty(np.shape(P))
-            for k, x in enumerate(np.asarray(P, dtype=float)):
-                exact = ev.exact_jacobian(x[L.x_to_y], p, key=k)
-                if exact is None:
-                    break
-                out[k] = exact[1][L.y_to_x]
-            else:
-                return out
+            twin = self._at(q).twin_batch(np.asarray(P, dtype=float)[:, L.x_to_y], p, jacobians=True)
+            if twin is not None:
+                return twin[2][:, L.y_to_x]
         return super().parameter_derivative(P, p, q, free, scale)
 
     @property
@@ -278,13 +309,22 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         """Right-hand-side evaluations by Exudyn so far, over every second-parameter value evaluated."""
         return sum(ev.calls for ev in self._cache.values())
 
+    @property
+    def twin_calls(self) -> int:
+        """Right-hand sides (with or without Jacobians) evaluated by the twin so far."""
+        return sum(ev.twin_calls for ev in self._cache.values())
+
     def mass_matrix(self, q: float) -> np.ndarray:
         """The mass matrix of the mechanical coordinates at straight running (tree order)."""
         return self._at(q).mass_matrix(np.zeros(self.n))
 
     def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running by differences at this speed (reduced-model state order)."""
-        return self.jacobian(np.zeros(self.n), speed, q)
+        """Jacobian at straight running by Exudyn's five-point differences at this speed (reduced-model state order).
+        Not the twin's: at straight running the differences are good to 1e-11 (module docstring) for 56 calls,
+        about 5 ms, where building a twin for a new parameter value costs about a second, and the Hopf curves
+        visit many."""
+        L = self.layout
+        return self._at(q).jacobian(np.zeros(self.n), speed)[np.ix_(L.y_to_x, L.y_to_x)]
 
     def affine_matrices(self, q: float) -> tuple[np.ndarray, np.ndarray]:
         """(A0, A1) with A(V) = A0 + V A1 at straight running (module docstring)."""

@@ -79,7 +79,7 @@ class Twin:
         qs, qds = ca.SX.sym("q", n), ca.SX.sym("qd", n)
         T = kinetic_energy(data.trees[0], [qs[i] for i in range(n)], [qds[i] for i in range(n)], OPS)
         M, g = ca.hessian(T, qds)
-        h = ca.jacobian(g, qs) @ qds - ca.gradient(T, qs)
+        h = ca.jtimes(g, qs, qds) - ca.gradient(T, qs)      # d/dt (dT/dq') - dT/dq without q''
         qv = ca.vertcat(*[ca.SX(v) if isinstance(v, float) else v for v in q])
         M = ca.substitute(M, ca.vertcat(qs, qds), ca.vertcat(qv, y[m:]))
         h = ca.substitute(h, ca.vertcat(qs, qds), ca.vertcat(qv, y[m:]))
@@ -92,10 +92,12 @@ class Twin:
         u, v = ca.SX.sym("u", N), ca.SX.sym("v", N)
         second = ca.jtimes(ca.jtimes(f, y, u), y, v)
         ok = ok if isinstance(ok, ca.SX) else ca.SX(float(ok))
-        self.f = ca.Function("f", inputs, [f, ok, xs])
-        self.fJ = ca.Function("fJ", inputs, [f, J, ca.jacobian(f, V), ok, xs])
-        self.second = ca.Function("second", inputs + [u, v], [second])
+        cse = {"cse": True}
+        self.f = ca.Function("f", inputs, [f, ok, xs], cse)
+        self.fJ = ca.Function("fJ", inputs, [f, J, ca.jacobian(f, V), ok, xs], cse)
+        self.second = ca.Function("second", inputs + [u, v], [second], cse)
         self._k = {}
+        self._maps = {}
 
     def _args(self, k: tuple[int, int]) -> list:
         out = []
@@ -119,6 +121,49 @@ class Twin:
                 break
             k = guess
         return res
+
+    def _batch(self, fn, Y, speed):
+        """fn's outputs at each state of Y (K, N) in one call of fn mapped over K (a Python call into CasADi
+        costs as much as evaluating the equations), with the intervals guessed per row (key = row) and
+        corrected rows evaluated again."""
+        Y = np.asarray(Y, dtype=float)
+        K = len(Y)
+        mapped = self._maps.get((fn.name(), K))
+        if mapped is None:
+            mapped = self._maps[(fn.name(), K)] = fn.map(K)
+        ks = [self._k.get(i, (0, 0)) for i in range(K)]
+        for _ in range(3):
+            args = [self._args(k) for k in ks]
+            inputs = [Y.T, speed]
+            for w in range(2):
+                inputs += [np.array([[a[2 * w] for a in args]]), np.hstack([a[2 * w + 1] for a in args])]
+            res = mapped(*inputs)
+            ok = np.asarray(res[-2]).ravel() != 0.0
+            x = np.asarray(res[-1])
+            wrong = False
+            for i in range(K):
+                if ok[i]:
+                    self._k[i] = ks[i]
+                    continue
+                guess = tuple(int(np.floor(v)) - 1 if self.load_dependent[w] and np.isfinite(v) else 0
+                              for w, v in enumerate(x[:, i]))
+                if guess != ks[i]:
+                    ks[i], wrong = guess, True
+            if not wrong:
+                break
+        return res, ok
+
+    def rhs_batch(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray]:
+        """f (K, N) and ok (K,) at the states Y (K, N)."""
+        res, ok = self._batch(self.f, Y, speed)
+        return np.asarray(res[0]).T, ok
+
+    def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """f (K, N), df/dy (K, N, N), df/dV (K, N) and ok (K,) at the states Y (K, N)."""
+        res, ok = self._batch(self.fJ, Y, speed)
+        K, N = np.shape(Y)
+        J = np.asarray(res[1]).reshape(N, K, N).transpose(1, 0, 2)
+        return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok
 
     def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:
         f, ok, _ = self._call(self.f, y, speed, key)

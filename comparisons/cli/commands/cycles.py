@@ -192,7 +192,7 @@ def add_exudyn_residuals(out: dict, diagram: CycleDiagram, family) -> None:
     for b, row in zip(diagram.branches, out["branches"]):
         cycles = [r for r in row["points"] if r["kind"] == "cycle"]
         for p, r in zip(b.points, cycles):
-            r["exudyn_residual"] = collocation_residual(p.orbit, lambda X, p=p: family.rhs(X, p.p, p.q))
+            r["exudyn_residual"] = collocation_residual(p.orbit, lambda X, p=p: family.exudyn_rhs(X, p.p, p.q))
     out["derivatives"] = family.derivatives
 
 
