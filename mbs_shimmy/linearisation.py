@@ -33,6 +33,7 @@ geometry it then stalled above its 1e-11 tolerance).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -194,6 +195,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     model: MbsModel = field(default_factory=MbsModel)
     param: str = "pressure"
     pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
+    # True: the right-hand sides of continuation are Exudyn's even where the twin covers the system (its Jacobians
+    # stay the twin's): the view that polishes an orbit on Exudyn's own residual (:meth:`on_exudyn`)
+    exudyn_residuals: bool = False
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
 
@@ -240,7 +244,7 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         :meth:`exudyn_rhs`), else Exudyn's."""
         x = np.asarray(x, dtype=float)
         L = self.layout
-        if x.ndim == 2:
+        if x.ndim == 2 and not self.exudyn_residuals:
             twin = self._at(q).twin_batch(x.T[:, L.x_to_y], speed)
             if twin is not None:
                 return twin[0][:, L.y_to_x].T
@@ -271,7 +275,7 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         ev = self._at(q)
         L = self.layout
         P = np.asarray(P, dtype=float)
-        twin = ev.twin_batch(P[:, L.x_to_y], speed, jacobians=True)
+        twin = None if self.exudyn_residuals else ev.twin_batch(P[:, L.x_to_y], speed, jacobians=True)
         if twin is not None:
             return twin[0][:, L.y_to_x], twin[1][np.ix_(np.arange(len(P)), L.y_to_x, L.y_to_x)]
         f, J = np.empty(P.shape), np.empty(P.shape + (P.shape[1],))
@@ -294,6 +298,13 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
             if twin is not None:
                 return twin[2][:, L.y_to_x]
         return super().parameter_derivative(P, p, q, free, scale)
+
+    def on_exudyn(self) -> "MbsFamily":
+        """The same family (sharing its assembled systems and twins) with Exudyn's right-hand sides in every
+        continuation step and the twin's Jacobians: Newton on it polishes an orbit on Exudyn's own residual."""
+        view = dataclasses.replace(self, exudyn_residuals=True)
+        view._cache, view._affine = self._cache, self._affine
+        return view
 
     @property
     def derivatives(self) -> str:

@@ -116,8 +116,10 @@ class Twin:
                 self._k[key] = k
                 return res
             x = np.asarray(res[-1]).ravel()
+            if not np.all(np.isfinite(x)):      # a lifted wheel: no load to read the table at
+                break
             guess = tuple(int(np.floor(v)) - 1 if self.load_dependent[i] else 0 for i, v in enumerate(x))
-            if guess == k or not np.all(np.isfinite(x)):
+            if guess == k:
                 break
             k = guess
         return res

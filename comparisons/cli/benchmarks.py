@@ -219,7 +219,7 @@ def _mbs_stage_costs(trajectory) -> dict:
 
 def _mbs_cycle_branch():
     from axles.units import BAR, KMH
-    from bifurcation.cycles.collocation import collocation_residual
+    from comparisons.studies.exudyn_check import checked_on_exudyn
     from mbs_shimmy.fidelity import Fidelity
     from comparisons.api import family_of
     from mbs_shimmy.model import MbsModel
@@ -234,10 +234,9 @@ def _mbs_cycle_branch():
         branch = branch_from_hopf(family, hb1, 0.0, 400 * KMH, others=(hb2,))
         assert branch.end is hb2 and all(p.multipliers.shape == (family.n,) for p in branch.points)
         # every orbit checked on Exudyn's own right-hand side (one call per collocation point), as cycles --json does
-        residual = max(collocation_residual(p.orbit, lambda X, p=p: family.exudyn_rhs(X, p.p, p.q))
-                       for p in branch.points)
-        assert residual < 1e-7, residual
-        return family, branch, residual
+        checks = [checked_on_exudyn(family, p) for p in branch.points]
+        assert all(c.passed for c in checks)
+        return family, branch, max(c.residual for c in checks)
     return run
 
 

@@ -116,3 +116,31 @@ def test_twin_second_derivative_is_its_jacobian_differentiated():
         return exudyn.rhs(y + du * u + dv * v, 20.0)
     mixed = (fe(a, a) - fe(a, -a) - fe(-a, a) + fe(-a, -a)) / (4 * a * a)
     np.testing.assert_allclose(second, mixed, rtol=0, atol=1e-4 * np.max(np.abs(second)))
+
+
+def test_an_orbit_off_exudyns_equations_is_polished_on_them():
+    """The first cycle of the full geometry's yaw branch (continued on the twin) has an Exudyn residual below the
+    tolerance; the same orbit with its period 1e-4 too long is far above it, and the check polishes it back onto
+    Exudyn's collocation equations at the same speed."""
+    import dataclasses
+
+    from axles.units import KMH
+    from bifurcation.cycles.branches import start_at_hopf
+    from bifurcation.cycles.collocation import Orbit
+    from bifurcation.equilibria.hopf import hopf_points
+    from comparisons.api import family_of
+    from comparisons.studies.exudyn_check import RESIDUAL_TOL, checked_on_exudyn, exudyn_residual
+
+    family = family_of(MbsModel(fidelity=FULL), TyrePressures.uniform(1.5 * BAR))
+    hopf = hopf_points(family, 1.5 * BAR, 30 * KMH, 50 * KMH)[0]
+    problem, u0, _ = start_at_hopf(family, hopf)
+    point = problem.point(u0)
+    assert family.derivatives == "twin and differences"      # twin on the cycle, differences at straight running
+    good = checked_on_exudyn(family, point)
+    assert good.passed and not good.polished
+    o = point.orbit
+    off = dataclasses.replace(point, orbit=Orbit(o.mesh, o.nodes, o.period * (1 + 1e-4), o.degree))
+    assert exudyn_residual(family, off) > 100 * RESIDUAL_TOL
+    fixed = checked_on_exudyn(family, off)
+    assert fixed.polished and fixed.passed and fixed.point.p == point.p
+    assert abs(fixed.point.period - point.period) < 1e-8 * point.period

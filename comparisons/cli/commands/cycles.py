@@ -186,13 +186,15 @@ def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
 
 def add_exudyn_residuals(out: dict, diagram: CycleDiagram, family) -> None:
     """Each MBS orbit's collocation residual with Exudyn's own right-hand side (one Exudyn call per collocation
-    point; relative, :func:`~bifurcation.cycles.collocation.collocation_residual`) as ``exudyn_residual``, and
-    which derivatives the continuation used (``derivatives``: the compiled twin's or differences of Exudyn's)."""
-    from bifurcation.cycles.collocation import collocation_residual
+    point; relative, :func:`~comparisons.studies.exudyn_check.exudyn_residual`) as ``exudyn_residual``, after a
+    Newton polish on that residual where it was above the tolerance (``polished``), and which derivatives the
+    continuation used (``derivatives``: the compiled twin's or differences of Exudyn's)."""
+    from comparisons.studies.exudyn_check import checked_on_exudyn
     for b, row in zip(diagram.branches, out["branches"]):
         cycles = [r for r in row["points"] if r["kind"] == "cycle"]
         for p, r in zip(b.points, cycles):
-            r["exudyn_residual"] = collocation_residual(p.orbit, lambda X, p=p: family.exudyn_rhs(X, p.p, p.q))
+            check = checked_on_exudyn(family, p)
+            r["exudyn_residual"], r["polished"] = check.residual, check.polished
     out["derivatives"] = family.derivatives
 
 
