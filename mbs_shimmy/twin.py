@@ -135,10 +135,11 @@ class Twin:
             mapped = self._maps[(fn.name(), K)] = fn.map(K)
         ks = [self._k.get(i, (0, 0)) for i in range(K)]
         for _ in range(3):
-            args = [self._args(k) for k in ks]
             inputs = [Y.T, speed]
             for w in range(2):
-                inputs += [np.array([[a[2 * w] for a in args]]), np.hstack([a[2 * w + 1] for a in args])]
+                k = np.clip([kk[w] for kk in ks], 0, self.table_sizes[w] - 4)
+                rows = self.tables[w][k[:, None] + np.arange(4)[None, :]]          # (K, 4, columns)
+                inputs += [k[None, :].astype(float), rows.transpose(1, 0, 2).reshape(4, -1)]
             res = mapped(*inputs)
             ok = np.asarray(res[-2]).ravel() != 0.0
             x = np.asarray(res[-1])
