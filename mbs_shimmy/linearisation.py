@@ -47,7 +47,7 @@ from mbs_shimmy.forces import layout_of
 from mbs_shimmy.layout import Layout
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import MbsSystem
-from bifurcation.derivatives import DifferenceDerivatives
+from bifurcation.derivatives import PARAMETER_STEP, DifferenceDerivatives
 from axles.pressures import PRESSURE_PARAMS, TyrePressures
 from reduced_model.family import ShimmyFamily
 from axles.parameters import ParameterError
@@ -297,7 +297,11 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
             twin = self._at(q).twin_batch(np.asarray(P, dtype=float)[:, L.x_to_y], p, jacobians=True)
             if twin is not None:
                 return twin[2][:, L.y_to_x]
-        return super().parameter_derivative(P, p, q, free, scale)
+            return super().parameter_derivative(P, p, q, free, scale)
+        # the second parameter rebuilds the model at q +- h: Exudyn's systems, without building a twin for each
+        h = PARAMETER_STEP * max(abs(q), scale)
+        P = np.asarray(P, dtype=float)
+        return (self.exudyn_rhs(P.T, p, q + h) - self.exudyn_rhs(P.T, p, q - h)).T / (2.0 * h)
 
     def on_exudyn(self) -> "MbsFamily":
         """The same family (sharing its assembled systems and twins) with Exudyn's right-hand sides in every
