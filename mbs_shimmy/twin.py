@@ -25,6 +25,8 @@ derivatives (:func:`twin_of` returns None); at a state whose load leaves the loa
 
 from __future__ import annotations
 
+import hashlib
+
 import casadi as ca
 import numpy as np
 
@@ -186,8 +188,22 @@ class Twin:
 
 def twin_of(system) -> "Twin | None":
     """The twin of an assembled :class:`~mbs_shimmy.system.MbsSystem`, or None where it has no counterpart
-    (module docstring: those keep difference derivatives)."""
+    (module docstring: those keep difference derivatives).  Systems with the same items share one twin (its graph
+    is what costs, about a second: a family rebuilt for the same axle and pressure, as in repeated runs, builds it
+    once per process)."""
     try:
-        return Twin(TwinData.of(system))
+        data = TwinData.of(system)
     except NotCovered:
         return None
+    key = (data.trees, data.knuckles, data.springs, data.m, data.constants.tobytes(),
+           hashlib.sha256(np.ascontiguousarray(data.tables).tobytes()).hexdigest())
+    found = _BUILT.get(key)
+    if found is None:
+        if len(_BUILT) >= 16:
+            _BUILT.pop(next(iter(_BUILT)))
+        found = _BUILT[key] = Twin(data)
+    return found
+
+
+# twins by the items they were generated from (twin_of)
+_BUILT: dict = {}
