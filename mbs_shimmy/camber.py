@@ -23,7 +23,6 @@ this tyre).  The camber force follows the camber without lag (no relaxation of i
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from reduced_model import tyre
@@ -64,27 +63,27 @@ class CamberTerms:
 
 
 def camber_terms(coefficients: tuple, B: float, C: float, D: float, E: float, alpha: float, load: float,
-                 gamma: float, plain: float) -> tuple[float, float]:
+                 gamma: float, plain: float, ops: tuple) -> tuple[float, float]:
     """(F_y with camber less F_y without, camber moment M_zr) at slip alpha, vertical load and camber gamma;
     ``coefficients`` are :attr:`CamberTerms.coefficients`, B, C, D, E the paper's factors at that load and ``plain``
     its F_y(alpha) (already computed by the tyre element: one Magic-Formula evaluation less per stage).
 
-    A plain function of floats with :mod:`math`: the tyre element calls it, and the compiled solver stage
-    (:mod:`mbs_shimmy.compiled_stage`) compiles it."""
-    if load <= 0.0:
-        return 0.0, 0.0
+    Generic over the elementary functions ``ops`` (:mod:`mbs_shimmy.scalar_ops`): the tyre element calls it with
+    :mod:`math`, the compiled solver stage (:mod:`mbs_shimmy.compiled_stage`) compiles it, the differentiable twin
+    (:mod:`mbs_shimmy.twin`) traces it."""
+    sin, _, atan, sqrt, _, choose = ops
     p_ky3, p_ky6, p_ky7, p_vy3, p_vy4, q_dz8, q_dz9, q_bz9, Fz0, R = coefficients
     dfz = (load - Fz0) / Fz0
     # MF 6.1's factor would reach zero at |gamma| = 1 / p_Ky3 (2.7 rad for this tyre, beyond the model's 1 rad
     # divergence limit); it is kept positive so that the cornering stiffness never changes sign
-    reduction = 1.0 - p_ky3 * (gamma if gamma >= 0.0 else -gamma)
-    if reduction < 0.05:
-        reduction = 0.05
+    reduction = 1.0 - p_ky3 * abs(gamma)
+    reduction = choose(reduction < 0.05, 0.05, reduction)
     Br = B * reduction
     K = Br * C * D
     s_v = load * (p_vy3 + p_vy4 * dfz) * gamma
     s_h = (s_v - load * (p_ky6 + p_ky7 * dfz) * gamma) / K
-    shifted = _force(Br, C, D, E, alpha + s_h, math.sin, math.atan) + s_v
+    shifted = _force(Br, C, D, E, alpha + s_h, sin, atan) + s_v
     fade = q_bz9 * (alpha + s_h - s_v / K)         # cos(arctan(x)) = 1 / sqrt(1 + x^2)
-    mzr = load * R * (q_dz8 + q_dz9 * dfz) * gamma / math.sqrt(1.0 + fade * fade)
-    return shifted - plain, mzr
+    mzr = load * R * (q_dz8 + q_dz9 * dfz) * gamma / sqrt(1.0 + fade * fade)
+    lifted = load <= 0.0
+    return choose(lifted, 0.0, shifted - plain), choose(lifted, 0.0, mzr)

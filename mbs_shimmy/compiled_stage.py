@@ -32,16 +32,16 @@ import numba
 import numpy as np
 from numba.extending import register_jitable
 
-from mbs_shimmy import camber, knuckle, tyre_element
+from mbs_shimmy import camber, knuckle, scalar_ops, tyre_element
 from reduced_model import tyre
 
 _SHARED = (tyre.mf_force, tyre.mf_trail, camber.camber_terms, tyre_element.lagrange_weights,
            tyre_element.table_values, tyre_element.wheel_contact, tyre_element.vertical_load,
            tyre_element.slip_forces, tyre_element.contact_forces, knuckle.knuckle_pose, knuckle.rotor_moment,
-           knuckle.ramp_moments)
+           knuckle.ramp_moments, scalar_ops.choose)
 for _f in _SHARED:
     register_jitable(_f)
-_SOURCES = (tyre, camber, tyre_element, knuckle)
+_SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
 
 # --- layout of the constants array ---------------------------------------------------------------------------
 # axle: coordinate indices (psi, theta1, theta2, lateral, bounce; -1 if absent), Oz at rest, roll height h,
@@ -83,11 +83,38 @@ def constants(forces) -> tuple[np.ndarray, np.ndarray]:
     return np.array(c), np.ascontiguousarray(np.stack(tables))
 
 
-@register_jitable
-def _wheel(c, b, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, speed):
+def table_row(table, c, t: int, Fz):
+    """(ok, the load table's :attr:`~mbs_shimmy.tyre_element.LoadTable.layout` values at the load Fz, D and D_t
+    times the load) by the cubic interpolation of :meth:`~mbs_shimmy.tyre_element.LoadTable.at` on an array (same
+    grid test and weights, :func:`~mbs_shimmy.tyre_element.lagrange_weights`).  ok False where the load is outside
+    the table; the values are then those at the table's nearest end, finite and to be discarded.  The compiled
+    stage's lookup; the twin (:mod:`mbs_shimmy.twin`) has its own on traced values."""
+    ok = Fz > 0.0
+    x = 1.0
+    if ok:
+        x = (math.log(Fz) - c[t + 1]) / c[t + 2]
+    ok = ok and x >= 1.0 and x < c[t + 3] - 2.0    # LoadTable.at's grid test, k = int(x) - 1 in [0, n - 4]
+    if not ok:
+        x = min(max(x, 1.0), c[t + 3] - 2.5)
+    k = int(x) - 1
+    w0, w1, w2, w3 = tyre_element.lagrange_weights(x - (k + 1.0))
+    v = np.empty(table.shape[1])
+    for j in range(table.shape[1]):
+        v[j] = table[k, j] * w0 + table[k + 1, j] * w1 + table[k + 2, j] * w2 + table[k + 3, j] * w3
+    v[1] *= Fz                                    # D and D_t are tabulated divided by the load
+    if c[t + 4] != 0.0:
+        v[4] *= Fz
+    return ok, v
+
+
+register_jitable(table_row)
+
+
+def wheel_terms(c, b: int, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, speed, ops, lookup):
     """(ok, Q_psi, Q_theta, alpha_dot, Q_y, Q_z) of the wheel whose constants start at c[b]: the steps of
-    :meth:`~mbs_shimmy.tyre_element.TyreElement.exact` with the load table on an array; ok False where the load
-    is outside the table."""
+    :meth:`~mbs_shimmy.tyre_element.TyreElement.exact` with the load table read by ``lookup`` (as
+    :func:`table_row`); ok False where the load is outside the table.  Generic over ``ops``
+    (:mod:`mbs_shimmy.scalar_ops`) for the twin; ``c`` and ``b`` are plain numbers in every caller."""
     e = b + EL
     el = (c[e], c[e + 1], c[e + 2], c[e + 3], c[e + 4], c[e + 5], c[e + 6], c[e + 7], c[e + 8] != 0.0,
           c[e + 9] != 0.0, c[e + 10] != 0.0, c[e + 11] != 0.0, c[e + 12] != 0.0)
@@ -97,30 +124,62 @@ def _wheel(c, b, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, speed):
     tc = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4] != 0.0, c[s + 5] != 0.0)
     s = b + CAMBER
     cam = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4], c[s + 5], c[s + 6], c[s + 7], c[s + 8], c[s + 9])
-    contact = tyre_element.wheel_contact(el[0] * el[2], pose[0], pose[3])
+    contact = tyre_element.wheel_contact(el[0] * el[2], pose[0], pose[3], ops[3])
     Fz, dFz, P0y = tyre_element.vertical_load(el, contact, Oy, Oz, h, cpsi, spsi)
     t = b + TABLE
     values = static
+    ok = True
     if c[t] != 0.0:
-        if not Fz > 0.0:
-            return False, 0.0, 0.0, 0.0, 0.0, 0.0
-        x = (math.log(Fz) - c[t + 1]) / c[t + 2]
-        if not (x >= 1.0 and x < c[t + 3] - 2.0):    # LoadTable.at's grid test, k = int(x) - 1 in [0, n - 4]
-            return False, 0.0, 0.0, 0.0, 0.0, 0.0
-        k = int(x) - 1
-        w0, w1, w2, w3 = tyre_element.lagrange_weights(x - (k + 1.0))
-        pt = c[t + 4] != 0.0
-        v = np.empty(table.shape[1])
-        for j in range(table.shape[1]):
-            v[j] = table[k, j] * w0 + table[k + 1, j] * w1 + table[k + 2, j] * w2 + table[k + 3, j] * w3
-        v[1] *= Fz                                    # D and D_t are tabulated divided by the load
-        if pt:
-            v[4] *= Fz
-        values = tyre_element.table_values(v, static, pt, int(c[t + 5]), c[t + 6] != 0.0)
-    Fy, mz, _ = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2], c[t] != 0.0)
+        ok, v = lookup(table, c, t, Fz)
+        values = tyre_element.table_values(v, static, c[t + 4] != 0.0, int(c[t + 5]), c[t + 6] != 0.0)
+    Fy, mz, _ = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2], c[t] != 0.0, ops)
     r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], values[7],
                                     alpha, speed)
-    return True, r[0], r[1], r[2], r[3], r[4]
+    return ok, r[0], r[1], r[2], r[3], r[4]
+
+
+register_jitable(wheel_terms)
+
+
+def stage_terms(c, tables, R1, K1, R2, K2, q, qd, speed, acc, ops, lookup):
+    """(ok, Q_psi, Q_theta1, Q_theta2, Q_y, Q_z, alpha1', alpha2') of :meth:`AxleForces.evaluate` less the
+    alignment, from both knuckle markers' rotation matrices (9 values, row by row) and positions, the tree state
+    (q, q') and the speed and acceleration (0 with a steady speed).  Generic over ``ops`` and ``lookup`` (as
+    :func:`wheel_terms`): the compiled entry point (:data:`STAGE`) and the twin (:mod:`mbs_shimmy.twin`) call it."""
+    sin, cos, atan, sqrt, asin, choose = ops
+    ip, i1, i2, ilat, ivert = int(c[I_PSI]), int(c[I_TH1]), int(c[I_TH2]), int(c[I_LAT]), int(c[I_VERT])
+    m = len(q) - 2
+    psi, psid = q[ip], qd[ip]
+    Oy, yd = 0.0, 0.0
+    if ilat >= 0:
+        Oy, yd = q[ilat], qd[ilat]
+    Oz, zd = c[OZ], 0.0
+    if ivert >= 0:
+        Oz, zd = c[OZ] + q[ivert], qd[ivert]
+    ux, uz, h = c[UX], c[UZ], c[H]
+    wx, wz = psid * ux, psid * uz
+    a = SPIN[0]
+    p1 = knuckle.knuckle_pose(R1, K1, (c[a], c[a + 1], c[a + 2]), Oy, Oz, yd, zd, wx, wz, qd[i1])
+    a = SPIN[1]
+    p2 = knuckle.knuckle_pose(R2, K2, (c[a], c[a + 1], c[a + 2]), Oy, Oz, yd, zd, wx, wz, qd[i2])
+    cpsi, spsi = cos(psi), sin(psi)
+    r1 = wheel_terms(c, WHEELS[0], tables[0], p1, Oy, Oz, h, cpsi, spsi, ux, uz, qd[m], speed, ops, lookup)
+    r2 = wheel_terms(c, WHEELS[1], tables[1], p2, Oy, Oz, h, cpsi, spsi, ux, uz, qd[m + 1], speed, ops, lookup)
+    kg = c[I2] * speed / c[RADIUS]
+    g1, b1 = knuckle.rotor_moment(kg, ux, uz, p1)
+    g2, b2 = knuckle.rotor_moment(kg, ux, uz, p2)
+    Qp, Q1, Q2 = r1[1] + r2[1] + (0.0 + g1 + g2), r1[2] + b1, r2[2] + b2
+    if acc != 0.0:
+        rc = (c[ARM], c[I2], c[RADIUS], c[WHEEL_MASS])
+        a1 = knuckle.ramp_moments(rc, -1.0, p1, Oy, Oz, ux, uz, acc, sqrt)
+        a2 = knuckle.ramp_moments(rc, 1.0, p2, Oy, Oz, ux, uz, acc, sqrt)
+        Qp += a1[0] + a2[0]
+        Q1 += a1[1]
+        Q2 += a2[1]
+    return choose(r1[0], r2[0], False), Qp, Q1, Q2, r1[4] + r2[4], r1[5] + r2[5], r1[3], r2[3]
+
+
+register_jitable(stage_terms)
 
 
 def _build(stamp: str):
@@ -131,49 +190,22 @@ def _build(stamp: str):
         the tree state (q, q') as tuples, the speed and the acceleration (0 with a steady speed)."""
         if len(stamp) == 0:          # never: it makes the stamp part of the compiled function (module doc)
             return None
-        ip, i1, i2, ilat, ivert = int(c[I_PSI]), int(c[I_TH1]), int(c[I_TH2]), int(c[I_LAT]), int(c[I_VERT])
+        ops = (math.sin, math.cos, math.atan, math.sqrt, math.asin, scalar_ops.choose)
+        ok, Qp, Q1, Q2, Qy, Qz, ad1, ad2 = stage_terms(c, tables, R1, K1, R2, K2, q, qd, speed, acc, ops, table_row)
+        if not ok:
+            return None
         m = len(q) - 2
-        psi, psid = q[ip], qd[ip]
-        Oy, yd = 0.0, 0.0
-        if ilat >= 0:
-            Oy, yd = q[ilat], qd[ilat]
-        Oz, zd = c[OZ], 0.0
-        if ivert >= 0:
-            Oz, zd = c[OZ] + q[ivert], qd[ivert]
-        ux, uz, h = c[UX], c[UZ], c[H]
-        wx, wz = psid * ux, psid * uz
-        a = SPIN[0]
-        p1 = knuckle.knuckle_pose(R1, K1, (c[a], c[a + 1], c[a + 2]), Oy, Oz, yd, zd, wx, wz, qd[i1])
-        a = SPIN[1]
-        p2 = knuckle.knuckle_pose(R2, K2, (c[a], c[a + 1], c[a + 2]), Oy, Oz, yd, zd, wx, wz, qd[i2])
-        cpsi, spsi = math.cos(psi), math.sin(psi)
-        r1 = _wheel(c, WHEELS[0], tables[0], p1, Oy, Oz, h, cpsi, spsi, ux, uz, qd[m], speed)
-        if not r1[0]:
-            return None
-        r2 = _wheel(c, WHEELS[1], tables[1], p2, Oy, Oz, h, cpsi, spsi, ux, uz, qd[m + 1], speed)
-        if not r2[0]:
-            return None
-        kg = c[I2] * speed / c[RADIUS]
-        g1, b1 = knuckle.rotor_moment(kg, ux, uz, p1)
-        g2, b2 = knuckle.rotor_moment(kg, ux, uz, p2)
-        Qp, Q1, Q2 = r1[1] + r2[1] + (0.0 + g1 + g2), r1[2] + b1, r2[2] + b2
-        if acc != 0.0:
-            rc = (c[ARM], c[I2], c[RADIUS], c[WHEEL_MASS])
-            a1 = knuckle.ramp_moments(rc, -1.0, p1, Oy, Oz, ux, uz, acc)
-            a2 = knuckle.ramp_moments(rc, 1.0, p2, Oy, Oz, ux, uz, acc)
-            Qp += a1[0] + a2[0]
-            Q1 += a1[1]
-            Q2 += a2[1]
+        ip, i1, i2, ilat, ivert = int(c[I_PSI]), int(c[I_TH1]), int(c[I_TH2]), int(c[I_LAT]), int(c[I_VERT])
         out = c[ALIGNMENT:ALIGNMENT + m + 2].copy()
         out[ip] += Qp
         out[i1] += Q1
         out[i2] += Q2
         if ilat >= 0:
-            out[ilat] += r1[4] + r2[4]
+            out[ilat] += Qy
         if ivert >= 0:
-            out[ivert] += r1[5] + r2[5]
-        out[m] = r1[3]
-        out[m + 1] = r2[3]
+            out[ivert] += Qz
+        out[m] = ad1
+        out[m + 1] = ad2
         return out
     return numba.njit(cache=True)(stage)
 

@@ -287,7 +287,7 @@ class AxleForces:
 
     # --- speed changes (assumption quasi_steady_speed off) ------------------------------------------------
     def _ramp_exact(self, side: float, pose: tuple, Oy: float, Oz: float, acc: float) -> tuple[float, float]:
-        return ramp_moments(self.ramp_constants, side, pose, Oy, Oz, self.ux, self.uz, acc)
+        return ramp_moments(self.ramp_constants, side, pose, Oy, Oz, self.ux, self.uz, acc, math.sqrt)
 
     def _ramp_linear(self, side: float, acc: float) -> float:
         """First-order form of :func:`ramp_moments`: both forces along x at lever -side*l about the kingpin."""

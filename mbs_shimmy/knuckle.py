@@ -34,14 +34,15 @@ def rotor_moment(kg: float, ux: float, uz: float, pose: tuple) -> tuple[float, f
 
 
 def ramp_moments(rc: tuple, side: float, pose: tuple, Oy: float, Oz: float, ux: float, uz: float,
-                 acc: float) -> tuple[float, float]:
+                 acc: float, sqrt) -> tuple[float, float]:
     """(Q_psi, Q_theta) of one wheel's spin-up by the road: force -I2 Omega'/|P - C| along the heading at P with
     the reaction -I2 Omega' s on the knuckle, which together are that force moved to the wheel centre C; plus the
-    d'Alembert force -m_w dV/dt at C.  Both act at C along the heading / x.  ``rc`` = (l, I2, R, m_w)."""
+    d'Alembert force -m_w dV/dt at C.  Both act at C along the heading / x.  ``rc`` = (l, I2, R, m_w);
+    ``sqrt`` from :mod:`mbs_shimmy.scalar_ops`."""
     l, I2, R, wheel_mass = rc
     K, e, s = pose[0], pose[2], pose[3]
     sx, sy, sz = s
-    Cx, Cy, Cz, _, _, depth, cphi = wheel_contact(side * l, K, s)
+    Cx, Cy, Cz, _, _, depth, cphi = wheel_contact(side * l, K, s, sqrt)
     fs = -I2 * (acc / R) / depth
     Fx, Fy = fs * sy / cphi - wheel_mass * acc, -fs * sx / cphi
     ex, ey, ez = e

@@ -5,6 +5,7 @@ extended reduced-model order (shared by the system builder, the force element an
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -58,16 +59,21 @@ class Layout:
     def index(self, name: str) -> int:
         return self.coordinates.index(name)
 
-    @property
+    @cached_property
     def y_to_x(self) -> np.ndarray:
-        """x[k] = y[y_to_x[k]]."""
+        """x[k] = y[y_to_x[k]] (computed once: every right-hand side the families evaluate maps its state; read
+        only)."""
         m = self.n_mech
         i = self.index
         order = [i("theta1"), m + i("theta1"), i("theta2"), m + i("theta2"), i("psi"), m + i("psi"), 2 * m, 2 * m + 1]
         for n in self.extras:
             order += [i(n), m + i(n)]
-        return np.array(order)
+        out = np.array(order)
+        out.setflags(write=False)
+        return out
 
-    @property
+    @cached_property
     def x_to_y(self) -> np.ndarray:
-        return np.argsort(self.y_to_x)
+        out = np.argsort(self.y_to_x)
+        out.setflags(write=False)
+        return out

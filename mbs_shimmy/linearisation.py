@@ -35,6 +35,7 @@ in V in the same way.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -48,7 +49,7 @@ from mbs_shimmy.forces import layout_of
 from mbs_shimmy.layout import Layout
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import MbsSystem
-from bifurcation.derivatives import DifferenceDerivatives
+from bifurcation.derivatives import PARAMETER_STEP, DifferenceDerivatives
 from axles.braking import BRAKE_PARAMS, FREE_ROLLING, Braking
 from axles.pressures import PRESSURE_PARAMS, TyrePressures
 from reduced_model.family import ShimmyFamily
@@ -76,11 +77,18 @@ def constant_speed(speed: float) -> Callable[[float], float]:
 
 
 class MbsEvaluator:
-    """First-order right-hand side of an assembled MBS at arbitrary states, through Exudyn's solver."""
+    """First-order right-hand side of an assembled MBS at arbitrary states, through Exudyn's solver; its
+    derivatives from the compiled twin (:mod:`mbs_shimmy.twin`) where it covers the system, else from differences
+    of that right-hand side."""
 
     def __init__(self, system: MbsSystem):
         self.system = system
-        self.calls = 0          # right-hand-side evaluations, for the cost reports of the benchmarks
+        self.calls = 0          # right-hand-side evaluations by Exudyn, for the cost reports of the benchmarks
+        self.twin_calls = 0     # and by the twin
+        self.twin_jacobians = 0          # Jacobians from the twin, and from differences (which derivatives a
+        self.difference_jacobians = 0    # result used: MbsFamily.derivatives)
+        self._twin = None
+        self._twin_built = False
         self.m = system.layout.n_mech
         self.n = system.layout.n
         settings = exu.SimulationSettings()
@@ -102,6 +110,45 @@ class MbsEvaluator:
         acc = np.linalg.solve(M, f)
         return np.concatenate([y[self.m:2 * self.m], acc])
 
+    @property
+    def twin(self):
+        """The system's twin (built at the first use), or None where it does not cover the system."""
+        if not self._twin_built:
+            from mbs_shimmy.twin import twin_of     # CasADi's import only where derivatives are asked for
+            self._twin, self._twin_built = twin_of(self.system), True
+        return self._twin
+
+    def exact_jacobian(self, y: np.ndarray, speed: float, key: int = 0) -> tuple[np.ndarray, np.ndarray] | None:
+        """(df/dy, df/dV) from the twin at (y, speed), or None where it has none (no twin, a load outside the
+        load table); ``key``: the caller's node (:mod:`mbs_shimmy.twin`)."""
+        twin = self.twin
+        if twin is None:
+            return None
+        _, J, Jv, ok = twin.rhs_and_jacobian(np.asarray(y, dtype=float), speed, key)
+        if not ok:
+            return None
+        self.twin_jacobians += 1
+        return J, Jv
+
+    def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False) -> tuple | None:
+        """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order;
+        None where there is no twin or a load leaves the load table at one of them."""
+        twin = self.twin
+        if twin is None:
+            return None
+        if jacobians:
+            f, J, Jv, ok = twin.rhs_and_jacobians(Y, speed)
+            out = (f, J, Jv)
+        else:
+            f, ok = twin.rhs_batch(Y, speed)
+            out = (f,)
+        if not np.all(ok):
+            return None
+        self.twin_calls += len(Y)
+        if jacobians:
+            self.twin_jacobians += len(Y)
+        return out
+
     def mass_matrix(self, y: np.ndarray) -> np.ndarray:
         """The mass matrix of the mechanical coordinates (tree order, :class:`~mbs_shimmy.system.Layout`)."""
         self.system.set_state(y)
@@ -111,6 +158,7 @@ class MbsEvaluator:
     def jacobian(self, y: np.ndarray, speed: float, step: float = FD_STEP) -> np.ndarray:
         """d y'/d y (MBS order) by fourth-order central differences (five-point stencil)."""
         y = np.asarray(y, dtype=float)
+        self.difference_jacobians += 1
         J = np.empty((self.n, self.n))
 
         def f(z):
@@ -127,6 +175,7 @@ class MbsEvaluator:
         Newton's convergence on a collocation system (the residual is exact) and moves Floquet multipliers by
         about that much; the linearisation about straight running keeps the five-point stencil."""
         y = np.asarray(y, dtype=float)
+        self.difference_jacobians += 1
         f = self.rhs(y, speed)
         J = np.empty((self.n, self.n))
         for j in range(self.n):
@@ -151,6 +200,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     param: str = "pressure"
     pressures: TyrePressures = TyrePressures.uniform(2.5e5)   # operating pressures; "pressure" params move them
     braking: Braking = FREE_ROLLING                           # operating braking; "brake_slip" params move it
+    # True: the right-hand sides of continuation are Exudyn's even where the twin covers the system (its Jacobians
+    # stay the twin's): the view that polishes an orbit on Exudyn's own residual (:meth:`on_exudyn`)
+    exudyn_residuals: bool = False
     _cache: dict = field(default_factory=dict, init=False, repr=False)
     _affine: dict = field(default_factory=dict, init=False, repr=False)
     _equilibria: dict = field(default_factory=dict, init=False, repr=False)
@@ -194,44 +246,110 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return self._at(q).rhs(np.asarray(y, dtype=float), speed)
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
-        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) or for
-        each column of x (n, k): Exudyn evaluates one state at a time."""
+        """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) (Exudyn's)
+        or for each column of x (n, k): the twin's where it covers every column (what continuation evaluates;
+        equal to Exudyn's to rounding, and every reported orbit is checked against Exudyn's,
+        :meth:`exudyn_rhs`), else Exudyn's."""
+        x = np.asarray(x, dtype=float)
+        L = self.layout
+        if x.ndim == 2 and not self.exudyn_residuals:
+            twin = self._at(q).twin_batch(x.T[:, L.x_to_y], speed)
+            if twin is not None:
+                return twin[0][:, L.y_to_x].T
+            return self.exudyn_rhs(x, speed, q)
+        return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
+
+    def exudyn_rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        """x' by Exudyn for each column of x (n, k) (or for x of shape (n,)): one call each."""
         x = np.asarray(x, dtype=float)
         if x.ndim == 2:
-            return np.stack([self.rhs(column, speed, q) for column in x.T], axis=1)
+            return np.stack([self.exudyn_rhs(column, speed, q) for column in x.T], axis=1)
         L = self.layout
         return self.rhs_mbs(x[L.x_to_y], speed, q)[L.y_to_x]
 
     def jacobian(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
+        """df/dx (extended order): the twin's, or Exudyn's five-point differences where the twin has none."""
         L = self.layout
-        J = self._at(q).jacobian(np.asarray(x, dtype=float)[L.x_to_y], speed)
+        ev = self._at(q)
+        y = np.asarray(x, dtype=float)[L.x_to_y]
+        exact = ev.exact_jacobian(y, speed)
+        J = exact[0] if exact is not None else ev.jacobian(y, speed)
         return J[np.ix_(L.y_to_x, L.y_to_x)]
 
     def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float) -> tuple[np.ndarray, np.ndarray]:
-        """f and df/dx at the states P (M, n) (extended order): what collocation needs, by
-        :meth:`MbsEvaluator.rhs_and_jacobian` at each state."""
+        """f and df/dx at the states P (M, n) (extended order): what collocation needs.  Both from the twin in one
+        call where it covers every state, else per state Exudyn's f with the twin's df/dx
+        (:meth:`MbsEvaluator.exact_jacobian`) or :meth:`MbsEvaluator.rhs_and_jacobian`'s differences."""
         ev = self._at(q)
         L = self.layout
+        P = np.asarray(P, dtype=float)
+        twin = None if self.exudyn_residuals else ev.twin_batch(P[:, L.x_to_y], speed, jacobians=True)
+        if twin is not None:
+            return twin[0][:, L.y_to_x], twin[1][np.ix_(np.arange(len(P)), L.y_to_x, L.y_to_x)]
         f, J = np.empty(P.shape), np.empty(P.shape + (P.shape[1],))
-        for k, x in enumerate(np.asarray(P, dtype=float)):
-            fy, Jy = ev.rhs_and_jacobian(x[L.x_to_y], speed)
+        for k, x in enumerate(P):
+            y = x[L.x_to_y]
+            exact = ev.exact_jacobian(y, speed, key=k)
+            if exact is None:
+                fy, Jy = ev.rhs_and_jacobian(y, speed)
+            else:
+                fy, Jy = ev.rhs(y, speed), exact[0]
             f[k], J[k] = fy[L.y_to_x], Jy[np.ix_(L.y_to_x, L.y_to_x)]
         return f, J
+
+    def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
+        """df/d(free) at the states P (M, n): in the speed from the twin where it covers every state, else (and
+        in the second parameter, which rebuilds the model) by central differences of Exudyn's right-hand side."""
+        if free == self.primary:
+            L = self.layout
+            twin = self._at(q).twin_batch(np.asarray(P, dtype=float)[:, L.x_to_y], p, jacobians=True)
+            if twin is not None:
+                return twin[2][:, L.y_to_x]
+            return super().parameter_derivative(P, p, q, free, scale)
+        # the second parameter rebuilds the model at q +- h: Exudyn's systems, without building a twin for each
+        h = PARAMETER_STEP * max(abs(q), scale)
+        P = np.asarray(P, dtype=float)
+        return (self.exudyn_rhs(P.T, p, q + h) - self.exudyn_rhs(P.T, p, q - h)).T / (2.0 * h)
+
+    def on_exudyn(self) -> "MbsFamily":
+        """The same family (sharing its assembled systems and twins) with Exudyn's right-hand sides in every
+        continuation step and the twin's Jacobians: Newton on it polishes an orbit on Exudyn's own residual."""
+        view = dataclasses.replace(self, exudyn_residuals=True)
+        view._cache, view._affine = self._cache, self._affine
+        return view
+
+    @property
+    def derivatives(self) -> str:
+        """Which derivatives the results so far used: ``"twin"`` (exact, :mod:`mbs_shimmy.twin`),
+        ``"differences"`` (of Exudyn's right-hand side) or ``"twin and differences"``."""
+        twin = sum(ev.twin_jacobians for ev in self._cache.values())
+        diff = sum(ev.difference_jacobians for ev in self._cache.values())
+        return {(True, False): "twin", (False, True): "differences", (True, True): "twin and differences"}.get(
+            (twin > 0, diff > 0), "none")
 
     @property
     def rhs_calls(self) -> int:
         """Right-hand-side evaluations by Exudyn so far, over every second-parameter value evaluated."""
         return sum(ev.calls for ev in self._cache.values())
 
+    @property
+    def twin_calls(self) -> int:
+        """Right-hand sides (with or without Jacobians) evaluated by the twin so far."""
+        return sum(ev.twin_calls for ev in self._cache.values())
+
     def mass_matrix(self, q: float) -> np.ndarray:
         """The mass matrix of the mechanical coordinates at straight running (tree order)."""
         return self._at(q).mass_matrix(np.zeros(self.n))
 
     def direct_linear_matrix(self, speed: float, q: float) -> np.ndarray:
-        """Jacobian at straight running by differences at this speed (reduced-model state order): at x = 0, or
-        under braking at the steady state (which does not depend on the speed, :meth:`ShimmyFamily.steady`)."""
+        """Jacobian at straight running by Exudyn's five-point differences at this speed (reduced-model state order):
+        at x = 0, or under braking at the steady state (which does not depend on the speed,
+        :meth:`ShimmyFamily.steady`).  Not the twin's: at straight running the differences are good to 1e-11
+        (module docstring) for 56 calls, about 5 ms, where building a twin for a new parameter value costs about a
+        second, and the Hopf curves visit many."""
+        L = self.layout
         x0 = self.equilibrium(speed, q) if self.braked else np.zeros(self.n)
-        return self.jacobian(x0, speed, q)
+        return self._at(q).jacobian(x0[L.x_to_y], speed)[np.ix_(L.y_to_x, L.y_to_x)]
 
     def affine_matrices(self, q: float) -> tuple[np.ndarray, np.ndarray]:
         """(A0, A1) with A(V) = A0 + V A1 at straight running (module docstring)."""

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 
 from mbs_shimmy.camber import camber_terms
 from mbs_shimmy.geometry import Vec
+from mbs_shimmy.scalar_ops import MATH
 from reduced_model import tyre
 from reduced_model.model import Effects, WheelTyre, contact_lengths
 from axles.parameters import ShimmyParameters
@@ -155,14 +156,15 @@ def table_values(v, static: tuple, pt: bool, hcl: int, rl: bool) -> tuple[float,
     return B, D, E, Bt, Dt, Et0, a, sigma
 
 
-def wheel_contact(hl: float, K, s) -> tuple[float, ...]:
+def wheel_contact(hl: float, K, s, sqrt) -> tuple[float, ...]:
     """(C_x, C_y, C_z, P_x, P_y, |P - C|, cos(camber)): wheel centre C = K + hl s on the spin axis s, and the
-    contact point P (:func:`~mbs_shimmy.geometry.disc_contact`, inlined) with the loaded radius |P - C|."""
+    contact point P (:func:`~mbs_shimmy.geometry.disc_contact`, inlined) with the loaded radius |P - C|; ``sqrt``
+    from :mod:`mbs_shimmy.scalar_ops`."""
     Kx, Ky, Kz = K[0], K[1], K[2]
     sx, sy, sz = s
     Cx, Cy, Cz = Kx + hl * sx, Ky + hl * sy, Kz + hl * sz
     cphi2 = 1.0 - sz * sz
-    cphi = math.sqrt(cphi2)
+    cphi = sqrt(cphi2)
     depth = Cz / cphi
     k = Cz / cphi2
     return Cx, Cy, Cz, Cx + k * sz * sx, Cy + k * sz * sy, depth, cphi
@@ -188,24 +190,28 @@ def vertical_load(el: tuple, contact: tuple, Oy: float, Oz: float, h: float, cps
 
 
 def slip_forces(tc: tuple, camber: tuple, values: tuple, alpha: float, load: float, sz: float,
-                load_dependent: bool) -> tuple[float, float, float]:
+                load_dependent: bool, ops: tuple) -> tuple[float, float, float]:
     """(F_y, M_z, F_y without camber) at slip alpha and vertical load: the Magic Formula and the trail moment
     -t F_y of :mod:`reduced_model.tyre`, with the camber terms (:func:`~mbs_shimmy.camber.camber_terms`, camber
-    asin(s_z)) when ``tc`` says so; ``tc`` = :attr:`TyreElement.slip_constants`, ``values`` of :func:`table_values`.
+    asin(s_z)) when ``tc`` says so; ``tc`` = :attr:`TyreElement.slip_constants`, ``values`` of :func:`table_values`,
+    ``ops`` the elementary functions (:mod:`mbs_shimmy.scalar_ops`).
     A lifted wheel (load <= 0) has no grip only where the properties follow the load: with ``constant_load`` the
     slip force is the reduced model's, whatever the load."""
+    sin, cos, atan, _, asin, choose = ops
     C, Ct, q_ez4, t0, pt, with_camber = tc
     B, D, E, Bt, Dt, Et0 = values[0], values[1], values[2], values[3], values[4], values[5]
-    if load_dependent and load <= 0.0:
-        return 0.0, 0.0, 0.0
-    Fy = tyre.mf_force(B, C, D, E, alpha, math.sin, math.atan)
-    t = tyre.mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha, math.cos, math.atan) if pt else t0
+    Fy = tyre.mf_force(B, C, D, E, alpha, sin, atan)
+    t = tyre.mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha, cos, atan) if pt else t0
     mz = -t * Fy          # the trail moment about the road normal (on the slip force alone)
+    total = Fy
     if with_camber:
         # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels
-        dFy, mzr = camber_terms(camber, B, C, D, E, alpha, load, math.asin(sz), Fy)
-        return Fy + dFy, mz + mzr, Fy
-    return Fy, mz, Fy
+        dFy, mzr = camber_terms(camber, B, C, D, E, alpha, load, asin(sz), Fy, ops)
+        total, mz = Fy + dFy, mz + mzr
+    if load_dependent:
+        lifted = load <= 0.0
+        return choose(lifted, 0.0, total), choose(lifted, 0.0, mz), choose(lifted, 0.0, Fy)
+    return total, mz, Fy
 
 
 def contact_forces(el: tuple, contact: tuple, pose: tuple, Oy: float, Oz: float, ux: float, uz: float, Fz: float,
@@ -378,11 +384,11 @@ class TyreElement:
         through O = (0, Oy, Oz), h above the wheel centres at straight running; Q_y, Q_z are the forces on the axle's
         lateral travel and bounce.  The steps are the module's plain functions, which the compiled stage shares."""
         el, s = self.constants, pose[3]
-        contact = wheel_contact(self.side * self.l, pose[0], s)
+        contact = wheel_contact(self.side * self.l, pose[0], s, math.sqrt)
         Fz, dFz, P0y = vertical_load(el, contact, Oy, Oz, h, cpsi, spsi)
         values = self.properties(Fz)
         Fy, mz, _ = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2],
-                                self.table is not None)
+                                self.table is not None, MATH)
         Fx = 0.0
         if braked and self.combined is not None:
             t = tyre.mf_trail(values[3], self.Ct, values[4], values[5], self.q_ez4, alpha, math.cos,
@@ -447,7 +453,7 @@ class TyreElement:
         K, _, e, s, _ = pose
         sx, sy, sz = s
         hl = self.side * self.l
-        _, _, Cz, Px, Py, _, cphi = wheel_contact(hl, K, s)
+        _, _, Cz, Px, Py, _, cphi = wheel_contact(hl, K, s, math.sqrt)
         Fs = self.static_load
         # the rolling resistance at the wheel centre (free-rolling wheel, as in :meth:`exact`)
         Fx, Fyv = -self.f * Fs * sy / cphi, self.f * Fs * sx / cphi

@@ -407,3 +407,15 @@ class CondensedJacobian:
             return scipy.sparse.linalg.splu(A).solve(reduced_rhs)
         except RuntimeError:  # exactly singular
             return None
+
+
+def collocation_residual(orbit: Orbit, rhs) -> float:
+    """max over the collocation points of |x'(tau) - T f(x(tau))|, relative to max |x'(tau)|: how well the orbit
+    solves the collocation equations of the right-hand side ``rhs(X) -> f`` (states and values as columns, (n, k)),
+    which may be another evaluator of the equations than the one the orbit was continued with."""
+    sch = scheme(orbit.degree)
+    Y = orbit.interval_values()
+    Xc = collocation_states(Y, sch)
+    dX = collocation_derivatives(Y, orbit.widths, sch)
+    f = np.asarray(rhs(Xc.reshape(-1, orbit.n).T)).T.reshape(Xc.shape)
+    return float(np.max(np.abs(dX - orbit.period * f)) / np.max(np.abs(dX)))

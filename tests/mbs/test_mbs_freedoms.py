@@ -143,10 +143,11 @@ def test_camber_terms_equal_an_independent_mf61():
     """The element's camber force and moment at finite slip, camber and load against the independent MF 6.1 form;
     at zero slip dF_y/dgamma is the camber stiffness F_z (p_Ky6 + p_Ky7 df_z) (-5.39 kN/rad at 6 kN)."""
     from mbs_shimmy.camber import CamberTerms, camber_terms
+    from mbs_shimmy.scalar_ops import MATH
     c = CamberTerms.of(D, P).coefficients
 
     def terms(mf, alpha, load, gamma, plain):     # as the tyre element calls it
-        return camber_terms(c, mf.B, mf.C, mf.D, mf.E, alpha, load, gamma, plain)
+        return camber_terms(c, mf.B, mf.C, mf.D, mf.E, alpha, load, gamma, plain, MATH)
     for alpha, gamma, load in ((0.0, 0.02, 6000.0), (0.03, -0.05, 7500.0), (-0.1, 0.08, 4000.0)):
         mf = tyre.magic_formula(P.replace(Fz=load), 1.5 * BAR)
         dFy, mz = terms(mf, alpha, load, gamma, mf.force(alpha))

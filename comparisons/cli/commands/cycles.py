@@ -187,6 +187,20 @@ def branch_row(b: CycleBranch, family: SpeedFamily) -> dict:
             + ([hopf_row(b.end, family)] if b.end else [])}
 
 
+def add_exudyn_residuals(out: dict, diagram: CycleDiagram, family) -> None:
+    """Each MBS orbit's collocation residual with Exudyn's own right-hand side (one Exudyn call per collocation
+    point; relative, :func:`~comparisons.studies.exudyn_check.exudyn_residual`) as ``exudyn_residual``, after a
+    Newton polish on that residual where it was above the tolerance (``polished``), and which derivatives the
+    continuation used (``derivatives``: the compiled twin's or differences of Exudyn's)."""
+    from comparisons.studies.exudyn_check import checked_on_exudyn
+    for b, row in zip(diagram.branches, out["branches"]):
+        cycles = [r for r in row["points"] if r["kind"] == "cycle"]
+        for p, r in zip(b.points, cycles):
+            check = checked_on_exudyn(family, p)
+            r["exudyn_residual"], r["polished"] = check.residual, check.polished
+    out["derivatives"] = family.derivatives
+
+
 def diagram_json(diagram: CycleDiagram, family: SpeedFamily, pressure_bar: float, effects) -> dict:
     from comparisons.figures.cycle_plots import special_point_labels
 
@@ -326,6 +340,7 @@ def run(args: argparse.Namespace) -> int:
         out = {**inputs_json(args), **out}
         if args.model == "mbs":
             out["model"], out["fidelity"] = "mbs", family.model.fidelity.label
+            add_exudyn_residuals(out, diagram, family)
         out.update({"tolerance": args.tolerance, "max_step_kmh": args.max_step,
                     "all_meet_tolerance": not inaccurate(diagram)})
         if at_kmh:

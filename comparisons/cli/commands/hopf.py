@@ -62,7 +62,9 @@ def run(args: argparse.Namespace) -> int:
         if steady:
             out["steady_state"] = steady
         if mbs:
+            # the Jacobians (and so the Hopf conditions) from the compiled twin or from differences of Exudyn's rhs
             out["model"], out["fidelity"] = "mbs", family.problem.model.fidelity.label
+            out["derivatives"] = {"jacobian": family.problem.derivatives, "lyapunov_forms": "differences"}
         emit_json(out)
         return 0
     what = f"MBS, fidelity {family.problem.model.fidelity.label}" if mbs else "reduced model"

@@ -1,0 +1,146 @@
+"""The compiled twin (:mod:`mbs_shimmy.twin`) against Exudyn, the model it is generated from.
+
+At random states of the full geometry and of each element switch on, on the paper's axle and on random plausible
+axles (``tools/verify_campaign.py``'s draws): the twin's right-hand side equals Exudyn's to 1e-10 relative (it
+does to about 1e-14), and its Jacobian equals Exudyn's five-point differences (step 1e-4) to 1e-10 relative of the
+largest entry.
+
+That holds where the right-hand side is smooth.  With the load dependence on (``constant_load`` off) the tyre
+properties come from a load table interpolated by cubic pieces, continuous at the nodes but with a derivative that
+jumps there by about 1e-8 relative; the nodes are 0.33 % of load apart, and a step of 1e-4 m in the bounce moves
+the load by about as much, so the differences average two pieces while the twin (like Exudyn's own stage) is on
+one.  There the check is 5e-9 relative: with ``constant_load`` on, the same states agree to 1e-11.  The element
+switches are therefore checked with ``constant_load`` on (Jacobian to 1e-10) and the full geometry both ways.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+
+from axles.axle import paper_axle
+from axles.pressures import TyrePressures
+from axles.units import BAR
+from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
+from mbs_shimmy.linearisation import MbsEvaluator, speed_is_time
+from mbs_shimmy.model import MbsModel
+from mbs_shimmy.twin import twin_of
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+FULL = Fidelity.full()
+SWITCHES = (FULL,) + tuple(Fidelity(frozenset({a})) for a in ELEMENT_ASSUMPTIONS)
+
+
+def _campaign():
+    spec = importlib.util.spec_from_file_location("tools_verify_campaign", ROOT / "tools" / "verify_campaign.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def _states(layout, count, seed, amplitude=0.004):
+    rng = np.random.default_rng(seed)
+    m = layout.n_mech
+    for _ in range(count):
+        yield np.concatenate([rng.uniform(-amplitude, amplitude, m), rng.uniform(-0.1, 0.1, m),
+                              rng.uniform(-0.05, 0.05, 2)])
+
+
+def _check(axle, fidelity, count=3, seed=0, jacobian_tol=1e-10):
+    system = MbsModel(params=axle.params, fidelity=fidelity, dims=axle.dims).system(TyrePressures.uniform(1.5 * BAR),
+                                                                                    speed_is_time)
+    exudyn, twin = MbsEvaluator(system), twin_of(system)
+    assert twin is not None, f"the twin must cover {fidelity.label}"
+    checked = 0
+    for k, y in enumerate(_states(system.layout, count, seed)):
+        speed = (5.0, 20.0, 33.0)[k % 3]
+        f, J, Jv, ok = twin.rhs_and_jacobian(y, speed)
+        assert ok
+        fe = exudyn.rhs(y, speed)
+        assert np.max(np.abs(f - fe)) <= 1e-10 * np.max(np.abs(fe))
+        Je = exudyn.jacobian(y, speed)
+        assert np.max(np.abs(J - Je)) <= jacobian_tol * np.max(np.abs(Je))
+        h = 1e-3
+        dv = (exudyn.rhs(y, speed + h) - exudyn.rhs(y, speed - h)) / (2 * h)
+        np.testing.assert_allclose(Jv, dv, rtol=0, atol=1e-8 * np.max(np.abs(dv)))
+        checked += 1
+    return checked
+
+
+def test_twin_covers_the_exact_kinematics_only():
+    """small_angles runs a Python user function with coordinate connectors: the twin declines it."""
+    with_small_angles = Fidelity(frozenset(ELEMENT_ASSUMPTIONS) | {Assumption.SMALL_ANGLES})
+    for fidelity in (Fidelity.reduced(), with_small_angles):
+        system = MbsModel(fidelity=fidelity).system(TyrePressures.uniform(1.5 * BAR), speed_is_time)
+        assert twin_of(system) is None
+
+
+@pytest.mark.parametrize("fidelity", SWITCHES, ids=lambda f: f.label)
+def test_twin_equals_exudyn_on_the_paper_axle(fidelity):
+    """Each element switch on (and none), with the load table out of the way: Jacobian to 1e-10."""
+    assert _check(paper_axle(), Fidelity(fidelity.assumed | {Assumption.CONSTANT_LOAD})) == 3
+
+
+def test_twin_equals_exudyn_with_the_load_table():
+    assert _check(paper_axle(), FULL, jacobian_tol=5e-9) == 3
+
+
+@pytest.mark.parametrize("number", (1, 2))
+def test_twin_equals_exudyn_on_random_plausible_axles(number):
+    axle = _campaign().draw_axle(np.random.default_rng((30, number)), f"TWIN-{number}", t0=True)
+    assert _check(axle, FULL, count=2, seed=number, jacobian_tol=5e-9) == 2
+    switch = Fidelity(SWITCHES[1 + 3 * number].assumed | {Assumption.CONSTANT_LOAD})
+    assert _check(axle, switch, count=2, seed=number) == 2
+
+
+def test_twin_second_derivative_is_its_jacobian_differentiated():
+    """d/de J(y + e v) u from the twin against central differences of the twin's Jacobian and of Exudyn's rhs."""
+    system = MbsModel(fidelity=FULL).system(TyrePressures.uniform(1.5 * BAR), speed_is_time)
+    twin, exudyn = twin_of(system), MbsEvaluator(system)
+    rng = np.random.default_rng(5)
+    y = next(_states(system.layout, 1, 5))
+    u, v = rng.normal(size=len(y)) * 0.01, rng.normal(size=len(y)) * 0.01
+    second = twin.second_derivative(y, 20.0, u, v)
+    h = 1e-5
+    by_twin = (twin.rhs_and_jacobian(y + h * v, 20.0)[1] - twin.rhs_and_jacobian(y - h * v, 20.0)[1]) @ u / (2 * h)
+    np.testing.assert_allclose(second, by_twin, rtol=0, atol=1e-7 * np.max(np.abs(second)))
+    # Exudyn: f(y + a u + b v) mixed difference
+    a = 1e-3
+
+    def fe(du, dv):
+        return exudyn.rhs(y + du * u + dv * v, 20.0)
+    mixed = (fe(a, a) - fe(a, -a) - fe(-a, a) + fe(-a, -a)) / (4 * a * a)
+    np.testing.assert_allclose(second, mixed, rtol=0, atol=1e-4 * np.max(np.abs(second)))
+
+
+def test_an_orbit_off_exudyns_equations_is_polished_on_them():
+    """The first cycle of the full geometry's yaw branch (continued on the twin) has an Exudyn residual below the
+    tolerance; the same orbit with its period 1e-4 too long is far above it, and the check polishes it back onto
+    Exudyn's collocation equations at the same speed."""
+    import dataclasses
+
+    from axles.units import KMH
+    from bifurcation.cycles.branches import start_at_hopf
+    from bifurcation.cycles.collocation import Orbit
+    from bifurcation.equilibria.hopf import hopf_points
+    from comparisons.api import family_of
+    from comparisons.studies.exudyn_check import RESIDUAL_TOL, checked_on_exudyn, exudyn_residual
+
+    family = family_of(MbsModel(fidelity=FULL), TyrePressures.uniform(1.5 * BAR))
+    hopf = hopf_points(family, 1.5 * BAR, 30 * KMH, 50 * KMH)[0]
+    problem, u0, _ = start_at_hopf(family, hopf)
+    point = problem.point(u0)
+    assert family.derivatives == "twin and differences"      # twin on the cycle, differences at straight running
+    good = checked_on_exudyn(family, point)
+    assert good.passed and not good.polished
+    o = point.orbit
+    off = dataclasses.replace(point, orbit=Orbit(o.mesh, o.nodes, o.period * (1 + 1e-4), o.degree))
+    assert exudyn_residual(family, off) > 100 * RESIDUAL_TOL
+    fixed = checked_on_exudyn(family, off)
+    assert fixed.polished and fixed.passed and fixed.point.p == point.p
+    assert abs(fixed.point.period - point.period) < 1e-8 * point.period
