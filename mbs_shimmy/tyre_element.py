@@ -275,7 +275,7 @@ def brake_forces(hl: float, pose: tuple, Oy: float, Oz: float, ux: float, uz: fl
     the free-rolling wheel's rolling resistance does).  Virtual work as in :func:`contact_forces`: u.((P - O) x F)
     about the roll axis u through O = (0, Oy, Oz), e.((P - K) x F) about the kingpin e through K; ``hl`` = side l."""
     K, _, e, s, _ = pose
-    _, _, _, Px, Py, _, cphi = wheel_contact(hl, K, s)
+    _, _, _, Px, Py, _, cphi = wheel_contact(hl, K, s, math.sqrt)
     Fxx, Fxy = Fx * s[1] / cphi, -Fx * s[0] / cphi         # F along x_w (horizontal)
     q_psi = ux * Oz * Fxy + uz * (Px * Fxy - (Py - Oy) * Fxx)
     rx, ry, rz = Px - K[0], Py - K[1], -K[2]
