@@ -127,12 +127,12 @@ def test_an_orbit_off_exudyns_equations_is_polished_on_them():
     from axles.units import KMH
     from bifurcation.cycles.branches import start_at_hopf
     from bifurcation.cycles.collocation import Orbit
-    from bifurcation.equilibria.hopf import hopf_points
+    from bifurcation.equilibria.hopf import find_hopf_points
     from comparisons.api import family_of
     from comparisons.studies.exudyn_check import RESIDUAL_TOL, checked_on_exudyn, exudyn_residual
 
     family = family_of(MbsModel(fidelity=FULL), TyrePressures.uniform(1.5 * BAR))
-    hopf = hopf_points(family, 1.5 * BAR, 30 * KMH, 50 * KMH)[0]
+    hopf = find_hopf_points(family, 1.5 * BAR, 30 * KMH, 50 * KMH)[0]
     problem, u0, _ = start_at_hopf(family, hopf)
     point = problem.point(u0)
     assert family.derivatives == "twin and differences"      # twin on the cycle, differences at straight running
