@@ -69,7 +69,7 @@ def test_a_kick_check_of_the_region_passes(paper_t025_map):
 
 
 def test_the_stable_shimmy_free_pressure_is_bracketed_by_bisection():
-    """The paper's axle (t0 = 0.133 m): stable cycles at 2.5 bar, none at 3.0 bar: the pressure above which no
+    """The paper's axle (t0 = 0.07 m): stable cycles at 2.5 bar, none at 3.0 bar: the pressure above which no
     stable shimmy exists lies between them, to the bisection's tolerance, beside the linear boundary."""
     from axles.axle import paper_axle
     from comparisons.verify.bistable_rows import family_at
