@@ -125,3 +125,12 @@ def test_the_simulation_benchmark_says_where_a_stage_goes():
     assert counts["marker_reads_us"] + counts["compiled_stage_us"] < counts["force_function_us"] * 1.2
     assert counts["force_function_us"] < counts["python_force_function_us"]
     assert 0 < counts["force_function_us"] < counts["stage_us"] and counts["exudyn_us"] > 0
+
+
+def test_bench_counts_show_texts_and_small_residuals_as_they_are():
+    """The twin's bench reports which derivatives it used (a text) and the largest Exudyn residual (about 1e-9):
+    the text once raised a format error, and the residual read "0"."""
+    from comparisons.cli.commands.bench import _count_text
+    assert _count_text("twin and differences") == "twin and differences"
+    assert _count_text(2.8e-9) == "2.8e-09"
+    assert _count_text(3586) == "3,586" and _count_text(12.25) == "12.2" and _count_text(0.0) == "0"

@@ -47,7 +47,12 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _count_text(value) -> str:
-    """Counts as integers with thousands separators; small measured values (us per stage) to 0.1."""
+    """Counts as integers with thousands separators; small measured values (us per stage) to 0.1; a text (which
+    derivatives a run used) as it is."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, float) and abs(value) < 0.1 and value != 0.0:
+        return f"{value:.2g}"      # a residual (2.8e-09) is no zero
     if isinstance(value, float) and abs(value) < 100 and value != int(value):
         return f"{value:.1f}"
     return f"{value:,.0f}"
