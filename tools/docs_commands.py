@@ -34,6 +34,7 @@ import io
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -171,8 +172,13 @@ def _prepare(argv: tuple[str, ...], scratch: Path) -> None:
     """Placeholders in the scratch folder: the axle file a command reads, the folders its outputs go to."""
     for i, tok in enumerate(argv):
         if tok == "--axle" and i + 1 < len(argv) and not (scratch / argv[i + 1]).exists():
-            subprocess.run(_program() + ["params", "--write", argv[i + 1]], cwd=scratch, check=True,
-                           stdout=subprocess.DEVNULL)
+            target = scratch / argv[i + 1]
+            target.parent.mkdir(parents=True, exist_ok=True)
+            if (ROOT / argv[i + 1]).is_file():       # an axle file of the repository (docs/examples/...): itself
+                shutil.copyfile(ROOT / argv[i + 1], target)
+            else:
+                subprocess.run(_program() + ["params", "--write", argv[i + 1]], cwd=scratch, check=True,
+                               stdout=subprocess.DEVNULL)
         elif "/" in tok and not tok.startswith(("-", "/")) and "=" not in tok and "://" not in tok:
             (scratch / tok).parent.mkdir(parents=True, exist_ok=True)
 
