@@ -13,6 +13,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from axles.braking import Braking
+from hand_pose import wheel_pose
 from axles.dimensions import DEFAULT_DIMENSIONS
 from axles.parameters import YANG2024
 from axles.pressures import TyrePressures
@@ -183,32 +184,14 @@ def test_hopf_points_and_criticality_under_braking_equal_in_both_models():
         assert h.first_lyapunov > 0.0 and g.first_lyapunov == pytest.approx(h.first_lyapunov, rel=1e-3)
 
 
-def _rot(axis, angle):
-    a = np.asarray(axis, dtype=float)
-    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
-
-
 def _brake_moment(side, theta, psi, kpi, Fx):
-    """Independent pose (as tests/mbs/test_mbs_elements.py builds it): the axle rolled by psi about x through
+    """Independent pose (tests/mbs/hand_pose.py, as tests/mbs/test_mbs_elements.py uses it): the axle rolled by psi about x through
     O = (0, 0, R), the knuckle steered by theta about the kingpin e through K (caster g, inclination kpi); the wheel
     centre C = K + R_k (0, s l, 0), spin axis s = R_k (0, 1, 0), the contact point P the wheel plane's lowest point;
     the brake force F_x along the heading s x z at P.  Returns its moments about the kingpin and about the roll axis."""
-    P = YANG2024
-    O = np.array([0.0, 0.0, P.R])
-    Rx = _rot([1.0, 0.0, 0.0], psi)
-    e = np.array([-math.tan(P.gamma), -side * math.tan(kpi), 1.0])
-    e = Rx @ (e / np.linalg.norm(e))
-    K = O + Rx @ (np.array([0.0, side * (0.5 * P.L - P.l), P.R]) - O)
-    Rk = _rot(e, theta) @ Rx
-    C = K + Rk @ np.array([0.0, side * P.l, 0.0])
-    s = Rk @ np.array([0.0, 1.0, 0.0])
-    d = -np.array([0.0, 0.0, 1.0]) + s[2] * s
-    d /= np.linalg.norm(d)
-    Pc = C + (C[2] / -d[2]) * d
-    heading = np.cross(s, [0.0, 0.0, 1.0])
-    F = Fx * heading / np.linalg.norm(heading)
-    return float(e @ np.cross(Pc - K, F)), float(np.cross(Pc - O, F)[0])
+    w = wheel_pose(YANG2024, side, theta, psi, kpi)
+    F = Fx * w.heading
+    return float(w.e @ np.cross(w.contact - w.K, F)), float(np.cross(w.contact - w.O, F)[0])
 
 
 @pytest.mark.parametrize("theta,psi", [(0.05, 0.0), (-0.2, 0.03), (0.1, -0.05)])

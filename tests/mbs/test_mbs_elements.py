@@ -16,6 +16,7 @@ import pytest
 
 from axles.units import BAR, KMH, kmh
 from axles.dimensions import DEFAULT_DIMENSIONS
+from hand_pose import rot, wheel_pose
 from mbs_shimmy import Fidelity, tyre_element
 from mbs_shimmy.fidelity import ISSUE_18, Assumption
 from mbs_shimmy.linearisation import constant_speed, MbsFamily
@@ -27,12 +28,6 @@ from axles.parameters import YANG2024
 from axles.pressures import TyrePressures
 
 P, D = YANG2024, DEFAULT_DIMENSIONS
-
-
-def _rot(axis, angle):
-    a = np.asarray(axis, dtype=float)
-    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
 
 
 def _forces_at(system, q, qd):
@@ -93,23 +88,11 @@ def _static_load_moment(side, theta, kpi, psi=0.0, h=0.0):
     C = K + R_k (0, s l, 0), spin axis s = R_k (0, 1, 0), R_k the rotation by theta about e; the contact point is the
     wheel plane's lowest point P = C + rho d, d = (-z + (z.s) s) / |...|, rho = C_z / |d_z| (the loaded radius).
     Returns (moment about the kingpin, moment about the roll axis)."""
-    O = np.array([0.0, 0.0, P.R + h])
-    Rx = _rot([1.0, 0.0, 0.0], psi)
-    e = np.array([-math.tan(P.gamma), -side * math.tan(kpi), 1.0])
-    e = Rx @ (e / np.linalg.norm(e))
-    K = O + Rx @ (np.array([0.0, side * (0.5 * P.L - P.l), P.R]) - O)
-    Rk = _rot(e, theta) @ Rx
-    C = K + Rk @ np.array([0.0, side * P.l, 0.0])
-    s = Rk @ np.array([0.0, 1.0, 0.0])
-    d = -np.array([0.0, 0.0, 1.0]) + s[2] * s
-    d /= np.linalg.norm(d)
-    rho = C[2] / -d[2]
-    Pc = C + rho * d
+    w = wheel_pose(P, side, theta, psi, kpi, h)
+    O, e, K, C, Pc, rho = w.O, w.e, w.K, w.C, w.contact, w.rho
     k5 = ShimmyModel(P, Effects()).tyres(TyrePressures.uniform(1.5 * BAR))[0].k5
     Fz = P.Fz + k5 * (P.R - rho)
-    heading = np.cross(s, [0.0, 0.0, 1.0])
-    heading /= np.linalg.norm(heading)
-    vertical, rolling = np.array([0.0, 0.0, Fz]), -P.f * Fz * heading
+    vertical, rolling = np.array([0.0, 0.0, Fz]), -P.f * Fz * w.heading
     about_kingpin = e @ (np.cross(Pc - K, vertical) + np.cross(C - K, rolling))
     about_roll = np.cross(Pc - O, vertical)[0] + np.cross(C - O, rolling)[0]
     return float(about_kingpin), float(about_roll)
@@ -174,7 +157,7 @@ def test_free_rolling_wheel_rolling_resistance_at_the_wheel_centre():
     def brake_term(side, psi):
         """f rho F_z (e.s) about the kingpin: the moment of the force at P less the same force at C."""
         O = np.array([0.0, 0.0, P.R + h])
-        Rx = _rot([1.0, 0.0, 0.0], psi)
+        Rx = rot([1.0, 0.0, 0.0], psi)
         C = O + Rx @ (np.array([0.0, side * 0.5 * P.L, P.R]) - O)
         s = Rx @ np.array([0.0, 1.0, 0.0])
         e = np.array([-math.tan(P.gamma), -side * math.tan(kpi), 1.0])
