@@ -21,8 +21,11 @@ built and no file is read.  ``tests/docs/test_docs_commands.py`` runs it.
 ``--run`` executes each command in a scratch folder, in the order of the docs (so ``shimmy params --write
 mytruck.toml`` comes before the commands that read it).  Placeholders: an ``--axle FILE.toml`` that does not exist
 there is first written as the paper's axle (``shimmy params --write FILE.toml``), and the folders of relative output
-paths (``docs/figures/...``) are created in the scratch folder, so nothing in the checkout is overwritten.  Commands
-that need an outside service (``--scheduler tcp://host:8786``, a Dask cluster) are only parsed.
+paths (``docs/figures/...``) are created in the scratch folder, and a file of the repository that a command reads
+(``--tyre tests/data/....tir``, ``--axle docs/examples/....toml``) is copied there, so nothing in the checkout is
+overwritten.  Commands
+that need an outside service (``--scheduler tcp://host:8786``, a Dask cluster) are only parsed.  A command line that
+was run already (``shimmy verify --quick`` is shown seven times) is reported as the same, not run again.
 """
 
 from __future__ import annotations
@@ -169,17 +172,19 @@ def _program() -> list[str]:
 
 
 def _prepare(argv: tuple[str, ...], scratch: Path) -> None:
-    """Placeholders in the scratch folder: the axle file a command reads, the folders its outputs go to."""
+    """Placeholders in the scratch folder: the files of the repository a command reads (an axle, a ``.tir`` file),
+    the axle file a command reads that the repository does not have, the folders its outputs go to."""
     for i, tok in enumerate(argv):
-        if tok == "--axle" and i + 1 < len(argv) and not (scratch / argv[i + 1]).exists():
-            target = scratch / argv[i + 1]
-            target.parent.mkdir(parents=True, exist_ok=True)
-            if (ROOT / argv[i + 1]).is_file():       # an axle file of the repository (docs/examples/...): itself
-                shutil.copyfile(ROOT / argv[i + 1], target)
-            else:
-                subprocess.run(_program() + ["params", "--write", argv[i + 1]], cwd=scratch, check=True,
-                               stdout=subprocess.DEVNULL)
-        elif "/" in tok and not tok.startswith(("-", "/")) and "=" not in tok and "://" not in tok:
+        relative = not tok.startswith(("-", "/")) and "=" not in tok and "://" not in tok
+        if relative and (ROOT / tok).is_file() and not (scratch / tok).exists():
+            (scratch / tok).parent.mkdir(parents=True, exist_ok=True)   # docs/examples/..., tests/data/...: itself
+            shutil.copyfile(ROOT / tok, scratch / tok)
+        elif tok == "--axle" and i + 1 < len(argv) and not (ROOT / argv[i + 1]).is_file() \
+                and not (scratch / argv[i + 1]).exists():
+            (scratch / argv[i + 1]).parent.mkdir(parents=True, exist_ok=True)
+            subprocess.run(_program() + ["params", "--write", argv[i + 1]], cwd=scratch, check=True,
+                           stdout=subprocess.DEVNULL)
+        elif relative and "/" in tok:
             (scratch / tok).parent.mkdir(parents=True, exist_ok=True)
 
 
@@ -226,7 +231,12 @@ def main(argv: list[str] | None = None) -> int:
               file=sys.stderr)
         return 1 if bad else 0
     with tempfile.TemporaryDirectory(prefix="shimmy-docs-") as scratch:
+        first: dict[tuple[str, ...], str] = {}
         for c in commands:
+            if c.argv in first:     # the same line again, after the same files: it was run already
+                print(f"{'same':>11} {0.0:7.1f} s  {c.where}: {c.text}\n{'':22}as {first[c.argv]}", flush=True)
+                continue
+            first[c.argv] = c.where
             code, seconds, tail = run(c, Path(scratch), args.timeout)
             bad += code not in (0, "parsed only")
             print(f"{code!s:>11} {seconds:7.1f} s  {c.where}: {c.text}" + (f"\n{'':22}{tail}" if tail else ""),
