@@ -122,11 +122,13 @@ def draw_cumulative(store: DiagramStore) -> Drawing:
         zax.grid(alpha=0.3)
         ax.add_patch(Rectangle((vlo, plo), vhi - vlo, phi - plo, fill=False, ls="--", lw=0.8, color="0.3"))
         ax.annotate(name, (vhi, phi), textcoords="offset points", xytext=(2, 2), fontsize=8)
-    marker_key(zooms[0], kinds=(PointKind.HOPF_FOLD, PointKind.HOPF_HOPF), loc="lower center")
+    # Keys below the axes, off the curves (inside, every corner holds a curve at some pressure).
+    marker_key(zooms[1], kinds=(PointKind.HOPF_FOLD, PointKind.HOPF_HOPF), loc="upper center",
+               bbox_to_anchor=(0.5, -0.3), ncol=2)
     _speed_axis(ax)
     ax.set_ylim(*P17_BAR)
     ax.set_ylabel("inflation pressure $p_i$ [bar]")
-    ax.legend(fontsize=8, loc="lower right", framealpha=0.9)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=5, framealpha=0.9)
     ax.set_title("Fig. 17: Hopf curves with the tyre properties following pressure cumulatively\n"
                  "LF lateral force, HCL half-contact length, PT pneumatic trail, RL relaxation length, "
                  "VS vertical stiffness", fontsize=9)

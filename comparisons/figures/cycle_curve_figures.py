@@ -111,17 +111,17 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     _draw_curves(ax, hopf, BAR, "k", label="Hopf curves")
     notes, complete = [], hopf.complete and cycles.complete
     paper_hh = paper.SECTION5[FIG18_EFFECTS]["hopf_hopf_bar"]
+    items: list = []
     for i, hh in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1):
-        _mark(ax, hh, BAR, f"HH{i}", colour="tab:red", marker="s", offset=(6, 4))
+        _mark(ax, hh, BAR, f"HH{i}", colour="tab:red", marker="s", items=items)
         notes.append(_point_note(f"HH{i}", hh, "bar", BAR) + (f" (paper {paper_hh:g} bar)" if i == 1 else ""))
     for i, dh in enumerate(_located(hopf, PointKind.GENERALIZED_HOPF), 1):
-        _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", offset=(8, 2))
+        _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", items=items)
         notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
     # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
     # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
     from bifurcation.cycle_curves.switching import curves_from_codimension_two
 
-    items: list = []
     named: dict[str, int] = {}
     for origin, point in [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
             [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]:

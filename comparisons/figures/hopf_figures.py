@@ -182,8 +182,7 @@ def draw_vertical_stiffness(store: DiagramStore) -> Drawing:
             _mark(ax, f, 1.0, f"{high_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p], items=marks)
         if low_name and lower_max:
             f = lower_max[0]
-            _mark(ax, f, 1.0, f"{low_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p],
-                  text_at=(105.0, 1.75e5))
+            _mark(ax, f, 1.0, f"{low_name} ({f.q / 1e5:.2f}e5 N/m)", colour=PRESSURE_COLOURS[p], items=marks)
     ax.set_title("Fig. 14: Hopf curves in (V, $k_5$) at four pressures\n" + _FOUR_NOTE, fontsize=9)
     place_labels(ax, marks)     # the limits are final
     return Drawing(fig, tuple(notes), complete)

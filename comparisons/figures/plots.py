@@ -65,7 +65,7 @@ def plot_hopf_diagram(diagram: HopfDiagram, family: SpeedFamily, path: str, titl
 
 
 # Label offsets from the labelled point, in points: a ring close by first, then wider rings (with a leader line).
-_RINGS = (8.0, 16.0, 28.0, 42.0, 60.0)
+_RINGS = (8.0, 16.0, 28.0, 42.0, 60.0, 80.0, 100.0)
 _DIRECTIONS = ((1, 0.6), (1, -1.2), (-1, 0.6), (-1, -1.2), (0, 1.4), (0, -1.8), (1, 0), (-1, 0))
 
 

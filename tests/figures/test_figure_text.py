@@ -198,3 +198,11 @@ def test_paper_cycle_diagram_labels_clear_of_the_data():
     drawing = REGISTRY[3].draw(DiagramStore())
     assert overlaps(drawing.figure) == []
     assert {t.get_text() for ax in drawing.figure.axes for t in ax.texts} >= {"HB1", "HB2"}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("number", [4, 5, 9, 14, 15, 17, 18])
+def test_paper_figures_labels_and_keys_clear_of_the_data(number):
+    """The paper's other figure kinds (15-150 s each): labels placed by place_labels, keys off the curves."""
+    from comparisons.figures.registry import REGISTRY, DiagramStore
+    assert overlaps(REGISTRY[number].draw(DiagramStore()).figure) == []
