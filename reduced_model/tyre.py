@@ -244,25 +244,32 @@ def combined_slip(params: ShimmyParameters, pressure: float, kappa: float, mirro
         SVyk_sine=math.sin(P.r_vy5 * math.atan(P.r_vy6 * kappa)))
 
 
-def peak_brake_slip(params: ShimmyParameters, pressure: float) -> tuple[float, float]:
+def peak_brake_slip(params: ShimmyParameters, pressure: float, driving: bool = False) -> tuple[float, float]:
     """(brake slip, brake force N) at the peak of -F_x0 for braking: the largest steady brake force the tyre gives
-    at straight running."""
+    at straight running; ``driving``: at the peak of F_x0 for driving, both then negative (ISO kappa = -slip > 0;
+    E_x's asymmetry p_ex4 makes the two peaks differ)."""
     from scipy.optimize import minimize_scalar
     lf = longitudinal_formula(params, pressure)
-    res = minimize_scalar(lambda s: lf.force(-s), bounds=(1e-6, 1.0), method="bounded",
+    sign = -1.0 if driving else 1.0
+    res = minimize_scalar(lambda s: sign * lf.force(-sign * s), bounds=(1e-6, 1.0), method="bounded",
                           options={"xatol": 1e-12})
-    return float(res.x), float(-lf.force(-res.x))
+    return float(sign * res.x), float(-lf.force(-sign * res.x))
 
 
 def brake_slip_for_force(params: ShimmyParameters, pressure: float, force: float) -> float:
-    """The brake slip (positive; ISO kappa = -slip) at which the tyre gives the brake force ``force`` (N, rearward)
-    at straight running (alpha = 0, where G_xa = 1); at most the peak's, or a :class:`ParameterError`."""
+    """The brake slip (positive braking, negative driving; ISO kappa = -slip) at which the tyre gives the brake
+    force ``force`` (N, rearward; negative: a drive force, forward) at straight running (alpha = 0, where
+    G_xa = 1); at most the peak's, or a :class:`ParameterError`."""
     from scipy.optimize import brentq
     if force == 0.0:
         return 0.0
-    s_peak, f_peak = peak_brake_slip(params, pressure)
-    if not force < f_peak:
-        raise ParameterError(Message.of(f"brake force = {force:.6g} N is beyond the tyre's grip: at most {f_peak:.6g} N at ",
-                                        Quantity("pressure", pressure, 10), f" (brake slip {s_peak:.4g})"))
+    driving = force < 0.0
+    s_peak, f_peak = peak_brake_slip(params, pressure, driving)
+    if not abs(force) < abs(f_peak):
+        what = "drive force" if driving else "brake force"
+        raise ParameterError(Message.of(f"{what} = {abs(force):.6g} N is beyond the tyre's grip: at most "
+                                        f"{abs(f_peak):.6g} N at ", Quantity("pressure", pressure, 10),
+                                        f" ({'drive' if driving else 'brake'} slip {abs(s_peak):.4g})"))
     lf = longitudinal_formula(params, pressure)
-    return float(brentq(lambda s: -lf.force(-s) - force, 0.0, s_peak, xtol=1e-15, rtol=1e-15))
+    return float(brentq(lambda s: -lf.force(-s) - force, min(0.0, s_peak), max(0.0, s_peak), xtol=1e-15,
+                        rtol=1e-15))

@@ -27,7 +27,8 @@ from reduced_model import tyre
 from reduced_model.model import Effects, ShimmyModel
 
 BRAKINGS = {"both": Braking.of_slip(0.05, 0.05), "right": Braking.of_slip(0.08, 0.0),
-            "force": Braking.of_force(1500.0, 3000.0)}
+            "force": Braking.of_force(1500.0, 3000.0), "driving": Braking.of_slip(-0.06, 0.02),
+            "drive force": Braking.of_force(-2500.0, 0.0)}
 
 
 def _eigs(A):

@@ -94,7 +94,7 @@ def test_forces_match_the_published_equations(example, Fz, mirrored):
     worst = 0.0
     for p in (1.5e5, 2e5, 2.6e5):
         for alpha in (-0.2, -0.03, 0.0, 0.004, 0.05, 0.3):
-            for kappa in (-0.6, -0.1, -0.02, -1e-3, 0.0, 0.03):
+            for kappa in (-0.6, -0.1, -0.02, -1e-3, 0.0, 0.03, 0.15, 0.5):      # > 0 driving
                 want = published(raw, Fz, p, alpha, kappa, mirrored)
                 got = model_forces(params, p, alpha, kappa, mirrored)
                 for w, g in zip(want, got):
@@ -147,3 +147,21 @@ def test_brake_force_inverts_the_longitudinal_force():
         _, peak = tyre.peak_brake_slip(YANG2024, p)
         with pytest.raises(Exception, match="beyond the tyre's grip"):
             tyre.brake_slip_for_force(YANG2024, p, peak * 1.01)
+
+
+def test_drive_force_inverts_the_longitudinal_force_with_kappa_positive():
+    """A negative brake force drives: the slip found is negative (ISO kappa > 0) and F_x0 is the forward force.  The
+    drive peak is the Magic Formula's peak D_x (C_x > 1), reached at a slip set by E_x's asymmetry (1 - p_ex4
+    sgn kappa); checked on a fine grid too."""
+    for p in (1.5e5, 2.5e5):
+        lf = tyre.longitudinal_formula(YANG2024, p)
+        s = tyre.brake_slip_for_force(YANG2024, p, -2500.0)
+        assert s < 0.0 and abs(lf.force(-s) - 2500.0) < 1e-9
+        s_peak, f_peak = tyre.peak_brake_slip(YANG2024, p, driving=True)
+        grid = np.linspace(1e-4, 1.0, 20001)
+        forces = [lf.force(k) for k in grid]
+        # the grid's best lies below the peak by O(step^2): 2.5e-9 relative at this step
+        assert max(forces) <= -f_peak * (1 + 1e-14) and max(forces) > -f_peak * (1 - 1e-7) and s_peak < 0.0
+        assert -f_peak == pytest.approx(lf.D, rel=1e-12)
+        with pytest.raises(Exception, match="drive force = .* beyond the tyre's grip"):
+            tyre.brake_slip_for_force(YANG2024, p, f_peak * 1.01)
