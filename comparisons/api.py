@@ -380,10 +380,11 @@ def cycle_branches(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float =
 
 def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: tuple[float, float] | None = None,
                       vmin_kmh: float = 0.5, vmax_kmh: float = 400.0, pressure_points: int = 31,
-                      speed_points: int = 201, progress: Callable[[], None] | None = None) -> StabilityMargins:
-    """The least damping ratio of straight running on an even grid of speeds (km/h) and tyre pressures (bar, both
-    tyres alike; default: the axle's operating window), with the mode it belongs to, as ``shimmy margins``;
-    ``progress()`` is called after each pressure of the grid.
+                      speed_points: int = 201, progress: Callable[[], None] | None = None,
+                      braking: Braking = FREE_ROLLING) -> StabilityMargins:
+    """The least damping ratio of straight running (under ``braking``: the braked steady state) on an even grid of
+    speeds (km/h) and tyre pressures (bar, both tyres alike; default: the axle's operating window), with the mode it
+    belongs to, as ``shimmy margins``; ``progress()`` is called after each pressure of the grid.
 
     >>> result = stability_margins(Axle.paper().reduced(), (2.5, 2.5), 40, 80, pressure_points=1, speed_points=41)
     >>> low = result.minimum
@@ -399,10 +400,11 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     counts = [check_count(what, n, 1, 2001) for what, n in (("pressure_points", pressure_points),
                                                            ("speed_points", speed_points))]
     pressures = TyrePressures.both(0.5 * (lo + hi))
-    problem = model.problem(pressures, "pressure")
+    problem = model.problem(pressures, "pressure", braking)
     grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
     study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p, progress)
-    return StabilityMargins(f"{model.label()}, axle {model.axle.data.shown_name}", study)
+    braked = f", {braking}" if braking.active else ""
+    return StabilityMargins(f"{model.label()}{braked}, axle {model.axle.data.shown_name}", study)
 
 
 from comparisons.simulations import (  # noqa: E402 - the API's simulations, defined beside it
