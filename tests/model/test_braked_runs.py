@@ -39,14 +39,14 @@ def test_an_unkicked_braked_run_stays_on_the_steady_state(mbs):
 
 def test_a_decaying_kick_is_measured_about_the_steady_steer():
     """Below the yaw window (20 km/h, stable) a 0.2 deg kick decays: max|theta1| of the last second is below the
-    kick, though |theta1| itself stays near the steady steer of about 1.1 deg."""
+    kick, though |theta1| itself stays near the steady steer of about 1 deg."""
     run = simulate(Axle.paper().reduced(), TyrePressures.both(2.5), speed_kmh=20, duration_s=3, braking=RIGHT,
                    initial_deg={"theta1": 0.2})
     tr = run.trajectory
     final = ModeClassifier().classify(tr).final
-    assert abs(math.degrees(tr.origin[TH1])) > 1.0
+    assert abs(math.degrees(tr.origin[TH1])) > 0.9
     assert math.degrees(final.theta1) < 0.2 and math.degrees(run.amplitude("theta1")) < 0.2
-    assert np.min(np.abs(np.degrees(tr.state("theta1")))) > 0.8
+    assert np.min(np.abs(np.degrees(tr.state("theta1")))) > 0.7
 
 
 def test_cycle_amplitudes_are_about_the_braked_steady_state():
@@ -61,11 +61,12 @@ def test_cycle_amplitudes_are_about_the_braked_steady_state():
         steady = problem.equilibrium(point.p, point.q)
         _, x = point.orbit.sample(64)
         assert point.max_abs("theta1") == pytest.approx(np.max(np.abs(x[:, TH1] - steady[TH1])), rel=1e-6)
-    # the branch's first orbit, 0.0005 km/h from the Hopf point: small about the steady state (0.11 deg), where
-    # measured from 0 it would be about the steady steer, 1.08 deg
+    # the branch's first orbit, a few m/h from the Hopf point: small about the steady state (about 0.1 deg), where
+    # measured from 0 it would be about the steady steer, about 1 deg
     first = branch.points[0]
-    assert abs(first.p - branch.start.p) < 0.001 * KMH
-    assert math.degrees(first.max_abs("theta1")) < 0.2 < 1.0 < abs(math.degrees(problem.equilibrium(first.p, first.q)[TH1]))
+    assert abs(first.p - branch.start.p) < 0.01 * KMH
+    steer = abs(math.degrees(problem.equilibrium(first.p, first.q)[TH1]))
+    assert math.degrees(first.max_abs("theta1")) < 0.2 < 0.9 < steer
 
 
 def test_simulate_command_under_braking(capsys):
@@ -73,4 +74,4 @@ def test_simulate_command_under_braking(capsys):
                  "--initial", "theta1=0.2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["braking"] == {"quantity": "brake_slip", "unit": "-", "right": 0.05, "left": 0.0}
-    assert out["steady_state"]["theta1_deg"] < -1.0 and out["final"]["max_theta1_deg"] < 0.2
+    assert out["steady_state"]["theta1_deg"] < -0.9 and out["final"]["max_theta1_deg"] < 0.2

@@ -10,6 +10,7 @@ import pytest
 
 from axles.axle import AxleData
 from axles.braking import Braking
+from axles.units import from_kmh
 from bifurcation.equilibria.hopf import eigenvalues
 from comparisons.api import Axle, TyrePressures, hopf_points, stability_margins
 from comparisons.cli.main import main
@@ -35,7 +36,7 @@ def test_sweep_sample_under_braking_equals_the_api():
     # the unstable interval against the eigenvalues at the braked steady state
     problem = family.problem
     for v in np.linspace(5.0, 150.0, 30):
-        unstable = eigenvalues(problem, v / 3.6, problem.nominal)[0].real > 0
+        unstable = eigenvalues(problem, from_kmh(v), problem.nominal)[0].real > 0
         inside = any(a <= v <= b for a, b in zip(row["unstable_from_kmh"], row["unstable_to_kmh"]))
         assert unstable == inside, v
 
