@@ -190,7 +190,7 @@ def test_full_geometry_growth_rate_under_asymmetric_braking_against_exudyn():
     family = family_of(MbsModel(fidelity=Fidelity.full()), TyrePressures.uniform(1.5 * BAR), "pressure",
                        BRAKINGS["right"])
     result = envelope_rate(family, 60 * KMH, duration=2.0)
-    assert result.complete and result.real > 0.1                # growing: measured 0.358 1/s, agreeing to 3e-8
+    assert result.complete and result.real > 0.1                # growing: measured 0.542 1/s, agreeing to 4e-8
     assert result.agrees, (result.rate, result.real)
 
 
