@@ -407,12 +407,9 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     return StabilityMargins(f"{model.label()}{braked}, axle {model.axle.data.shown_name}", study)
 
 
-from comparisons.simulations import (  # noqa: E402 - the API's simulations, defined beside it
-    check_simulation_work,
-    initial_from_degrees,
-    schedule_of,
-    simulate,
-)
+# the API's simulations, defined beside it
+from comparisons.simulations import check_simulation_work, initial_from_degrees, schedule_of  # noqa: E402
+from comparisons.simulations import simulate  # noqa: E402
 
 __all__ = ["Axle", "CycleBranches", "ModelFamily", "HopfSummary", "HopfResult", "MultibodyModel", "ReducedModel",
            "ShimmyWindows", "Simulation", "StabilityMargins", "TyrePressures", "check_simulation_work", "cycle_branches",

@@ -38,10 +38,10 @@ from mbs_shimmy import camber, knuckle, scalar_ops, tyre_element
 from reduced_model import tyre
 
 _SHARED = (tyre.mf_force, tyre.mf_trail, tyre.mf_weight, tyre.combined_weights, tyre.trail_slip,
-           tyre.combined_forces, camber.camber_terms, tyre_element.lagrange_weights, tyre_element.table_values,
-           tyre_element.wheel_contact, tyre_element.vertical_load, tyre_element.slip_forces,
-           tyre_element.contact_forces, tyre_element.brake_forces, knuckle.knuckle_pose, knuckle.rotor_moment,
-           knuckle.ramp_moments, scalar_ops.choose)
+           tyre.combined_forces, tyre.braked_relaxation_length, camber.camber_terms, tyre_element.lagrange_weights,
+           tyre_element.table_values, tyre_element.wheel_contact, tyre_element.vertical_load,
+           tyre_element.slip_forces, tyre_element.contact_forces, tyre_element.brake_forces, knuckle.knuckle_pose,
+           knuckle.rotor_moment, knuckle.ramp_moments, scalar_ops.choose)
 for _f in _SHARED:
     register_jitable(_f)
 _SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
@@ -51,12 +51,12 @@ _SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
 # roll axis (ux, uz), I2, R, l, wheel mass, the two spin axes in the joint frames
 I_PSI, I_TH1, I_TH2, I_LAT, I_VERT, OZ, H, UX, UZ, I2, RADIUS, ARM, WHEEL_MASS = range(13)
 SPIN = (13, 16)
-WHEELS = (19, 83)               # where each wheel's constants start
 # per wheel, from its start: TyreElement.constants (13), static (8), slip_constants (6), camber coefficients
 # (10), load table: load dependent, log of the first node, node spacing, nodes, pt, hcl, rl, columns (8), braking:
 # braked (1 or 0), then CombinedSlip.constants (tyre_element.BRAKING_SIZE)
 EL, STATIC, SLIP, CAMBER, TABLE, BRAKE = 0, 13, 21, 27, 37, 45
 WHEEL_SIZE = BRAKE + 1 + tyre_element.BRAKING_SIZE
+WHEELS = (19, 19 + WHEEL_SIZE)  # where each wheel's constants start
 ALIGNMENT = WHEELS[1] + WHEEL_SIZE
 
 
@@ -140,9 +140,12 @@ def wheel_terms(c, b: int, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, sp
     s = b + BRAKE + 1
     braked = c[s - 1] != 0.0
     bc = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4], c[s + 5], c[s + 6], c[s + 7], c[s + 8], c[s + 9], c[s + 10],
-          c[s + 11], c[s + 12], c[s + 13], c[s + 14], c[s + 15], c[s + 16], c[s + 17])
+          c[s + 11], c[s + 12], c[s + 13], c[s + 14], c[s + 15], c[s + 16], c[s + 17], c[s + 18])
     Fy, mz, _, Fx = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2], c[t] != 0.0, ops, braked, bc)
-    r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], values[7],
+    sigma = values[7]
+    if braked:
+        sigma = tyre.braked_relaxation_length(bc, sigma)
+    r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], sigma,
                                     alpha, speed)
     q_psi, q_theta, Q_y = r[0], r[1], r[3]
     if braked:       # the brake force at the contact point, on the knuckle (TyreElement.exact)

@@ -295,7 +295,7 @@ def brake_forces(contact: tuple, pose: tuple, Oy: float, Oz: float, ux: float, u
 
 # the first-order element's lateral() runs at every stage of the reduced fidelity: no attribute look-ups
 _mf_force, _sin, _atan = tyre.mf_force, math.sin, math.atan
-BRAKING_SIZE = 18      # floats of :attr:`reduced_model.tyre.CombinedSlip.constants`
+BRAKING_SIZE = 19      # floats of :attr:`reduced_model.tyre.CombinedSlip.constants`
 
 
 @functools.lru_cache(maxsize=16)
@@ -380,7 +380,7 @@ class TyreElement:
         if braked and self.braked:
             Fy, mz, _, Fx = slip_forces(self.slip_constants[:5] + (False,), self.camber_coefficients, v, alpha,
                                         load, 0.0, False, MATH, True, self.braking_constants)
-            return Fy, mz, v[6], v[7], Fx
+            return Fy, mz, v[6], tyre.braked_relaxation_length(self.braking_constants, v[7]), Fx
         Fy = _mf_force(v[0], self.C, v[1], v[2], alpha, _sin, _atan)
         t = tyre.mf_trail(v[3], self.Ct, v[4], v[5], self.q_ez4, alpha, math.cos, _atan) if self.pt else self.t0
         return Fy, -t * Fy, v[6], v[7], 0.0
@@ -402,8 +402,9 @@ class TyreElement:
         braked = braked and self.braked
         Fy, mz, _, Fx = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2],
                                     self.table is not None, MATH, braked, self.braking_constants)
+        sigma = tyre.braked_relaxation_length(self.braking_constants, values[7]) if braked else values[7]
         q_psi, q_theta, alpha_d, Fyv, vert, lat = contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y,
-                                                                 Fy, mz, values[6], values[7], alpha, speed)
+                                                                 Fy, mz, values[6], sigma, alpha, speed)
         if braked:
             b_psi, b_theta, b_y = brake_forces(contact, pose, Oy, Oz, ux, uz, Fx)
             q_psi, q_theta, Fyv = q_psi + b_psi, q_theta + b_theta, Fyv + b_y

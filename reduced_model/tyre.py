@@ -14,6 +14,8 @@ derivatives pass through).  Pressures are in Pa, forces in N, lengths in m, slip
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -226,6 +228,15 @@ def combined_forces(c: tuple, alpha, fy0, dfy, mzr, t_eq, cos, atan):
     return fx, fy, -t_eq * (Gyk * fy0) + Gyk * mzr + (c[16] + c[17] * fy) * fx
 
 
+def braked_relaxation_length(c: tuple, sigma):
+    """The relaxation length under braking: the paper's law (4.9), sigma = K_ya / C_y after Besselink (cornering
+    stiffness over the carcass's lateral stiffness, the stretched string's and von Schlippe's relation; Pacejka
+    2012, chapter 5), with the cornering stiffness of the braking tyre, dF_y/dalpha at alpha = 0 = G_yk(0; kappa) K_ya
+    (F_y0(0) = 0, and S_Vyk is even in alpha there), and C_y unchanged: sigma G_yk(0; kappa).  The factor is 1 where
+    the relaxation length follows nothing (the section 3 model's constant sigma0, ``rl`` off) and at kappa = 0."""
+    return sigma * c[18]
+
+
 @dataclass(frozen=True)
 class CombinedSlip:
     """One wheel's forces at a fixed longitudinal slip ``kappa`` (ISO) against its slip angle: F_x = G_xa F_x0
@@ -255,13 +266,20 @@ class CombinedSlip:
     kappa_t: float = 0.0       # (K_xk / K_ya) kappa of alpha_t,eq (4.E77), rad
     s0: float = 0.0            # R s_Sz1 (mirrored), m
     s1: float = 0.0            # R s_Sz2 / F_z0, m/N
+    sigma_factor: float = 1.0  # the relaxation length's factor under braking (:func:`braked_relaxation_length`)
 
-    @property
+    @functools.cached_property
     def constants(self) -> tuple[float, ...]:
-        """The floats :func:`combined_weights`, :func:`trail_slip` and :func:`combined_forces` read, in order."""
+        """The floats :func:`combined_weights`, :func:`trail_slip`, :func:`combined_forces` and
+        :func:`braked_relaxation_length` read, in order."""
         return (self.Fx0, self.Bxa, self.Cxa, self.Exa, self.SHxa, self.r_by1, self.r_by2, self.r_by3, self.Cyk,
                 self.Eyk, self.SHyk, self.kappa, self.DVyk0, self.r_vy4, self.SVyk_sine, self.kappa_t, self.s0,
-                self.s1)
+                self.s1, self.sigma_factor)
+
+    def following_braking(self) -> "CombinedSlip":
+        """This wheel with the relaxation length following the braking: the factor G_yk(alpha = 0; kappa) of
+        :func:`braked_relaxation_length`."""
+        return dataclasses.replace(self, sigma_factor=float(self.weights(0.0, math.cos, math.atan)[1]))
 
     def weights(self, alpha, cos=np.cos, atan=np.arctan):
         """(G_xa, G_yk, S_Vyk) at slip angle alpha (array or complex too)."""

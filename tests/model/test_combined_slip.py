@@ -228,3 +228,33 @@ def test_drive_force_inverts_the_longitudinal_force_with_kappa_positive():
         assert -f_peak == pytest.approx(lf.D, rel=1e-12)
         with pytest.raises(Exception, match="drive force = .* beyond the tyre's grip"):
             tyre.brake_slip_for_force(YANG2024, p, f_peak * 1.01)
+
+
+@pytest.mark.parametrize("mirrored", [False, True])
+def test_relaxation_length_follows_the_braking_with_rl(mirrored):
+    """With ``rl`` the relaxation length is the paper's (4.9), K_ya / C_y, with the braking tyre's cornering
+    stiffness: read off the reduced model's slip equation (alpha' = -V alpha / sigma at rest, theta = 0) against
+    the slope of the combined F_y at alpha = 0 by central differences over C_y = c_y0 (1 + p_cy1 dp_i); without
+    ``rl`` (the section 3 model's sigma0) and free rolling it does not change."""
+    from axles.braking import Braking
+    from axles.pressures import TyrePressures
+    from reduced_model.model import Effects, ShimmyModel
+    p = 2.0e5
+    braking = Braking.of_slip(0.08, 0.08)
+    side = 0 if mirrored else 1                      # the right wheel (index 0) is the mirrored tyre
+    speed, alpha = 20.0, 1e-3
+
+    def sigma(effects, b):
+        x = np.zeros(8)
+        x[6 + side] = alpha
+        return -speed * alpha / ShimmyModel(effects=Effects.parse(effects)).rhs(x, speed, TyrePressures.uniform(p),
+                                                                                b)[6 + side]
+    cs = tyre.combined_slip(YANG2024, p, -0.08, mirrored)
+    h = 1e-6
+    slope = -(cs.forces(float(tyre.lateral_force(YANG2024, h, p)), h)[1]
+              - cs.forces(float(tyre.lateral_force(YANG2024, -h, p)), -h)[1]) / (2 * h)
+    dp = tyre.pressure_increment(YANG2024, p)
+    want = slope / (YANG2024.c_y0 * (1.0 + YANG2024.p_cy1_rl * dp))
+    assert sigma("rl", braking) == pytest.approx(want, rel=1e-8)
+    assert sigma("rl", braking) < 0.9 * sigma("rl", Braking())            # braking shortens it
+    assert sigma("", braking) == sigma("", Braking()) == YANG2024.sigma0
