@@ -1,7 +1,8 @@
 """A steady braking condition: one frozen type from the command line to the tyre formula, as the pressures.
 
 :class:`Braking` holds each front wheel's brake slip (-, positive braking: ISO's longitudinal slip kappa = -slip) or
-brake force (N, rearward), wheel 1 (theta1) being the right wheel.  It is made once at the interface by
+brake force (N, rearward), wheel 1 (theta1) being the right wheel.  A negative value drives the wheel (kappa > 0,
+F_x forward): "braking" below means either.  It is made once at the interface by
 :meth:`Braking.of_slip` or :meth:`Braking.of_force` (the one place its range is checked) and walks unchanged through
 the API (:func:`comparisons.api.family_of`), the families and the models to :mod:`reduced_model.tyre`'s combined-slip
 forces.  A brake force is turned into the brake slip that gives it at straight running by the tyre itself
@@ -48,13 +49,13 @@ class Braking:
     # --- made at the interface --------------------------------------------------------------------------------
     @classmethod
     def of_slip(cls, right: float, left: float) -> "Braking":
-        """Brake slips (0: free rolling, 1: locked), each checked against :data:`~axles.limits.BRAKE_SLIP_RANGE`."""
+        """Brake slips (0: free rolling, 1: locked, negative: driving), each checked against :data:`~axles.limits.BRAKE_SLIP_RANGE`."""
         return cls(check_range("right brake slip", right, *BRAKE_SLIP_RANGE, "(-)"),
                    check_range("left brake slip", left, *BRAKE_SLIP_RANGE, "(-)"))
 
     @classmethod
     def of_force(cls, right: float, left: float) -> "Braking":
-        """Brake forces, N rearward, each checked against :data:`~axles.limits.BRAKE_FORCE_RANGE_N` (the tyre's
+        """Brake forces, N rearward (negative: a drive force, forward), each checked against :data:`~axles.limits.BRAKE_FORCE_RANGE_N` (the tyre's
         grip is checked where the tyre is known)."""
         return cls(check_range("right brake force", right, *BRAKE_FORCE_RANGE_N, "N"),
                    check_range("left brake force", left, *BRAKE_FORCE_RANGE_N, "N"), by_force=True)

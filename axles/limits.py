@@ -23,5 +23,6 @@ RATE_RANGE_DEG_S = (-1.0e4, 1.0e4)    # initial angular rates
 # Work a simulation may take on (the command's simulate and the API's simulate; docs/cli.md's table reads them).
 MAX_CYCLES = 5.0e4         # periods of the fastest mode an integrator must resolve; about 80 s of LSODA here
 MBS_MAX_DURATION = 100.0   # s: the MBS steps at 1 ms through a Python tyre element, about 2 s per simulated s
-BRAKE_SLIP_RANGE = (0.0, 1.0)         # steady brake slip per wheel (-): 0 free rolling, 1 a locked wheel
-BRAKE_FORCE_RANGE_N = (0.0, 1.0e5)    # steady brake force per wheel, N (the tyre's grip is checked with the tyre)
+BRAKE_SLIP_RANGE = (-1.0, 1.0)        # steady brake slip per wheel (-): 0 free rolling, 1 a locked wheel, < 0 driving
+BRAKE_FORCE_RANGE_N = (-1.0e5, 1.0e5)  # steady brake force per wheel, N rearward, < 0 driving (the tyre's grip is
+#                                      checked with the tyre)

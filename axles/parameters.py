@@ -159,6 +159,9 @@ class ShimmyParameters:
     r_vy4: float = _p(94.63, "-", _PAC61, "variation of S_Vyk with slip angle", range=(-1000.0, 1000.0))
     r_vy5: float = _p(1.8914, "-", _PAC61, "shape of S_Vyk against longitudinal slip", range=(-10.0, 10.0))
     r_vy6: float = _p(23.8, "-", _PAC61, "slope of S_Vyk against longitudinal slip", range=(-1000.0, 1000.0))
+    s_sz1: float = _p(0.00918, "-", _PAC61, "lateral offset s / R of F_x's line of action in M_z (combined slip)",
+                      range=(-1.0, 1.0))
+    s_sz2: float = _p(0.03869, "-", _PAC61, "variation of s / R with F_y / F_z0", range=(-10.0, 10.0))
 
     def __post_init__(self) -> None:
         check_ranges(self, "parameter")

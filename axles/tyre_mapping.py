@@ -66,6 +66,9 @@ _PURE_NOTE = ("the combined-slip R coefficients: a file without them gives 0, th
 _MIRROR_NOTE = ("the file's tyre is the left wheel's (TYRESIDE is not read); the right wheel's is the mirror image, "
                 "with RHX1, RBY3, RVY1 and RVY2 of opposite sign")
 
+_SSZ_NOTE = ("the combined-slip aligning moment's lever s F_x, s = R (SSZ1 + SSZ2 F_y / F_z0) (MF 6.1 (4.E76); R0 = R); "
+             "SSZ3, SSZ4 are camber terms, not used; the right wheel's SSZ1 is of opposite sign (mirror image)")
+
 TYRE_KEYS: tuple[TyreKey, ...] = (
     TyreKey("DIMENSION", "UNLOADED_RADIUS", "R", "R", "length", REQUIRED, BOTH,
             note="the paper has one radius, for the wheel (eqs. 2.1-2.3) and the trail's scale (4.5); MF 6.1 scales "
@@ -156,6 +159,8 @@ TYRE_KEYS: tuple[TyreKey, ...] = (
     TyreKey("LATERAL_COEFFICIENTS", "RVY4", "r_vy4", "RVY4", None, ZERO, _BRAKE),
     TyreKey("LATERAL_COEFFICIENTS", "RVY5", "r_vy5", "RVY5", None, ZERO, _BRAKE),
     TyreKey("LATERAL_COEFFICIENTS", "RVY6", "r_vy6", "RVY6", None, ZERO, _BRAKE),
+    TyreKey("ALIGNING_COEFFICIENTS", "SSZ1", "s_sz1", "SSZ1", None, ZERO, _BRAKE, scales=("LS",), note=_SSZ_NOTE),
+    TyreKey("ALIGNING_COEFFICIENTS", "SSZ2", "s_sz2", "SSZ2", None, ZERO, _BRAKE, scales=("LS",)),
     # --- the paper's extensions beyond MF 6.1 ---------------------------------------------------------------
     TyreKey(EXTENSIONS, "PEY_DFZ2", "p_ey3", "p_ey3", None, ZERO, BOTH,
             note="Hopping's E_y terms: the paper's p_ey3 multiplies df_z^2, not MF 6.1's PEY3; without them E_y "

@@ -71,7 +71,8 @@ class Family(Protocol):
         """Raise where the family is meaningless at q."""
 
     # Optional: ``origin_equilibrium = False`` says the equilibrium may lie off x = 0, so that the size of a cycle is
-    # measured about its mean (:meth:`~bifurcation.cycles.problem.CycleProblem.scaled_rms`); default True.
+    # measured about its mean (:meth:`~bifurcation.cycles.problem.CycleProblem.scaled_rms`) and its max |x_i| about the
+    # equilibrium at (p, q) (:attr:`~bifurcation.cycles.problem.CyclePoint.amplitude`); default True.
 
     # How the derivatives are formed: inherit one of :mod:`bifurcation.derivatives`.
     costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)

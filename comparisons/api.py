@@ -36,13 +36,7 @@ from axles import axle as axle_data
 from axles.axle_file import axle_from_path_or_paper
 from axles.input_file import finite_number
 from axles.limits import (
-    ANGLE_RANGE_DEG,
-    DURATION_RANGE_S,
-    MAX_CYCLES,
-    MBS_MAX_DURATION,
     PRESSURE_RANGE_BAR,
-    RAMP_TIME_RANGE_S,
-    RATE_RANGE_DEG_S,
     SPEED_RANGE_KMH,
 )
 from axles.input_file import check_range
@@ -62,9 +56,8 @@ from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import Fidelity
 from bifurcation.special_points import BranchStatus
 from reduced_model.family import SpeedFamily
-from reduced_model.model import STATE_NAMES, STATE_UNITS, Effects, ShimmyModel
+from reduced_model.model import STATE_NAMES, STATE_UNITS, Effects, ShimmyModel  # noqa: F401 - API names
 from axles.parameters import ParameterError, ShimmyParameters
-from reduced_model.simulation import initial_state
 from reduced_model.trajectory import SpeedSchedule, Trajectory
 
 
@@ -237,10 +230,11 @@ class ReducedModel:
         return family_of(self.model, pressures, param, braking)
 
     def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
-            progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
+            progress: Callable[[float], None] | None = None, poses: bool = False,
+            braking: Braking = FREE_ROLLING) -> Trajectory:
         """The trajectory by scipy; ``poses`` changes nothing (a recording draws this model from its states)."""
         from reduced_model.simulation import integrate
-        return integrate(self.model, pressures, schedule, duration, x0, progress=progress)
+        return integrate(self.model, pressures, schedule, duration, x0, progress=progress, braking=braking)
 
 
 @dataclass(frozen=True)
@@ -271,12 +265,13 @@ class MultibodyModel:
         return family_of(self.model, pressures, param, braking)
 
     def run(self, pressures: TyrePressures, schedule: SpeedSchedule, x0, duration: float,
-            progress: Callable[[float], None] | None = None, poses: bool = False) -> Trajectory:
+            progress: Callable[[float], None] | None = None, poses: bool = False,
+            braking: Braking = FREE_ROLLING) -> Trajectory:
         """The trajectory by Exudyn, with the bodies' poses when ``poses`` (for a 3D recording); ``progress(t)``
         with the simulated time every 1 % of the duration."""
         from mbs_shimmy.simulation import integrate
         return integrate(self.axle.params, self.effects, self.fidelity, pressures, schedule, x0, duration,
-                         dims=self.axle.dims, poses=poses, progress=progress)
+                         dims=self.axle.dims, poses=poses, progress=progress, braking=braking)
 
 
 def family_of(model, pressures: TyrePressures, param: str = "pressure", braking: Braking = FREE_ROLLING):
@@ -385,10 +380,11 @@ def cycle_branches(family: ModelFamily, vmin_kmh: float = 0.5, vmax_kmh: float =
 
 def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: tuple[float, float] | None = None,
                       vmin_kmh: float = 0.5, vmax_kmh: float = 400.0, pressure_points: int = 31,
-                      speed_points: int = 201, progress: Callable[[], None] | None = None) -> StabilityMargins:
-    """The least damping ratio of straight running on an even grid of speeds (km/h) and tyre pressures (bar, both
-    tyres alike; default: the axle's operating window), with the mode it belongs to, as ``shimmy margins``;
-    ``progress()`` is called after each pressure of the grid.
+                      speed_points: int = 201, progress: Callable[[], None] | None = None,
+                      braking: Braking = FREE_ROLLING) -> StabilityMargins:
+    """The least damping ratio of straight running (under ``braking``: the braked steady state) on an even grid of
+    speeds (km/h) and tyre pressures (bar, both tyres alike; default: the axle's operating window), with the mode it
+    belongs to, as ``shimmy margins``; ``progress()`` is called after each pressure of the grid.
 
     >>> result = stability_margins(Axle.paper().reduced(), (2.5, 2.5), 40, 80, pressure_points=1, speed_points=41)
     >>> low = result.minimum
@@ -404,95 +400,16 @@ def stability_margins(model: ReducedModel | MultibodyModel, pressure_range_bar: 
     counts = [check_count(what, n, 1, 2001) for what, n in (("pressure_points", pressure_points),
                                                            ("speed_points", speed_points))]
     pressures = TyrePressures.both(0.5 * (lo + hi))
-    problem = model.problem(pressures, "pressure")
+    problem = model.problem(pressures, "pressure", braking)
     grid_p = np.linspace(to_si(lo, "Pa"), to_si(hi, "Pa"), counts[0]) if lo < hi else np.array([to_si(lo, "Pa")])
     study = margin_study(problem, np.linspace(vmin, vmax, counts[1]), grid_p, progress)
-    return StabilityMargins(f"{model.label()}, axle {model.axle.data.shown_name}", study)
+    braked = f", {braking}" if braking.active else ""
+    return StabilityMargins(f"{model.label()}{braked}, axle {model.axle.data.shown_name}", study)
 
 
-def initial_from_degrees(initial_deg: Mapping[str, float] | None) -> np.ndarray:
-    """The SI initial state of ``{state: degrees}`` (deg/s for the rates); None: theta1 = 0.573 deg (0.01 rad)."""
-    if initial_deg is None:
-        return initial_state()
-    values = {}
-    for name, value in initial_deg.items():
-        if name not in STATE_NAMES:
-            raise ParameterError(f"unknown state '{name}' in initial_deg (names: {' '.join(STATE_NAMES)})")
-        unit = STATE_UNITS[STATE_NAMES.index(name)]
-        rate = unit == "rad/s"
-        value = check_range(f"initial {name}", value, *(RATE_RANGE_DEG_S if rate else ANGLE_RANGE_DEG),
-                            "deg/s" if rate else "deg")
-        values[name] = to_si(value, unit)
-    return initial_state(values)
-
-
-def schedule_of(speed_kmh: float | None, ramp_kmh: tuple[float, float, float] | None) -> SpeedSchedule:
-    """The speed schedule of a constant speed (km/h) or a ramp (from km/h, to km/h, seconds)."""
-    if (speed_kmh is None) == (ramp_kmh is None):
-        raise ParameterError("give either speed_kmh or ramp_kmh=(FROM, TO, SECONDS)")
-    if speed_kmh is not None:
-        return SpeedSchedule.constant(to_si(check_range("speed_kmh", speed_kmh, *SPEED_RANGE_KMH, "km/h"), "m/s"))
-    if len(ramp_kmh) != 3:
-        raise ParameterError(f"ramp_kmh must be (FROM, TO, SECONDS), got {ramp_kmh!r}")
-    start, end = (to_si(check_range(f"ramp_kmh {what}", v, *SPEED_RANGE_KMH, "km/h"), "m/s")
-                  for what, v in zip(("FROM", "TO"), ramp_kmh[:2]))
-    return SpeedSchedule.ramp(start, end, check_range("ramp_kmh SECONDS", ramp_kmh[2], *RAMP_TIME_RANGE_S, "s"))
-
-
-def check_simulation_work(model: ReducedModel | MultibodyModel, pressures: TyrePressures, schedule: SpeedSchedule,
-                          duration: float, what: str = "duration_s") -> None:
-    """Refuse (:class:`ParameterError`, naming ``what``) a simulation that would run on for many minutes: an MBS
-    run longer than :data:`~axles.limits.MBS_MAX_DURATION`, or one whose fastest oscillation needs more than
-    :data:`~axles.limits.MAX_CYCLES` periods resolved.
-
-    Within the physical ranges an axle can still combine a stiff tie rod with a light wheel (k1 = 1e8 N m/rad,
-    I1 = 0.1 kg m^2 oscillate at 7 kHz): both integrators must follow every period of such a mode, and 20 s take
-    hours.  The fastest frequency is read from the linearisation of the model that runs, at both ends of the
-    speed range: the MBS's own, whose full geometry adds modes (steering gear, lateral travel) the reduced model
-    does not have.
-    """
-    mbs = isinstance(model, MultibodyModel)
-    if mbs and duration > MBS_MAX_DURATION:
-        option = f"{what} with --model mbs" if what.startswith("--") else f"{what} of the multibody model"
-        raise ParameterError(f"{option} must be at most {MBS_MAX_DURATION:g} s (about 2 s of computing per "
-                             f"simulated second), got {duration:g}")
-    speeds = {schedule.start} | ({schedule.end} if schedule.end is not None else set())
-    family = model.problem(pressures, "pressure")
-    fastest = max(float(np.max(np.abs(np.linalg.eigvals(family.linear_matrix(v, family.nominal)).imag)))
-                  for v in speeds) / (2 * np.pi)
-    cycles = fastest * duration
-    if cycles > MAX_CYCLES:
-        which = "the MBS's" if mbs else "the axle's"
-        raise ParameterError(f"{which} fastest oscillation, {fastest:.4g} Hz, would need {cycles:.3g} periods "
-                             f"resolved in {duration:g} s (limit {MAX_CYCLES:g}): shorten {what} or check the "
-                             f"stiffnesses and inertias (k1, k2, I1, ...)")
-
-
-def simulate(model: ReducedModel | MultibodyModel, pressures: TyrePressures, *, speed_kmh: float | None = None,
-             ramp_kmh: tuple[float, float, float] | None = None, duration_s: float,
-             initial_deg: Mapping[str, float] | None = None, progress: Callable[[float], None] | None = None,
-             poses: bool = False, allow_long: bool = False) -> Simulation:
-    """A time simulation of either model, the same call for both: at a constant ``speed_kmh`` or along
-    ``ramp_kmh=(FROM, TO, SECONDS)`` (then held), for ``duration_s`` s from ``initial_deg`` (degrees, deg/s for
-    the rates; default theta1 = 0.573 deg).  The reduced model runs on scipy, the MBS on Exudyn (about 2 s of
-    computing per simulated second).  ``progress(t)`` is called with the simulated time every 1 % of the duration
-    (reduced model; the MBS reports none); ``poses`` keeps the MBS bodies' poses in the trajectory, for a 3D
-    recording (:func:`comparisons.recordings.writer.write_recording`).  As the command, a run that would take many
-    minutes is refused (:func:`check_simulation_work`: the MBS beyond 100 s, or more than 50000 periods of the
-    fastest oscillation); ``allow_long=True`` runs it anyway.
-
-    >>> run = simulate(Axle.paper().reduced(), TyrePressures.both(2.5), speed_kmh=60, duration_s=2)
-    >>> run.status.value
-    'complete'
-    """
-    schedule = schedule_of(speed_kmh, ramp_kmh)
-    duration = check_range("duration_s", duration_s, *DURATION_RANGE_S, "s")
-    x0 = initial_from_degrees(initial_deg)
-    if not allow_long:
-        check_simulation_work(model, pressures, schedule, duration)
-    trajectory = model.run(pressures, schedule, x0, duration, progress=progress, poses=poses)
-    return Simulation(f"{model.label()}, {pressures}, axle {model.axle.data.shown_name}", trajectory)
-
+# the API's simulations, defined beside it
+from comparisons.simulations import check_simulation_work, initial_from_degrees, schedule_of  # noqa: E402
+from comparisons.simulations import simulate  # noqa: E402
 
 __all__ = ["Axle", "CycleBranches", "ModelFamily", "HopfSummary", "HopfResult", "MultibodyModel", "ReducedModel",
            "ShimmyWindows", "Simulation", "StabilityMargins", "TyrePressures", "check_simulation_work", "cycle_branches",

@@ -279,9 +279,10 @@ class Simulation(Shown):
         return float(self.trajectory.t[-1])
 
     def amplitude(self, name: str) -> float:
-        """max |x_name| over the last :data:`LAST_SECONDS` s (SI): the shimmy amplitude once settled."""
+        """max |x_name| over the last :data:`LAST_SECONDS` s (SI), about the steady state under braking: the shimmy
+        amplitude once settled."""
         t = self.trajectory.t
-        return float(np.max(np.abs(self.trajectory.state(name)[t >= t[-1] - LAST_SECONDS])))
+        return float(np.max(np.abs(self.trajectory.deviation(name)[t >= t[-1] - LAST_SECONDS])))
 
     def table(self) -> Table:
         rows = []

@@ -17,6 +17,8 @@ only: reading the constants array, the load table's cubic interpolation on an ar
 Where the compiled stage cannot follow the Python one it returns ``None`` and the caller evaluates that stage in
 Python: a load outside the load table (a lifted wheel, or beyond 3 times the static load), where the properties
 come from the reduced model's formulas directly.  The first-order element (``small_angles``) stays in Python.
+Under braking the stage carries each wheel's MF 6.1 combined slip (F_x at the contact point, the weighted F_y, the
+combined aligning moment: :func:`~reduced_model.tyre.combined_forces`) as the Python path does.
 
 Numba's cache (``cache=True``, next to this file in ``__pycache__``) is checked against this file only; the
 functions it compiles live in other files.  :func:`_build` therefore closes the entry point over a hash of all
@@ -35,10 +37,11 @@ from numba.extending import register_jitable
 from mbs_shimmy import camber, knuckle, scalar_ops, tyre_element
 from reduced_model import tyre
 
-_SHARED = (tyre.mf_force, tyre.mf_trail, camber.camber_terms, tyre_element.lagrange_weights,
+_SHARED = (tyre.mf_force, tyre.mf_trail, tyre.mf_weight, tyre.combined_weights, tyre.trail_slip,
+           tyre.combined_forces, tyre.braked_relaxation_length, camber.camber_terms, tyre_element.lagrange_weights,
            tyre_element.table_values, tyre_element.wheel_contact, tyre_element.vertical_load,
-           tyre_element.slip_forces, tyre_element.contact_forces, knuckle.knuckle_pose, knuckle.rotor_moment,
-           knuckle.ramp_moments, scalar_ops.choose)
+           tyre_element.slip_forces, tyre_element.contact_forces, tyre_element.brake_forces, knuckle.knuckle_pose,
+           knuckle.rotor_moment, knuckle.ramp_moments, scalar_ops.choose)
 for _f in _SHARED:
     register_jitable(_f)
 _SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
@@ -48,11 +51,12 @@ _SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
 # roll axis (ux, uz), I2, R, l, wheel mass, the two spin axes in the joint frames
 I_PSI, I_TH1, I_TH2, I_LAT, I_VERT, OZ, H, UX, UZ, I2, RADIUS, ARM, WHEEL_MASS = range(13)
 SPIN = (13, 16)
-WHEELS = (19, 64)               # where each wheel's constants start
 # per wheel, from its start: TyreElement.constants (13), static (8), slip_constants (6), camber coefficients
-# (10), load table: load dependent, log of the first node, node spacing, nodes, pt, hcl, rl, columns
-EL, STATIC, SLIP, CAMBER, TABLE = 0, 13, 21, 27, 37
-WHEEL_SIZE = 45
+# (10), load table: load dependent, log of the first node, node spacing, nodes, pt, hcl, rl, columns (8), braking:
+# braked (1 or 0), then CombinedSlip.constants (tyre_element.BRAKING_SIZE)
+EL, STATIC, SLIP, CAMBER, TABLE, BRAKE = 0, 13, 21, 27, 37, 45
+WHEEL_SIZE = BRAKE + 1 + tyre_element.BRAKING_SIZE
+WHEELS = (19, 19 + WHEEL_SIZE)  # where each wheel's constants start
 ALIGNMENT = WHEELS[1] + WHEEL_SIZE
 
 
@@ -78,6 +82,7 @@ def constants(forces) -> tuple[np.ndarray, np.ndarray]:
             c += [1.0, t.s0, t.ds, float(t.n), float(element.pt), float(element.hcl), float(element.rl),
                   float(len(t.layout))]
             tables.append(np.array(t.rows, dtype=float))
+        c += [float(element.braked)] + [float(v) for v in element.braking_constants]
     assert len(c) == ALIGNMENT
     c += [float(v) for v in f.alignment]
     return np.array(c), np.ascontiguousarray(np.stack(tables))
@@ -132,10 +137,21 @@ def wheel_terms(c, b: int, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, sp
     if c[t] != 0.0:
         ok, v = lookup(table, c, t, Fz)
         values = tyre_element.table_values(v, static, c[t + 4] != 0.0, int(c[t + 5]), c[t + 6] != 0.0)
-    Fy, mz, _ = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2], c[t] != 0.0, ops)
-    r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], values[7],
+    s = b + BRAKE + 1
+    braked = c[s - 1] != 0.0
+    bc = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4], c[s + 5], c[s + 6], c[s + 7], c[s + 8], c[s + 9], c[s + 10],
+          c[s + 11], c[s + 12], c[s + 13], c[s + 14], c[s + 15], c[s + 16], c[s + 17], c[s + 18])
+    Fy, mz, _, Fx = tyre_element.slip_forces(tc, cam, values, alpha, Fz, pose[3][2], c[t] != 0.0, ops, braked, bc)
+    sigma = values[7]
+    if braked:
+        sigma = tyre.braked_relaxation_length(bc, sigma)
+    r = tyre_element.contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y, Fy, mz, values[6], sigma,
                                     alpha, speed)
-    return ok, r[0], r[1], r[2], r[3], r[4]
+    q_psi, q_theta, Q_y = r[0], r[1], r[3]
+    if braked:       # the brake force at the contact point, on the knuckle (TyreElement.exact)
+        bp, bt, by = tyre_element.brake_forces(contact, pose, Oy, Oz, ux, uz, Fx)
+        q_psi, q_theta, Q_y = q_psi + bp, q_theta + bt, Q_y + by
+    return ok, q_psi, q_theta, r[2], Q_y, r[4]
 
 
 register_jitable(wheel_terms)

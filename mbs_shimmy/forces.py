@@ -45,7 +45,7 @@ from axles.dimensions import AxleDimensions
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.geometry import SIDES, AxleGeometry
 from mbs_shimmy.knuckle import knuckle_pose, ramp_moments, rotor_moment
-from mbs_shimmy.tyre_element import TyreElement, brake_forces
+from mbs_shimmy.tyre_element import TyreElement, brake_forces, wheel_contact
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import ParameterError, ShimmyParameters
 from axles.braking import FREE_ROLLING, Braking
@@ -154,12 +154,13 @@ class AxleForces:
         n = len(q0)
         sd.SetODE2Coordinates([0.0] * n)
         sd.SetODE2Coordinates_t([0.0] * n)
-        # the alignment trims the free-rolling axle to run straight: braking then deflects it
+        # the alignment trims the free-rolling axle to run straight: braking then deflects it (the compiled stage,
+        # braking included, is attached after it)
         Q = self.evaluate(0.0, [0.0] * n, [0.0] * n, free_rolling=True)
         self.alignment = [-float(v) for v in Q[:self.n_mech]] + [0.0, 0.0]
         sd.SetODE2Coordinates(q0)
         sd.SetODE2Coordinates_t(v0)
-        if not self.linear and len(self.markers) == 2 and not self.braking.active:
+        if not self.linear and len(self.markers) == 2:
             from mbs_shimmy import compiled_stage  # numba's import only where a compiled stage is used
             self.stage_constants, self.stage_tables = compiled_stage.constants(self)
             self.stage = compiled_stage.STAGE
@@ -191,8 +192,8 @@ class AxleForces:
 
         The exact kinematics run compiled (:meth:`compiled`) unless ``python``; the Python path below calls the
         functions the compiled stage is built from, and serves the first-order kinematics, ``states``, loads
-        outside the load table and braking (``free_rolling``: without the braking, for the alignment)."""
-        if self.stage is not None and states is None and not python:
+        outside the load table and ``free_rolling`` (without the braking, for the alignment)."""
+        if self.stage is not None and states is None and not python and not free_rolling:
             out = self.compiled(t, q, qd)
             if out is not None:
                 return out
@@ -224,8 +225,10 @@ class AxleForces:
                 Q1 += s1[1]
                 Q2 += s2[1]
                 if braked and self.braking.active:      # the brake forces at the actual contact points too
-                    b1 = brake_forces(-self.params.l, p1, 0.0, self.Oz, self.ux, self.uz, t1.brake_force(al1))
-                    b2 = brake_forces(self.params.l, p2, 0.0, self.Oz, self.ux, self.uz, t2.brake_force(al2))
+                    c1 = wheel_contact(-self.params.l, p1[0], p1[3], math.sqrt)
+                    c2 = wheel_contact(self.params.l, p2[0], p2[3], math.sqrt)
+                    b1 = brake_forces(c1, p1, 0.0, self.Oz, self.ux, self.uz, t1.brake_force(al1))
+                    b2 = brake_forces(c2, p2, 0.0, self.Oz, self.ux, self.uz, t2.brake_force(al2))
                     Qp += b1[0] + b2[0]
                     Q1 += b1[1]
                     Q2 += b2[1]

@@ -190,28 +190,37 @@ def vertical_load(el: tuple, contact: tuple, Oy: float, Oz: float, h: float, cps
 
 
 def slip_forces(tc: tuple, camber: tuple, values: tuple, alpha: float, load: float, sz: float,
-                load_dependent: bool, ops: tuple) -> tuple[float, float, float]:
-    """(F_y, M_z, F_y without camber) at slip alpha and vertical load: the Magic Formula and the trail moment
+                load_dependent: bool, ops: tuple, braked: bool, bc: tuple) -> tuple[float, float, float, float]:
+    """(F_y, M_z, F_y without camber, F_x) at slip alpha and vertical load: the Magic Formula and the trail moment
     -t F_y of :mod:`reduced_model.tyre`, with the camber terms (:func:`~mbs_shimmy.camber.camber_terms`, camber
     asin(s_z)) when ``tc`` says so; ``tc`` = :attr:`TyreElement.slip_constants`, ``values`` of :func:`table_values`,
-    ``ops`` the elementary functions (:mod:`mbs_shimmy.scalar_ops`).
+    ``ops`` the elementary functions (:mod:`mbs_shimmy.scalar_ops`).  ``braked``: MF 6.1's combined slip of the
+    constants ``bc`` (:attr:`~reduced_model.tyre.CombinedSlip.constants`: F_x, the weighted F_y and the combined
+    aligning moment with the trail at alpha_t,eq, :func:`~reduced_model.tyre.combined_forces`); F_x 0 free rolling.
     A lifted wheel (load <= 0) has no grip only where the properties follow the load: with ``constant_load`` the
     slip force is the reduced model's, whatever the load."""
-    sin, cos, atan, _, asin, choose = ops
+    sin, cos, atan, sqrt, asin, choose = ops
     C, Ct, q_ez4, t0, pt, with_camber = tc
     B, D, E, Bt, Dt, Et0 = values[0], values[1], values[2], values[3], values[4], values[5]
     Fy = tyre.mf_force(B, C, D, E, alpha, sin, atan)
     t = tyre.mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha, cos, atan) if pt else t0
     mz = -t * Fy          # the trail moment about the road normal (on the slip force alone)
     total = Fy
+    dFy, mzr = 0.0, 0.0
     if with_camber:
         # camber (ISO: top of the wheel to the right positive) = asin(s_z) for both wheels
         dFy, mzr = camber_terms(camber, B, C, D, E, alpha, load, asin(sz), Fy, ops)
         total, mz = Fy + dFy, mz + mzr
+    Fx = 0.0
+    if braked:
+        alpha_t = tyre.trail_slip(bc, alpha, sqrt, choose)
+        t_eq = tyre.mf_trail(Bt, Ct, Dt, Et0, q_ez4, alpha_t, cos, atan) if pt else t0
+        Fx, total, mz = tyre.combined_forces(bc, alpha, Fy, dFy, mzr, t_eq, cos, atan)
     if load_dependent:
         lifted = load <= 0.0
-        return choose(lifted, 0.0, total), choose(lifted, 0.0, mz), choose(lifted, 0.0, Fy)
-    return total, mz, Fy
+        return (choose(lifted, 0.0, total), choose(lifted, 0.0, mz), choose(lifted, 0.0, Fy),
+                choose(lifted, 0.0, Fx))
+    return total, mz, Fy, Fx
 
 
 def contact_forces(el: tuple, contact: tuple, pose: tuple, Oy: float, Oz: float, ux: float, uz: float, Fz: float,
@@ -267,15 +276,16 @@ def contact_forces(el: tuple, contact: tuple, pose: tuple, Oy: float, Oz: float,
     return q_psi, q_theta, alpha_d, Fyv, vert, lat
 
 
-def brake_forces(hl: float, pose: tuple, Oy: float, Oz: float, ux: float, uz: float,
+def brake_forces(contact: tuple, pose: tuple, Oy: float, Oz: float, ux: float, uz: float,
                  Fx: float) -> tuple[float, float, float]:
     """(Q_psi, Q_theta, Q_y) of a brake force ``Fx`` (N, forward positive, so braking is negative) acting along the
     wheel's heading x_w at its contact point P on the knuckle: the brake caliper is on the knuckle, so the brake
     torque F_x |P - C| about the spin axis is the knuckle's (the road force does not pass to the wheel centre, as
     the free-rolling wheel's rolling resistance does).  Virtual work as in :func:`contact_forces`: u.((P - O) x F)
-    about the roll axis u through O = (0, Oy, Oz), e.((P - K) x F) about the kingpin e through K; ``hl`` = side l."""
+    about the roll axis u through O = (0, Oy, Oz), e.((P - K) x F) about the kingpin e through K; ``contact`` of
+    :func:`wheel_contact`."""
     K, _, e, s, _ = pose
-    _, _, _, Px, Py, _, cphi = wheel_contact(hl, K, s, math.sqrt)
+    Px, Py, cphi = contact[3], contact[4], contact[6]
     Fxx, Fxy = Fx * s[1] / cphi, -Fx * s[0] / cphi         # F along x_w (horizontal)
     q_psi = ux * Oz * Fxy + uz * (Px * Fxy - (Py - Oy) * Fxx)
     rx, ry, rz = Px - K[0], Py - K[1], -K[2]
@@ -285,6 +295,7 @@ def brake_forces(hl: float, pose: tuple, Oy: float, Oz: float, ux: float, uz: fl
 
 # the first-order element's lateral() runs at every stage of the reduced fidelity: no attribute look-ups
 _mf_force, _sin, _atan = tyre.mf_force, math.sin, math.atan
+BRAKING_SIZE = 19      # floats of :attr:`reduced_model.tyre.CombinedSlip.constants`
 
 
 @functools.lru_cache(maxsize=16)
@@ -338,20 +349,16 @@ class TyreElement:
             tf.q_ez4 if tf is not None else math.nan)
         self.slip_constants = (self.C, self.Ct, self.q_ez4, self.t0, self.pt, camber is not None)
         self.camber_coefficients = camber.coefficients if camber is not None else (0.0,) * 10
-        # under braking: F_x and the combined-slip weighting of F_y at the static load (None: free rolling)
+        # under braking: MF 6.1's combined slip at the static load (free rolling: not braked, constants unused)
         self.combined = wheel.combined
+        self.braked = wheel.combined is not None
+        self.braking_constants = wheel.combined.constants if self.braked else (0.0,) * BRAKING_SIZE
 
     def brake_force(self, alpha: float) -> float:
         """F_x = G_xa(alpha) F_x0 of the braking wheel (N, ISO: braking negative); 0 free rolling."""
         if self.combined is None:
             return 0.0
         return self.combined.forces(0.0, alpha, math.cos, math.atan)[0]
-
-    def combine(self, Fy: float, mz: float, alpha: float, trail: float) -> tuple[float, float]:
-        """(F_y, M_z) under braking from the slip forces at zero longitudinal slip: F_y = G_yk F_y0 + S_Vyk (MF 6.1
-        (4.E58)), the trail moment -t F_y of the combined force (the camber terms, where on, weighted as F_y0)."""
-        _, Gyk, SVyk = self.combined.weights(alpha, math.cos, math.atan)
-        return Gyk * Fy + SVyk, Gyk * mz - trail * SVyk
 
     def properties(self, load: float) -> tuple[float, ...]:
         """(B, D, E, Bt, Dt, Et0, a, sigma) at this vertical load (the static wheel's with ``constant_load``)."""
@@ -361,17 +368,22 @@ class TyreElement:
             return self.table.direct(0.01 * self.static_load)
         return table_values(self.table.at(load), self.static, self.pt, self.hcl, self.rl)
 
-    def lateral(self, alpha: float, load: float) -> tuple[float, float, float, float]:
-        """(F_y, t, a, sigma) at slip alpha and vertical load, without camber (the first-order element's)."""
+    def lateral(self, alpha: float, load: float, braked: bool = False) -> tuple[float, float, float, float, float]:
+        """(F_y, M_z, a, sigma, F_x) at slip alpha and vertical load, without camber (the first-order element's):
+        M_z the trail moment -t F_y, or under braking MF 6.1's combined F_y, M_z and F_x (:func:`slip_forces`)."""
         if self.table is None:      # constant_load: the reduced model's slip force, whatever the load
             v = self.static
         else:
             v = self.properties(load)
             if load <= 0.0:         # lifted wheel: no grip
-                return 0.0, (v[4] if self.pt else self.t0), v[6], v[7]
+                return 0.0, 0.0, v[6], v[7], 0.0
+        if braked and self.braked:
+            Fy, mz, _, Fx = slip_forces(self.slip_constants[:5] + (False,), self.camber_coefficients, v, alpha,
+                                        load, 0.0, False, MATH, True, self.braking_constants)
+            return Fy, mz, v[6], tyre.braked_relaxation_length(self.braking_constants, v[7]), Fx
         Fy = _mf_force(v[0], self.C, v[1], v[2], alpha, _sin, _atan)
         t = tyre.mf_trail(v[3], self.Ct, v[4], v[5], self.q_ez4, alpha, math.cos, _atan) if self.pt else self.t0
-        return Fy, t, v[6], v[7]
+        return Fy, -t * Fy, v[6], v[7], 0.0
 
     # --- exact kinematics ----------------------------------------------------------------------------------
     def exact(self, pose: tuple, Oy: float, Oz: float, h: float, alpha: float, speed: float,
@@ -387,18 +399,14 @@ class TyreElement:
         contact = wheel_contact(self.side * self.l, pose[0], s, math.sqrt)
         Fz, dFz, P0y = vertical_load(el, contact, Oy, Oz, h, cpsi, spsi)
         values = self.properties(Fz)
-        Fy, mz, _ = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2],
-                                self.table is not None, MATH)
-        Fx = 0.0
-        if braked and self.combined is not None:
-            t = tyre.mf_trail(values[3], self.Ct, values[4], values[5], self.q_ez4, alpha, math.cos,
-                              math.atan) if self.pt else self.t0
-            Fy, mz = self.combine(Fy, mz, alpha, t)
-            Fx = self.brake_force(alpha)
+        braked = braked and self.braked
+        Fy, mz, _, Fx = slip_forces(self.slip_constants, self.camber_coefficients, values, alpha, Fz, s[2],
+                                    self.table is not None, MATH, braked, self.braking_constants)
+        sigma = tyre.braked_relaxation_length(self.braking_constants, values[7]) if braked else values[7]
         q_psi, q_theta, alpha_d, Fyv, vert, lat = contact_forces(el, contact, pose, Oy, Oz, ux, uz, Fz, dFz, P0y,
-                                                                 Fy, mz, values[6], values[7], alpha, speed)
-        if Fx != 0.0:
-            b_psi, b_theta, b_y = brake_forces(self.side * self.l, pose, Oy, Oz, ux, uz, Fx)
+                                                                 Fy, mz, values[6], sigma, alpha, speed)
+        if braked:
+            b_psi, b_theta, b_y = brake_forces(contact, pose, Oy, Oz, ux, uz, Fx)
             q_psi, q_theta, Fyv = q_psi + b_psi, q_theta + b_theta, Fyv + b_y
         if record:
             cphi = contact[6]
@@ -425,19 +433,17 @@ class TyreElement:
         lift = 0.5 * L * psi if self.load_tramp else 0.5 * L * psi - gam * l * theta
         dFz = -self.k5 * side * lift      # the wheel centre rises by side*lift: the deflection falls by as much
         Fz = self.static_load + dFz
-        Fy, t, a, sigma = self.lateral(alpha, Fz)
-        Fb = 0.0
-        if braked and self.combined is not None:
-            # the brake force along x at the straight-running arm, as the rolling resistance in (2.1)-(2.2)
-            # (fixed_static_load_arms; without it AxleForces adds its moments at the actual pose instead)
-            Fy = self.combine(Fy, 0.0, alpha, t)[0]
-            Fb = self.brake_force(alpha) if self.fixed_arms else 0.0
+        Fy, mz, a, sigma, Fb = self.lateral(alpha, Fz, braked)
+        # under braking the brake force acts along x at the straight-running arm, as the rolling resistance in
+        # (2.1)-(2.2) (fixed_static_load_arms; without it AxleForces adds its moments at the actual pose instead)
+        if not self.fixed_arms:
+            Fb = 0.0
         y4 = R * psi if self.k4_tramp else R * sz
         lat = Fy - self.k4 * y4 if self.separate else Fy
         # only load changes: the static load times constant lever arms is balanced by the alignment
         Fx = Fb - self.f * dFz
         q_psi = R * lat + side * 0.5 * L * dFz
-        q_theta = -side * l * Fx - gam * R * lat - gam * side * l * dFz - t * Fy
+        q_theta = -side * l * Fx - gam * R * lat - gam * side * l * dFz + mz
         vy = speed * sx + a * theta_d
         if not self.heading_only:
             vy += R * psi_d - gam * R * theta_d

@@ -99,13 +99,17 @@ def wheel_slip(params: ShimmyParameters, pressure: float, braking: Braking, side
     return -(tyre.brake_slip_for_force(params, pressure, value) if braking.by_force else value)
 
 
-def braked(wheel: "WheelTyre", params: ShimmyParameters, braking: Braking, side: float) -> "WheelTyre":
+def braked(wheel: "WheelTyre", params: ShimmyParameters, braking: Braking, side: float,
+           rl: bool = False) -> "WheelTyre":
     """The wheel under ``braking`` (unchanged without): its combined-slip forces at its slip, the right wheel's
-    (``side`` -1) tyre mirrored (:class:`~reduced_model.tyre.CombinedSlip`)."""
+    (``side`` -1) tyre mirrored (:class:`~reduced_model.tyre.CombinedSlip`); with ``rl`` (the relaxation length
+    following the tyre, (4.9)) its relaxation length follows the braking too
+    (:func:`~reduced_model.tyre.braked_relaxation_length`)."""
     if not braking.active:
         return wheel
     kappa = wheel_slip(params, wheel.pressure, braking, side)
-    return dataclasses.replace(wheel, combined=tyre.combined_slip(params, wheel.pressure, kappa, mirrored=side < 0.0))
+    combined = tyre.combined_slip(params, wheel.pressure, kappa, mirrored=side < 0.0)
+    return dataclasses.replace(wheel, combined=combined.following_braking() if rl else combined)
 
 
 def _wheel_tyre(params: ShimmyParameters, effects: Effects, pressure: float) -> WheelTyre:
@@ -143,8 +147,9 @@ class ShimmyModel:
         key = (pressures, braking)
         found = self._tyre_cache.get(key)
         if found is None:
-            found = (braked(_wheel_tyre(self.params, self.effects, pressures.right), self.params, braking, -1.0),
-                     braked(_wheel_tyre(self.params, self.effects, pressures.left), self.params, braking, 1.0))
+            rl = self.effects.rl
+            found = (braked(_wheel_tyre(self.params, self.effects, pressures.right), self.params, braking, -1.0, rl),
+                     braked(_wheel_tyre(self.params, self.effects, pressures.left), self.params, braking, 1.0, rl))
             if len(self._tyre_cache) > 4096:
                 self._tyre_cache.clear()
             self._tyre_cache[key] = found
@@ -154,31 +159,40 @@ class ShimmyModel:
             braking: Braking = FREE_ROLLING) -> np.ndarray:
         """dx/dt for x of shape (8,) or (8, m) (real or complex); speed in m/s.
 
-        Under ``braking`` each wheel's tyre gives F_x and the combined-slip F_y
-        (:class:`~reduced_model.tyre.CombinedSlip`), and F_x steers the wheel about its kingpin at the wheel offset l, as the rolling resistance does in
-        (2.1)-(2.2): -side l F_x, side -1 right, +1 left (docs/numerics.md, "Braking")."""
+        Under ``braking`` each wheel's tyre gives F_x, the combined-slip F_y and the combined aligning moment M_z
+        (:class:`~reduced_model.tyre.CombinedSlip`), which replaces the trail's -t F_y, and F_x steers the wheel
+        about its kingpin at the wheel offset l, as the rolling resistance does in (2.1)-(2.2): -side l F_x, side -1
+        right, +1 left (docs/numerics.md, "Braking")."""
         P = self.params
         w1, w2 = self.tyres(pressures, braking)
         th1, th1d, th2, th2d, psi, psid, al1, al2 = x
         Fy1 = w1.force.force(al1)
         Fy2 = w2.force.force(al2)
-        brake1 = brake2 = 0.0
-        if w1.combined is not None:
-            Fx1, Fy1 = w1.combined.forces(Fy1, al1)
-            Fx2, Fy2 = w2.combined.forces(Fy2, al2)
-            brake1, brake2 = P.l * Fx1, -P.l * Fx2
+        if w1.combined is None:
+            # free rolling: the paper's moments -F_y (R gamma + t(alpha)) of (2.1)-(2.2)
+            moment1 = -Fy1 * (P.R * P.gamma + w1.trail_at(al1))
+            moment2 = -Fy2 * (P.R * P.gamma + w2.trail_at(al2))
+            sigma1, sigma2 = w1.sigma, w2.sigma
+        else:
+            # under braking: the combined F_y, the combined aligning moment M_z and F_x at the wheel offset l
+            Fx1, Fy1, Mz1 = w1.combined.moment_and_forces(Fy1, al1, w1.trail_at)
+            Fx2, Fy2, Mz2 = w2.combined.moment_and_forces(Fy2, al2, w2.trail_at)
+            moment1 = -Fy1 * P.R * P.gamma + Mz1 + P.l * Fx1
+            moment2 = -Fy2 * P.R * P.gamma + Mz2 - P.l * Fx2
+            sigma1 = tyre.braked_relaxation_length(w1.combined.constants, w1.sigma)
+            sigma2 = tyre.braked_relaxation_length(w2.combined.constants, w2.sigma)
         gyro = P.I2 * speed / P.R
         coupling1 = 0.5 * P.L * w1.k5 * P.l * (P.gamma - P.f) + P.k4 * P.R ** 2 * P.gamma
         coupling2 = 0.5 * P.L * w2.k5 * P.l * (P.gamma - P.f) + P.k4 * P.R ** 2 * P.gamma
         # L^2/2 k5 of eq. (2.3) is the two tyres' vertical springs at +-L/2; split per wheel.
         tramp_stiffness = P.k3 + 0.25 * P.L ** 2 * (w1.k5 + w2.k5) + 2.0 * P.k4 * P.R ** 2
         th1dd = (P.k1 * (th2 - th1) + P.c1 * (th2d - th1d) - P.c4 * th1d - gyro * psid + coupling1 * psi
-                 - Fy1 * (P.R * P.gamma + w1.trail_at(al1)) + brake1) / P.I1
+                 + moment1) / P.I1
         th2dd = (P.k1 * (th1 - th2) + P.c1 * (th1d - th2d) - (P.c4 + P.c2) * th2d - P.k2 * th2 - gyro * psid
-                 + coupling2 * psi - Fy2 * (P.R * P.gamma + w2.trail_at(al2)) + brake2) / P.I1
+                 + coupling2 * psi + moment2) / P.I1
         psidd = (-P.c3 * psid - tramp_stiffness * psi + gyro * (th1d + th2d) + (Fy1 + Fy2) * P.R) / P.I3
-        al1d = (-speed * (al1 + th1) + w1.a * th1d) / w1.sigma
-        al2d = (-speed * (al2 + th2) + w2.a * th2d) / w2.sigma
+        al1d = (-speed * (al1 + th1) + w1.a * th1d) / sigma1
+        al2d = (-speed * (al2 + th2) + w2.a * th2d) / sigma2
         return np.array([th1d, th1dd, th2d, th2dd, psid, psidd, al1d, al2d])
 
     def jacobian(self, x: np.ndarray, speed: float, pressures: TyrePressures,

@@ -141,7 +141,7 @@ class ModeClassifier:
 
     def windows(self, trajectory: Trajectory) -> tuple[ModeWindow, ...]:
         t = trajectory.t
-        theta1, psi = trajectory.state("theta1"), trajectory.state("psi")
+        theta1, psi = trajectory.deviation("theta1"), trajectory.deviation("psi")   # about the steady state
         duration = t[-1] - t[0]
         length = min(self.window, duration)
         starts = np.arange(t[0], t[-1] - length + 1e-9, self.hop) if duration > 0 else np.array([t[0]])

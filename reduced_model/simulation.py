@@ -21,6 +21,7 @@ import scipy.integrate
 from bifurcation.messages import NO_MESSAGE, Message, Quantity
 from reduced_model.model import N_STATES, STATE_NAMES, ShimmyModel
 from axles.parameters import ParameterError
+from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 from reduced_model.trajectory import SimulationStatus, SpeedSchedule, Trajectory
 
@@ -67,9 +68,11 @@ def scalar_speed(schedule: SpeedSchedule):
 
 def integrate(model: ShimmyModel, pressures: TyrePressures, schedule: SpeedSchedule, duration: float,
              x0: np.ndarray | None = None, method: str = METHOD, rtol: float = RTOL, atol: float = ATOL,
-             sample_interval: float = SAMPLE_INTERVAL, progress: Callable[[float], None] | None = None
-             ) -> Trajectory:
-    """Integrate the reduced model over [0, duration] s from ``x0`` (default theta1 = 0.01 rad).
+             sample_interval: float = SAMPLE_INTERVAL, progress: Callable[[float], None] | None = None,
+             braking: Braking = FREE_ROLLING) -> Trajectory:
+    """Integrate the reduced model over [0, duration] s from ``x0`` (default theta1 = 0.01 rad), under a steady
+    ``braking`` (default free rolling; the caller starts it from the braked steady state, as
+    :func:`comparisons.simulations.simulate` does).
 
     The trajectory is complete, or stops early with status ``solver_failed`` (the integrator gave up) or
     ``diverged`` (an angle passed DIVERGENCE_ANGLE); ``message`` says when.  ``progress(t)`` is called every
@@ -78,7 +81,7 @@ def integrate(model: ShimmyModel, pressures: TyrePressures, schedule: SpeedSched
     if not duration > 0.0:
         raise ParameterError(f"duration must be positive, got {duration:g} s")
     x0 = initial_state() if x0 is None else np.asarray(x0, dtype=float)
-    model.tyres(pressures)  # raises ParameterError where the model is meaningless
+    model.tyres(pressures, braking)  # raises ParameterError where the model is meaningless
 
     speed = scalar_speed(schedule)
 
@@ -88,13 +91,13 @@ def integrate(model: ShimmyModel, pressures: TyrePressures, schedule: SpeedSched
         if progress is not None and t >= next_report[0]:
             next_report[0] = t + 0.01 * duration
             progress(min(t, duration))
-        dx = model.rhs(x, speed(t), pressures)
+        dx = model.rhs(x, speed(t), pressures, braking)
         if not np.isfinite(dx.sum()):   # LSODA retries a non-finite step forever: stop and say where
             raise FloatingPointError(f"non-finite right-hand side of the reduced model at t = {t:.6g} s")
         return dx
 
     def jac(t, x):
-        return model.jacobian(x, speed(t), pressures)
+        return model.jacobian(x, speed(t), pressures, braking)
 
     kwargs = {"jac": jac} if method in ("LSODA", "Radau", "BDF") else {}
     sol = scipy.integrate.solve_ivp(rhs, (0.0, duration), x0, method=method, rtol=rtol, atol=atol,

@@ -1,7 +1,9 @@
 """Speed schedules and the trajectory type shared by every simulation in the project (reduced model and MBS).
 
 The state columns are always the reduced model's, in its order and SI units (``model.STATE_NAMES``), so that
-trajectories of both models compare column by column; a model with more states puts them in ``extra``.
+trajectories of both models compare column by column; a model with more states puts them in ``extra``.  A run about
+a steady state off x = 0 (straight running under braking) carries it as ``origin``: amplitudes are measured about it
+(:meth:`Trajectory.deviation`), never from 0.
 """
 
 from __future__ import annotations
@@ -74,10 +76,13 @@ class Trajectory:
     status: SimulationStatus = SimulationStatus.COMPLETE
     message: Message = NO_MESSAGE
     extra: dict = field(default_factory=dict, compare=False)  # e.g. MBS body poses, tyre forces
+    origin: np.ndarray | None = None  # (8,) the steady state the run oscillates about (None: x = 0, free rolling)
 
     def __post_init__(self) -> None:
         if self.x.ndim != 2 or self.x.shape != (len(self.t), len(STATE_NAMES)):
             raise ValueError(f"states must be (N, {len(STATE_NAMES)}), got {self.x.shape}")
+        if self.origin is not None and np.shape(self.origin) != (len(STATE_NAMES),):
+            raise ValueError(f"origin must be ({len(STATE_NAMES)},), got {np.shape(self.origin)}")
 
     @property
     def complete(self) -> bool:
@@ -85,3 +90,8 @@ class Trajectory:
 
     def state(self, name: str) -> np.ndarray:
         return self.x[:, STATE_NAMES.index(name)]
+
+    def deviation(self, name: str) -> np.ndarray:
+        """The state ``name`` less its steady value (:attr:`origin`): what an amplitude max|x| is taken of."""
+        k = STATE_NAMES.index(name)
+        return self.x[:, k] if self.origin is None else self.x[:, k] - self.origin[k]

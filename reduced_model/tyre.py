@@ -14,6 +14,8 @@ derivatives pass through).  Pressures are in Pa, forces in N, lengths in m, slip
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -189,14 +191,62 @@ def longitudinal_formula(params: ShimmyParameters, pressure: float) -> Longitudi
     return LongitudinalFormula(B=float(K / (C * D)), C=float(C), D=float(D), E0=float(E0), p_ex4=P.p_ex4)
 
 
+def combined_weights(c: tuple, alpha, cos, atan):
+    """(G_xa, G_yk, S_Vyk) at slip angle alpha of the combined-slip constants ``c`` (:attr:`CombinedSlip.constants`),
+    (4.E51)-(4.E57) and (4.E59)-(4.E67), with the given cos and atan (numpy's, math's, or the compiled stage's and
+    the twin's: the one text of these laws)."""
+    Gxa = mf_weight(c[1], c[2], c[3], alpha, c[4], cos, atan)
+    Byk = c[5] * cos(atan(c[6] * (alpha - c[7])))
+    Gyk = mf_weight(Byk, c[8], c[9], c[11], c[10], cos, atan)
+    SVyk = c[12] * cos(atan(c[13] * alpha)) * c[14]
+    return Gxa, Gyk, SVyk
+
+
+def trail_slip(c: tuple, alpha, sqrt, choose):
+    """alpha_t,eq = sgn(alpha) sqrt(alpha^2 + (K_xk / K_ya)^2 kappa^2), (4.E77) with the paper's zero shift S_Ht: the
+    slip angle the pneumatic trail is evaluated at under combined slip; alpha itself, bit for bit, at kappa = 0.
+    sgn(0) is taken as +1: at alpha = 0 the trail multiplies F_y0(0) = 0."""
+    k = c[15]
+    return choose(k == 0.0, alpha, choose(alpha < 0.0, -1.0, 1.0) * sqrt(alpha * alpha + k * k))
+
+
+def combined_forces(c: tuple, alpha, fy0, dfy, mzr, t_eq, cos, atan):
+    """(F_x, F_y, M_z) of MF 6.1's combined slip at slip angle alpha, from the pure slip force F_y0 = ``fy0``, the
+    camber force and moment ``dfy``, ``mzr`` (0 without camber terms) and the trail ``t_eq`` at alpha_t,eq
+    (:func:`trail_slip`):
+
+        F_x = G_xa F_x0                                   (4.E50)
+        F_y = G_yk (F_y0 + dF_y) + S_Vyk                  (4.E58)
+        M_z = -t(alpha_t,eq) G_yk F_y0 + G_yk M_zr + s F_x,   s = R (SSZ1 + SSZ2 F_y / F_z0)   (4.E71)-(4.E76)
+
+    The paper's aligning moment is the trail's, -t F_y0 (no residual moment M_zr: its D_r is 0), so F'_y = F_y -
+    S_Vyk of (4.E74) is G_yk F_y0; the camber terms (the multibody model's, where on) are weighted by G_yk as F_y0.
+    At kappa = 0: F_x = 0, F_y = F_y0 + dF_y and M_z = -t F_y0 + M_zr bit for bit."""
+    Gxa, Gyk, SVyk = combined_weights(c, alpha, cos, atan)
+    fx = Gxa * c[0]
+    fy = Gyk * (fy0 + dfy) + SVyk
+    return fx, fy, -t_eq * (Gyk * fy0) + Gyk * mzr + (c[16] + c[17] * fy) * fx
+
+
+def braked_relaxation_length(c: tuple, sigma):
+    """The relaxation length under braking: the paper's law (4.9), sigma = K_ya / C_y after Besselink (cornering
+    stiffness over the carcass's lateral stiffness, the stretched string's and von Schlippe's relation; Pacejka
+    2012, chapter 5), with the cornering stiffness of the braking tyre, dF_y/dalpha at alpha = 0 = G_yk(0; kappa) K_ya
+    (F_y0(0) = 0, and S_Vyk is even in alpha there), and C_y unchanged: sigma G_yk(0; kappa).  The factor is 1 where
+    the relaxation length follows nothing (the section 3 model's constant sigma0, ``rl`` off) and at kappa = 0."""
+    return sigma * c[18]
+
+
 @dataclass(frozen=True)
 class CombinedSlip:
     """One wheel's forces at a fixed longitudinal slip ``kappa`` (ISO) against its slip angle: F_x = G_xa F_x0
-    (4.E50) and F_y = G_yk F_y0 + S_Vyk (4.E58), at one load and pressure.
+    (4.E50), F_y = G_yk F_y0 + S_Vyk (4.E58) and the aligning moment of (4.E71)-(4.E77), at one load and pressure
+    (:func:`combined_forces`).
 
     ``mirrored``: the tyre turned round for the other side of the axle (MF's TYRESIDE): F_y(alpha) becomes
-    -F_y(-alpha) and F_x(alpha) becomes F_x(-alpha), which flips the signs of r_By3, r_Vy1, r_Vy2 and r_Hx1 (the
-    paper's F_y0 is odd in alpha and unchanged)."""
+    -F_y(-alpha), F_x(alpha) becomes F_x(-alpha) and M_z(alpha) becomes -M_z(-alpha), which flips the signs of r_By3,
+    r_Vy1, r_Vy2, r_Hx1 and s_Sz1 (the paper's F_y0 is odd in alpha and unchanged; its trail is not mirrored, as
+    without braking)."""
 
     kappa: float
     Fx0: float                 # F_x0(kappa), N
@@ -213,19 +263,41 @@ class CombinedSlip:
     DVyk0: float               # mu_y F_z (r_Vy1 + r_Vy2 df_z), N (4.E67 without its cosine)
     r_vy4: float
     SVyk_sine: float           # sin(r_Vy5 arctan(r_Vy6 kappa)) of (4.E66)
+    kappa_t: float = 0.0       # (K_xk / K_ya) kappa of alpha_t,eq (4.E77), rad
+    s0: float = 0.0            # R s_Sz1 (mirrored), m
+    s1: float = 0.0            # R s_Sz2 / F_z0, m/N
+    sigma_factor: float = 1.0  # the relaxation length's factor under braking (:func:`braked_relaxation_length`)
+
+    @functools.cached_property
+    def constants(self) -> tuple[float, ...]:
+        """The floats :func:`combined_weights`, :func:`trail_slip`, :func:`combined_forces` and
+        :func:`braked_relaxation_length` read, in order."""
+        return (self.Fx0, self.Bxa, self.Cxa, self.Exa, self.SHxa, self.r_by1, self.r_by2, self.r_by3, self.Cyk,
+                self.Eyk, self.SHyk, self.kappa, self.DVyk0, self.r_vy4, self.SVyk_sine, self.kappa_t, self.s0,
+                self.s1, self.sigma_factor)
+
+    def following_braking(self) -> "CombinedSlip":
+        """This wheel with the relaxation length following the braking: the factor G_yk(alpha = 0; kappa) of
+        :func:`braked_relaxation_length`."""
+        return dataclasses.replace(self, sigma_factor=float(self.weights(0.0, math.cos, math.atan)[1]))
 
     def weights(self, alpha, cos=np.cos, atan=np.arctan):
         """(G_xa, G_yk, S_Vyk) at slip angle alpha (array or complex too)."""
-        Gxa = mf_weight(self.Bxa, self.Cxa, self.Exa, alpha, self.SHxa, cos, atan)
-        Byk = self.r_by1 * cos(atan(self.r_by2 * (alpha - self.r_by3)))
-        Gyk = mf_weight(Byk, self.Cyk, self.Eyk, self.kappa, self.SHyk, cos, atan)
-        SVyk = self.DVyk0 * cos(atan(self.r_vy4 * alpha)) * self.SVyk_sine
-        return Gxa, Gyk, SVyk
+        return combined_weights(self.constants, alpha, cos, atan)
 
     def forces(self, fy0, alpha, cos=np.cos, atan=np.arctan):
         """(F_x, F_y) at slip angle alpha from the pure lateral force ``fy0`` = F_y0(alpha)."""
         Gxa, Gyk, SVyk = self.weights(alpha, cos, atan)
         return Gxa * self.Fx0, Gyk * fy0 + SVyk
+
+    def trail_slip(self, alpha):
+        """alpha_t,eq of :func:`trail_slip` for numpy arrays (real or complex: the sign is the real part's)."""
+        return trail_slip(self.constants, alpha, np.sqrt, lambda cond, a, b: np.where(np.real(cond), a, b))
+
+    def moment_and_forces(self, fy0, alpha, trail):
+        """(F_x, F_y, M_z) of :func:`combined_forces` for numpy arrays, ``trail(alpha)`` the wheel's trail law."""
+        return combined_forces(self.constants, alpha, fy0, 0.0, 0.0, trail(self.trail_slip(alpha)), np.cos,
+                               np.arctan)
 
 
 def combined_slip(params: ShimmyParameters, pressure: float, kappa: float, mirrored: bool = False) -> CombinedSlip:
@@ -235,34 +307,44 @@ def combined_slip(params: ShimmyParameters, pressure: float, kappa: float, mirro
     dfz = load_increment(P)
     m = -1.0 if mirrored else 1.0
     mu_y_fz = magic_formula(P, pressure).D
+    lf = longitudinal_formula(P, pressure)
     return CombinedSlip(
-        kappa=float(kappa), Fx0=longitudinal_formula(P, pressure).force(kappa),
+        kappa=float(kappa), Fx0=lf.force(kappa),
         Bxa=P.r_bx1 * math.cos(math.atan(P.r_bx2 * kappa)), Cxa=P.r_cx1, Exa=P.r_ex1 + P.r_ex2 * dfz,
         SHxa=m * P.r_hx1, r_by1=P.r_by1, r_by2=P.r_by2, r_by3=m * P.r_by3, Cyk=P.r_cy1,
         Eyk=P.r_ey1 + P.r_ey2 * dfz, SHyk=P.r_hy1 + P.r_hy2 * dfz,
         DVyk0=m * mu_y_fz * (P.r_vy1 + P.r_vy2 * dfz), r_vy4=P.r_vy4,
-        SVyk_sine=math.sin(P.r_vy5 * math.atan(P.r_vy6 * kappa)))
+        SVyk_sine=math.sin(P.r_vy5 * math.atan(P.r_vy6 * kappa)),
+        kappa_t=float(lf.B * lf.C * lf.D / cornering_stiffness(P, pressure) * kappa),
+        s0=m * P.R * P.s_sz1, s1=P.R * P.s_sz2 / P.Fz0)
 
 
-def peak_brake_slip(params: ShimmyParameters, pressure: float) -> tuple[float, float]:
+def peak_brake_slip(params: ShimmyParameters, pressure: float, driving: bool = False) -> tuple[float, float]:
     """(brake slip, brake force N) at the peak of -F_x0 for braking: the largest steady brake force the tyre gives
-    at straight running."""
+    at straight running; ``driving``: at the peak of F_x0 for driving, both then negative (ISO kappa = -slip > 0;
+    E_x's asymmetry p_ex4 makes the two peaks differ)."""
     from scipy.optimize import minimize_scalar
     lf = longitudinal_formula(params, pressure)
-    res = minimize_scalar(lambda s: lf.force(-s), bounds=(1e-6, 1.0), method="bounded",
+    sign = -1.0 if driving else 1.0
+    res = minimize_scalar(lambda s: sign * lf.force(-sign * s), bounds=(1e-6, 1.0), method="bounded",
                           options={"xatol": 1e-12})
-    return float(res.x), float(-lf.force(-res.x))
+    return float(sign * res.x), float(-lf.force(-sign * res.x))
 
 
 def brake_slip_for_force(params: ShimmyParameters, pressure: float, force: float) -> float:
-    """The brake slip (positive; ISO kappa = -slip) at which the tyre gives the brake force ``force`` (N, rearward)
-    at straight running (alpha = 0, where G_xa = 1); at most the peak's, or a :class:`ParameterError`."""
+    """The brake slip (positive braking, negative driving; ISO kappa = -slip) at which the tyre gives the brake
+    force ``force`` (N, rearward; negative: a drive force, forward) at straight running (alpha = 0, where
+    G_xa = 1); at most the peak's, or a :class:`ParameterError`."""
     from scipy.optimize import brentq
     if force == 0.0:
         return 0.0
-    s_peak, f_peak = peak_brake_slip(params, pressure)
-    if not force < f_peak:
-        raise ParameterError(Message.of(f"brake force = {force:.6g} N is beyond the tyre's grip: at most {f_peak:.6g} N at ",
-                                        Quantity("pressure", pressure, 10), f" (brake slip {s_peak:.4g})"))
+    driving = force < 0.0
+    s_peak, f_peak = peak_brake_slip(params, pressure, driving)
+    if not abs(force) < abs(f_peak):
+        what = "drive force" if driving else "brake force"
+        raise ParameterError(Message.of(f"{what} = {abs(force):.6g} N is beyond the tyre's grip: at most "
+                                        f"{abs(f_peak):.6g} N at ", Quantity("pressure", pressure, 10),
+                                        f" ({'drive' if driving else 'brake'} slip {abs(s_peak):.4g})"))
     lf = longitudinal_formula(params, pressure)
-    return float(brentq(lambda s: -lf.force(-s) - force, 0.0, s_peak, xtol=1e-15, rtol=1e-15))
+    return float(brentq(lambda s: -lf.force(-s) - force, min(0.0, s_peak), max(0.0, s_peak), xtol=1e-15,
+                        rtol=1e-15))

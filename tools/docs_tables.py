@@ -88,9 +88,10 @@ def input_ranges() -> str:
         ("`--initial` angles / rates", f"{ANGLE_RANGE_DEG[0]:g} to {ANGLE_RANGE_DEG[1]:g} deg / "
                                        f"{RATE_RANGE_DEG_S[0]:g} to {RATE_RANGE_DEG_S[1]:g} deg/s"),
         ("`--brake-slip SLIP[,SLIP]`", f"{BRAKE_SLIP_RANGE[0]:g}-{BRAKE_SLIP_RANGE[1]:g} per wheel (0 free rolling, "
-                                       f"1 locked)"),
-        ("`--brake-force N[,N]`", f"{BRAKE_FORCE_RANGE_N[0]:g}-{BRAKE_FORCE_RANGE_N[1]:g} N per wheel, and below the "
-                                  f"tyre's peak brake force at its pressure"),
+                                       f"1 locked, negative driving: ISO kappa = -slip)"),
+        ("`--brake-force N[,N]`", f"{BRAKE_FORCE_RANGE_N[0]:g}-{BRAKE_FORCE_RANGE_N[1]:g} N per wheel (rearward; "
+                                  f"negative driving), and below the tyre's peak brake (or drive) force at its "
+                                  f"pressure"),
         ("`--range LO HI`", f"inside the physical range of the parameter (pressures {p_lo:g}-{p_hi:g} bar, brake slip "
                             f"{BRAKE_SLIP_RANGE[0]:g}-{BRAKE_SLIP_RANGE[1]:g}), LO < HI"),
         ("`simulate` work", f"the fastest oscillation of the axle times the duration must stay below {MAX_CYCLES:g} "

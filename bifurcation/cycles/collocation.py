@@ -151,11 +151,12 @@ class Orbit:
         tau = (self.mesh[:-1, None] + self.widths[:, None] * s[None, :]).ravel()
         return tau, x
 
-    def maxima(self, per_interval: int = 16) -> np.ndarray:
-        """max over the orbit of |x_i| for every state, refined by a parabola through the largest sample and
-        its neighbours (error O(h^4) of the sample spacing, below 1e-9 relative here)."""
+    def maxima(self, per_interval: int = 16, about: np.ndarray | None = None) -> np.ndarray:
+        """max over the orbit of |x_i| (or of |x_i - about_i|: about an equilibrium off x = 0) for every state,
+        refined by a parabola through the largest sample and its neighbours (error O(h^4) of the sample spacing,
+        below 1e-9 relative here)."""
         tau, x = self.sample(per_interval)
-        a = np.abs(x)
+        a = np.abs(x if about is None else x - np.asarray(about)[None, :])
         k = np.argmax(a, axis=0)
         cols = np.arange(self.n)
         km, kp = (k - 1) % len(tau), (k + 1) % len(tau)

@@ -57,12 +57,14 @@ class CycleSettings:
 
 @dataclass(frozen=True)
 class CyclePoint:
-    """One periodic orbit: parameters (SI), period, max |x_i| of every state, Floquet multipliers, stability."""
+    """One periodic orbit: parameters (SI), period, max |x_i| of every state (about the equilibrium at p, q where it
+    lies off x = 0), Floquet multipliers, stability."""
 
     p: float                         # the family's primary parameter (SI)
     q: float                         # the family's second parameter (SI)
     period: float                    # s
-    amplitude: np.ndarray = field(repr=False)     # (n,) max over the orbit of |x_i|, SI
+    amplitude: np.ndarray = field(repr=False)     # (n,) max over the orbit of |x_i - x*_i|, SI (x* = 0 unless the
+    #                                               family's equilibrium lies off x = 0: then x* is the equilibrium at p, q)
     multipliers: np.ndarray = field(repr=False)   # (n,) complex, by decreasing modulus, trivial one included
     trivial: complex = 1.0                        # the multiplier taken as the trivial one (nearest +1)
     stable: bool = False
@@ -81,7 +83,7 @@ class CyclePoint:
         return 1.0 / self.period
 
     def max_abs(self, name: str) -> float:
-        """max |x_name| over the orbit; the names come from the problem."""
+        """max |x_name| over the orbit, about the equilibrium as :attr:`amplitude`; the names come from the problem."""
         if name not in self.names:
             raise KeyError(f"no state '{name}' in this problem (states: {', '.join(self.names) or 'unnamed'})")
         return float(self.amplitude[self.names.index(name)])
@@ -312,7 +314,8 @@ class CycleProblem:
         p, q = self.parameters(u[self.size + 1])
         mu = self.multipliers(u)
         rest, trivial = classify_multipliers(mu)
-        amplitude = orbit.maxima()
+        about = None if getattr(self.family, "origin_equilibrium", True) else self.family.equilibrium(p, q)
+        amplitude = orbit.maxima(about=about)
         return CyclePoint(p=p, q=q, period=orbit.period, amplitude=amplitude, multipliers=mu,
                           trivial=trivial, stable=bool(np.all(np.abs(rest) < 1.0)), orbit=orbit,
                           error=mesh_adaptation.relative_error(orbit, self.scales, amplitude),

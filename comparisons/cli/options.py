@@ -156,11 +156,14 @@ def add_braking_options(p: argparse.ArgumentParser) -> None:
     from axles.limits import BRAKE_FORCE_RANGE_N, BRAKE_SLIP_RANGE
     group = p.add_mutually_exclusive_group()
     group.add_argument("--brake-slip", metavar="SLIP[,SLIP]", default=None,
-                       help=f"steady brake slip of both wheels, or right,left (0 free rolling, 1 locked; within "
-                            f"[{BRAKE_SLIP_RANGE[0]:g}, {BRAKE_SLIP_RANGE[1]:g}]); MF 6.1 combined slip")
+                       help=f"steady brake slip of both wheels, or right,left (0 free rolling, 1 locked, negative "
+                            f"driving: ISO kappa = -SLIP; within [{BRAKE_SLIP_RANGE[0]:g}, "
+                            f"{BRAKE_SLIP_RANGE[1]:g}]; a value starting with '-' as --brake-slip=-0.05); MF 6.1 "
+                            f"combined slip")
     group.add_argument("--brake-force", metavar="N[,N]", default=None,
-                       help=f"steady brake force of both wheels, or right,left, N rearward (within "
-                            f"[{BRAKE_FORCE_RANGE_N[0]:g}, {BRAKE_FORCE_RANGE_N[1]:g}] N and the tyre's grip)")
+                       help=f"steady brake force of both wheels, or right,left, N rearward (negative: a drive "
+                            f"force, forward, as --brake-force=-2000; within [{BRAKE_FORCE_RANGE_N[0]:g}, "
+                            f"{BRAKE_FORCE_RANGE_N[1]:g}] N and the tyre's grip)")
 
 
 def braking_of(args: argparse.Namespace):

@@ -5,7 +5,7 @@ Two stable states at one speed are separated by the stable manifold of an unstab
 (a saddle cycle; Kuznetsov 2004, section 1.5).  Its max |theta1| says roughly how large a kick must be, but the
 kick that crosses the separatrix along one line of initial states is a property of the flow, not of the orbit
 alone; so the threshold is found by simulation.  Each run starts from straight running with theta1 = a (every
-other state zero), settles (:mod:`comparisons.studies.limit_cycle`), and is classified by the attractor whose amplitudes
+other state zero; under braking: the braked steady state plus that kick, the amplitudes then about it), settles (:mod:`comparisons.studies.limit_cycle`), and is classified by the attractor whose amplitudes
 (max |theta1|, max |psi|) are nearest to where it settled.  Bisection in log a brackets the threshold between the
 largest kick that stays and the smallest that leaves, to ``rel_tol``; those two runs are kept as the evidence.
 The bracket starts from the unstable cycle's amplitude.  Runs near the threshold linger by the saddle cycle, which
@@ -217,15 +217,26 @@ def bistable_speeds(family, diagram, min_width: float = 0.0) -> list[float]:
 
 
 def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplitude]:
-    """Runs of the family's model at ``speed`` until they settle: the reduced model or the MBS."""
+    """Runs of the family's model at ``speed`` until they settle: the reduced model or the MBS, under the family's
+    braking from its steady state plus the kick x0 (reduced-model order), measured about that steady state."""
     from comparisons.studies.limit_cycle import mbs_steady_amplitude, reduced_steady_amplitude
     from mbs_shimmy.linearisation import MbsFamily
 
+    braking, origin = family.braking, None
+    steady = np.zeros(N_STATES)
+    if not family.origin_equilibrium:
+        steady = family.equilibrium(speed, family.nominal)
+        origin = steady[:N_STATES]
+
+    def start(x0: np.ndarray) -> np.ndarray:
+        return steady + np.concatenate([x0, np.zeros(len(steady) - len(x0))])
+
     if isinstance(family, MbsFamily):
         m = family.model
-        return lambda x0: mbs_steady_amplitude(m.params, m.effects, m.fidelity, family.pressures, speed, x0,
-                                               dims=m.dims)
-    return lambda x0: reduced_steady_amplitude(family.model, family.pressures, speed, x0)
+        return lambda x0: mbs_steady_amplitude(m.params, m.effects, m.fidelity, family.pressures, speed, start(x0),
+                                               dims=m.dims, braking=braking, origin=origin)
+    return lambda x0: reduced_steady_amplitude(family.model, family.pressures, speed, start(x0), braking=braking,
+                                               origin=origin)
 
 
 def kicks(family, diagram, min_width: float = 0.0, progress: Callable[[str], None] | None = None

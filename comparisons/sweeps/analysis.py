@@ -181,7 +181,8 @@ def _continuation_curves(task: SweepTask, name: str, lo: float, hi: float):
     else:
         return None
     r, l = task.pressure_right_bar * BAR, task.pressure_left_bar * BAR
-    family = family_of(ShimmyModel(task.axle.params, Effects.parse(task.effects)), TyrePressures(r, l), name)
+    family = family_of(ShimmyModel(task.axle.params, Effects.parse(task.effects)), TyrePressures(r, l), name,
+                       task.braking)
     diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, task.vmax_kmh * KMH)
     return [(c.qs / factor, c.ps / KMH) for c in diagram.curves]
 

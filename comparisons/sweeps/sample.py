@@ -23,6 +23,7 @@ from axles.axle import AxleData, entry, interface_text
 from axles.units import BAR, KMH, kmh
 from reduced_model.model import Effects
 from reduced_model.modes import ModeClassifier
+from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 from comparisons.api import family_of
 
@@ -69,6 +70,7 @@ class SweepTask:
     lyapunov: bool = False
     margin_speeds: int = MARGIN_SPEEDS      # speeds of the margins output
     mbs_lyapunov: tuple[str, ...] = ()      # MBS fidelities whose Hopf points get l1 without ``lyapunov`` too
+    braking: Braking = FREE_ROLLING         # a steady braking of every sample (both models)
 
     @property
     def mbs_cycles(self) -> bool:
@@ -92,7 +94,8 @@ class SweepTask:
                 "pressure_right_bar": self.pressure_right_bar, "pressure_left_bar": self.pressure_left_bar,
                 "compute": list(self.compute), "mbs": list(self.mbs), "vmax_kmh": self.vmax_kmh,
                 "lyapunov": self.lyapunov, "margin_speeds": self.margin_speeds,
-                **({"mbs_lyapunov": list(self.mbs_lyapunov)} if self.mbs_lyapunov else {})}
+                **({"mbs_lyapunov": list(self.mbs_lyapunov)} if self.mbs_lyapunov else {}),
+                **({"braking": self.braking.describe()} if self.braking.active else {})}
 
     # --- schema -------------------------------------------------------------------------------------------
     def assumption_names(self) -> list[str]:
@@ -171,7 +174,7 @@ class SweepTask:
         model = ShimmyModel(params=axle.params, effects=effects)
         vmax = self.vmax_kmh * KMH
         row: dict = {"pressure_right_bar": right, "pressure_left_bar": left}
-        family = family_of(model, pressures)
+        family = family_of(model, pressures, "pressure", self.braking)
         mbs_families = {}
         if "hopf" in self.compute:
             points = find_hopf_points(family, family.nominal, 0.0, vmax, lyapunov=self.lyapunov)
@@ -184,7 +187,8 @@ class SweepTask:
             from mbs_shimmy.model import MbsModel
             for f in self.mbs:
                 c = f"mbs_{_column_safe(f)}_"
-                mf = family_of(MbsModel(axle.params, effects, Fidelity.parse(f), axle.dims), pressures)
+                mf = family_of(MbsModel(axle.params, effects, Fidelity.parse(f), axle.dims), pressures, "pressure",
+                               self.braking)
                 mbs_families[f] = mf
                 if self.mbs_cycles:
                     # the branches start at the diagram's own Hopf points (l1 included): those are the columns

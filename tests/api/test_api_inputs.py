@@ -76,7 +76,8 @@ def test_simulate_refuses_long_mbs_runs_before_building_the_model():
 
 
 def test_allow_long_overrides_the_guard(monkeypatch):
-    monkeypatch.setattr(api, "MAX_CYCLES", 1.0)   # any run is now "too long"
+    import comparisons.simulations as simulations
+    monkeypatch.setattr(simulations, "MAX_CYCLES", 1.0)   # any run is now "too long"
     model = Axle.paper().reduced()
     with pytest.raises(ParameterError, match="periods"):
         simulate(model, TyrePressures.both(2), speed_kmh=60, duration_s=0.5)

@@ -95,10 +95,10 @@ def test_simulate_reports_mode_switches(capsys):
 def test_simulate_diverged_exits_3_with_output(capsys, monkeypatch):
     # 4 rad is outside the initial-angle range (45 deg), which the CLI checks and the API it runs through checks
     # again: widened in both here to reach the divergence exit.
-    import comparisons.api as api
     import comparisons.cli.commands.simulate as simulate_command
+    import comparisons.simulations as simulations
     monkeypatch.setattr(simulate_command, "ANGLE_RANGE_DEG", (-300.0, 300.0))
-    monkeypatch.setattr(api, "ANGLE_RANGE_DEG", (-300.0, 300.0))
+    monkeypatch.setattr(simulations, "ANGLE_RANGE_DEG", (-300.0, 300.0))
     assert main(["simulate", "--pressure", "2.5", "--speed", "30", "--duration", "1", "--initial", "theta1=229.18",
                  "--json"]) == 3
     captured = capsys.readouterr()

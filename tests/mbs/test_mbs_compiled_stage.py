@@ -13,6 +13,7 @@ import itertools
 import numpy as np
 import pytest
 
+from axles.braking import FREE_ROLLING, Braking
 from axles.units import BAR
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.linearisation import constant_speed
@@ -40,9 +41,10 @@ def _states(system, count, seed, amplitude=0.004):
 
 
 def _compare(fidelity, effects=Effects.parse("all"), pressures=TyrePressures.uniform(1.5 * BAR), acceleration=None,
-             count=12, seed=0):
+             count=12, seed=0, braking=FREE_ROLLING):
     """Compiled against Python at ``count`` random states; returns how many the compiled stage evaluated."""
-    system = MbsModel(effects=effects, fidelity=fidelity).system(pressures, constant_speed(20.0), acceleration)
+    system = MbsModel(effects=effects, fidelity=fidelity).system(pressures, constant_speed(20.0), acceleration,
+                                                                  braking=braking)
     forces = system.forces
     assert forces.stage is not None
     used = 0
@@ -63,6 +65,17 @@ def _compare(fidelity, effects=Effects.parse("all"), pressures=TyrePressures.uni
                          ids=lambda c: ",".join(a.value for a in c) or "full")
 def test_every_element_switch_combination(on):
     assert _compare(Fidelity(frozenset(on)), count=6, seed=len(on)) >= 5
+
+
+@pytest.mark.parametrize("braking", [Braking.of_slip(0.06, 0.0), Braking.of_slip(-0.04, 0.1),
+                                     Braking.of_force(2500.0, 1000.0)], ids=str)
+@pytest.mark.parametrize("names", ["", "all"])
+def test_braking_runs_compiled(braking, names):
+    """Under braking (and driving) the compiled stage carries the combined slip and the brake force (issue 32),
+    with and without the camber terms and the load dependence."""
+    effects = Effects.parse(names) if names else Effects()
+    for fidelity in (Fidelity.full(), Fidelity(frozenset({Assumption.NO_CAMBER_FORCE, Assumption.CONSTANT_LOAD}))):
+        assert _compare(fidelity, effects=effects, braking=braking, count=6, seed=3) >= 5
 
 
 @pytest.mark.parametrize("switch", OTHER_SWITCHES, ids=lambda a: a.value)

@@ -9,11 +9,13 @@ import sys
 from axles.limits import SPEED_RANGE_KMH, UsageError
 from comparisons.cli.options import (
     add_axle_option,
+    add_braking_options,
     add_effects_option,
     add_model_choice,
     add_output_options,
     add_speed_window,
     api_axle,
+    braking_label,
     check_window,
     chosen_model,
     emit_json,
@@ -35,6 +37,7 @@ def add_parser(sub) -> None:
     add_effects_option(p)
     add_axle_option(p)
     add_model_choice(p)
+    add_braking_options(p)
     add_speed_window(p, vmin=True)
     p.add_argument("--speeds", type=int, default=201, metavar="N", help="speeds of the grid (default 201)")
     p.add_argument("--pressures", type=int, default=31, metavar="N", help="pressures of the grid (default 31)")
@@ -52,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         with progress(rows, "margins: pressures of the grid", args.json or not sys.stderr.isatty()) as bar:
             result = stability_margins(model, (lo, hi), max(args.vmin, SPEED_RANGE_KMH[0]), args.vmax,
-                                       args.pressures, args.speeds, progress=lambda: bar.update(1))
+                                       args.pressures, args.speeds, progress=lambda: bar.update(1),
+                                       braking=args.braking)
     except ParameterError as exc:
         text = str(exc)
         for name, option in OPTION_NAMES.items():
@@ -60,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(text) from None
     if args.plot:
         from comparisons.figures.margin_figures import plot_margin_map
-        plot_margin_map(result.study, args.plot, title=f"Least damping ratio, {model.label()}")
+        plot_margin_map(result.study, args.plot, title=f"Least damping ratio, {model.label()}"
+                                                       f"{braking_label(args)}")
     if args.json:
         fidelity = {"model": "mbs", "fidelity": model.fidelity.label} if args.model == "mbs" else {"model": "reduced"}
         emit_json({**inputs_json(args), **fidelity, **result.study.to_json()})

@@ -10,10 +10,12 @@ import math
 from axles.limits import SPEED_RANGE_KMH, UsageError
 from axles.units import KMH
 from comparisons.cli.options import (
+    add_braking_options,
     add_model_options,
     add_output_options,
     build_axle,
     api_axle,
+    braking_label,
     build_fidelity,
     emit_json,
     inputs_json,
@@ -28,6 +30,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("modes", help="eigenvalues of straight running at one pressure and speed: frequency, "
                                      "damping ratio and character of each mode, reduced model and MBS")
     add_model_options(p)
+    add_braking_options(p)
     p.add_argument("--speed", type=positive_float("--speed"), required=True, metavar="KMH", help="speed, km/h")
     p.add_argument("--fidelity", choices=("reduced", "full"), default=None,
                    help="MBS: all assumptions of the reduced model on (reduced, default) or all off (full)")
@@ -43,8 +46,8 @@ def _models(args: argparse.Namespace):
     axle = api_axle(args)
     effects = Effects.parse(args.effects)
     fidelity = build_fidelity(args, "mbs")
-    reduced = axle.reduced(effects).problem(args.tyre_pressures)
-    mbs = axle.mbs(fidelity=fidelity, effects=effects).problem(args.tyre_pressures)
+    reduced = axle.reduced(effects).problem(args.tyre_pressures, "pressure", args.braking)
+    mbs = axle.mbs(fidelity=fidelity, effects=effects).problem(args.tyre_pressures, "pressure", args.braking)
     speed = args.speed * KMH
     return [("reduced", "reduced model", mode_shapes(reduced.linear_matrix(speed, reduced.nominal),
                                                      inertias=reduced_inertias(axle.params.I1, axle.params.I3))),
@@ -69,7 +72,8 @@ def run(args: argparse.Namespace) -> int:
         emit_json({**inputs_json(args), "speed_kmh": args.speed, "fidelity": fidelity.label,
                    "models": {key: [mode_json(m) for m in modes] for key, _, modes in results}})
         return 0
-    print(f"Modes of straight running at {pressure_label(args)}, {args.speed:g} km/h")
+    print(f"Modes of straight running at {pressure_label(args)}{braking_label(args)}, {args.speed:g} km/h"
+          + (" (about the braked steady state)" if args.braking.active else ""))
     print(f"  {build_axle(args).label()}")
     print("  shares: yaw / tramp (/ lateral / gear on the full geometry) of the kinetic energy, slip of the "
           "squared angles; left: the left wheel's part of the wheel yaw; phase: theta2 against theta1")

@@ -22,11 +22,13 @@ from axles.limits import (
 )
 from axles.units import kmh
 from comparisons.cli.options import (
+    add_braking_options,
     add_model_choice,
     add_model_options,
     add_output_options,
     build_axle,
     build_fidelity,
+    braking_label,
     build_model,
     chosen_model,
     emit_json,
@@ -65,7 +67,9 @@ def add_parser(sub) -> None:
                    help=f"initial state in degrees and deg/s (angles within [{ANGLE_RANGE_DEG[0]:g}, "
                         f"{ANGLE_RANGE_DEG[1]:g}] deg, rates within [{RATE_RANGE_DEG_S[0]:g}, "
                         f"{RATE_RANGE_DEG_S[1]:g}] deg/s); names: {' '.join(STATE_NAMES)}; repeatable "
-                        f"(default theta1=0.573 deg (0.01 rad), the rest 0)")
+                        f"(default theta1=0.573 deg (0.01 rad), the rest 0); under braking added to the braked "
+                        f"steady state")
+    add_braking_options(p)
     add_output_options(p, plot=True)
     p.add_argument("--rerun", metavar="FILE.rrd", help="write a Rerun recording of the run (3D scene, states, "
                                                         "speed, mode lane, switch events)")
@@ -108,7 +112,8 @@ def check_work(args: argparse.Namespace, schedule: SpeedSchedule, duration: floa
     :data:`~axles.limits.MBS_MAX_DURATION` (exit 2, with why): the API's guard
     (:func:`comparisons.api.check_simulation_work`), naming the option."""
     try:
-        check_simulation_work(chosen_model(args), args.tyre_pressures, schedule, duration, what="--duration")
+        check_simulation_work(chosen_model(args), args.tyre_pressures, schedule, duration, what="--duration",
+                              braking=args.braking)
     except ParameterError as exc:
         raise UsageError(interface_text(exc)) from None
 
@@ -122,7 +127,7 @@ def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | 
         try:
             return simulate_api(chosen_model(args), args.tyre_pressures, speed_kmh=args.speed, ramp_kmh=ramp,
                                 duration_s=duration, initial_deg=initial, progress=tick,
-                                poses=bool(args.rerun)).trajectory
+                                poses=bool(args.rerun), braking=args.braking).trajectory
         except ParameterError as exc:
             raise UsageError(interface_text(exc)) from None
 
@@ -133,6 +138,14 @@ def simulate_model(args: argparse.Namespace, ramp: tuple[float, float, float] | 
             bar.set_postfix_str(f"{t:.4g} of {duration:g} s simulated", refresh=False)
             bar.refresh()
         return run(tick)
+
+
+def steady_json(trajectory: Trajectory) -> dict:
+    """The braked steady state the run starts from and is measured about (angles, deg); {} free rolling."""
+    if trajectory.origin is None:
+        return {}
+    x = trajectory.origin
+    return {"steady_state": {f"{n}_deg": math.degrees(x[STATE_NAMES.index(n)]) for n in ("theta1", "theta2", "psi")}}
 
 
 def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
@@ -151,6 +164,7 @@ def result_json(trajectory: Trajectory, history: ModeHistory) -> dict:
                   "max_psi_deg": math.degrees(final.psi),
                   "frequency_hz": None if not np.isfinite(final.frequency_hz) else final.frequency_hz,
                   "speed_kmh": kmh(final.speed)},
+        **steady_json(trajectory),
     }
 
 
@@ -204,8 +218,13 @@ def run(args: argparse.Namespace) -> int:
         emit_json({**inputs_json(args), **schedule_json(args, duration), **result_json(trajectory, history)})
     else:
         out = result_json(trajectory, history)
-        print(f"{trajectory.model} model at {pressure_label(args)}, {how}, {out['duration_s']:g} s simulated")
+        print(f"{trajectory.model} model at {pressure_label(args)}{braking_label(args)}, {how}, "
+              f"{out['duration_s']:g} s simulated")
         print(f"  {build_axle(args).label()}")
+        if "steady_state" in out:
+            shown = ", ".join(f"{k.replace('_deg', '')} {v:+.4f}" for k, v in out["steady_state"].items())
+            print(f"  started from straight running under braking (--initial adds to it; amplitudes about it), "
+                  f"deg: {shown}")
         print(f"  integrator: {trajectory.integrator}")
         print(f"  initial mode: {out['initial_mode']}")
         for s in out["mode_switches"]:

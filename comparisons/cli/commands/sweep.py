@@ -10,12 +10,14 @@ import time
 
 from axles.axle import interface_text
 from comparisons.cli.options import (
+    add_braking_options,
     add_model_options,
     add_output_options,
     add_speed_window,
     build_axle,
     emit_json,
     inputs_json,
+    braking_label,
     pressure_label,
 )
 from comparisons.cli.progress import progress
@@ -57,6 +59,7 @@ def add_parser(sub) -> None:
     p.add_argument("--lyapunov", action="store_true", help="also each Hopf point's first Lyapunov coefficient "
                                                            "(reduced model; about doubles the Hopf cost)")
     add_model_options(p, pressure_required=False)
+    add_braking_options(p)
     add_speed_window(p)
     p.add_argument("--out", default="sweep.parquet", metavar="FILE.parquet",
                    help="results, one row per sample (default sweep.parquet; schema in docs/sweeps.md)")
@@ -105,9 +108,12 @@ def build_task(args: argparse.Namespace, names: tuple[str, ...]):
         effects = Effects.parse(args.effects).names
     except ParameterError as exc:
         raise UsageError(interface_text(exc)) from None
+    if args.braking.active and "assumptions" in compute:
+        raise UsageError("--compute assumptions is a free-rolling study (its braking rows: shimmy assumptions "
+                         "--brake-slip); leave out --brake-slip/--brake-force or 'assumptions'")
     return SweepTask(axle=build_axle(args), effects=effects, pressure_right_bar=args.tyre_pressures.right_bar,
                      pressure_left_bar=args.tyre_pressures.left_bar, names=names, compute=compute, mbs=mbs,
-                     vmax_kmh=args.vmax, lyapunov=args.lyapunov)
+                     vmax_kmh=args.vmax, lyapunov=args.lyapunov, braking=args.braking)
 
 
 class _Progress:
@@ -210,8 +216,8 @@ def run(args: argparse.Namespace) -> int:
                    "sensitivity": sens.to_json()})
         return 0
     run_ = result.to_json()
-    print(f"Sweep of {len(design)} samples ({design.kind}) over {', '.join(design.names)} at {pressure_label(args)}, "
-          f"0-{args.vmax:g} km/h")
+    print(f"Sweep of {len(design)} samples ({design.kind}) over {', '.join(design.names)} at {pressure_label(args)}"
+          f"{braking_label(args)}, 0-{args.vmax:g} km/h")
     print(f"  {build_axle(args).label()}")
     print(f"  {run_['computed_batches']} of {run_['batches']} batches of {run_['batch_size']} computed on "
           f"{run_['workers']} workers ({run_['scheduler']}) in {run_['elapsed_s']:.1f} s; "
