@@ -132,14 +132,47 @@ class TwinGraph:
         if built is not None:
             self.functions, self._maps = {**self.vm, **built}, {}
 
-    def mapped(self, name: str, K: int):
-        """The function ``name`` mapped over K states (inputs after the state are shared by all or given per
-        column)."""
+    def mapped(self, name: str, K: int) -> "_Mapped":
+        """The function ``name`` mapped over K states: the state, the load-table inputs and the outputs per
+        column, the speed, the numbers and any extra input shared (:class:`_Mapped`)."""
         fn = self.function(name, K)
         found = self._maps.get((name, K))
         if found is None:
-            found = self._maps[(name, K)] = fn.map(K)
+            shared = [1, 2] + list(range(7, fn.n_in()))
+            found = self._maps[(name, K)] = _Mapped(fn.map(f"{name}_{K}", "serial", K, shared, []))
         return found
+
+
+class _Mapped:
+    """A mapped function evaluated through CasADi's buffer interface: inputs and outputs are numpy memory (in
+    CasADi's column-major order of nonzeros), so a call converts no matrices to and from CasADi's; that
+    conversion cost about as much as the compiled evaluation itself."""
+
+    def __init__(self, fn):
+        self.fn = fn
+        self.buffer, self.trigger = fn.buffer()
+        self.nonzeros = [np.zeros(fn.nnz_out(j)) for j in range(fn.n_out())]
+        self.places = []
+        for j, nz in enumerate(self.nonzeros):
+            self.buffer.set_res(j, memoryview(nz))
+            sp = fn.sparsity_out(j)
+            self.places.append((sp.shape, np.array(sp.row()), np.array(sp.get_col())))
+
+    def __call__(self, *args) -> list[np.ndarray]:
+        kept = []
+        for i, a in enumerate(args):
+            a = np.ravel(np.asarray(a, dtype=float), order="F").copy()      # dense inputs, column-major
+            if a.size != self.fn.nnz_in(i):
+                raise ValueError(f"input {i} of {self.fn.name()}: {a.size} values for {self.fn.nnz_in(i)}")
+            kept.append(a)
+            self.buffer.set_arg(i, memoryview(a))
+        self.trigger()
+        out = []
+        for nz, (shape, rows, cols) in zip(self.nonzeros, self.places):
+            dense = np.zeros(shape)
+            dense[rows, cols] = nz
+            out.append(dense)
+        return out
 
 
 class Twin:
