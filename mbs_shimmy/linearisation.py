@@ -354,8 +354,8 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         """Jacobian at straight running by Exudyn's five-point differences at this speed (reduced-model state order):
         at x = 0, or under braking at the steady state (which does not depend on the speed,
         :meth:`ShimmyFamily.steady`).  Not the twin's: at straight running the differences are good to 1e-11
-        (module docstring) for 56 calls, about 5 ms, where building a twin for a new parameter value costs about a
-        second, and the Hopf curves visit many."""
+        (module docstring) for 56 calls, about 5 ms (the choice dates from a twin graph per parameter value; now
+        one graph serves them all, :mod:`mbs_shimmy.twin`)."""
         L = self.layout
         x0 = self.equilibrium(speed, q) if self.braked else np.zeros(self.n)
         return self._at(q).jacobian(x0[L.x_to_y], speed)[np.ix_(L.y_to_x, L.y_to_x)]
