@@ -131,22 +131,29 @@ class MbsEvaluator:
         return J, Jv
 
     def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False) -> tuple | None:
-        """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order;
-        None where there is no twin or a load leaves the load table at one of them."""
+        """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
+        with Exudyn's right-hand side and its differences in the rows where the twin has none (a load below the
+        load table, 0 < F_z < 2 % of the static load, or above it); None where there is no twin."""
         twin = self.twin
         if twin is None:
             return None
+        Y = np.asarray(Y, dtype=float)
         if jacobians:
             f, J, Jv, ok = twin.rhs_and_jacobians(Y, speed)
             out = (f, J, Jv)
         else:
             f, ok = twin.rhs_batch(Y, speed)
             out = (f,)
-        if not np.all(ok):
-            return None
-        self.twin_calls += len(Y)
+        self.twin_calls += int(np.sum(ok))
         if jacobians:
-            self.twin_jacobians += len(Y)
+            self.twin_jacobians += int(np.sum(ok))
+        for k in np.flatnonzero(~ok):
+            if jacobians:
+                f[k], J[k] = self.rhs_and_jacobian(Y[k], speed)
+                h = PARAMETER_STEP * max(1.0, abs(speed))
+                Jv[k] = (self.rhs(Y[k], speed + h) - self.rhs(Y[k], speed - h)) / (2.0 * h)
+            else:
+                f[k] = self.rhs(Y[k], speed)
         return out
 
     def mass_matrix(self, y: np.ndarray) -> np.ndarray:
@@ -247,9 +254,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
 
     def rhs(self, x: np.ndarray, speed: float, q: float) -> np.ndarray:
         """x' in the extended reduced-model state order (:attr:`state_names`), for real x of shape (n,) (Exudyn's)
-        or for each column of x (n, k): the twin's where it covers every column (what continuation evaluates;
-        equal to Exudyn's to rounding, and every reported orbit is checked against Exudyn's,
-        :meth:`exudyn_rhs`), else Exudyn's."""
+        or for each column of x (n, k): the twin's (:meth:`MbsEvaluator.twin_batch`: what continuation evaluates;
+        equal to Exudyn's to rounding, and every reported orbit is checked against Exudyn's, :meth:`exudyn_rhs`),
+        else Exudyn's."""
         x = np.asarray(x, dtype=float)
         L = self.layout
         if x.ndim == 2 and not self.exudyn_residuals:
@@ -278,8 +285,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
 
     def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float) -> tuple[np.ndarray, np.ndarray]:
         """f and df/dx at the states P (M, n) (extended order): what collocation needs.  Both from the twin in one
-        call where it covers every state, else per state Exudyn's f with the twin's df/dx
-        (:meth:`MbsEvaluator.exact_jacobian`) or :meth:`MbsEvaluator.rhs_and_jacobian`'s differences."""
+        call (:meth:`MbsEvaluator.twin_batch`), or with :attr:`exudyn_residuals` per state Exudyn's f with the
+        twin's df/dx (:meth:`MbsEvaluator.exact_jacobian`) or :meth:`MbsEvaluator.rhs_and_jacobian`'s
+        differences."""
         ev = self._at(q)
         L = self.layout
         P = np.asarray(P, dtype=float)
@@ -298,18 +306,19 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         return f, J
 
     def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
-        """df/d(free) at the states P (M, n): in the speed from the twin where it covers every state, else (and
-        in the second parameter, which rebuilds the model) by central differences of Exudyn's right-hand side."""
+        """df/d(free) at the states P (M, n): in the speed from the twin (:meth:`MbsEvaluator.twin_batch`), else
+        by central differences of Exudyn's right-hand side; in the second parameter by central differences of
+        :meth:`rhs` (the twin with the numbers of q +- h: one graph, two Exudyn systems to read them from)."""
         if free == self.primary:
             L = self.layout
             twin = self._at(q).twin_batch(np.asarray(P, dtype=float)[:, L.x_to_y], p, jacobians=True)
             if twin is not None:
                 return twin[2][:, L.y_to_x]
             return super().parameter_derivative(P, p, q, free, scale)
-        # the second parameter rebuilds the model at q +- h: Exudyn's systems, without building a twin for each
+        # the second parameter: the model rebuilt at q +- h, its twin one graph with other numbers
         h = PARAMETER_STEP * max(abs(q), scale)
         P = np.asarray(P, dtype=float)
-        return (self.exudyn_rhs(P.T, p, q + h) - self.exudyn_rhs(P.T, p, q - h)).T / (2.0 * h)
+        return (self.rhs(P.T, p, q + h) - self.rhs(P.T, p, q - h)).T / (2.0 * h)
 
     def on_exudyn(self) -> "MbsFamily":
         """The same family (sharing its assembled systems and twins) with Exudyn's right-hand sides in every
@@ -345,8 +354,8 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         """Jacobian at straight running by Exudyn's five-point differences at this speed (reduced-model state order):
         at x = 0, or under braking at the steady state (which does not depend on the speed,
         :meth:`ShimmyFamily.steady`).  Not the twin's: at straight running the differences are good to 1e-11
-        (module docstring) for 56 calls, about 5 ms, where building a twin for a new parameter value costs about a
-        second, and the Hopf curves visit many."""
+        (module docstring) for 56 calls, about 5 ms (the choice dates from a twin graph per parameter value; now
+        one graph serves them all, :mod:`mbs_shimmy.twin`)."""
         L = self.layout
         x0 = self.equilibrium(speed, q) if self.braked else np.zeros(self.n)
         return self._at(q).jacobian(x0[L.x_to_y], speed)[np.ix_(L.y_to_x, L.y_to_x)]

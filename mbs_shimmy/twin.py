@@ -10,7 +10,13 @@ the compiled user function's own generic text and constants), never typed from t
 Exudyn's differences.  CasADi builds the SX graph of the equations, differentiates it (Lagrange's equations from
 the kinetic energy, then the Jacobian) and evaluates it in its virtual machine; JAX was measured against it
 (``tools/twin_candidates.py``, numbers in the commit that chose CasADi): its compile time per axle was 12 s for
-the right-hand side alone, against 1-2 s here for everything, and every new parameter value is a new axle.
+the right-hand side alone, against 1-2 s here for everything.
+
+One graph serves a structure (:meth:`TwinData.split`: the fidelity's joints, links, connectors and switches): the
+axle's numbers (offsets, masses, inertias, stiffnesses, the user function's constants, the pressure's tyre values)
+are an input P of its functions, so another axle or parameter value costs no new graph, and the derivative of the
+right-hand side along a change of the numbers is exact (``f_numbers``: a second parameter's derivative).  A
+structure evaluated often is compiled to C (:mod:`mbs_shimmy.twin_library`).
 
 The load table's interpolation reads four rows chosen by the load.  An SX graph has no lookup by a computed
 index, so the interval k of each wheel is an input, with its rows: the function also returns each wheel's table
@@ -25,12 +31,10 @@ derivatives (:func:`twin_of` returns None); at a state whose load leaves the loa
 
 from __future__ import annotations
 
-import hashlib
-
 import casadi as ca
 import numpy as np
 
-from mbs_shimmy import compiled_stage
+from mbs_shimmy import compiled_stage, twin_library
 from mbs_shimmy.twin_equations import NotCovered, TwinData, applied_forces, kinetic_energy
 from mbs_shimmy.tyre_element import lagrange_weights
 
@@ -60,46 +64,131 @@ def _lookup(table: _WheelInput, c, t: int, Fz):
     return ok, v
 
 
-class Twin:
-    """Right-hand side, Jacobian and second derivatives of one assembled system (MBS state order); ``key`` names
-    the caller's node for the load-table guess (module docstring)."""
+class TwinGraph:
+    """The twin's functions for one structure (:meth:`TwinData.split`): inputs the state y, the speed V, the axle's
+    numbers P, then each wheel's load-table interval (module docstring).  Every axle and parameter value with that
+    structure evaluates these same functions with its own P."""
 
     def __init__(self, data: TwinData):
-        self.data = data
         m, n = data.m, data.m + 2
         N = 2 * m + 2
-        c = data.constants
-        tables = np.asarray(data.tables)
-        self.tables = tables
-        self.table_sizes = [int(c[w + compiled_stage.TABLE + 3]) for w in compiled_stage.WHEELS]
-        self.load_dependent = [c[w + compiled_stage.TABLE] != 0.0 for w in compiled_stage.WHEELS]
+        _, numbers = data.split()
+        P = ca.SX.sym("P", len(numbers))
+        sym = data.with_numbers(P)
+        columns = np.shape(data.tables)[2]
         y = ca.SX.sym("y", N)
         V = ca.SX.sym("V")
-        wheels = (_WheelInput("1", tables.shape[2]), _WheelInput("2", tables.shape[2]))
+        wheels = (_WheelInput("1", columns), _WheelInput("2", columns))
+        self.load_dependent = [data.constants[w + compiled_stage.TABLE] != 0.0 for w in compiled_stage.WHEELS]
         q = [y[i] for i in range(m)] + [0.0, 0.0]
         qd = [y[m + i] for i in range(n)]
         qs, qds = ca.SX.sym("q", n), ca.SX.sym("qd", n)
-        T = kinetic_energy(data.trees[0], [qs[i] for i in range(n)], [qds[i] for i in range(n)], OPS)
+        T = kinetic_energy(sym.trees[0], [qs[i] for i in range(n)], [qds[i] for i in range(n)], OPS)
         M, g = ca.hessian(T, qds)
         h = ca.jtimes(g, qs, qds) - ca.gradient(T, qs)      # d/dt (dT/dq') - dT/dq without q''
         qv = ca.vertcat(*[ca.SX(v) if isinstance(v, float) else v for v in q])
         M = ca.substitute(M, ca.vertcat(qs, qds), ca.vertcat(qv, y[m:]))
         h = ca.substitute(h, ca.vertcat(qs, qds), ca.vertcat(qv, y[m:]))
-        ok, Q = applied_forces(data, q, qd, V, OPS, _lookup, wheels)
+        ok, Q = applied_forces(sym, q, qd, V, OPS, _lookup, wheels)
         acc = ca.solve(M, ca.vertcat(*Q) - h)
         f = ca.vertcat(y[m:2 * m], acc)
         xs = ca.vertcat(*[w.x if self.load_dependent[i] else ca.SX(0.0) for i, w in enumerate(wheels)])
-        inputs = [y, V, wheels[0].k, wheels[0].rows, wheels[1].k, wheels[1].rows]
+        inputs = [y, V, P, wheels[0].k, wheels[0].rows, wheels[1].k, wheels[1].rows]
         J = ca.jacobian(f, y)
         u, v = ca.SX.sym("u", N), ca.SX.sym("v", N)
         second = ca.jtimes(ca.jtimes(f, y, u), y, v)
+        dP = ca.SX.sym("dP", len(numbers))
         ok = ok if isinstance(ok, ca.SX) else ca.SX(float(ok))
         cse = {"cse": True}
-        self.f = ca.Function("f", inputs, [f, ok, xs], cse)
-        self.fJ = ca.Function("fJ", inputs, [f, J, ca.jacobian(f, V), ok, xs], cse)
-        self.second = ca.Function("second", inputs + [u, v], [second], cse)
-        self._k = {}
+        self.vm = {fn.name(): fn for fn in (
+            ca.Function("f", inputs, [f, ok, xs], cse),
+            ca.Function("fJ", inputs, [f, J, ca.jacobian(f, V), ok, xs], cse),
+            ca.Function("second", inputs + [u, v], [second], cse),
+            # f and its derivative along a change dP of the numbers: a second parameter's derivative without a
+            # graph per parameter value
+            ca.Function("f_numbers", inputs + [dP], [f, ca.jtimes(f, P, dP), ok, xs], cse))}
+        self.functions = self.vm
+        self._compile_tried = False
+        self._compile(cached_only=True)
+        self.evaluated = 0          # states evaluated in the virtual machine (twin_library.COMPILE_AFTER)
         self._maps = {}
+
+    @property
+    def is_compiled(self) -> bool:
+        return self.functions is not self.vm
+
+    def function(self, name: str, states: int = 1):
+        """The function ``name``, compiled once the structure has evaluated enough states (:mod:`twin_library`)."""
+        if not self.is_compiled and name != "second":
+            self.evaluated += states
+            if self.evaluated > twin_library.COMPILE_AFTER and not self._compile_tried:
+                self._compile_tried = True
+                self._compile(cached_only=False)
+        return self.functions[name]
+
+    def _compile(self, cached_only: bool) -> None:
+        """Switch to the compiled functions (all but ``second``, which the continuation does not evaluate)."""
+        built = twin_library.compiled([fn for name, fn in self.vm.items() if name != "second"], cached_only)
+        if built is not None:
+            self.functions, self._maps = {**self.vm, **built}, {}
+
+    def mapped(self, name: str, K: int) -> "_Mapped":
+        """The function ``name`` mapped over K states: the state, the load-table inputs and the outputs per
+        column, the speed, the numbers and any extra input shared (:class:`_Mapped`)."""
+        fn = self.function(name, K)
+        found = self._maps.get((name, K))
+        if found is None:
+            shared = [1, 2] + list(range(7, fn.n_in()))
+            found = self._maps[(name, K)] = _Mapped(fn.map(f"{name}_{K}", "serial", K, shared, []))
+        return found
+
+
+class _Mapped:
+    """A mapped function evaluated through CasADi's buffer interface: inputs and outputs are numpy memory (in
+    CasADi's column-major order of nonzeros), so a call converts no matrices to and from CasADi's; that
+    conversion cost about as much as the compiled evaluation itself."""
+
+    def __init__(self, fn):
+        self.fn = fn
+        self.buffer, self.trigger = fn.buffer()
+        self.nonzeros = [np.zeros(fn.nnz_out(j)) for j in range(fn.n_out())]
+        self.places = []
+        for j, nz in enumerate(self.nonzeros):
+            self.buffer.set_res(j, memoryview(nz))
+            sp = fn.sparsity_out(j)
+            self.places.append((sp.shape, np.array(sp.row()), np.array(sp.get_col())))
+
+    def __call__(self, *args) -> list[np.ndarray]:
+        kept = []
+        for i, a in enumerate(args):
+            a = np.ravel(np.asarray(a, dtype=float), order="F").copy()      # dense inputs, column-major
+            if a.size != self.fn.nnz_in(i):
+                raise ValueError(f"input {i} of {self.fn.name()}: {a.size} values for {self.fn.nnz_in(i)}")
+            kept.append(a)
+            self.buffer.set_arg(i, memoryview(a))
+        self.trigger()
+        out = []
+        for nz, (shape, rows, cols) in zip(self.nonzeros, self.places):
+            dense = np.zeros(shape)
+            dense[rows, cols] = nz
+            out.append(dense)
+        return out
+
+
+class Twin:
+    """Right-hand side, Jacobian and second derivatives of one assembled system (MBS state order): its structure's
+    :class:`TwinGraph` with its numbers; ``key`` names the caller's node for the load-table guess (module
+    docstring)."""
+
+    def __init__(self, data: TwinData, graph: TwinGraph | None = None):
+        self.data = data
+        _, self.numbers = data.split()
+        self.graph = graph if graph is not None else TwinGraph(data)
+        c = data.constants
+        self.tables = np.asarray(data.tables)
+        self.table_sizes = [int(c[w + compiled_stage.TABLE + 3]) for w in compiled_stage.WHEELS]
+        self.load_dependent = self.graph.load_dependent
+        self._k = {}
 
     def _args(self, k: tuple[int, int]) -> list:
         out = []
@@ -109,11 +198,12 @@ class Twin:
             out += [float(kk), self.tables[i, kk:kk + 4, :]]
         return out
 
-    def _call(self, fn, y, speed, key):
+    def _call(self, name: str, y, speed, key):
         """fn's outputs at (y, speed) with the load-table intervals that the loads select (module docstring)."""
         k = self._k.get(key, (0, 0))
+        fn = self.graph.function(name)
         for _ in range(3):
-            res = fn(y, speed, *self._args(k))
+            res = fn(y, speed, self.numbers, *self._args(k))
             if bool(res[-2]):
                 self._k[key] = k
                 return res
@@ -126,23 +216,21 @@ class Twin:
             k = guess
         return res
 
-    def _batch(self, fn, Y, speed):
+    def _batch(self, name: str, Y, speed, extra=()):
         """fn's outputs at each state of Y (K, N) in one call of fn mapped over K (a Python call into CasADi
         costs as much as evaluating the equations), with the intervals guessed per row (key = row) and
         corrected rows evaluated again."""
         Y = np.asarray(Y, dtype=float)
         K = len(Y)
-        mapped = self._maps.get((fn.name(), K))
-        if mapped is None:
-            mapped = self._maps[(fn.name(), K)] = fn.map(K)
+        mapped = self.graph.mapped(name, K)
         ks = [self._k.get(i, (0, 0)) for i in range(K)]
         for _ in range(3):
-            inputs = [Y.T, speed]
+            inputs = [Y.T, speed, self.numbers]
             for w in range(2):
                 k = np.clip([kk[w] for kk in ks], 0, self.table_sizes[w] - 4)
                 rows = self.tables[w][k[:, None] + np.arange(4)[None, :]]          # (K, 4, columns)
                 inputs += [k[None, :].astype(float), rows.transpose(1, 0, 2).reshape(4, -1)]
-            res = mapped(*inputs)
+            res = mapped(*inputs, *extra)
             ok = np.asarray(res[-2]).ravel() != 0.0
             x = np.asarray(res[-1])
             wrong = False
@@ -160,50 +248,54 @@ class Twin:
 
     def rhs_batch(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray]:
         """f (K, N) and ok (K,) at the states Y (K, N)."""
-        res, ok = self._batch(self.f, Y, speed)
+        res, ok = self._batch("f", Y, speed)
         return np.asarray(res[0]).T, ok
 
     def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """f (K, N), df/dy (K, N, N), df/dV (K, N) and ok (K,) at the states Y (K, N)."""
-        res, ok = self._batch(self.fJ, Y, speed)
+        res, ok = self._batch("fJ", Y, speed)
         K, N = np.shape(Y)
         J = np.asarray(res[1]).reshape(N, K, N).transpose(1, 0, 2)
         return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok
 
     def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:
-        f, ok, _ = self._call(self.f, y, speed, key)
+        f, ok, _ = self._call("f", y, speed, key)
         return np.asarray(f).ravel(), bool(ok)
 
     def rhs_and_jacobian(self, y, speed: float, key=0) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
         """f, df/dy, df/dV and ok at (y, speed)."""
-        f, J, Jv, ok, _ = self._call(self.fJ, y, speed, key)
+        f, J, Jv, ok, _ = self._call("fJ", y, speed, key)
         return np.asarray(f).ravel(), np.asarray(J), np.asarray(Jv).ravel(), bool(ok)
 
     def second_derivative(self, y, speed: float, u, v, key=0) -> np.ndarray:
         """d/de (df/dy (y + e v)) u, exact (:attr:`second`); NaN where the load leaves the table."""
         if not self.rhs(y, speed, key)[1]:
             return np.full(len(y), np.nan)
-        return np.asarray(self.second(y, speed, *self._args(self._k[key]), u, v)).ravel()
+        return np.asarray(self.graph.function("second")(y, speed, self.numbers, *self._args(self._k[key]), u, v)).ravel()
+
+    def numbers_derivatives(self, Y, speed: float, dP) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """f (K, N), df/dP dP (K, N) and ok (K,) at the states Y (K, N): the right-hand side's change along a
+        change dP of the numbers (:meth:`TwinData.split`), exact."""
+        res, ok = self._batch("f_numbers", Y, speed, (np.asarray(dP, dtype=float),))
+        return np.asarray(res[0]).T, np.asarray(res[1]).T, ok
 
 
 def twin_of(system) -> "Twin | None":
     """The twin of an assembled :class:`~mbs_shimmy.system.MbsSystem`, or None where it has no counterpart
-    (module docstring: those keep difference derivatives).  Systems with the same items share one twin (its graph
-    is what costs, about a second: a family rebuilt for the same axle and pressure, as in repeated runs, builds it
-    once per process)."""
+    (module docstring: those keep difference derivatives).  Systems with the same structure share one graph (it
+    is what costs, about a second): every axle and parameter value of a fidelity builds it once per process."""
     try:
         data = TwinData.of(system)
     except NotCovered:
         return None
-    key = (data.trees, data.knuckles, data.springs, data.m, data.constants.tobytes(),
-           hashlib.sha256(np.ascontiguousarray(data.tables).tobytes()).hexdigest())
-    found = _BUILT.get(key)
-    if found is None:
-        if len(_BUILT) >= 16:
-            _BUILT.pop(next(iter(_BUILT)))
-        found = _BUILT[key] = Twin(data)
-    return found
+    structure, _ = data.split()
+    graph = _GRAPHS.get(structure)
+    if graph is None:
+        if len(_GRAPHS) >= 16:
+            _GRAPHS.pop(next(iter(_GRAPHS)))
+        graph = _GRAPHS[structure] = TwinGraph(data)
+    return Twin(data, graph)
 
 
-# twins by the items they were generated from (twin_of)
-_BUILT: dict = {}
+# graphs by the structure they were generated for (twin_of)
+_GRAPHS: dict = {}

@@ -19,6 +19,8 @@ scalar type that has the arithmetic operators.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -153,6 +155,66 @@ class TwinData:
         return cls(trees, knuckles, tuple(springs), system.layout.n_mech, forces.stage_constants,
                    forces.stage_tables)
 
+    def split(self) -> tuple[tuple, np.ndarray]:
+        """(structure, numbers): what selects the equations' code paths, hashable, and the axle's numbers that
+        enter them only as values (offsets, masses, inertias, stiffnesses, the user function's constants).  Two
+        systems with equal structures have one graph, whose numbers are an input (:meth:`with_numbers`).
+
+        A number is structural where the equations branch on it: integers (joint kinds, parents, coordinate
+        indices), the constants at :data:`STRUCTURAL_CONSTANTS`, and every value that is exactly 0 or +-1 (a
+        massless link is skipped, a zero roll-axis slope drops its terms, unit entries of joint rotations fold
+        away: the graph stays as small as one built with constants).  A value that moves onto 0 or +-1 gives a
+        new structure, so a new graph, never a wrong one."""
+        numbers: list[float] = []
+
+        def slot(x: float):
+            numbers.append(x)
+            return None
+        d = _map_numbers(self, slot)
+        return (d.trees, d.knuckles, d.springs, d.m, tuple(d.constants), np.shape(self.tables)), np.array(numbers)
+
+    def with_numbers(self, P) -> "TwinData":
+        """This data with :meth:`split`'s numbers replaced, in the same order, by the entries of P (the graph's
+        symbols); the load tables stay (the twin reads their rows as inputs)."""
+        it = iter(range(P.shape[0]))
+        return _map_numbers(self, lambda x: P[next(it)])
+
+
+def _structural_constants() -> frozenset[int]:
+    """Indices of the compiled stage's constants that are switches, coordinate indices or table sizes."""
+    cs = compiled_stage
+    index = set(range(cs.I_VERT + 1))
+    for w in cs.WHEELS:
+        index |= {w + cs.EL + i for i in range(8, 13)} | {w + cs.SLIP + 4, w + cs.SLIP + 5}
+        index |= {w + cs.TABLE + i for i in (0, 3, 4, 5, 6, 7)}
+    return frozenset(index)
+
+
+STRUCTURAL_CONSTANTS = _structural_constants()
+
+
+def _structural(x: float) -> bool:
+    return x == 0.0 or x == 1.0 or x == -1.0
+
+
+def _map_numbers(value, slot):
+    """``value`` with each non-structural float replaced by ``slot(float)`` (:meth:`TwinData.split`), in a fixed
+    order; the constants array becomes a list."""
+    if isinstance(value, TwinData):
+        fields = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
+        out = {k: _map_numbers(v, slot) for k, v in fields.items() if k not in ("constants", "tables")}
+        c = [float(x) for x in value.constants]
+        out["constants"] = [x if i in STRUCTURAL_CONSTANTS or _structural(x) else slot(x) for i, x in enumerate(c)]
+        out["tables"] = value.tables
+        return dataclasses.replace(value, **out)
+    if dataclasses.is_dataclass(value):
+        return type(value)(*(_map_numbers(getattr(value, f.name), slot) for f in dataclasses.fields(value)))
+    if isinstance(value, tuple):
+        return tuple(_map_numbers(v, slot) for v in value)
+    if isinstance(value, float) and not isinstance(value, bool):
+        return value if _structural(value) else slot(value)
+    return value
+
 
 # --- 3-vectors and 3x3 matrices as tuples ------------------------------------------------------------------------
 def _mv(A, v):
@@ -224,7 +286,7 @@ def kinetic_energy(tree: Tree, q, qd, ops):
     """The links' kinetic energy (translation of the centre of mass, rotation about it)."""
     total = 0.0
     for (R, o, w, v), m, com, J in zip(link_motion(tree, q, qd, ops), tree.masses, tree.coms, tree.inertias):
-        if m == 0.0:
+        if isinstance(m, float) and m == 0.0:     # a massless link (a structural zero, TwinData.split)
             continue
         r = _mv(R, com)
         vc = _add(v, _cross(w, r))
@@ -275,7 +337,7 @@ def applied_forces(data: TwinData, q, qd, speed, ops, lookup, tables=None) -> tu
     ip, i1, i2 = int(c[compiled_stage.I_PSI]), int(c[compiled_stage.I_TH1]), int(c[compiled_stage.I_TH2])
     ilat, ivert = int(c[compiled_stage.I_LAT]), int(c[compiled_stage.I_VERT])
     alignment = c[compiled_stage.ALIGNMENT:compiled_stage.ALIGNMENT + m + 2]
-    user = [float(v) for v in alignment]
+    user = list(alignment)
     user[ip] = user[ip] + Qp
     user[i1] = user[i1] + Q1
     user[i2] = user[i2] + Q2

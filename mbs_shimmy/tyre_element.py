@@ -255,9 +255,9 @@ def contact_forces(el: tuple, contact: tuple, pose: tuple, Oy: float, Oz: float,
     Fyv = Fry + Fy_lat
     # generalized forces: psi about u through O (x and z components of the moments about O, the trail moment's
     # -t F_y about z included); theta about e through K (P_z = 0)
-    q_psi = ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
-    if uz != 0.0:
-        q_psi += uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx + mz)
+    # (no test of uz = 0 here: the twin traces this with uz a symbol; a zero uz adds an exact 0)
+    q_psi = (ux * ((Py - Oy) * vert + Oz * Fy_lat - (Cz - Oz) * Fry)
+             + uz * (Px * Fy_lat - (Py - Oy) * Fx + Cx * Fry - (Cy - Oy) * Frx + mz))
     rx, ry, rz = Px - Kx, Py - Ky, -Kz
     cx, cy, cz = hl * sx, hl * sy, hl * sz       # C - K
     q_theta = (ex * (ry * vert - rz * Fy_lat - cz * Fry) + ey * (rz * Fx - rx * vert + cz * Frx)

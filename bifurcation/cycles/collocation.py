@@ -330,16 +330,33 @@ class CondensedJacobian:
         N, m, n = B.shape[0], B.shape[1], B.shape[2]
         self.dims = (N, m, n)
         self.shape = (N * m * n + 1, N * m * n + 2)
+        self._solves = 0
+        self._solved = None     # (inverses of the interval blocks, their solutions for the Jacobian's columns)
+
+    # From this solve on with one matrix, its interval blocks are inverted: an inversion costs about 2.5 batched
+    # solves (measured for 32 and 56 unknowns per interval) and then each further solve is a product.  Chord
+    # iterations solve with one Jacobian 1-13 times (the full-geometry MBS branch: 41 of 85 once, 12 seven times or
+    # more; the reduced model's 2.5 bar branch: 22 of 65 once, 22 twice).
+    INVERT_AT = 3
 
     def solve_bordered(self, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """Solve [J; row] x = rhs."""
         N, m, n = self.dims
         K = N * m * n
         Bf = self.B.reshape(N, m * n, (m + 1) * n)
-        cols = np.concatenate([-Bf[:, :, :n], -self.col_T.reshape(N, m * n, 1), -self.col_p.reshape(N, m * n, 1),
-                               rhs[:K].reshape(N, m * n, 1)], axis=2)
+        self._solves += 1
+        # the columns of the left node, T and p, then the right-hand side's
+        fixed = [-Bf[:, :, :n], -self.col_T.reshape(N, m * n, 1), -self.col_p.reshape(N, m * n, 1)]
+        column = rhs[:K].reshape(N, m * n, 1)
         try:
-            W = _interval_solves(self.B, cols)              # (N, m n, n + 3)
+            if self._solves < self.INVERT_AT:
+                W = _interval_solves(self.B, np.concatenate(fixed + [column], axis=2))   # (N, m n, n + 3)
+            else:
+                if self._solved is None:
+                    inverse = np.linalg.inv(Bf[:, :, n:])
+                    self._solved = (inverse, inverse @ np.concatenate(fixed, axis=2))
+                inverse, solved = self._solved
+                W = np.concatenate([solved, inverse @ column], axis=2)
         except np.linalg.LinAlgError:
             return np.full(K + 2, np.nan)
         top, bottom = W[:, :-n, :], W[:, -n:, :]            # interior nodes, right node

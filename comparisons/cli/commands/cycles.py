@@ -315,7 +315,9 @@ def run(args: argparse.Namespace) -> int:
         with progress(len(chosen), "bifurcation curves", quiet) as bar:
             for text, p in chosen:
                 try:
-                    curves.append((cycle_bifurcation_curve(family, p, lo, hi, vmin, vmax), ""))
+                    # the branch's settings: its tolerance is what the curve's points are checked against
+                    curves.append((cycle_bifurcation_curve(family, p, lo, hi, vmin, vmax,
+                                                           options.get("settings", DEFAULT_SETTINGS)), ""))
                 except ConvergenceError as exc:
                     curves.append((None, f"newton_failed: {interface_text(exc)}"))
                 labels.append(text)
