@@ -123,7 +123,7 @@ class TwinData:
         """Read the system's items; :class:`NotCovered` where the twin has no counterpart."""
         forces = system.forces
         if forces.stage is None:
-            raise NotCovered("the Python user function runs (the first-order kinematics of small_angles, or braking)")
+            raise NotCovered("the Python user function runs (the first-order kinematics of small_angles)")
         if not forces.steady:
             raise NotCovered("a speed schedule with acceleration")
         mbs = system.mbs
