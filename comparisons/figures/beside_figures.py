@@ -32,6 +32,7 @@ from comparisons.figures.hopf_figures import T0_RANGE, pressure_key
 from comparisons.figures.model_differences import compare_windows, stability_difference, windows_of
 from comparisons.figures.plots import place_labels, stability_grid
 from comparisons.figures.registry import (
+    EFFECT_STYLES,
     FIG9_VMAX_KMH,
     P_I0_BAR,
     UNAVAILABLE_BESIDE,
@@ -49,6 +50,8 @@ from axles.parameters import YANG2024
 
 REFERENCE_COLOUR = "k"
 MBS_COLOUR = "tab:red"
+COLOURS = (REFERENCE_COLOUR, MBS_COLOUR)
+HATCHES = ("////", "\\\\\\\\")         # stable in the reduced model only, in the MBS only
 REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
@@ -74,54 +77,63 @@ def _hatch(ax, speeds, values, mask, colour, hatch: str) -> None:
 
 
 def hopf_plane(ax, store: DiagramStore, key: DiagramKey, fidelity: Fidelity, factor: float, unit: str,
-               line: float) -> tuple[list, list, bool]:
+               line: float | None, legend: bool = True, every_label: bool = True) -> tuple[list, list, bool]:
     """Both models' Hopf curves of ``key`` in (V, q) with the stability difference hatched; their special points
-    marked and Hopf points on the line q = ``line`` named.  Returns (label items, notes, complete)."""
+    marked (labelled, or with ``every_label`` False only each model's highest fold) and Hopf points on the line
+    q = ``line`` named (none without a line).  Returns (label items, notes, complete)."""
     keys = (key, replace(key, fidelity=fidelity))
     names = (REFERENCE_NAME, mbs_name(fidelity))
-    colours = (REFERENCE_COLOUR, MBS_COLOUR)
     speeds = np.linspace(key.vmin_kmh * KMH, key.vmax_kmh * KMH, GRID[0])
     values = np.linspace(key.lo, key.hi, GRID[1])
     grids = [stability_grid(store.family(k), speeds, values) for k in keys]
     both = (grids[0] == 0) & (grids[1] == 0)
     ax.contourf(kmh(speeds), values / factor, both.astype(float), levels=[0.5, 1.5], colors=["0.88"])
     only = stability_difference(*grids)
-    for mask, colour, hatch in zip(only, colours, ("////", "\\\\\\\\")):
+    for mask, colour, hatch in zip(only, COLOURS, HATCHES):
         _hatch(ax, speeds, values / factor, mask, colour, hatch)
     items, notes, complete, found = [], [], True, []
-    for k, name, colour in zip(keys, names, colours):
+    for grid, k, name, colour in zip(grids, keys, names, COLOURS):
         diagram, family = store.diagram(k), store.family(k)
-        for i, c in enumerate(diagram.curves):
+        for c in diagram.curves:
             ax.plot(kmh(c.ps), c.qs / factor, "-", color=colour, lw=1.5 if colour == MBS_COLOUR else 1.2)
+        folds = _located(diagram, PointKind.HOPF_FOLD)
         for kind, marker, _ in SPECIAL_MARKERS:
             for s in _located(diagram, kind):
                 ax.plot(kmh(s.p), s.q / factor, marker, color=colour, ms=5, mfc="white", mew=1.3, zorder=5)
-                items.append((kmh(s.p), s.q / factor, f"{FOLD_NAMES[kind]} {s.q / factor:.3g} {unit}", colour))
+                if every_label or s is folds[-1]:
+                    items.append((kmh(s.p), s.q / factor, f"{FOLD_NAMES[kind]} {s.q / factor:.3g} {unit}", colour))
                 notes.append(f"{name}: " + _point_note(kind.value.replace("_", " "), s, unit, factor))
-        folds = _located(diagram, PointKind.HOPF_FOLD)
         if folds:
             notes.append(f"{name}: highest fold {folds[-1].q / factor:.4g} {unit} at {kmh(folds[-1].p):.2f} km/h")
         notes += _incomplete_notes(f"{name}: ", diagram)
         complete &= diagram.complete
-        hopf = find_hopf_points(family, line, speeds[0], speeds[-1])
-        for i, h in enumerate(sorted(hopf, key=lambda h: h.p), 1):
-            ax.plot(kmh(h.p), line / factor, ".", color=colour, ms=7, zorder=5)
-            items.append((kmh(h.p), line / factor, f"HB{i}", colour))
-        found.append(windows_of(family, hopf, speeds[0], speeds[-1]))
-        highest = folds[-1].q if folds else None
-        notes.append(f"{name}: {100 * np.mean(grids[len(found) - 1] == 0):.1f} % of the window stable"
-                     + ("" if highest is None else f"; shimmy-free above {highest / factor:.4g} {unit}"))
-    at = f"{line / factor:g} {unit}"
-    notes += [f"at {at}: " + d.text(names) for d in compare_windows(*found)]
+        notes.append(f"{name}: {100 * np.mean(grid == 0):.1f} % of the window stable"
+                     + ("" if not folds else f"; shimmy-free above {folds[-1].q / factor:.4g} {unit}"))
+        if line is not None:
+            hopf = find_hopf_points(family, line, speeds[0], speeds[-1])
+            for i, h in enumerate(sorted(hopf, key=lambda h: h.p), 1):
+                ax.plot(kmh(h.p), line / factor, ".", color=colour, ms=7, zorder=5)
+                items.append((kmh(h.p), line / factor, f"HB{i}", colour))
+            found.append(windows_of(family, hopf, speeds[0], speeds[-1]))
+    if line is not None:
+        notes += [f"at {line / factor:g} {unit}: " + d.text(names) for d in compare_windows(*found)]
+        ax.axhline(line / factor, color="0.5", lw=0.7, ls=":")
     for mask, name in zip(only, names):
         notes.append(f"straight running stable in {name} only: {100 * np.mean(mask):.1f} % of the window")
-    ax.axhline(line / factor, color="0.5", lw=0.7, ls=":")
-    handles = [Line2D([], [], color=c, lw=1.4, label=n) for c, n in zip(colours, names)]
+    if legend:
+        ax.legend(handles=plane_key(fidelity), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                  framealpha=0.9)
+    return items, notes, complete
+
+
+def plane_key(fidelity: Fidelity) -> list:
+    """The key of :func:`hopf_plane`: each model's colour, the shading and the hatching."""
+    names = (REFERENCE_NAME, mbs_name(fidelity))
+    handles = [Line2D([], [], color=c, lw=1.4, label=n) for c, n in zip(COLOURS, names)]
     handles += [Patch(color="0.88", label="straight running stable in both")]
     handles += [Patch(facecolor="white", edgecolor=c, hatch=h, label=f"stable in {n} only")
-                for c, n, h in zip(colours, names, ("////", "\\\\\\\\"))]
-    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.9)
-    return items, notes, complete
+                for c, n, h in zip(COLOURS, names, HATCHES)]
+    return handles
 
 
 def _plane_figure(store, key, fidelity, factor, unit, line, ylabel, title) -> Drawing:
@@ -195,7 +207,7 @@ def cycle_panels_beside(store: DiagramStore, panels, vmax_kmh: float, figure_tit
     models."""
     columns = len(panels)
     names = (REFERENCE_NAME, mbs_name(fidelity))
-    colours = (REFERENCE_COLOUR, MBS_COLOUR)
+    colours = COLOURS
     fig = Figure(figsize=(5.8 * columns + 0.4, 7.0))
     axes = fig.subplots(2, columns, sharex="col", squeeze=False)
     notes, complete, labelled = [], True, []
@@ -235,7 +247,8 @@ def cycle_panels_beside(store: DiagramStore, panels, vmax_kmh: float, figure_tit
                                     facecolor="none", edgecolor=colour, hatch="..", lw=0.0, alpha=0.35, zorder=0)
             ax.set_ylim(-0.14 * top, 1.1 * top)
             ax.grid(alpha=0.3)
-        axes[0, j].set_title(title, fontsize=10)
+        none = [n for n, w in zip(names, found) if not w.windows]
+        axes[0, j].set_title(title + "".join(f"\n{n}: no Hopf point" for n in none if len(none) == 1), fontsize=10)
         axes[0, j].set_ylabel(r"max $|\theta_1|$ [deg]")
         axes[1, j].set_ylabel(r"max $|\psi|$ [deg]")
         axes[1, j].set_xlabel("speed V [km/h]")
@@ -275,3 +288,38 @@ def draw_cycles_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing
                                f"{REFERENCE_NAME} in black; limit cycles at two pneumatic trails, 1.5 bar", fidelity)
 
 
+
+
+# Figure 17 beside: the main window only (its zooms Z1, Z2 are the reduced model's), from 0.05 bar as figure 5.
+FIG17_BAR = (0.05, 3.0)
+
+
+@register(17, "cumulative_effects_hopf_curves", cost=500, beside=True)
+def draw_cumulative_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
+    fig = Figure(figsize=(13.0, 7.6))
+    axes = fig.subplots(2, 3, sharex=True, sharey=True).ravel()
+    notes, complete, labelled = [], True, []
+    for ax, effects, (label, _) in zip(axes, Effects.cumulative(), EFFECT_STYLES):
+        items, more, ok = hopf_plane(ax, store, pressure_key(effects, *FIG17_BAR), fidelity, BAR, "bar", None,
+                                     legend=False, every_label=False)
+        notes += [f"{label}: {n}" for n in more]
+        complete &= ok
+        labelled.append((ax, items))
+        ax.set_title(label, fontsize=9)
+        ax.set_xlim(0.0, VMAX_KMH)
+        ax.set_ylim(*FIG17_BAR)
+    for ax in axes[3:5]:
+        ax.set_xlabel("speed V [km/h]")
+    for ax in axes[::3]:
+        ax.set_ylabel("$p_i$ [bar]")
+    axes[-1].set_axis_off()
+    axes[-1].legend(handles=plane_key(fidelity), fontsize=8, loc="center", title="F: each model's highest fold",
+                    title_fontsize=8)
+    fig.suptitle(f"Fig. 17: {mbs_name(fidelity)} in red, {REFERENCE_NAME} in black; Hopf curves with the tyre "
+                 f"properties following pressure cumulatively\nLF lateral force, HCL half-contact length, PT pneumatic "
+                 f"trail, RL relaxation length, VS vertical stiffness; hatched: straight running stable in one model "
+                 f"only", fontsize=9)
+    fig.tight_layout()
+    for ax, items in labelled:      # once the layout is final
+        place_labels(ax, items, fontsize=7)
+    return Drawing(fig, tuple(notes), complete)

@@ -99,3 +99,23 @@ def test_the_full_map_runs_in_the_background_in_the_full_verify_only(calls):
     assert model is Model.FULL and grid[0] == pytest.approx(0.5 * BAR) and xtol == pytest.approx(0.01 * BAR)
     found, _ = bistable_rows.full_map(ctx)        # collected from the job, not computed again
     assert found.label == Model.FULL.label and not background.jobs
+
+
+@pytest.mark.slow
+def test_the_full_geometry_of_the_paper_axle_loses_its_stable_shimmy_where_its_hopf_points_vanish():
+    """The full geometry's own map on the paper's axle at 1.5-2.5 bar (about 1-2 min on the twin): its Hopf points
+    there are supercritical (the degenerate Hopf point lies at 1.43 bar), so no region; and the pressure above
+    which no stable cycle exists is where straight running stops shimmying at all: Hopf points at the bracket's
+    low end, none at its high end (the linear test, independent of the cycles)."""
+    from bifurcation.equilibria.hopf import find_hopf_points
+    from comparisons.verify.scan import VMAX
+    axle = paper_axle()
+    found, _ = bistable_rows.model_map(axle, Model.FULL, [1.5 * BAR, 2.0 * BAR, 2.5 * BAR], 0.02 * BAR)
+    assert found.status is MapStatus.COMPLETE and found.regions == ()
+    assert [s.stable_cycle for s in found.slices] == [True, True, False]
+    lo, hi = found.stable_shimmy_free_bracket
+    assert hi - lo <= 0.02 * BAR and found.stable_shimmy_free == hi
+    family = bistable_rows.family_at(axle, Model.FULL)
+    below, above = (find_hopf_points(f, f.nominal, from_kmh(0.5), VMAX, lyapunov=False)
+                    for f in (family(lo), family(hi)))
+    assert len(below) == 2 and above == []
