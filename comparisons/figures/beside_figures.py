@@ -223,7 +223,8 @@ def cycle_panels_beside(store: DiagramStore, panels, vmax_kmh: float, figure_tit
             if k.fidelity is not None and any(b.points for b in diagram.branches):
                 worst, count, failed = _checked(family, diagram)
                 notes.append(f"{prefix}{name}: {count} orbits checked on Exudyn's right-hand side, largest relative "
-                             f"collocation residual {worst:.2g}" + (f", {failed} above the tolerance" if failed else ""))
+                             f"collocation residual {worst:.2g}"
+                             + (f", {failed} above the tolerance" if failed else ""))
                 complete &= failed == 0
             complete &= diagram.complete
             found.append(windows_of(family, diagram.hopf, diagram.p_min, diagram.p_max))

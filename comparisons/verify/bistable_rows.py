@@ -185,7 +185,8 @@ QUICK_REASON = ("not computed in --quick: its cycle branches in speed at every g
                 "compiled twin, cost 10-20 s each; the full verify computes it")
 
 
-def model_rows(ctx: Context, model: Model, found: BistableMap, seconds: float, step: float) -> tuple[list[Row], BistableFact]:
+def model_rows(ctx: Context, model: Model, found: BistableMap, seconds: float, step: float
+               ) -> tuple[list[Row], BistableFact]:
     """The map's row and one kick-check row per region."""
     rows = [Row({"model": model.value, "grid_step_bar": step},
                 CheckStatus.INFO if found.status.is_complete else CheckStatus.COULD_NOT_CHECK,
@@ -197,7 +198,8 @@ def model_rows(ctx: Context, model: Model, found: BistableMap, seconds: float, s
 
 
 def not_computed(model: Model, reason: str) -> tuple[list[Row], BistableFact]:
-    return ([Row({"model": model.value}, CheckStatus.COULD_NOT_CHECK, f"{model.label}'s map is not computed: {reason}")],
+    return ([Row({"model": model.value}, CheckStatus.COULD_NOT_CHECK,
+                 f"{model.label}'s map is not computed: {reason}")],
             BistableFact(model, None, reason))
 
 
