@@ -56,10 +56,11 @@ REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
 
-UNAVAILABLE_BESIDE.update({
-    18: "the full geometry's two-parameter cycle curves (fold and torus curves in (V, p)) cost about 25 min each "
-        "on the twin today (issue 30); figure 18 needs four",
-})
+# The one two-parameter cycle curve of the full geometry measured so far (issue 30): a fold curve over t0 =
+# 0.24-0.26 m took 1440 s.
+CYCLE_CURVE_COST = ("the full geometry's two-parameter cycle curves are not affordable yet: the one measured, a "
+                    "fold curve over t0 = 0.24-0.26 m (issue 30), took 1440 s")
+UNAVAILABLE_BESIDE.update({18: f"{CYCLE_CURVE_COST}; figure 18 needs four in (V, p)"})
 
 
 def mbs_name(fidelity: Fidelity) -> str:
@@ -165,8 +166,7 @@ def draw_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
                             f"(V, t) at 1.5 bar\nHB labels on the Table 1 trail (dotted); hatched: straight running "
                             f"stable in one model only; the cycle-fold and torus curves are not drawn")
     return replace(drawing, notes=drawing.notes + (
-        "the paper's S and T curves are left out: the full geometry's two-parameter cycle curves cost about 25 min "
-        "each today (issue 30); the reduced model's are in the reduced-model figure 8",))
+        f"the paper's S and T curves are left out: {CYCLE_CURVE_COST}; the reduced model's are in its own figure 8",))
 
 
 # --- limit cycles ------------------------------------------------------------------------------------------------

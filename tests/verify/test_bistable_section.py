@@ -102,6 +102,17 @@ def test_the_full_map_runs_in_the_background_in_the_full_verify_only(calls):
     assert found.label == Model.FULL.label and not background.jobs
 
 
+def test_the_background_job_and_its_result_cross_a_process_boundary():
+    """A spawned process receives the job by pickling and sends the map back the same way."""
+    import pickle
+    ctx = Context(out="unused", quick=False, axle=paper_axle())
+    _, grid, xtol = bistable_rows.map_settings(ctx)
+    job = pickle.loads(pickle.dumps((bistable_rows.model_map, (ctx.axle, Model.FULL, grid, xtol))))
+    assert job[0] is bistable_rows.model_map and job[1][1] is Model.FULL
+    found = made_up_map("the full geometry", region=True)
+    assert pickle.loads(pickle.dumps((found, 1.0)))[0].to_json() == found.to_json()
+
+
 @pytest.mark.slow
 def test_the_full_geometry_of_the_paper_axle_loses_its_stable_shimmy_where_its_hopf_points_vanish():
     """The full geometry's own map on the paper's axle at 1.5-2.5 bar (about 2 min on the twin under load): its
