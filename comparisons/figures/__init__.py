@@ -8,7 +8,7 @@ km/h, pressure in bar, lengths in m, stiffness in N/m, slip angles in degrees.
 Modules by kind of figure: :mod:`.tyre_figures` (2, 12, 16), :mod:`.hopf_figures` (5-7, 13, 14),
 :mod:`.cumulative` (17), :mod:`.cycle_figures` (3, 4, 9, 15), :mod:`.simulation_figures` (10, 11),
 :mod:`.cycle_curve_figures` (8 and 18: Hopf curves with cycle-fold and torus curves); :mod:`.beside_figures` draws
-figures 3-5, 8 and 9 for the MBS beside the reduced model (``shimmy figures --model mbs``; the registry
+figures 3-5, 8, 9 and 17 for the MBS beside the reduced model (``shimmy figures --model mbs``; the registry
 :data:`BESIDE`); :mod:`.registry` makes them, :mod:`.drawing` holds the shared drawing helpers.
 
 Figures that need what the project cannot compute yet are listed in :data:`UNAVAILABLE` with the reason;
