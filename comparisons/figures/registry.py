@@ -15,6 +15,7 @@ from bifurcation.cycles.branches import cycle_diagram
 from bifurcation.cycles.problem import CycleDiagram
 from bifurcation.equilibria.hopf_curves import HopfDiagram, hopf_diagram
 from reduced_model.family import SpeedFamily
+from mbs_shimmy.fidelity import Fidelity
 from reduced_model.model import Effects, ShimmyModel
 from axles.parameters import YANG2024
 from axles.pressures import TyrePressures
@@ -94,27 +95,45 @@ UNAVAILABLE: dict[int, str] = {
 }
 
 REGISTRY: dict[int, FigureEntry] = {}
+# The figures recomputed for the MBS beside the reduced model (``shimmy figures --model mbs``): their recipes
+# take (store, fidelity); the figures without one say why in UNAVAILABLE_BESIDE.
+BESIDE: dict[int, FigureEntry] = {}
+UNAVAILABLE_BESIDE: dict[int, str] = {}
 
 
-def register(number: int, name: str, cost: float = 1.0):
-    """Decorator: make ``draw(store) -> Drawing`` the recipe of the paper's figure ``number``."""
-    def wrap(draw: Callable[["DiagramStore"], Drawing]):
-        REGISTRY[number] = FigureEntry(number, name, PAPER_TITLES[number], draw, cost)
+def register(number: int, name: str, cost: float = 1.0, beside: bool = False):
+    """Decorator: make ``draw(store) -> Drawing`` the recipe of the paper's figure ``number``; with ``beside``,
+    ``draw(store, fidelity) -> Drawing`` its recipe for the MBS at ``fidelity`` beside the reduced model."""
+    def wrap(draw: Callable[..., Drawing]):
+        (BESIDE if beside else REGISTRY)[number] = FigureEntry(number, name, PAPER_TITLES[number], draw, cost)
         return draw
     return wrap
 
 
-def available_figures() -> tuple[int, ...]:
-    return tuple(sorted(n for n in REGISTRY if n not in UNAVAILABLE))
+def available_figures(fidelity: Fidelity | None = None) -> tuple[int, ...]:
+    """The figures that can be made for the reduced model, or with ``fidelity`` for the MBS beside it."""
+    return tuple(sorted(n for n in PAPER_TITLES if unavailable_reason(n, fidelity) is None))
 
 
-def unavailable_reason(number: int) -> str | None:
-    """Why figure ``number`` cannot be made, or None if it can; unknown numbers raise KeyError."""
+def unavailable_reason(number: int, fidelity: Fidelity | None = None) -> str | None:
+    """Why figure ``number`` cannot be made (for the reduced model, or with ``fidelity`` for the MBS beside it),
+    or None if it can; unknown numbers raise KeyError."""
     if number not in PAPER_TITLES:
         raise KeyError(f"the paper has no figure {number} (it has figures 1-{max(PAPER_TITLES)})")
-    if number in UNAVAILABLE or number not in REGISTRY:
-        return UNAVAILABLE.get(number, "no recipe registered")
+    registry, unavailable = (REGISTRY, UNAVAILABLE) if fidelity is None else (BESIDE, UNAVAILABLE_BESIDE)
+    if number in UNAVAILABLE or number in unavailable:
+        return UNAVAILABLE.get(number) or unavailable[number]
+    if number not in registry:
+        return "no recipe registered" if fidelity is None else (
+            "drawn for the reduced model only; for the MBS beside it: figures "
+            + ", ".join(str(n) for n in sorted(BESIDE) if n not in UNAVAILABLE_BESIDE))
     return None
+
+
+def beside_file_name(entry: FigureEntry, fidelity: Fidelity) -> str:
+    """``fig05_pressure_hopf_curves_mbs_full.png``: the figure's name and the MBS fidelity it shows."""
+    label = fidelity.label.replace(",", "+")
+    return entry.file_name.replace(".png", f"_mbs_{label}.png")
 
 
 # --- computing -----------------------------------------------------------------------------------------------
@@ -129,6 +148,7 @@ class DiagramKey:
     vmin_kmh: float
     vmax_kmh: float
     n_seeds: int = 9
+    fidelity: Fidelity | None = None    # None: the reduced model; else the MBS at this fidelity
 
 
 @dataclass
@@ -141,10 +161,10 @@ class DiagramStore:
     _cycles: dict = field(default_factory=dict)      # CycleKey -> (family, CycleDiagram)
 
     def family(self, key: DiagramKey) -> SpeedFamily:
-        fkey = (key.effects, key.param, key.pressure_bar)
+        fkey = (key.effects, key.param, key.pressure_bar, key.fidelity)
         if fkey not in self._families:
-            self._families[fkey] = family_of(ShimmyModel(effects=key.effects),
-                                             TyrePressures.uniform(key.pressure_bar * BAR), key.param)
+            self._families[fkey] = model_family(key.effects, (), key.fidelity,
+                                                TyrePressures.uniform(key.pressure_bar * BAR), key.param)
         return self._families[fkey]
 
     def diagram(self, key: DiagramKey) -> HopfDiagram:
@@ -154,49 +174,63 @@ class DiagramStore:
         return self._diagrams[key]
 
 
-def make_figure(number: int, out_dir: str, store: DiagramStore | None = None) -> FigureResult:
-    """Draw figure ``number`` into ``out_dir`` (atomic write); raises :class:`FigureUnavailable`."""
-    reason = unavailable_reason(number)
+def model_family(effects: Effects, params: tuple, fidelity: Fidelity | None, pressures: TyrePressures,
+                 param: str = "pressure"):
+    """The family of the reduced model (``fidelity`` None) or of the MBS at ``fidelity``, with the paper's axle
+    changed by ``params`` ((Table 1 name, SI value), ...), through :func:`comparisons.api.family_of`."""
+    if fidelity is None:
+        return family_of(ShimmyModel(effects=effects).with_params(**dict(params)), pressures, param)
+    from comparisons.api import Axle
+    axle = Axle(Axle.paper().data.with_values(dict(params)))
+    return axle.mbs(fidelity, effects=effects).problem(pressures, param)
+
+
+def make_figure(number: int, out_dir: str, store: DiagramStore | None = None,
+                fidelity: Fidelity | None = None) -> FigureResult:
+    """Draw figure ``number`` into ``out_dir`` (atomic write); with ``fidelity``, the MBS at that fidelity beside
+    the reduced model (:data:`BESIDE`); raises :class:`FigureUnavailable`."""
+    reason = unavailable_reason(number, fidelity)
     if reason is not None:
         raise FigureUnavailable(f"figure {number} ({PAPER_TITLES[number]}) cannot be made: {reason}")
-    entry = REGISTRY[number]
+    entry = REGISTRY[number] if fidelity is None else BESIDE[number]
     store = store if store is not None else DiagramStore()
     start = time.perf_counter()
-    drawing = entry.draw(store)
-    path = os.path.join(out_dir, entry.file_name)
+    drawing = entry.draw(store) if fidelity is None else entry.draw(store, fidelity)
+    path = os.path.join(out_dir, entry.file_name if fidelity is None else beside_file_name(entry, fidelity))
     save_figure(drawing.figure, path)
     return FigureResult(number=number, name=entry.name, path=path, seconds=time.perf_counter() - start,
                         complete=drawing.complete, notes=drawing.notes)
 
 
-def make_figures(numbers, out_dir: str, jobs: int = 1, on_done: Callable[[FigureResult], None] | None = None
-                 ) -> list[FigureResult]:
-    """Make the listed (available) figures into ``out_dir``, with ``jobs`` worker processes; results by number.
+def make_figures(numbers, out_dir: str, jobs: int = 1, on_done: Callable[[FigureResult], None] | None = None,
+                 fidelity: Fidelity | None = None) -> list[FigureResult]:
+    """Make the listed (available) figures into ``out_dir``, with ``jobs`` worker processes; results by number;
+    with ``fidelity``, the MBS at that fidelity beside the reduced model.
 
     Workers are spawned (not forked: the parent may run a progress-bar thread) and each keeps its own
     :class:`DiagramStore`, so figures sharing a diagram share it only when they land on the same worker.
     """
     numbers = sorted(set(numbers))
     for n in numbers:
-        reason = unavailable_reason(n)
+        reason = unavailable_reason(n, fidelity)
         if reason is not None:
             raise FigureUnavailable(f"figure {n} ({PAPER_TITLES[n]}) cannot be made: {reason}")
     results = []
     if jobs <= 1 or len(numbers) <= 1:
         store = DiagramStore()
         for n in numbers:
-            results.append(make_figure(n, out_dir, store))
+            results.append(make_figure(n, out_dir, store, fidelity))
             if on_done is not None:
                 on_done(results[-1])
         return sorted(results, key=lambda r: r.number)
     import concurrent.futures
     import multiprocessing
-    ordered = sorted(numbers, key=lambda n: -REGISTRY[n].cost)
+    ordered = sorted(numbers, key=lambda n: -(REGISTRY if fidelity is None else BESIDE)[n].cost)
     with concurrent.futures.ProcessPoolExecutor(max_workers=min(jobs, len(numbers)),
                                                 mp_context=multiprocessing.get_context("spawn"),
                                                 initializer=worker_signals) as pool:
         with interrupts_blocked():
-            futures = [pool.submit(_make_in_worker, n, out_dir) for n in ordered]
+            futures = [pool.submit(_make_in_worker, n, out_dir, fidelity) for n in ordered]
         for future in concurrent.futures.as_completed(futures):
             results.append(future.result())
             if on_done is not None:
@@ -207,11 +241,11 @@ def make_figures(numbers, out_dir: str, jobs: int = 1, on_done: Callable[[Figure
 _WORKER_STORE: DiagramStore | None = None
 
 
-def _make_in_worker(number: int, out_dir: str) -> FigureResult:
+def _make_in_worker(number: int, out_dir: str, fidelity: Fidelity | None = None) -> FigureResult:
     global _WORKER_STORE
     if _WORKER_STORE is None:
         _WORKER_STORE = DiagramStore()
-    return make_figure(number, out_dir, _WORKER_STORE)
+    return make_figure(number, out_dir, _WORKER_STORE, fidelity)
 
 
 FIG9_VMAX_KMH = 800.0   # HB4 of figure 9 lies at 720 km/h (t = 0.25 m) and 746 km/h (0.285 m): shown, not cut
@@ -225,10 +259,11 @@ class CycleKey:
     params: tuple = ()          # ((name, value), ...): Table 1 entries changed from YANG2024
     effects: Effects = field(default_factory=Effects)
     vmin_kmh: float = 0.0
+    fidelity: Fidelity | None = None    # None: the reduced model; else the MBS at this fidelity
 
 
 def _cycle_family(key: CycleKey) -> SpeedFamily:
-    return family_of(ShimmyModel(effects=key.effects).with_params(**dict(key.params)), TyrePressures.uniform(2.5e5))
+    return model_family(key.effects, key.params, key.fidelity, TyrePressures.uniform(2.5e5))
 
 
 def store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, CycleDiagram]:

@@ -12,13 +12,15 @@ model disagree.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from axles.axle import interface_text
 from axles.pressures import TyrePressures
 from axles.units import BAR, from_kmh, kmh
-from comparisons.studies.bistable_map import STABLE_XTOL_BAR, BistableMap, BistableRegion, bistable_map
+from comparisons.studies.bistable_map import MIN_WIDTH, STABLE_XTOL_BAR, BistableMap, BistableRegion, bistable_map
 from comparisons.verify.context import Context
 from comparisons.verify.report import CheckStatus, Row, Section
 from comparisons.verify.scan import VMAX, Model, scan_family
@@ -143,36 +145,93 @@ def region_row(axle, model: Model, region: BistableRegion, kick_tol: float = KIC
                                         f"same kick ends at max|theta1| {math.degrees(run.theta1):.3g} deg")
 
 
-def bistable_section(ctx: Context) -> Section:
+FULL_JOB = "full_geometry_bistable_map"     # the background job's key (full verify)
+
+
+def map_settings(ctx: Context) -> tuple[float, list[float], float]:
+    """(grid step bar, grid pressures Pa, the stable-shimmy-free pressure's bisection tolerance Pa)."""
     step = QUICK_STEP_BAR if ctx.quick else STEP_BAR
-    grid = pressure_grid(ctx.axle.pressure_range_bar, step)
-    rows: list[Row] = []
-    facts = []
-    model = Model.REDUCED
-    found = bistable_map(family_at(ctx.axle, model), grid, from_kmh(0.5), VMAX, model.label,
-                         xtol=(QUICK_XTOL_BAR if ctx.quick else STABLE_XTOL_BAR) * BAR, progress=lambda text: ctx.progress(f"Bistable regions: {text}"))
-    facts.append(BistableFact(model, found))
-    rows.append(Row({"model": model.value, "grid_step_bar": step},
-                    CheckStatus.INFO if found.status.is_complete else CheckStatus.COULD_NOT_CHECK,
-                    found.text()))
+    return step, pressure_grid(ctx.axle.pressure_range_bar, step), (QUICK_XTOL_BAR if ctx.quick else
+                                                                    STABLE_XTOL_BAR) * BAR
+
+
+def model_map(axle, model: Model, grid: list[float], xtol: float, progress=lambda text: None
+              ) -> tuple[BistableMap, float]:
+    """(the model's bistable map over ``grid``, seconds it took)."""
+    start = time.perf_counter()
+    found = bistable_map(family_at(axle, model), grid, from_kmh(0.5), VMAX, model.label, xtol=xtol, progress=progress)
+    return found, time.perf_counter() - start
+
+
+def start_full_map(ctx: Context) -> None:
+    """Start the full geometry's map in a second process (full verify only): its cycle branches at every grid
+    pressure, continued on the MBS's compiled twin, overlap the sections before this one."""
+    if not ctx.quick and ctx.background is not None:
+        _, grid, xtol = map_settings(ctx)
+        ctx.background.submit(FULL_JOB, model_map, ctx.axle, Model.FULL, grid, xtol)
+
+
+def full_map(ctx: Context) -> tuple[BistableMap, float]:
+    """The background job's map, or the same computed here when it was not started."""
+    if ctx.background is not None and ctx.background.started(FULL_JOB):
+        ctx.progress("Bistable regions: waiting for the full geometry's map (computed in a second process)")
+        return ctx.background.result(FULL_JOB)
+    _, grid, xtol = map_settings(ctx)
+    return model_map(ctx.axle, Model.FULL, grid, xtol, lambda text: ctx.progress(f"Bistable regions: {text}"))
+
+
+# Why --quick leaves the full geometry's map out: the quick verify's budget is a minute on two cores.
+QUICK_REASON = ("not computed in --quick: its cycle branches in speed at every grid pressure, continued on the MBS's "
+                "compiled twin, cost 10-20 s each; the full verify computes it")
+
+
+def model_rows(ctx: Context, model: Model, found: BistableMap, seconds: float, step: float
+               ) -> tuple[list[Row], BistableFact]:
+    """The map's row and one kick-check row per region."""
+    rows = [Row({"model": model.value, "grid_step_bar": step},
+                CheckStatus.INFO if found.status.is_complete else CheckStatus.COULD_NOT_CHECK,
+                f"{found.text()} ({seconds:.0f} s)")]
     for region in found.regions:
         ctx.progress(f"Bistable regions: kicks in {model.label} at {region.text()}")
         rows.append(region_row(ctx.axle, model, region, QUICK_KICK_TOL if ctx.quick else KICK_TOL))
-    why = ("its cycle branches at every grid pressure cost minutes each with difference Jacobians of Exudyn's "
-           "right-hand side")
-    facts.append(BistableFact(Model.FULL, None, why))
-    rows.append(Row({"model": Model.FULL.value}, CheckStatus.COULD_NOT_CHECK,
-                    f"the full geometry's map is not computed: {why} (the section \"The full geometry's own shimmy\" "
-                    f"has its branches at the planned cases)"))
+    return rows, BistableFact(model, found)
+
+
+def not_computed(model: Model, reason: str) -> tuple[list[Row], BistableFact]:
+    return ([Row({"model": model.value}, CheckStatus.COULD_NOT_CHECK,
+                 f"{model.label}'s map is not computed: {reason}")],
+            BistableFact(model, None, reason))
+
+
+def bistable_section(ctx: Context) -> Section:
+    step, grid, xtol = map_settings(ctx)
+    rows: list[Row] = []
+    facts = []
+    found, seconds = model_map(ctx.axle, Model.REDUCED, grid, xtol,
+                               lambda text: ctx.progress(f"Bistable regions: {text}"))
+    more, fact = model_rows(ctx, Model.REDUCED, found, seconds, step)
+    rows += more
+    facts.append(fact)
+    if ctx.quick:
+        more, fact = not_computed(Model.FULL, QUICK_REASON)
+    else:
+        try:
+            more, fact = model_rows(ctx, Model.FULL, *full_map(ctx), step)
+        except Exception as exc:      # a continuation that failed: said so, never read as "no region"
+            more, fact = not_computed(Model.FULL, f"a continuation failed: {type(exc).__name__}: {interface_text(exc)}")
+    rows += more
+    facts.append(fact)
     return Section(
         key="bistable", title="Bistable regions: where a kick sets shimmy off",
         columns=("model", "grid_step_bar", "pressure_bar", "region_kmh", "inside_kmh", "kick_deg", "outside"),
         rows=tuple(rows),
         labels={"kick_deg": "smallest kick that leaves [deg]"},
         text=(f"Each model's cycle branches in speed on a grid of pressures {step:g} bar apart over the axle's "
-              f"window; a region joins the speed intervals where a stable cycle coexists with stable straight running "
+              f"window (the full geometry's continued on its compiled twin, in the full verify only); a region joins "
+              f"the speed intervals where a stable cycle coexists with stable straight running "
               f"(or two stable cycles) from one grid pressure to the next. A region narrower in pressure than the "
-              f"grid step can be missed. Each region is checked by runs of the same model: the smallest kick that "
+              f"grid step can be missed, and an interval narrower than {kmh(MIN_WIDTH):g} km/h is not one. Each "
+              f"region is checked by runs of the same model (the full geometry's by Exudyn): the smallest kick that "
               f"leaves straight running at the middle of its widest interval, then the same kick where the map has "
               f"one stable state ({OUTSIDE_KMH:g} km/h beyond the interval, else at the same speed on the grid "
               f"pressure beyond the region), where it must end on that state (a cycle's max|theta1| within "

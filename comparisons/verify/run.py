@@ -9,6 +9,7 @@ from typing import Callable
 
 from axles.axle import AxleData, interface_text
 from comparisons.verify.background import Background
+from comparisons.verify.bistable_rows import start_full_map
 from comparisons.verify.context import Context
 from comparisons.verify.jump_experiments import start_jump_runs
 from comparisons.verify.other_axle import start_other_axles
@@ -104,6 +105,7 @@ def run_verification(out: str, quick: bool, axle: AxleData | None = None, asymme
                       background=background, braking=braking)
         start_jump_runs(ctx)
         start_other_axles(ctx)
+        start_full_map(ctx)
         sections = run_sections(ctx, announce)
     from comparisons.verify.bistable_rows import BistableFact
     from comparisons.verify.verdict import RobustnessShare

@@ -206,3 +206,56 @@ def test_paper_figures_labels_and_keys_clear_of_the_data(number):
     """The paper's other figure kinds (15-150 s each): labels placed by place_labels, keys off the curves."""
     from comparisons.figures.registry import REGISTRY, DiagramStore
     assert overlaps(REGISTRY[number].draw(DiagramStore()).figure) == []
+
+class _SwappedStore:
+    """A :class:`DiagramStore` whose MBS slot holds the reduced model at other settings, so that the figures drawn
+    for two models can be checked for their text in a few seconds (the drawing code is the same for any family)."""
+
+    def __init__(self, swap):
+        from comparisons.figures.registry import DiagramStore
+        self.store, self.swap = DiagramStore(), swap
+
+    def family(self, key):
+        return self.store.family(self.swap(key) if key.fidelity is not None else key)
+
+    def diagram(self, key):
+        return self.store.diagram(self.swap(key) if key.fidelity is not None else key)
+
+
+def test_hopf_plane_of_two_models_labels_clear_of_the_data():
+    """Figure 5's kind for two models (about 3 s): both models' Hopf curves, special points and the hatched
+    stability difference, with every label clear of the curves and of the other texts."""
+    from dataclasses import replace
+
+    from comparisons.figures import beside_figures
+    from comparisons.figures.hopf_figures import pressure_key
+    from mbs_shimmy.fidelity import Fidelity
+    from reduced_model.model import Effects
+    store = _SwappedStore(lambda key: replace(key, fidelity=None, effects=Effects.parse("hcl")))
+    key = replace(pressure_key(lo_bar=0.5, hi_bar=3.0, vmax_kmh=150.0), n_seeds=5)
+    drawing = beside_figures._plane_figure(store, key, Fidelity.full(), 1e5, "bar", 1.5e5, "p [bar]", "two models")
+    assert overlaps(drawing.figure) == []
+    ax = drawing.figure.axes[0]
+    assert {line.get_color() for line in ax.get_lines() if line.get_linestyle() == "-"} >= {"k", "tab:red"}
+    assert any(note.startswith("at 1.5 bar: yaw window: the reduced model") for note in drawing.notes)
+
+
+def test_cycle_panels_of_two_models_labels_clear_of_the_data(monkeypatch):
+    """Figures 3, 4 and 9's kind for two models (about 3 s): a window in one model only is hatched, both models'
+    unstable straight running is a bar below the axis, and no label covers data."""
+    from dataclasses import replace
+
+    from comparisons.figures import beside_figures
+    from comparisons.figures.registry import CycleKey, DiagramStore, store_cycles
+    from mbs_shimmy.fidelity import Fidelity
+    monkeypatch.setattr(beside_figures, "store_cycles", lambda store, key: store_cycles(
+        store, replace(key, fidelity=None, pressure_bar=2.0) if key.fidelity is not None else key))
+    monkeypatch.setattr(beside_figures, "_checked", lambda family, diagram: (1e-9, 1, 0))
+    drawing = beside_figures.cycle_panels_beside(DiagramStore(), [("1.5 bar", CycleKey(1.5, 400.0))], 400.0,
+                                                 "two models", Fidelity.full())
+    assert overlaps(drawing.figure) == []
+    top = drawing.figure.axes[0]
+    assert any(c.get_hatch() == ".." for c in top.collections)    # the tramp window of one model only
+    bars = [line for line in top.get_lines() if line.get_linewidth() == 3.0]
+    assert {line.get_color() for line in bars} == {"k", "tab:red"}
+    assert any("tramp window" in note and "in the reduced model only" in note for note in drawing.notes)

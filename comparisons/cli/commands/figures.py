@@ -9,7 +9,7 @@ import time
 
 from axles.axle import interface_text
 from axles.limits import UsageError
-from comparisons.cli.options import add_output_options, emit_json
+from comparisons.cli.options import add_model_choice, add_output_options, build_fidelity, emit_json
 from comparisons.cli.progress import progress
 from comparisons.files import watch_folder
 
@@ -25,6 +25,7 @@ def add_parser(sub) -> None:
     p.add_argument("--only", metavar="N[,N...]", help="figure numbers of the paper (default: every available one)")
     p.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1), metavar="N",
                    help="worker processes (default: up to 2)")
+    add_model_choice(p)
     add_output_options(p)
     p.set_defaults(run=run)
 
@@ -63,24 +64,28 @@ def run(args: argparse.Namespace) -> int:
     requested = parse_only(args.only)
     if args.jobs < 1:
         raise UsageError(f"--jobs must be at least 1, got {args.jobs}")
-    wanted = requested if requested is not None else list(available_figures())
-    makeable = [n for n in wanted if unavailable_reason(n) is None]
+    # --model mbs: the paper's figures for the MBS at --fidelity (or --assume), each beside the reduced model's
+    fidelity = build_fidelity(args)
+    wanted = requested if requested is not None else list(available_figures(fidelity))
+    makeable = [n for n in wanted if unavailable_reason(n, fidelity) is None]
     missing = [n for n in (requested if requested is not None else sorted(PAPER_TITLES))
-               if unavailable_reason(n) is not None]
+               if unavailable_reason(n, fidelity) is not None]
     check_out_dir(args.out)
     watch_folder(args.out)
     start = time.perf_counter()
     quiet = args.json or not sys.stderr.isatty()
     with progress(len(makeable), "figures", quiet) as bar:
-        results = make_figures(makeable, args.out, jobs=args.jobs, on_done=lambda r: bar.update(1))
+        results = make_figures(makeable, args.out, jobs=args.jobs, on_done=lambda r: bar.update(1),
+                               fidelity=fidelity)
     elapsed = time.perf_counter() - start
     if args.json:
-        emit_json({"out": args.out, "seconds": elapsed,
+        emit_json({"out": args.out, "seconds": elapsed, "model": args.model,
+                   "fidelity": None if fidelity is None else fidelity.label,
                    "figures": [{"number": r.number, "name": r.name, "title": PAPER_TITLES[r.number],
                                 "path": r.path, "seconds": r.seconds, "complete": r.complete,
                                 "notes": list(r.notes)} for r in results],
-                   "unavailable": [{"number": n, "title": PAPER_TITLES[n], "reason": unavailable_reason(n)}
-                                   for n in missing]})
+                   "unavailable": [{"number": n, "title": PAPER_TITLES[n],
+                                    "reason": unavailable_reason(n, fidelity)} for n in missing]})
     else:
         print(f"made {len(results)} figure(s) in {args.out} ({elapsed:.1f} s)")
         for r in results:
@@ -89,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
         if missing:
             print("not made:" if requested is not None else "not available yet:")
             for n in missing:
-                print(f"  fig {n:2d}  {PAPER_TITLES[n]}: {unavailable_reason(n)}")
+                print(f"  fig {n:2d}  {PAPER_TITLES[n]}: {unavailable_reason(n, fidelity)}")
     code = 0
     if not all(r.complete for r in results):
         sys.stderr.write("shimmy: incomplete: a Hopf curve stopped before leaving its window "
@@ -97,6 +102,6 @@ def run(args: argparse.Namespace) -> int:
         code = EXIT_INCOMPLETE
     if requested is not None and missing:
         sys.stderr.write(f"shimmy: figure(s) {', '.join(map(str, missing))} cannot be made yet: "
-                         f"{'; '.join(sorted({unavailable_reason(n) for n in missing}))}\n")
+                         f"{'; '.join(sorted({unavailable_reason(n, fidelity) for n in missing}))}\n")
         code = EXIT_UNAVAILABLE
     return code
