@@ -410,12 +410,14 @@ def cycle_diagram(family: Family, q: float, p_min: float, p_max: float,
 
 
 def cycle_at(family: Family, near: CyclePoint, p: float, settings: CycleSettings = CycleSettings(),
-             intervals: int | None = None, mesh: np.ndarray | None = None) -> CyclePoint:
+             intervals: int | None = None, mesh: np.ndarray | None = None, halvings: int = 3) -> CyclePoint:
     """The cycle at ``p`` (same q) by Newton's method from the nearby cycle ``near`` (T free, p fixed).
 
     With ``intervals`` the cycle is computed on a uniform mesh of that many intervals, with ``mesh`` on that mesh
-    (``near`` is interpolated onto it), otherwise on ``near``'s mesh.  Fails with :class:`ConvergenceError` at a fold (where the cycle is
-    not a function of p) or when ``near`` is too far away.
+    (``near`` is interpolated onto it), otherwise on ``near``'s mesh.  Where Newton's method does not reach p from
+    ``near`` in one step, p is approached in up to 2**``halvings`` equal steps, each cycle the start of the next
+    (the natural-parameter continuation of Keller's lectures, 1987, section 2.1, on the same equations).  Fails with
+    :class:`ConvergenceError` at a fold (where the cycle is not a function of p) or when ``near`` is too far away.
     """
     omega = 2.0 * np.pi / near.period
     if mesh is None and intervals is not None:
@@ -423,21 +425,38 @@ def cycle_at(family: Family, near: CyclePoint, p: float, settings: CycleSettings
     orbit = near.orbit if mesh is None else mesh_adaptation.remesh(near.orbit, mesh)
     problem = CycleProblem(family, family.primary, near.p, near.q, orbit, state_scales(family, omega),
                            family.primary_scale, settings)
-    u_pred = problem.pack(orbit, p)
-    w = problem.weights()
-    fix_p = np.zeros_like(u_pred)
-    fix_p[-1] = 1.0 / w[-1]                           # unit weighted norm: the hyperplane is the given p
-    result = correct(problem, u_pred, fix_p, w, settings.continuation, blocks=problem.blocks_of_unknowns())
-    # x = 0 with any period solves the discretised problem too; a collapse onto it is a failure here.
-    if result is None or problem.scaled_rms(result[0]) < 1e-3 * problem.scaled_rms(u_pred):
+    u = None
+    for steps in (2 ** k for k in range(halvings + 1)):
+        u = _newton_towards(problem, problem.pack(orbit, near.p), near.p, p, steps, settings)
+        if u is not None:
+            break
+    if u is None:
         raise ConvergenceError(Message.of("no cycle found at ", describe(family, p), " from the one at ",
                                           describe(family, near.p)))
-    u = result[0]
     if intervals is None and mesh is None:
         fix = np.zeros_like(u)
         fix[-1] = 1.0
         u = problem.meet_tolerance(u, fix)
     return problem.point(u)
+
+
+def _newton_towards(problem: CycleProblem, u: np.ndarray, p0: float, p: float, steps: int,
+                    settings: CycleSettings) -> np.ndarray | None:
+    """The discretised cycle at p, reached from the one ``u`` at p0 in ``steps`` equal steps of p with p fixed in
+    each Newton solve; None where a solve fails or collapses onto x = 0 (which with any period solves the
+    discretised problem too)."""
+    w = problem.weights()
+    fix_p = np.zeros_like(u)
+    fix_p[-1] = 1.0 / w[-1]                           # unit weighted norm: the hyperplane is the given p
+    size = problem.scaled_rms(u)
+    for k in range(1, steps + 1):
+        guess = u.copy()
+        guess[-1] = p0 + (p - p0) * k / steps       # the last unknown is p (CycleProblem.pack)
+        result = correct(problem, guess, fix_p, w, settings.continuation, blocks=problem.blocks_of_unknowns())
+        if result is None or problem.scaled_rms(result[0]) < 1e-3 * size:
+            return None
+        u = result[0]
+    return u
 
 
 def branch_peak(family: Family, branch: CycleBranch, name: str,

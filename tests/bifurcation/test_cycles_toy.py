@@ -282,3 +282,18 @@ def test_a_trivial_multiplier_split_into_a_pair_is_no_torus():
     # A genuine pair near the unit circle away from +1 stays complex.
     rest, trivial = classify_multipliers(np.array([1.0 + 0j, 0.6 + 0.81j, 0.6 - 0.81j]))
     assert trivial == 1.0 and complex_outside(rest) == 2 and np.all(rest.imag != 0.0)
+
+
+def test_cycle_at_reaches_a_far_speed_in_steps_where_one_newton_step_fails():
+    """From the cycle of radius 0.18 to the one at mu = 1 (radius 1, known): one Newton solve does not get there,
+    eight equal steps of the speed do, onto the exact cycle."""
+    from bifurcation.cycles.branches import cycle_at
+    from bifurcation.special_points import ConvergenceError
+    fam = ToyFamily(supercritical, 2)
+    b = branch_from_hopf(fam, first_hopf(fam), SHIFT - 1.0, SHIFT + 3.0)
+    near = min(b.points, key=lambda p: abs(p.p - SHIFT - 0.05))
+    with pytest.raises(ConvergenceError):
+        cycle_at(fam, near, SHIFT + 1.0, halvings=0)
+    far = cycle_at(fam, near, SHIFT + 1.0)
+    assert far.p == pytest.approx(SHIFT + 1.0, abs=1e-12)
+    assert far.amplitude[0] == pytest.approx(1.0, rel=1e-8) and far.period == pytest.approx(2 * np.pi / W, rel=1e-9)

@@ -207,6 +207,7 @@ def test_paper_figures_labels_and_keys_clear_of_the_data(number):
     from comparisons.figures.registry import REGISTRY, DiagramStore
     assert overlaps(REGISTRY[number].draw(DiagramStore()).figure) == []
 
+
 class _SwappedStore:
     """A :class:`DiagramStore` whose MBS slot holds the reduced model at other settings, so that the figures drawn
     for two models can be checked for their text in a few seconds (the drawing code is the same for any family)."""
