@@ -192,11 +192,23 @@ class _Signals:
             return
         for sig in (signal.SIGINT, signal.SIGTERM):
             self.previous[sig] = signal.signal(sig, self.handle)
+        self.previous_hook = sys.unraisablehook
+        sys.unraisablehook = self.unraisable
 
     def restore(self) -> None:
         self.done.set()
         for sig, handler in self.previous.items():
             signal.signal(sig, handler)
+        if self.previous:
+            sys.unraisablehook = self.previous_hook
+
+    def unraisable(self, info) -> None:
+        """An interrupt raised where Python cannot raise it (a weakref callback of the import system's module locks,
+        a finaliser) is printed by Python as 'Exception ignored ...' with a traceback, and the run goes on: leave at
+        once instead, as the watchdog would after the grace time."""
+        if self.code is not None and isinstance(info.exc_value, (KeyboardInterrupt, Interrupted)):
+            hard_exit(self.code, "shimmy: interrupted" if self.code == EXIT_INTERRUPTED else "shimmy: terminated")
+        self.previous_hook(info)
 
     def handle(self, signum, frame) -> None:
         code = EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED

@@ -239,3 +239,20 @@ def test_interrupts_at_random_moments_of_verify_and_figures(tmp_path, seed):
         if out.exists():
             for dirpath, _, names in os.walk(out):
                 assert not [n for n in names if n.endswith(".tmp")], (dirpath, names)
+
+
+def test_an_interrupt_swallowed_by_a_callback_exits_at_once_without_a_traceback(monkeypatch):
+    """Ctrl-C inside a weakref callback of importlib's module locks was printed as 'Exception ignored in ...' with
+    a traceback, and the run went on until the watchdog (seen once in the parametrised test above under load)."""
+    import types
+
+    from comparisons.cli import main as cli_main
+    exits, passed_on = [], []
+    monkeypatch.setattr(cli_main, "hard_exit", lambda code, line: exits.append((code, line)))
+    signals = cli_main._Signals()
+    signals.previous_hook = passed_on.append
+    signals.unraisable(types.SimpleNamespace(exc_value=KeyboardInterrupt()))     # no signal yet: Python's hook
+    assert exits == [] and len(passed_on) == 1
+    signals.code = cli_main.EXIT_INTERRUPTED
+    signals.unraisable(types.SimpleNamespace(exc_value=KeyboardInterrupt()))
+    assert exits == [(cli_main.EXIT_INTERRUPTED, "shimmy: interrupted")]
