@@ -230,6 +230,17 @@ def bistable_speeds(family, diagram, min_width: float = 0.0) -> list[float]:
     return [0.5 * (a + b) for a, b in bistable_windows(diagram, family, min_width)]
 
 
+def start_state(steady: np.ndarray, origin: np.ndarray | None, x0: np.ndarray) -> np.ndarray:
+    """A run's start: the kick ``x0`` itself in free rolling (``origin`` None), in whichever order it comes (the
+    reduced model's 8 states, or an MBS orbit's every state); under braking the steady state plus the kick, the
+    shorter padded with zeros (both orders begin with the reduced model's states)."""
+    x0 = np.asarray(x0, dtype=float)
+    if origin is None:
+        return x0
+    n = max(len(steady), len(x0))
+    return np.pad(np.asarray(steady, dtype=float), (0, n - len(steady))) + np.pad(x0, (0, n - len(x0)))
+
+
 def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplitude]:
     """Runs of the family's model at ``speed`` until they settle: the reduced model or the MBS, under the family's
     braking from its steady state plus the kick x0 (reduced-model order), measured about that steady state."""
@@ -243,7 +254,7 @@ def settle_function(family, speed: float) -> Callable[[np.ndarray], SteadyAmplit
         origin = steady[:N_STATES]
 
     def start(x0: np.ndarray) -> np.ndarray:
-        return steady + np.concatenate([x0, np.zeros(len(steady) - len(x0))])
+        return start_state(steady, origin, x0)
 
     if isinstance(family, MbsFamily):
         m = family.model

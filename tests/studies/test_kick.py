@@ -1,6 +1,7 @@
 """The kick that sets shimmy off, in the paper's bistable window (1.5 bar, t0 = 0.25 m: yaw and tramp cycles
 coexist from about 159 to 185 km/h)."""
 
+import numpy as np
 import pytest
 
 from axles.units import BAR, KMH
@@ -76,3 +77,15 @@ def test_full_geometry_kick_in_its_own_window_at_t0_0_25():
     assert settled_on(kick.stays_run, states) == 0 and settled_on(kick.leaves_run, states) == 1
     # The separating unstable cycle is smaller than the kick needs: its other states carry the rest.
     assert kick.unstable_theta1 < kick.kick < kick.upper.theta1
+
+
+def test_a_run_starts_from_the_kick_in_its_own_order_and_under_braking_from_the_steady_state():
+    """The full verify's orbit checks start MBS runs from an orbit's every state (14 on the full geometry): with
+    the braking's steady state of the reduced model's length that raised 'negative dimensions' (fixed)."""
+    from comparisons.studies.kick import start_state
+    orbit_state = np.arange(14.0)
+    assert np.array_equal(start_state(np.zeros(8), None, orbit_state), orbit_state)
+    steady = np.linspace(0.1, 0.8, 8)
+    got = start_state(steady, steady, orbit_state)
+    assert np.array_equal(got[:8], steady + orbit_state[:8]) and np.array_equal(got[8:], orbit_state[8:])
+    assert np.array_equal(start_state(steady, steady, np.ones(8)), steady + 1.0)
