@@ -5,8 +5,9 @@ Two stable states at one speed are separated by the stable manifold of an unstab
 (a saddle cycle; Kuznetsov 2004, section 1.5).  Its max |theta1| says roughly how large a kick must be, but the
 kick that crosses the separatrix along one line of initial states is a property of the flow, not of the orbit
 alone; so the threshold is found by simulation.  Each run starts from straight running with theta1 = a (every
-other state zero; under braking: the braked steady state plus that kick, the amplitudes then about it), settles (:mod:`comparisons.studies.limit_cycle`), and is classified by the attractor whose amplitudes
-(max |theta1|, max |psi|) are nearest to where it settled.  Bisection in log a brackets the threshold between the
+other state zero; under braking: the braked steady state plus that kick, the amplitudes then about it), settles
+(:mod:`comparisons.studies.limit_cycle`), and is classified by the attractor whose amplitudes (max |theta1|,
+max |psi|) are nearest to where it settled.  Bisection in log a brackets the threshold between the
 largest kick that stays and the smallest that leaves, to ``rel_tol``; those two runs are kept as the evidence.
 The bracket starts from the unstable cycle's amplitude.  Runs near the threshold linger by the saddle cycle, which
 is why a run is continued until it settles rather than cut at a fixed time.
