@@ -193,8 +193,17 @@ def _structural_constants() -> frozenset[int]:
 STRUCTURAL_CONSTANTS = _structural_constants()
 
 
+# A geometric value this small is a zero that rounding left (a rotated offset's 1.7e-18 m on one machine, 0.0 on
+# another): it is taken as 0 so that the structure, and with it the graph, does not depend on rounding.
+ROUNDING_ZERO = 1e-14
+
+
 def _structural(x: float) -> bool:
-    return x == 0.0 or x == 1.0 or x == -1.0
+    return x == 1.0 or x == -1.0 or abs(x) < ROUNDING_ZERO
+
+
+def _structure_value(x: float) -> float:
+    return 0.0 if abs(x) < ROUNDING_ZERO else x
 
 
 def _map_numbers(value, slot):
@@ -204,7 +213,8 @@ def _map_numbers(value, slot):
         fields = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
         out = {k: _map_numbers(v, slot) for k, v in fields.items() if k not in ("constants", "tables")}
         c = [float(x) for x in value.constants]
-        out["constants"] = [x if i in STRUCTURAL_CONSTANTS or _structural(x) else slot(x) for i, x in enumerate(c)]
+        out["constants"] = [x if i in STRUCTURAL_CONSTANTS else _structure_value(x) if _structural(x) else slot(x)
+                            for i, x in enumerate(c)]
         out["tables"] = value.tables
         return dataclasses.replace(value, **out)
     if dataclasses.is_dataclass(value):
@@ -212,7 +222,7 @@ def _map_numbers(value, slot):
     if isinstance(value, tuple):
         return tuple(_map_numbers(v, slot) for v in value)
     if isinstance(value, float) and not isinstance(value, bool):
-        return value if _structural(value) else slot(value)
+        return _structure_value(value) if _structural(value) else slot(value)
     return value
 
 
