@@ -12,7 +12,9 @@ import scipy.optimize
 import scipy.sparse
 import scipy.sparse.linalg
 
-from bifurcation.continuation import ContinuationSettings, Stop, continue_curve, locate_on_step, tangent
+import dataclasses
+
+from bifurcation.continuation import ContinuationSettings, Stop, continue_curve, correct, locate_on_step, tangent
 from bifurcation.cycles.multipliers import (
     complex_outside,
     critical_multipliers,
@@ -23,9 +25,12 @@ from bifurcation.cycles.multipliers import (
     positive_outside,
     torus_test,
 )
+from bifurcation.cycles import mesh_adaptation
 from bifurcation.cycles.problem import (
     CyclePoint,
+    CycleProblem,
     CycleSettings,
+    state_scales,
 )
 from bifurcation.messages import Message
 from bifurcation.problem import clip_window, describe
@@ -36,6 +41,8 @@ FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps
                                      newton_max_iter=8, max_turn=0.3)
 
 
+# a start point's residual above which it is corrected first (below continue_curve's 1e-6 for "not a solution")
+START_RESIDUAL = 1e-8
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
 
 
@@ -70,22 +77,72 @@ def curve_q_scale(cycle: CyclePoint) -> float:
     return 0.1 * max(abs(cycle.q), 1e-12)
 
 
+START_ROUNDS = 4            # re-meshings of a start point that misses the error tolerance
+
+
+def on_adapted_mesh(family, cycle: CyclePoint, settings: CycleSettings) -> CyclePoint:
+    """``cycle`` interpolated onto the mesh its error estimate asks for (:meth:`CycleProblem.needed_intervals`,
+    equidistributed): no longer a solution on that mesh, which :func:`start_point` then corrects."""
+    problem = CycleProblem(family, family.primary, cycle.p, cycle.q, cycle.orbit,
+                           state_scales(family, 2.0 * np.pi / cycle.period), family.primary_scale, settings)
+    N = max(problem.needed_intervals(cycle.orbit), cycle.orbit.intervals + 1)
+    mesh = mesh_adaptation.adapted_mesh(cycle.orbit, problem.scales, intervals=N)
+    return dataclasses.replace(cycle, orbit=mesh_adaptation.remesh(cycle.orbit, mesh))
+
+
+def start_point(make_system, family, cycle: CyclePoint, settings: CycleSettings,
+                continuation: ContinuationSettings):
+    """(system, U0): the bordered system (``make_system(cycle)``) and its solution at ``cycle``'s second
+    parameter, on a mesh that meets the tolerance where Newton gets there.
+
+    A point located on a one-parameter branch lies on that branch's mesh, which the branch adapts only at its
+    accepted points: a fold between two of them can miss the tolerance, and its location solves the defining
+    system only to the branch's location accuracy.  The curve keeps its start's mesh, so the start is first put on
+    a mesh its error estimate asks for (up to :data:`START_ROUNDS` times) and corrected there by Newton on the
+    defining system with q fixed: the point of this kind on that mesh."""
+    system, U0 = None, None
+    for _ in range(START_ROUNDS):
+        candidate = make_system(cycle)
+        U = candidate.start(cycle)
+        # Two rounds of border updates make the borders the null vectors at the start point.
+        candidate.renormalize(U), candidate.renormalize(U)
+        iq = candidate.K + 2
+        G = candidate(U)[0]
+        if not np.max(np.abs(G)) <= START_RESIDUAL * (1.0 + np.max(np.abs(U))):
+            fix_q = np.zeros_like(U)
+            fix_q[iq] = 1.0
+            w = candidate.weights()
+            result = correct(candidate, U, fix_q / w[iq], w, continuation)
+            if result is None:
+                break
+            U = result[0]
+            candidate.renormalize(U), candidate.renormalize(U)
+        system, U0 = candidate, U
+        cycle = candidate.point(U)
+        if cycle.meets_tolerance:
+            break
+        cycle = on_adapted_mesh(family, cycle, settings)
+    if system is None:      # Newton failed at the point as located: the curve says so (continue_curve's start test)
+        system = make_system(cycle)
+        U0 = system.start(cycle)
+        system.renormalize(U0), system.renormalize(U0)
+    return system, U0
+
+
 def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
-                          settings: CycleSettings, continuation: ContinuationSettings, system):
-    """Follow the curve of ``point``'s kind through it with a bordered ``system`` (a :class:`FoldSystem` by
-    default; its unknowns end with (p, q) at K + 1, K + 2 and possibly more after them)."""
+                          settings: CycleSettings, continuation: ContinuationSettings, make_system):
+    """Follow the curve of ``point``'s kind through it with the bordered system ``make_system(cycle)`` (a
+    :class:`FoldSystem` by default; its unknowns end with (p, q) at K + 1, K + 2 and possibly more after them),
+    from its start on an adequate mesh (:func:`start_point`)."""
     from bifurcation.cycle_curves.ends import locate_end
     from bifurcation.cycle_curves.result import CycleCurve
 
     folds = point.kind is PointKind.CYCLE_FOLD
     ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
     p_min, p_max = clip_window(family, p_min, p_max)
-    cycle: CyclePoint = point.data["cycle"]
+    system, U0 = start_point(make_system, family, point.data["cycle"], settings, continuation)
     ip, iq = system.K + 1, system.K + 2
     what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
-    U0 = system.start(cycle)
-    # Two rounds of border updates make the borders the null vectors at the start point.
-    system.renormalize(U0), system.renormalize(U0)
     weights = system.weights()
     t0 = tangent(system(U0)[1], weights, None)
     start_state = (system.b.copy(), system.c.copy(), system.cp.reference)

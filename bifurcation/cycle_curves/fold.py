@@ -266,9 +266,9 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, 
     Returns a :class:`bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.CYCLE_FOLD:
         raise ValueError("fold_curve follows cycle folds")
-    cycle = point.data["cycle"]
-    system = FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
-    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system)
+    def make_system(cycle):
+        return FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system)
 
 
 def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
@@ -283,8 +283,8 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     :meth:`FoldSystem.events`.  Returns a :class:`bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.PERIOD_DOUBLING:
         raise ValueError("period_doubling_curve follows period-doubling points")
-    cycle = point.data["cycle"]
-    system = FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
-    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system)
+    def make_system(cycle):
+        return FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system)
 
 

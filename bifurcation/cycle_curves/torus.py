@@ -266,6 +266,6 @@ def torus_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float,
     :class:`bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.TORUS:
         raise ValueError("torus_curve follows torus points")
-    cycle: CyclePoint = point.data["cycle"]
-    system = TorusSystem(family, cycle, curve_q_scale(cycle), settings)
-    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, system=system)
+    def make_system(cycle: CyclePoint):
+        return TorusSystem(family, cycle, curve_q_scale(cycle), settings)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system)

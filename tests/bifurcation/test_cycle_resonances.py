@@ -104,20 +104,25 @@ def test_fold_flip_on_a_period_doubling_curve():
 
 
 def test_cycle_curve_marks_the_points_that_miss_the_collocation_tolerance():
-    """The curves keep their start's mesh: with the default tolerance every point meets it, with one far below
-    the start's error estimate every point is marked as missing it."""
+    """The curves keep their start's mesh, refined first where the start misses the tolerance: with the default
+    tolerance every point meets it; with one far below the start's error estimate the start is re-meshed until it
+    meets it; where the mesh may not grow (max_intervals), every point is marked as missing it."""
     from dataclasses import replace
 
     from bifurcation.cycles.problem import CycleSettings
 
     family = CycleWithBlock(2)
     torus = located(family, 0.5, PointKind.TORUS, 0.0, family.SHIFT + 1.0, near=family.SHIFT + family.C)
-    error = torus.data["cycle"].error
+    error, intervals = torus.data["cycle"].error, torus.data["cycle"].orbit.intervals
     assert 0.0 < error < CycleSettings().tolerance
-    for tolerance, meets in ((CycleSettings().tolerance, True), (0.01 * error, False)):
-        curve = cycle_bifurcation_curve(family, torus, 0.45, 0.5, 0.0, family.SHIFT + 2.0,
-                                        settings=replace(CycleSettings(), tolerance=tolerance))
-        assert np.all(curve.tolerances == tolerance) and np.all(curve.errors > 0.0)
+    cases = ((CycleSettings(), True, True),
+             (replace(CycleSettings(), tolerance=0.01 * error), True, True),
+             (replace(CycleSettings(), tolerance=0.01 * error, max_intervals=intervals), False, False))
+    for settings, start_meets, meets in cases:
+        curve = cycle_bifurcation_curve(family, torus, 0.45, 0.5, 0.0, family.SHIFT + 2.0, settings=settings)
+        assert np.all(curve.tolerances == settings.tolerance) and np.all(curve.errors > 0.0)
+        start = int(np.argmin(np.abs(curve.qs - torus.q) + np.abs(curve.ps - torus.p)))
+        assert curve.meets_tolerance[start] == start_meets
         assert np.all(curve.meets_tolerance == meets)
 
 
