@@ -15,8 +15,9 @@ only: reading the constants array, the load table's cubic interpolation on an ar
 (``tests/mbs/test_mbs_compiled_stage.py``).
 
 Where the compiled stage cannot follow the Python one it returns ``None`` and the caller evaluates that stage in
-Python: a load outside the load table (a lifted wheel, or beyond 3 times the static load), where the properties
-come from the reduced model's formulas directly.  The first-order element (``small_angles``) stays in Python.
+Python: a positive load outside the load table (below 2 % or beyond 3 times the static load), where the
+properties come from the reduced model's formulas directly.  A lifted wheel's properties are constants (those at
+1 % of the static load) and stay compiled.  The first-order element (``small_angles``) stays in Python.
 Under braking the stage carries each wheel's MF 6.1 combined slip (F_x at the contact point, the weighted F_y, the
 combined aligning moment: :func:`~reduced_model.tyre.combined_forces`) as the Python path does.
 
@@ -52,9 +53,10 @@ _SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
 I_PSI, I_TH1, I_TH2, I_LAT, I_VERT, OZ, H, UX, UZ, I2, RADIUS, ARM, WHEEL_MASS = range(13)
 SPIN = (13, 16)
 # per wheel, from its start: TyreElement.constants (13), static (8), slip_constants (6), camber coefficients
-# (10), load table: load dependent, log of the first node, node spacing, nodes, pt, hcl, rl, columns (8), braking:
-# braked (1 or 0), then CombinedSlip.constants (tyre_element.BRAKING_SIZE)
-EL, STATIC, SLIP, CAMBER, TABLE, BRAKE = 0, 13, 21, 27, 37, 45
+# (10), load table: load dependent, log of the first node, node spacing, nodes, pt, hcl, rl, columns, a lifted
+# wheel's a and sigma (10), braking: braked (1 or 0), then CombinedSlip.constants (tyre_element.BRAKING_SIZE)
+EL, STATIC, SLIP, CAMBER, TABLE, BRAKE = 0, 13, 21, 27, 37, 47
+LIFTED = 8          # a lifted wheel's a and sigma, from the start of the load table's constants
 WHEEL_SIZE = BRAKE + 1 + tyre_element.BRAKING_SIZE
 WHEELS = (19, 19 + WHEEL_SIZE)  # where each wheel's constants start
 ALIGNMENT = WHEELS[1] + WHEEL_SIZE
@@ -76,11 +78,11 @@ def constants(forces) -> tuple[np.ndarray, np.ndarray]:
         c += [float(v) for v in element.slip_constants]
         c += [float(v) for v in element.camber_coefficients]
         if t is None:
-            c += [0.0, 0.0, 1.0, 4.0, 0.0, 0.0, 0.0, 3.0]
+            c += [0.0, 0.0, 1.0, 4.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0]
             tables.append(np.zeros((4, 3)))
         else:
             c += [1.0, t.s0, t.ds, float(t.n), float(element.pt), float(element.hcl), float(element.rl),
-                  float(len(t.layout))]
+                  float(len(t.layout)), element.lifted[6], element.lifted[7]]
             tables.append(np.array(t.rows, dtype=float))
         c += [float(element.braked)] + [float(v) for v in element.braking_constants]
     assert len(c) == ALIGNMENT
@@ -91,9 +93,10 @@ def constants(forces) -> tuple[np.ndarray, np.ndarray]:
 def table_row(table, c, t: int, Fz):
     """(ok, the load table's :attr:`~mbs_shimmy.tyre_element.LoadTable.layout` values at the load Fz, D and D_t
     times the load) by the cubic interpolation of :meth:`~mbs_shimmy.tyre_element.LoadTable.at` on an array (same
-    grid test and weights, :func:`~mbs_shimmy.tyre_element.lagrange_weights`).  ok False where the load is outside
-    the table; the values are then those at the table's nearest end, finite and to be discarded.  The compiled
-    stage's lookup; the twin (:mod:`mbs_shimmy.twin`) has its own on traced values."""
+    grid test and weights, :func:`~mbs_shimmy.tyre_element.lagrange_weights`).  ok False where a positive load is
+    outside the table; the values are then those at the table's nearest end, finite and to be discarded, as they
+    are for a lifted wheel (Fz <= 0, ok: :func:`wheel_terms` takes its constants).  The compiled stage's lookup;
+    the twin (:mod:`mbs_shimmy.twin`) has its own on traced values."""
     ok = Fz > 0.0
     x = 1.0
     if ok:
@@ -109,7 +112,7 @@ def table_row(table, c, t: int, Fz):
     v[1] *= Fz                                    # D and D_t are tabulated divided by the load
     if c[t + 4] != 0.0:
         v[4] *= Fz
-    return ok, v
+    return ok or Fz <= 0.0, v
 
 
 register_jitable(table_row)
@@ -118,7 +121,7 @@ register_jitable(table_row)
 def wheel_terms(c, b: int, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, speed, ops, lookup):
     """(ok, Q_psi, Q_theta, alpha_dot, Q_y, Q_z) of the wheel whose constants start at c[b]: the steps of
     :meth:`~mbs_shimmy.tyre_element.TyreElement.exact` with the load table read by ``lookup`` (as
-    :func:`table_row`); ok False where the load is outside the table.  Generic over ``ops``
+    :func:`table_row`); ok False where a positive load is outside the table.  Generic over ``ops``
     (:mod:`mbs_shimmy.scalar_ops`) for the twin; ``c`` and ``b`` are plain numbers in every caller."""
     e = b + EL
     el = (c[e], c[e + 1], c[e + 2], c[e + 3], c[e + 4], c[e + 5], c[e + 6], c[e + 7], c[e + 8] != 0.0,
@@ -137,6 +140,10 @@ def wheel_terms(c, b: int, table, pose, Oy, Oz, h, cpsi, spsi, ux, uz, alpha, sp
     if c[t] != 0.0:
         ok, v = lookup(table, c, t, Fz)
         values = tyre_element.table_values(v, static, c[t + 4] != 0.0, int(c[t + 5]), c[t + 6] != 0.0)
+        # a lifted wheel (TyreElement.properties): no grip (slip_forces), a and sigma those at 1 % of the load
+        lifted, choose = Fz <= 0.0, ops[5]
+        values = (values[0], values[1], values[2], values[3], values[4], values[5],
+                  choose(lifted, c[t + LIFTED], values[6]), choose(lifted, c[t + LIFTED + 1], values[7]))
     s = b + BRAKE + 1
     braked = c[s - 1] != 0.0
     bc = (c[s], c[s + 1], c[s + 2], c[s + 3], c[s + 4], c[s + 5], c[s + 6], c[s + 7], c[s + 8], c[s + 9], c[s + 10],

@@ -124,29 +124,41 @@ class MbsEvaluator:
         twin = self.twin
         if twin is None:
             return None
-        _, J, Jv, ok = twin.rhs_and_jacobian(np.asarray(y, dtype=float), speed, key)
-        if not ok:
+        y = np.asarray(y, dtype=float)
+        _, J, Jv, ok = twin.rhs_and_jacobian(y, speed, key)
+        if not ok or twin.below_table(y, speed, key):      # near a lift-off: differences (twin_batch)
             return None
         self.twin_jacobians += 1
         return J, Jv
 
     def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False) -> tuple | None:
         """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
-        with Exudyn's right-hand side and its differences in the rows where the twin has none (a load below the
-        load table, 0 < F_z < 2 % of the static load, or above it); None where there is no twin."""
+        with Exudyn's right-hand side and its differences in the rows where the twin has none (a positive load
+        below the load table, 0 < F_z < 2 % of the static load, or above it), and the twin's differences where a
+        wheel is lifted (below); None where there is no twin."""
         twin = self.twin
         if twin is None:
             return None
         Y = np.asarray(Y, dtype=float)
         if jacobians:
-            f, J, Jv, ok = twin.rhs_and_jacobians(Y, speed)
+            f, J, Jv, ok, below = twin.rhs_and_jacobians(Y, speed)
             out = (f, J, Jv)
+            # Below the load table, lifted wheels included, the forces have a kink at zero load: the exact
+            # Jacobian jumps there, and with it a fold's test function as a collocation state crosses it, which
+            # Newton on a fold system cannot follow.  Central differences of step FD_STEP straddle the kink
+            # smoothly, as Exudyn's differences did before the twin covered lifted wheels: the twin's, cheap.
+            near, differenced = np.flatnonzero(ok & below), 0
+            if len(near):
+                J[near], done = self._twin_differences(Y[near], speed)
+                ok[near[~done]] = False
+                differenced = int(np.sum(done))
         else:
             f, ok = twin.rhs_batch(Y, speed)
             out = (f,)
         self.twin_calls += int(np.sum(ok))
         if jacobians:
-            self.twin_jacobians += int(np.sum(ok))
+            self.twin_jacobians += int(np.sum(ok)) - differenced
+            self.difference_jacobians += differenced
         for k in np.flatnonzero(~ok):
             if jacobians:
                 f[k], J[k] = self.rhs_and_jacobian(Y[k], speed)
@@ -155,6 +167,19 @@ class MbsEvaluator:
             else:
                 f[k] = self.rhs(Y[k], speed)
         return out
+
+    def _twin_differences(self, Y: np.ndarray, speed: float, step: float = FD_STEP) -> tuple[np.ndarray, np.ndarray]:
+        """d y'/d y at the states Y (K, n) by second-order central differences of the twin's right-hand side (as
+        :meth:`rhs_and_jacobian`, all 2 n K states in one call), and per state whether the twin covered every
+        state of its stencil (where it did not, Exudyn's differences take over)."""
+        K, n = Y.shape
+        E = step * np.eye(n)
+        stencil = np.concatenate([Y[:, None, :] + E[None], Y[:, None, :] - E[None]], axis=1).reshape(-1, n)
+        f, ok = self.twin.rhs_batch(stencil, speed)
+        self.twin_calls += len(stencil)
+        f, ok = f.reshape(K, 2 * n, n), ok.reshape(K, 2 * n)
+        J = ((f[:, :n] - f[:, n:]) / (2.0 * step)).transpose(0, 2, 1)
+        return J, np.all(ok, axis=1)
 
     def mass_matrix(self, y: np.ndarray) -> np.ndarray:
         """The mass matrix of the mechanical coordinates (tree order, :class:`~mbs_shimmy.system.Layout`)."""

@@ -18,15 +18,16 @@ are an input P of its functions, so another axle or parameter value costs no new
 right-hand side along a change of the numbers is exact (``f_numbers``: a second parameter's derivative).  A
 structure evaluated often is compiled to C (:mod:`mbs_shimmy.twin_library`).
 
-The load table's interpolation reads four rows chosen by the load.  An SX graph has no lookup by a computed
+The load table's interpolation reads four rows chosen by the load (a lifted wheel reads none: its properties are
+constants).  An SX graph has no lookup by a computed
 index, so the interval k of each wheel is an input, with its rows: the function also returns each wheel's table
 position x and whether x lies in the interval it was given; a call that guessed k wrong is repeated with k from x.
 The guess is the last k at the same node of the caller (``key``): in a continuation loads move little.
 
 Coverage: the exact kinematics at a steady speed (every fidelity with ``small_angles`` off).  The first-order
 kinematics (``small_angles``) run a Python user function with Exudyn's coordinate connectors and keep difference
-derivatives (:func:`twin_of` returns None); at a state whose load leaves the load table the twin says so
-(``ok`` False) and its caller uses differences there.
+derivatives (:func:`twin_of` returns None); at a state whose positive load leaves the load table (below 2 % or
+above 3 times the static load) the twin says so (``ok`` False) and its caller uses differences there.
 """
 
 from __future__ import annotations
@@ -51,10 +52,11 @@ class _WheelInput:
 
 
 def _lookup(table: _WheelInput, c, t: int, Fz):
-    x = (ca.log(Fz) - c[t + 1]) / c[t + 2]
+    # a lifted wheel (Fz <= 0) reads no row (compiled_stage.wheel_terms): its x is any finite number, it is ok
+    x = (ca.log(ca.if_else(Fz > 0.0, Fz, 1.0)) - c[t + 1]) / c[t + 2]
     table.x = x
     k = table.k
-    ok = ca.logic_and(ca.logic_and(Fz > 0.0, x >= k + 1.0), x < k + 2.0)
+    ok = ca.logic_or(Fz <= 0.0, ca.logic_and(x >= k + 1.0, x < k + 2.0))
     w0, w1, w2, w3 = lagrange_weights(x - (k + 1.0))
     r = table.rows
     v = [r[0, j] * w0 + r[1, j] * w1 + r[2, j] * w2 + r[3, j] * w3 for j in range(r.shape[1])]
@@ -208,7 +210,7 @@ class Twin:
                 self._k[key] = k
                 return res
             x = np.asarray(res[-1]).ravel()
-            if not np.all(np.isfinite(x)):      # a lifted wheel: no load to read the table at
+            if not np.all(np.isfinite(x)):      # a non-finite load: no table position
                 break
             guess = tuple(int(np.floor(v)) - 1 if self.load_dependent[i] else 0 for i, v in enumerate(x))
             if guess == k:
@@ -251,12 +253,26 @@ class Twin:
         res, ok = self._batch("f", Y, speed)
         return np.asarray(res[0]).T, ok
 
-    def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """f (K, N), df/dy (K, N, N), df/dV (K, N) and ok (K,) at the states Y (K, N)."""
+    def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                                          np.ndarray]:
+        """f (K, N), df/dy (K, N, N), df/dV (K, N), ok (K,) and below (K,) at the states Y (K, N); below: a
+        load-dependent wheel's load lies below the load table, lifted wheels included (:meth:`below_table`)."""
         res, ok = self._batch("fJ", Y, speed)
         K, N = np.shape(Y)
         J = np.asarray(res[1]).reshape(N, K, N).transpose(1, 0, 2)
-        return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok
+        return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok, self._below(np.asarray(res[-1]))
+
+    def _below(self, x: np.ndarray) -> np.ndarray:
+        """Per state (columns of the table positions x, (2, K)): a load-dependent wheel below the table's first
+        interval (a lifted wheel's x is that of 1 N, far below it)."""
+        x = np.asarray(x, dtype=float).reshape(2, -1)
+        return np.any([~(x[w] >= 1.0) for w in range(2) if self.load_dependent[w]], axis=0) if any(
+            self.load_dependent) else np.zeros(x.shape[1], dtype=bool)
+
+    def below_table(self, y, speed: float, key=0) -> bool:
+        """Whether a load-dependent wheel's load at (y, speed) lies below the load table (lifted included): near
+        a wheel's lift-off, where the forces have a kink at zero load."""
+        return bool(self._below(np.asarray(self._call("f", y, speed, key)[2]))[0])
 
     def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:
         f, ok, _ = self._call("f", y, speed, key)

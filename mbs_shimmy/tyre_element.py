@@ -335,6 +335,8 @@ class TyreElement:
         self.ky = side * (0.5 * params.L - params.l)
         self.load_dependent = load_dependent
         self.table = load_table(params, effects, wheel) if load_dependent else None
+        # a lifted wheel's properties: those at 1 % of the static load (no grip; its a and sigma still count)
+        self.lifted = self.table.direct(0.01 * self.static_load) if self.table is not None else None
         mf, tf = wheel.force, wheel.trail
         self.a, self.sigma = wheel.a, wheel.sigma
         # (B, D, E, Bt, Dt, Et0, a, sigma) of the static wheel: the properties without load dependence
@@ -365,7 +367,7 @@ class TyreElement:
         if self.table is None:
             return self.static
         if load <= 0.0:                        # lifted wheel: the properties at 1 % of the load (no grip)
-            return self.table.direct(0.01 * self.static_load)
+            return self.lifted
         return table_values(self.table.at(load), self.static, self.pt, self.hcl, self.rl)
 
     def lateral(self, alpha: float, load: float, braked: bool = False) -> tuple[float, float, float, float, float]:

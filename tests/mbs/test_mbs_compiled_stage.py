@@ -99,20 +99,62 @@ def test_speed_ramp_and_rigid_layouts():
             assert _compare(Fidelity(frozenset(on)), acceleration=lambda t: 2.0, count=6) >= 5
 
 
-def test_a_load_outside_the_table_is_evaluated_in_python():
-    """A wheel lifted off the road (zero load: no grip, properties at 1 % of the load): the compiled stage
-    declines and :meth:`evaluate` gives the Python path's forces."""
-    system = MbsModel(fidelity=Fidelity.full()).system(TyrePressures.uniform(1.5 * BAR), constant_speed(20.0))
+def _rolled(system, fraction: float) -> np.ndarray:
+    """The state at rest rolled (psi) until the right wheel carries ``fraction`` of its static load (bisection on
+    the Python path's load)."""
+    forces, m = system.forces, system.layout.n_mech
+    y = np.zeros(2 * m + 2)
+
+    def load(psi):
+        y[forces.i_psi] = psi
+        system.set_state(y)
+        states = []
+        forces.evaluate(0.0, [float(v) for v in y[:m]] + [0.0, 0.0], [0.0] * (m + 2), states, python=True)
+        return min(s.vertical_force for s in states) - fraction * forces.tyres[0].static_load
+    lo, hi = 0.0, 0.2 if load(0.2) < 0.0 else -0.2
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if load(mid) > 0.0 else (lo, mid)
+    y[forces.i_psi] = hi
+    return y
+
+
+@pytest.mark.parametrize("names", ["", "all"])
+def test_a_lifted_wheel_runs_compiled(names):
+    """A wheel lifted off the road (zero load: no grip, a and sigma at 1 % of the load, which with hcl and rl
+    differ from the static wheel's): the compiled stage evaluates it and equals the Python path."""
+    effects = Effects.parse(names) if names else Effects()
+    system = MbsModel(effects=effects, fidelity=Fidelity.full()).system(TyrePressures.uniform(1.5 * BAR),
+                                                                         constant_speed(20.0))
     forces = system.forces
     m = system.layout.n_mech
-    y = np.zeros(2 * m + 2)
-    y[forces.i_psi] = 0.2               # rolled far enough to lift the right wheel
+    y = _rolled(system, -0.2)           # rolled far enough to lift the right wheel, the left within the table
     y[2 * m] = 0.01
+    y[2 * m + 1] = -0.02
     system.set_state(y)
     q, qd = [float(v) for v in y[:m]] + [0.0, 0.0], [float(v) for v in y[m:]]
     states = []
     python = forces.evaluate(0.0, q, qd, states, python=True)
     assert min(s.vertical_force for s in states) <= 0.0
+    assert max(s.vertical_force for s in states) < 3.0 * forces.tyres[0].static_load
+    compiled = forces.compiled(0.0, q, qd)
+    assert compiled is not None
+    np.testing.assert_allclose(compiled, python, rtol=1e-12, atol=1e-9)
+
+
+def test_a_load_below_the_table_is_evaluated_in_python():
+    """A wheel carrying 1 % of its static load, below the load table (2 %): the properties come from the reduced
+    model's formulas directly; the compiled stage declines and :meth:`evaluate` gives the Python path's forces."""
+    system = MbsModel(fidelity=Fidelity.full()).system(TyrePressures.uniform(1.5 * BAR), constant_speed(20.0))
+    forces = system.forces
+    m = system.layout.n_mech
+    y = _rolled(system, 0.01)
+    y[2 * m] = 0.01
+    system.set_state(y)
+    q, qd = [float(v) for v in y[:m]] + [0.0, 0.0], [float(v) for v in y[m:]]
+    states = []
+    python = forces.evaluate(0.0, q, qd, states, python=True)
+    assert 0.0 < min(s.vertical_force for s in states) < 0.02 * forces.tyres[0].static_load
     assert forces.compiled(0.0, q, qd) is None
     assert forces.evaluate(0.0, q, qd) == python
 

@@ -98,6 +98,38 @@ def test_twin_equals_exudyn_on_random_plausible_axles(number):
     assert _check(axle, switch, count=2, seed=number) == 2
 
 
+@pytest.mark.parametrize("names", ["", "all"])
+def test_twin_equals_exudyn_with_a_lifted_wheel(names):
+    """A wheel lifted off the road (no grip; with hcl and rl its contact and relaxation lengths are those at 1 % of
+    the load): the twin covers it (no difference fallback) and equals Exudyn.  The state: rolled until the right
+    wheel's load is -20 % of the static one, about 4 mm off the road, far beyond the differences' 1e-4 step."""
+    from reduced_model.model import Effects
+    system = MbsModel(effects=Effects.parse(names) if names else Effects(), fidelity=FULL).system(
+        TyrePressures.uniform(1.5 * BAR), speed_is_time)
+    forces, m = system.forces, system.layout.n_mech
+    exudyn, twin = MbsEvaluator(system), twin_of(system)
+    y = next(_states(system.layout, 1, 7))
+
+    def load(psi):
+        y[forces.i_psi] = psi
+        system.set_state(y)
+        states = []
+        forces.evaluate(0.0, [float(v) for v in y[:m]] + [0.0, 0.0], [0.0] * (m + 2), states, python=True)
+        return min(s.vertical_force for s in states) / forces.tyres[0].static_load + 0.2
+    lo, hi = 0.0, 0.2 if load(0.2) < 0.0 else -0.2
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if load(mid) > 0.0 else (lo, mid)
+    assert load(hi) <= 0.0          # leaves y rolled to hi
+    for speed in (5.0, 33.0):
+        f, J, Jv, ok = twin.rhs_and_jacobian(y, speed)
+        assert ok
+        fe = exudyn.rhs(y, speed)
+        assert np.max(np.abs(f - fe)) <= 1e-10 * np.max(np.abs(fe))
+        Je = exudyn.jacobian(y, speed)
+        assert np.max(np.abs(J - Je)) <= 5e-9 * np.max(np.abs(Je))
+
+
 def test_one_graph_serves_every_axle_and_pressure():
     """The graph takes the axle's numbers as an input: another pressure and a random plausible axle of the same
     fidelity evaluate the same graph with other numbers (and equal Exudyn, the tests above)."""
