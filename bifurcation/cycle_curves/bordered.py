@@ -130,10 +130,11 @@ def start_point(make_system, family, cycle: CyclePoint, settings: CycleSettings,
 
 
 def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
-                          settings: CycleSettings, continuation: ContinuationSettings, make_system):
+                          settings: CycleSettings, continuation: ContinuationSettings, make_system,
+                          accept_hook=None):
     """Follow the curve of ``point``'s kind through it with the bordered system ``make_system(cycle)`` (a
     :class:`FoldSystem` by default; its unknowns end with (p, q) at K + 1, K + 2 and possibly more after them),
-    from its start on an adequate mesh (:func:`start_point`)."""
+    from its start on an adequate mesh (:func:`start_point`); ``accept_hook(cycle)`` after each accepted point."""
     from bifurcation.cycle_curves.ends import locate_end
     from bifurcation.cycle_curves.result import CycleCurve
 
@@ -239,6 +240,8 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
             arclength.append(arclength[-1] + step)
             points.append(p_new)
             kappas.append(system.kappa(U))
+            if accept_hook is not None:
+                accept_hook(p_new)
             return None
 
         branch = continue_curve(system, U0, sign * t0, weights, continuation, accept=accept,

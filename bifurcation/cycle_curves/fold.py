@@ -253,7 +253,8 @@ class FoldSystem:
 
 
 def fold_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
-               settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
+               settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS,
+               accept_hook=None):
     """The curve of cycle folds through the located fold ``point`` of a branch in the primary parameter, both
     ways, within [p_min, p_max] x [lo, hi], by the minimally augmented system (module docstring).
 
@@ -266,14 +267,16 @@ def fold_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, 
     Returns a :class:`bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.CYCLE_FOLD:
         raise ValueError("fold_curve follows cycle folds")
+
     def make_system(cycle):
         return FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
-    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system,
+                                 accept_hook)
 
 
 def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                           settings: CycleSettings = CycleSettings(),
-                          continuation: ContinuationSettings = FOLD_SETTINGS):
+                          continuation: ContinuationSettings = FOLD_SETTINGS, accept_hook=None):
     """The curve of period-doubling points through the located ``point`` of a branch in the primary parameter,
     both ways, within [p_min, p_max] x [lo, hi], by the minimally augmented PD system (antiperiodic variational
     equation, see :class:`FoldSystem`).  Along the curve, fold-flip points (a further multiplier through +1, the curve touching
@@ -283,8 +286,10 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     :meth:`FoldSystem.events`.  Returns a :class:`bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.PERIOD_DOUBLING:
         raise ValueError("period_doubling_curve follows period-doubling points")
+
     def make_system(cycle):
         return FoldSystem(family, cycle, curve_q_scale(cycle), settings, kind=point.kind)
-    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system,
+                                 accept_hook)
 
 

@@ -260,12 +260,15 @@ class TorusSystem(FoldSystem):
 
 
 def torus_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
-                settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS):
+                settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS,
+               accept_hook=None):
     """The curve of torus points through the located torus ``point`` of a branch in the primary parameter, both
     ways, within [p_min, p_max] x [lo, hi], by the bordered NS system (module docstring).  Returns a
     :class:`bifurcation.cycle_curves.result.CycleCurve`."""
     if point.kind is not PointKind.TORUS:
         raise ValueError("torus_curve follows torus points")
+
     def make_system(cycle: CyclePoint):
         return TorusSystem(family, cycle, curve_q_scale(cycle), settings)
-    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system)
+    return follow_bordered_curve(family, point, lo, hi, p_min, p_max, settings, continuation, make_system,
+                                 accept_hook)

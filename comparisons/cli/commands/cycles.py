@@ -73,6 +73,19 @@ def cycle_ticker(bar):
     return tick
 
 
+def curve_ticker(bar, label: str, name: str):
+    """An ``accept_hook`` that shows a two-parameter curve's continuation: its label, points so far and where it
+    is (an MBS curve takes minutes; the bar alone counts curves)."""
+    count = [0]
+    unit, factor = interface_unit(name)
+
+    def tick(cycle) -> None:
+        count[0] += 1
+        bar.set_postfix_str(f"{label}: {count[0]} points, at {kmh(cycle.p):.3f} km/h, {name} = "
+                            f"{cycle.q * factor:.5g} {unit}")
+    return tick
+
+
 def add_parser(sub) -> None:
     p = sub.add_parser("cycles", help="limit cycles (shimmy amplitudes) born at the Hopf points, with their "
                                       "folds, torus and period-doubling points")
@@ -317,7 +330,8 @@ def run(args: argparse.Namespace) -> int:
                 try:
                     # the branch's settings: its tolerance is what the curve's points are checked against
                     curves.append((cycle_bifurcation_curve(family, p, lo, hi, vmin, vmax,
-                                                           options.get("settings", DEFAULT_SETTINGS)), ""))
+                                                           options.get("settings", DEFAULT_SETTINGS),
+                                                           accept_hook=curve_ticker(bar, text, name)), ""))
                 except ConvergenceError as exc:
                     curves.append((None, f"newton_failed: {interface_text(exc)}"))
                 labels.append(text)
