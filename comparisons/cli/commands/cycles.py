@@ -391,9 +391,10 @@ def run(args: argparse.Namespace) -> int:
                  for (c, error), label in zip(curves, labels) if c is None or not c.complete]
     missed = inaccurate(diagram)
     if missed:
-        sys.stderr.write(f"shimmy: warning: {len(missed)} cycles miss the error tolerance {args.tolerance:g} even "
-                         f"with {DEFAULT_SETTINGS.max_intervals} intervals (marked in the output), first at "
-                         f"{kmh(missed[0].p):.3f} km/h\n")
+        first = missed[0]
+        sys.stderr.write(f"shimmy: warning: {len(missed)} cycles miss the error tolerance {args.tolerance:g} "
+                         f"(marked in the output), first at {kmh(first.p):.3f} km/h on "
+                         f"{len(first.orbit.mesh) - 1} mesh intervals (at most {DEFAULT_SETTINGS.max_intervals})\n")
     if problems:
         sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
