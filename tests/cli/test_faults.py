@@ -216,7 +216,9 @@ def test_ctrl_c_while_the_model_packages_load(after):
     """A KeyboardInterrupt inside a C extension's import used to end the process by SIGINT (status -2)."""
     args = ["simulate", "--pressure", "1.5", "--set", "t0=0.25", "--speed", "180", "--duration", "1000"]
     got, err, seconds = interrupt(args, after, signal.SIGINT)
-    assert got == EXIT_INTERRUPTED and one_line(err) == "shimmy: interrupted" and seconds < 1.0
+    # the whole stderr in the message: a rare failure under load (exit 1 once in CI beside a full verify, 0 of 50
+    # runs on this machine with and without three busy loops) must say what it was
+    assert got == EXIT_INTERRUPTED and one_line(err) == "shimmy: interrupted" and seconds < 1.0, (got, err, seconds)
 
 
 @pytest.mark.slow
