@@ -311,10 +311,10 @@ def main(argv: list[str] | None = None) -> int:
                 pass
     signals = _Signals()
     signals.install()
-    os.environ["SHIMMY_RUN_ID"] = str(os.getpid())   # worker processes tag their temporary files with it
-    # Rerun's Rust side logs its own errors on stderr (read once, when it loads); faults are reported in one line.
-    os.environ.setdefault("RUST_LOG", "off")
-    try:
+    try:        # from the handlers on, every statement is inside: an interrupt anywhere ends in one line
+        os.environ["SHIMMY_RUN_ID"] = str(os.getpid())   # worker processes tag their temporary files with it
+        # Rerun's Rust side logs its own errors on stderr (read once, when it loads); faults are reported in one line.
+        os.environ.setdefault("RUST_LOG", "off")
         if sys.stdout is None:
             raise OutputFault("stdout is closed")
         import numpy as np
