@@ -124,9 +124,8 @@ class MbsEvaluator:
         twin = self.twin
         if twin is None:
             return None
-        y = np.asarray(y, dtype=float)
-        _, J, Jv, ok = twin.rhs_and_jacobian(y, speed, key)
-        if not ok or twin.below_table(y, speed, key):      # near a lift-off: differences (twin_batch)
+        J, Jv, ok, below = twin.jacobian_and_below(np.asarray(y, dtype=float), speed, key)
+        if not ok or below:      # near a lift-off: differences (twin_batch)
             return None
         self.twin_jacobians += 1
         return J, Jv

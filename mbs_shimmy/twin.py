@@ -256,7 +256,7 @@ class Twin:
     def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                                           np.ndarray]:
         """f (K, N), df/dy (K, N, N), df/dV (K, N), ok (K,) and below (K,) at the states Y (K, N); below: a
-        load-dependent wheel's load lies below the load table, lifted wheels included (:meth:`below_table`)."""
+        load-dependent wheel's load lies below the load table, lifted wheels included."""
         res, ok = self._batch("fJ", Y, speed)
         K, N = np.shape(Y)
         J = np.asarray(res[1]).reshape(N, K, N).transpose(1, 0, 2)
@@ -266,13 +266,11 @@ class Twin:
         """Per state (columns of the table positions x, (2, K)): a load-dependent wheel below the table's first
         interval (a lifted wheel's x is that of 1 N, far below it)."""
         x = np.asarray(x, dtype=float).reshape(2, -1)
-        return np.any([~(x[w] >= 1.0) for w in range(2) if self.load_dependent[w]], axis=0) if any(
-            self.load_dependent) else np.zeros(x.shape[1], dtype=bool)
-
-    def below_table(self, y, speed: float, key=0) -> bool:
-        """Whether a load-dependent wheel's load at (y, speed) lies below the load table (lifted included): near
-        a wheel's lift-off, where the forces have a kink at zero load."""
-        return bool(self._below(np.asarray(self._call("f", y, speed, key)[2]))[0])
+        below = np.zeros(x.shape[1], dtype=bool)
+        for w in range(2):
+            if self.load_dependent[w]:
+                below |= ~(x[w] >= 1.0)
+        return below
 
     def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:
         f, ok, _ = self._call("f", y, speed, key)
@@ -282,6 +280,13 @@ class Twin:
         """f, df/dy, df/dV and ok at (y, speed)."""
         f, J, Jv, ok, _ = self._call("fJ", y, speed, key)
         return np.asarray(f).ravel(), np.asarray(J), np.asarray(Jv).ravel(), bool(ok)
+
+    def jacobian_and_below(self, y, speed: float, key=0) -> tuple[np.ndarray, np.ndarray, bool, bool]:
+        """df/dy, df/dV, ok and below at (y, speed) from one evaluation; below: a load-dependent wheel's load lies
+        below the load table, lifted included (near a wheel's lift-off, where the forces have a kink at zero
+        load: :meth:`rhs_and_jacobians`)."""
+        _, J, Jv, ok, x = self._call("fJ", y, speed, key)
+        return np.asarray(J), np.asarray(Jv).ravel(), bool(ok), bool(self._below(np.asarray(x))[0])
 
     def second_derivative(self, y, speed: float, u, v, key=0) -> np.ndarray:
         """d/de (df/dy (y + e v)) u, exact (:attr:`second`); NaN where the load leaves the table."""

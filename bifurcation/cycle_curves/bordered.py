@@ -7,14 +7,15 @@ Anal. 41, 2003; Kuznetsov 2004, section 10.3).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import scipy.optimize
 import scipy.sparse
 import scipy.sparse.linalg
 
-import dataclasses
-
 from bifurcation.continuation import ContinuationSettings, Stop, continue_curve, correct, locate_on_step, tangent
+from bifurcation.cycles import mesh_adaptation
 from bifurcation.cycles.multipliers import (
     complex_outside,
     critical_multipliers,
@@ -25,12 +26,10 @@ from bifurcation.cycles.multipliers import (
     positive_outside,
     torus_test,
 )
-from bifurcation.cycles import mesh_adaptation
 from bifurcation.cycles.problem import (
     CyclePoint,
     CycleProblem,
     CycleSettings,
-    state_scales,
 )
 from bifurcation.messages import Message
 from bifurcation.problem import clip_window, describe
@@ -43,6 +42,7 @@ FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps
 
 # a start point's residual above which it is corrected first (below continue_curve's 1e-6 for "not a solution")
 START_RESIDUAL = 1e-8
+START_ROUNDS = 4            # re-meshings of a start point that misses the error tolerance
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
 
 
@@ -77,21 +77,16 @@ def curve_q_scale(cycle: CyclePoint) -> float:
     return 0.1 * max(abs(cycle.q), 1e-12)
 
 
-START_ROUNDS = 4            # re-meshings of a start point that misses the error tolerance
-
-
-def on_adapted_mesh(family, cycle: CyclePoint, settings: CycleSettings) -> CyclePoint:
-    """``cycle`` interpolated onto the mesh its error estimate asks for (:meth:`CycleProblem.needed_intervals`,
-    equidistributed): no longer a solution on that mesh, which :func:`start_point` then corrects."""
-    problem = CycleProblem(family, family.primary, cycle.p, cycle.q, cycle.orbit,
-                           state_scales(family, 2.0 * np.pi / cycle.period), family.primary_scale, settings)
+def on_adapted_mesh(problem: CycleProblem, cycle: CyclePoint) -> CyclePoint:
+    """``cycle`` interpolated onto the mesh its error estimate asks for (``problem``'s
+    :meth:`~CycleProblem.needed_intervals` and scales, equidistributed): no longer a solution on that mesh, which
+    :func:`start_point` then corrects."""
     N = max(problem.needed_intervals(cycle.orbit), cycle.orbit.intervals + 1)
     mesh = mesh_adaptation.adapted_mesh(cycle.orbit, problem.scales, intervals=N)
     return dataclasses.replace(cycle, orbit=mesh_adaptation.remesh(cycle.orbit, mesh))
 
 
-def start_point(make_system, family, cycle: CyclePoint, settings: CycleSettings,
-                continuation: ContinuationSettings):
+def start_point(make_system, cycle: CyclePoint, continuation: ContinuationSettings):
     """(system, U0): the bordered system (``make_system(cycle)``) and its solution at ``cycle``'s second
     parameter, on a mesh that meets the tolerance where Newton gets there.
 
@@ -121,7 +116,7 @@ def start_point(make_system, family, cycle: CyclePoint, settings: CycleSettings,
         cycle = candidate.point(U)
         if cycle.meets_tolerance:
             break
-        cycle = on_adapted_mesh(family, cycle, settings)
+        cycle = on_adapted_mesh(candidate.cp, cycle)
     if system is None:      # Newton failed at the point as located: the curve says so (continue_curve's start test)
         system = make_system(cycle)
         U0 = system.start(cycle)
@@ -141,7 +136,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     folds = point.kind is PointKind.CYCLE_FOLD
     ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
     p_min, p_max = clip_window(family, p_min, p_max)
-    system, U0 = start_point(make_system, family, point.data["cycle"], settings, continuation)
+    system, U0 = start_point(make_system, point.data["cycle"], continuation)
     ip, iq = system.K + 1, system.K + 2
     what = "Hopf-Hopf" if point.kind is PointKind.TORUS else "generalized Hopf"
     weights = system.weights()

@@ -261,7 +261,7 @@ class TorusSystem(FoldSystem):
 
 def torus_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                 settings: CycleSettings = CycleSettings(), continuation: ContinuationSettings = FOLD_SETTINGS,
-               accept_hook=None):
+                accept_hook=None):
     """The curve of torus points through the located torus ``point`` of a branch in the primary parameter, both
     ways, within [p_min, p_max] x [lo, hi], by the bordered NS system (module docstring).  Returns a
     :class:`bifurcation.cycle_curves.result.CycleCurve`."""
