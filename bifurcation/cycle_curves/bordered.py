@@ -161,7 +161,9 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
             crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
             if ends_at_zero and (crossed or a_new < END_AMPLITUDE):
                 s2 = -a_new ** 2 if crossed else a_new ** 2
-                lam = a_old ** 2 / (a_old ** 2 - s2) if a_old ** 2 != s2 else 1.0
+                # At most one more step: a curve that starts with its amplitude already below END_AMPLITUDE
+                # barely changes it, and the affine zero would lie far off (0.44 bar, from a 1.3 bar fold).
+                lam = min(a_old ** 2 / (a_old ** 2 - s2), 2.0) if a_old ** 2 != s2 else 1.0
                 guess = (U_old[ip] + lam * (p - U_old[ip]), U_old[iq] + lam * (q - U_old[iq]))
                 if not crossed:
                     points.append(system.point(U))
@@ -181,8 +183,11 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                             data={"cycle": where, "period": where.period, "multipliers": where.multipliers,
                                   "end_segment": True}))
                 if found is None:
-                    return Stop(BranchStatus.COMPLETE, Message.of("the amplitude vanishes near ", describe(family, *guess),
-                                                                 f" (extrapolated; no {what} point located there)"))
+                    # Said as the last step, not as the extrapolated zero: at zero amplitude the defining system is
+                    # solved all along the Hopf curve, so Newton may have slid far along it on this step.
+                    return Stop(BranchStatus.COMPLETE, Message.of(
+                        "the amplitude vanishes on the last step, from ", describe(family, U_old[ip], U_old[iq]),
+                        " to ", describe(family, p, q), f" (no {what} point located there)"))
                 return Stop(BranchStatus.COMPLETE,
                             Message.of(f"ends at the {what} point located at ", describe(family, found.p, found.q)))
             for index, bound, side in ((iq, lo, -1), (iq, hi, 1), (ip, p_min, -1), (ip, p_max, 1)):

@@ -6,6 +6,7 @@ the reduced model's fold.
 """
 
 import json
+import re
 import subprocess
 import sys
 
@@ -60,3 +61,24 @@ def test_full_geometry_shimmy_free_boundary_from_the_curves_command():
     family = MbsFamily(MbsModel(fidelity=Fidelity.full()), param="pressure", pressures=TyrePressures.uniform(1.5 * BAR))
     assert _unstable_somewhere(family, (boundary_bar - 0.01) * BAR)
     assert not _unstable_somewhere(family, (boundary_bar + 0.01) * BAR)
+
+
+def test_a_fold_curve_that_starts_at_vanishing_amplitude_names_its_last_step():
+    """The full geometry's 1.3 bar cycle fold sits 0.012 deg from its Hopf point: the fold curve through it ends
+    after one step each way.  Its ends are not located; each message names the last step, inside the curve's own
+    points (it once named an affine zero extrapolated to 1.74 bar, 0.44 bar from any point of the curve)."""
+    proc = subprocess.run([sys.executable, "-m", "comparisons.cli", "cycles", "--pressure", "1.3", "--model", "mbs",
+                           "--fidelity", "full", "--vmin", "20", "--vmax", "60", "--two-param", "pressure",
+                           "--range", "1.0", "1.6", "--json"], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    (curve,) = [c for c in json.loads(proc.stdout)["two_param"]["curves"] if c["kind"] == "cycle_fold"]
+    speeds, pressures = np.array(curve["points"]).T
+    for message, end in zip(curve["messages"], curve["end_points"]):
+        if end is not None:
+            continue
+        assert message.startswith("the amplitude vanishes on the last step"), message
+        named = re.findall(r"([0-9.]+) km/h, pressure = ([0-9.]+) bar", message)
+        assert len(named) == 2, message
+        for v, p in named:
+            assert speeds.min() - 1e-3 <= float(v) <= speeds.max() + 1e-3, message
+            assert pressures.min() - 1e-4 <= float(p) <= pressures.max() + 1e-4, message
