@@ -125,6 +125,9 @@ def test_cycles_two_parameter_curves(tmp_path, capsys):
     assert png.stat().st_size > 20_000
 
 
+# slow (21 s idle): the torus curves' located Hopf-Hopf ends run in CI through the toolkit
+# (tests/bifurcation/test_cycle_curve_ends.py), the command's curve output through test_cycles_two_parameter_curves
+@pytest.mark.slow
 def test_cycles_two_torus_curves_at_half_a_bar_with_figure18_effects(capsys):
     """Issue 17: at 0.5 bar with hcl,pt the yaw and the tramp branch each carry a torus point (the yaw branch's
     between its last computed cycle and its Hopf end); both torus curves run into the same Hopf-Hopf point."""

@@ -244,6 +244,9 @@ def test_the_plans_bistable_case_on_another_axle_is_named_by_what_differs():
     assert where.family.model.params.t0 == 0.25 and where.reduced_family.model.params.t0 == 0.25
 
 
+# slow (30 s idle): the same kick, bracketed by two runs, is checked in CI by
+# tests/studies/test_kick.py::test_kick_in_the_bistable_window_is_bracketed_by_two_runs
+@pytest.mark.slow
 def test_jumps_section_gives_the_reduced_models_kick(tmp_path):
     """verify's bistable jumps (full mode) carry the reduced model's kick, bracketed by two of its runs."""
     from axles.axle import AxleData
