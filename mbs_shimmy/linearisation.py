@@ -50,6 +50,7 @@ from mbs_shimmy.layout import Layout
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import MbsSystem
 from bifurcation.derivatives import PARAMETER_STEP, DifferenceDerivatives
+from bifurcation.equilibria.normal_form import RealForms
 from axles.braking import BRAKE_PARAMS, FREE_ROLLING, Braking
 from axles.pressures import PRESSURE_PARAMS, TyrePressures
 from reduced_model.family import ShimmyFamily
@@ -87,6 +88,9 @@ class MbsEvaluator:
         self.twin_calls = 0     # and by the twin
         self.twin_jacobians = 0          # Jacobians from the twin, and from differences (which derivatives a
         self.difference_jacobians = 0    # result used: MbsFamily.derivatives)
+        self.twin_forms = 0              # normal forms from the twin's exact derivatives, from differences, and
+        self.difference_forms = 0        # from differences where f is not twice differentiable at the equilibrium
+        self.kinked_forms = 0            # (MbsFamily.lyapunov_forms)
         self._twin = None
         self._twin_built = False
         self.m = system.layout.n_mech
@@ -214,6 +218,24 @@ class MbsEvaluator:
             d[j] = step
             J[:, j] = (self.rhs(y + d, speed) - self.rhs(y - d, speed)) / (2.0 * step)
         return f, J
+
+
+class TwinForms(RealForms):
+    """The multilinear forms B and C of the MBS at an equilibrium (extended state order) from the twin's exact
+    second and third derivatives (:meth:`mbs_shimmy.twin.Twin.second_derivative`, ``third_derivative``),
+    extended to complex arguments by multilinearity (:class:`~bifurcation.equilibria.normal_form.RealForms`)."""
+
+    def __init__(self, twin, x0: np.ndarray, speed: float, layout: Layout):
+        self.twin, self.x0, self.speed, self.L = twin, np.asarray(x0, dtype=float), float(speed), layout
+        self.y0 = self.x0[layout.x_to_y]
+
+    def real_bilinear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        L = self.L
+        return self.twin.second_derivative(self.y0, self.speed, a[L.x_to_y], b[L.x_to_y])[L.y_to_x]
+
+    def real_trilinear(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+        L = self.L
+        return self.twin.third_derivative(self.y0, self.speed, a[L.x_to_y], b[L.x_to_y], c[L.x_to_y])[L.y_to_x]
 
 
 @dataclass
@@ -350,6 +372,46 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         view = dataclasses.replace(self, exudyn_residuals=True)
         view._cache, view._affine = self._cache, self._affine
         return view
+
+    def multilinear_forms(self, x0: np.ndarray, p: float, q: float):
+        """B and C at the equilibrium x0 (speed p): exact from the twin (:class:`TwinForms`) where it covers the
+        system, x0's loads lie in the load table and f is twice differentiable at x0; else by differences of
+        Exudyn's right-hand side (the full geometry's camber force is not: MF 6.1's cornering stiffness has
+        |camber|, which is zero at straight running; exact derivatives there take one side of the kink, differences
+        average over their step, and neither is the l1 of a smooth normal form, docs/results.md)."""
+        ev = self._at(q)
+        twin = ev.twin
+        L = self.layout
+        y0 = np.asarray(x0, dtype=float)[L.x_to_y]
+        if twin is not None and twin.jacobian_and_below(y0, p)[2:] == (True, False):
+            if self._twice_differentiable(twin, y0, p):
+                ev.twin_forms += 1
+                return TwinForms(twin, x0, p, L)
+            ev.kinked_forms += 1
+        else:
+            ev.difference_forms += 1
+        return super().multilinear_forms(x0, p, q)
+
+    def _twice_differentiable(self, twin, y0: np.ndarray, speed: float) -> bool:
+        """Whether D^2 f is continuous at y0: across y0 along a fixed direction of every state, the jump of the
+        twin's D^2 f shrinks tenfold with a tenfold smaller offset where f is smooth (measured: 0.1000 without the
+        camber force) and stays where it has a kink (0.96 with it)."""
+        L = self.layout
+        z = (np.cos(1.7 * np.arange(self.n) + 0.3) * self.state_scales(1.0))[L.x_to_y]
+        jumps = [float(np.max(np.abs(twin.second_derivative(y0 + e * z, speed, z, z)
+                                     - twin.second_derivative(y0 - e * z, speed, z, z)))) for e in (1e-5, 1e-6)]
+        size = float(np.max(np.abs(twin.second_derivative(y0, speed, z, z))))
+        return jumps[1] <= 1e-9 * max(size, 1.0) or jumps[1] < 0.5 * jumps[0]
+
+    @property
+    def lyapunov_forms(self) -> str:
+        """Which multilinear forms the normal-form coefficients so far used: ``"twin"`` (exact), ``"differences"``
+        (of Exudyn's right-hand side; ``"differences, not twice differentiable"`` where f has a kink at the
+        equilibrium, :meth:`multilinear_forms`), several of them joined by ``" and "``, or ``"none"``."""
+        used = [("twin", sum(ev.twin_forms for ev in self._cache.values())),
+                ("differences", sum(ev.difference_forms for ev in self._cache.values())),
+                ("differences, not twice differentiable", sum(ev.kinked_forms for ev in self._cache.values()))]
+        return " and ".join(name for name, count in used if count) or "none"
 
     @property
     def derivatives(self) -> str:

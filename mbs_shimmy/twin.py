@@ -110,6 +110,8 @@ class TwinGraph:
             # graph per parameter value
             ca.Function("f_numbers", inputs + [dP], [f, ca.jtimes(f, P, dP), ok, xs], cse))}
         self.functions = self.vm
+        # the third derivative is built at its first use: only normal forms ask for it, and its graph costs
+        self._third_parts = (f, y, u, v, inputs)
         self._compile_tried = False
         self._compile(cached_only=True)
         self.evaluated = 0          # states evaluated in the virtual machine (twin_library.COMPILE_AFTER)
@@ -121,7 +123,13 @@ class TwinGraph:
 
     def function(self, name: str, states: int = 1):
         """The function ``name``, compiled once the structure has evaluated enough states (:mod:`twin_library`)."""
-        if not self.is_compiled and name != "second":
+        if name == "third" and name not in self.vm:
+            f, y, u, v, inputs = self._third_parts
+            w = ca.SX.sym("w", y.numel())
+            third = ca.jtimes(ca.jtimes(ca.jtimes(f, y, u), y, v), y, w)
+            self.vm["third"] = ca.Function("third", inputs + [u, v, w], [third], {"cse": True})
+            self.functions.setdefault("third", self.vm["third"])
+        if not self.is_compiled and name not in ("second", "third"):
             self.evaluated += states
             if self.evaluated > twin_library.COMPILE_AFTER and not self._compile_tried:
                 self._compile_tried = True
@@ -129,8 +137,10 @@ class TwinGraph:
         return self.functions[name]
 
     def _compile(self, cached_only: bool) -> None:
-        """Switch to the compiled functions (all but ``second``, which the continuation does not evaluate)."""
-        built = twin_library.compiled([fn for name, fn in self.vm.items() if name != "second"], cached_only)
+        """Switch to the compiled functions (all but ``second`` and ``third``, which the continuation does not
+        evaluate)."""
+        built = twin_library.compiled([fn for name, fn in self.vm.items() if name not in ("second", "third")],
+                                      cached_only)
         if built is not None:
             self.functions, self._maps = {**self.vm, **built}, {}
 
@@ -293,6 +303,13 @@ class Twin:
         if not self.rhs(y, speed, key)[1]:
             return np.full(len(y), np.nan)
         return np.asarray(self.graph.function("second")(y, speed, self.numbers, *self._args(self._k[key]), u, v)).ravel()
+
+    def third_derivative(self, y, speed: float, u, v, w, key=0) -> np.ndarray:
+        """D^3 f(y)[u, v, w], exact (built at its first use); NaN where the load leaves the table."""
+        if not self.rhs(y, speed, key)[1]:
+            return np.full(len(y), np.nan)
+        fn = self.graph.function("third")
+        return np.asarray(fn(y, speed, self.numbers, *self._args(self._k[key]), u, v, w)).ravel()
 
     def numbers_derivatives(self, Y, speed: float, dP) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """f (K, N), df/dP dP (K, N) and ok (K,) at the states Y (K, N): the right-hand side's change along a

@@ -80,10 +80,43 @@ SECOND = {-2: -1 / 12, -1: 16 / 12, 0: -30 / 12, 1: 16 / 12, 2: -1 / 12}
 THIRD = {-3: 1 / 8, -2: -1.0, -1: 13 / 8, 1: -13 / 8, 2: 1.0, 3: -1 / 8}
 
 
-class DifferenceForms:
+class RealForms:
+    """Multilinear forms of complex arguments from real ones, by multilinearity: B(u, v) is the sum over the real
+    and imaginary parts of u and v, C(u, v, w) likewise (MatCont's numerical multilinear forms: Dhooge, Govaerts,
+    Kuznetsov, Meijer & Sautois, Math. Comput. Model. Dyn. Syst. 14, 2008).  A subclass gives the real forms
+    :meth:`real_bilinear` and :meth:`real_trilinear` at its equilibrium ``x0``."""
+
+    x0: np.ndarray
+
+    def real_bilinear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def real_trilinear(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def _complex(self, real_form, *args: np.ndarray) -> np.ndarray:
+        """A multilinear form of complex arguments as the sum over their real and imaginary parts."""
+        parts = [(np.asarray(a).real, np.asarray(a).imag) for a in args]
+        total = np.zeros(len(self.x0), dtype=complex)
+        for choice in itertools.product((0, 1), repeat=len(args)):
+            vectors = [parts[k][c] for k, c in enumerate(choice)]
+            if any(not np.any(v) for v in vectors):
+                continue
+            total = total + (1j ** sum(choice)) * real_form(*vectors)
+        return total
+
+    def bilinear(self, pairs):
+        return [self._complex(self.real_bilinear, u, v) for u, v in pairs]
+
+    def hopf_terms(self, q):
+        qb = q.conj()
+        return (self._complex(self.real_bilinear, q, qb), self._complex(self.real_bilinear, q, q),
+                self._complex(self.real_trilinear, q, q, qb))
+
+
+class DifferenceForms(RealForms):
     """The forms of a vector field known at real states only, ``f(x (n,)) -> (n,)``, by finite differences along
-    real directions, extended to complex arguments by multilinearity (MatCont's numerical multilinear forms:
-    Dhooge, Govaerts, Kuznetsov, Meijer & Sautois, Math. Comput. Model. Dyn. Syst. 14, 2008).
+    real directions, extended to complex arguments by multilinearity (:class:`RealForms`).
 
     A direction w is stepped so that its largest component, measured in ``scales`` (the problem's typical state
     sizes), moves ``relative_step`` of its scale: small enough that the truncation error (h / radius of
@@ -101,31 +134,12 @@ class DifferenceForms:
         total = sum(c * np.asarray(self.f(self.x0 + k * h * w), dtype=float) for k, c in stencil.items())
         return total / h ** order
 
-    def _real_bilinear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    def real_bilinear(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return 0.25 * (self._along(a + b, SECOND, 2) - self._along(a - b, SECOND, 2))
 
-    def _real_trilinear(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    def real_trilinear(self, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
         T = lambda w: self._along(w, THIRD, 3)      # noqa: E731
         return (T(a + b + c) - T(a + b - c) - T(a - b + c) + T(a - b - c)) / 24.0
-
-    def _complex(self, real_form, *args: np.ndarray) -> np.ndarray:
-        """A multilinear form of complex arguments as the sum over their real and imaginary parts."""
-        parts = [(np.asarray(a).real, np.asarray(a).imag) for a in args]
-        total = np.zeros(len(self.x0), dtype=complex)
-        for choice in itertools.product((0, 1), repeat=len(args)):
-            vectors = [parts[k][c] for k, c in enumerate(choice)]
-            if any(not np.any(v) for v in vectors):
-                continue
-            total = total + (1j ** sum(choice)) * real_form(*vectors)
-        return total
-
-    def bilinear(self, pairs):
-        return [self._complex(self._real_bilinear, u, v) for u, v in pairs]
-
-    def hopf_terms(self, q):
-        qb = q.conj()
-        return (self._complex(self._real_bilinear, q, qb), self._complex(self._real_bilinear, q, q),
-                self._complex(self._real_trilinear, q, q, qb))
 
 
 def first_lyapunov_coefficient(forms: MultilinearForms, A: np.ndarray, omega: float, q: np.ndarray) -> float:

@@ -15,10 +15,6 @@ switches are therefore checked with ``constant_load`` on (Jacobian to 1e-10) and
 
 from __future__ import annotations
 
-import importlib.util
-import pathlib
-import sys
-
 import numpy as np
 import pytest
 
@@ -30,17 +26,8 @@ from mbs_shimmy.linearisation import MbsEvaluator, speed_is_time
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.twin import twin_of
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
 FULL = Fidelity.full()
 SWITCHES = (FULL,) + tuple(Fidelity(frozenset({a})) for a in ELEMENT_ASSUMPTIONS)
-
-
-def _campaign():
-    spec = importlib.util.spec_from_file_location("tools_verify_campaign", ROOT / "tools" / "verify_campaign.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
 
 
 def _states(layout, count, seed, amplitude=0.004):
@@ -91,8 +78,8 @@ def test_twin_equals_exudyn_with_the_load_table():
 
 
 @pytest.mark.parametrize("number", (1, 2))
-def test_twin_equals_exudyn_on_random_plausible_axles(number):
-    axle = _campaign().draw_axle(np.random.default_rng((30, number)), f"TWIN-{number}", t0=True)
+def test_twin_equals_exudyn_on_random_plausible_axles(number, campaign_tool):
+    axle = campaign_tool.draw_axle(np.random.default_rng((30, number)), f"TWIN-{number}", t0=True)
     assert _check(axle, FULL, count=2, seed=number, jacobian_tol=5e-9) == 2
     switch = Fidelity(SWITCHES[1 + 3 * number].assumed | {Assumption.CONSTANT_LOAD})
     assert _check(axle, switch, count=2, seed=number) == 2
@@ -130,10 +117,10 @@ def test_twin_equals_exudyn_with_a_lifted_wheel(names):
         assert np.max(np.abs(J - Je)) <= 5e-9 * np.max(np.abs(Je))
 
 
-def test_one_graph_serves_every_axle_and_pressure():
+def test_one_graph_serves_every_axle_and_pressure(campaign_tool):
     """The graph takes the axle's numbers as an input: another pressure and a random plausible axle of the same
     fidelity evaluate the same graph with other numbers (and equal Exudyn, the tests above)."""
-    axle = _campaign().draw_axle(np.random.default_rng((30, 1)), "TWIN-1", t0=True)
+    axle = campaign_tool.draw_axle(np.random.default_rng((30, 1)), "TWIN-1", t0=True)
     twins = [twin_of(MbsModel(params=a.params, fidelity=FULL, dims=a.dims).system(TyrePressures.uniform(p * BAR),
                                                                                   speed_is_time))
              for a, p in ((paper_axle(), 1.5), (paper_axle(), 2.5), (axle, 1.5))]

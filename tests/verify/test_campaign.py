@@ -3,27 +3,13 @@ exit code must be 0 wherever the two equal models agree: CI runs one seeded axle
 bistable windows, torus points and narrow stable windows appear), the slow suite two more and 40 more (20 of them
 with t0 drawn)."""
 
-import importlib.util
-import pathlib
-import sys
-
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-
-def campaign():
-    spec = importlib.util.spec_from_file_location("tools_verify_campaign", ROOT / "tools" / "verify_campaign.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module          # its dataclasses look their module up by name
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_the_draws_stay_in_their_ranges_and_repeat_with_the_seed():
+def test_the_draws_stay_in_their_ranges_and_repeat_with_the_seed(campaign_tool):
     from axles.axle import entries, paper_axle
-    tool = campaign()
+    tool = campaign_tool
     paper = paper_axle()
     a = tool.draw_axle(np.random.default_rng(7), "A", t0=True)
     b = tool.draw_axle(np.random.default_rng(7), "A", t0=True)
@@ -49,27 +35,27 @@ def test_the_draws_stay_in_their_ranges_and_repeat_with_the_seed():
     tool.exists(tool.campaign_axle(31, 1, True))
 
 
-def test_a_seeded_axle_verifies_without_a_false_fail(tmp_path):
+def test_a_seeded_axle_verifies_without_a_false_fail(tmp_path, campaign_tool):
     """Axle 3 of campaign 29 (t0 0.136 m: bistable windows, torus points and narrow stable windows), the cheapest
     of its eight, 2-3 minutes under a load of 8 on 2 cores (`tools/verify_campaign.py --axles 8 --t0-axles 4 --seed
     29`; the paper's own bistable window runs in tests/verify/test_verify.py).  Axles 2 (t0 0.196 m) and 7 (the
     paper's t0) run in the slow suite below, to keep CI within its 10 minutes."""
-    tool = campaign()
+    tool = campaign_tool
     outcomes = tool.run_campaign(8, 4, seed=29, out=str(tmp_path), say=lambda line: None, numbers=(3,))
     assert [o.name for o in outcomes] == ["CAMPAIGN-29-03"]
     assert all(o.exit_code == 0 and not o.fails for o in outcomes), "\n" + tool.table(outcomes)
 
 
 @pytest.mark.slow
-def test_two_more_seeded_axles_verify_without_a_false_fail(tmp_path):
-    tool = campaign()
+def test_two_more_seeded_axles_verify_without_a_false_fail(tmp_path, campaign_tool):
+    tool = campaign_tool
     outcomes = tool.run_campaign(8, 4, seed=29, out=str(tmp_path), say=lambda line: None, numbers=(2, 7))
     assert [o.name for o in outcomes] == ["CAMPAIGN-29-02", "CAMPAIGN-29-07"]
     assert all(o.exit_code == 0 and not o.fails for o in outcomes), "\n" + tool.table(outcomes)
 
 
 @pytest.mark.slow
-def test_forty_axles_verify_without_a_false_fail(tmp_path):
-    tool = campaign()
+def test_forty_axles_verify_without_a_false_fail(tmp_path, campaign_tool):
+    tool = campaign_tool
     outcomes = tool.run_campaign(40, 20, seed=2029, out=str(tmp_path), jobs=2, say=lambda line: None)
     assert all(o.exit_code == 0 and not o.fails for o in outcomes), "\n" + tool.table(outcomes)

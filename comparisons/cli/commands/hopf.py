@@ -53,7 +53,7 @@ def steady_state(family) -> dict:
 def run(args: argparse.Namespace) -> int:
     family = build_model_family(args)
     mbs = args.model == "mbs"
-    # Both models carry the first Lyapunov coefficient: the MBS's from multilinear forms by finite differences.
+    # Both models carry the first Lyapunov coefficient: the MBS's from the twin's exact forms or by differences.
     points = hopf_points(family, vmax_kmh=args.vmax).points
     effects = list(family.problem.model.effects.names)
     steady = steady_state(family.problem) if args.braking.active else {}
@@ -64,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
         if mbs:
             # the Jacobians (and so the Hopf conditions) from the compiled twin or from differences of Exudyn's rhs
             out["model"], out["fidelity"] = "mbs", family.problem.model.fidelity.label
-            out["derivatives"] = {"jacobian": family.problem.derivatives, "lyapunov_forms": "differences"}
+            out["derivatives"] = {"jacobian": family.problem.derivatives,
+                                  "lyapunov_forms": family.problem.lyapunov_forms}
         emit_json(out)
         return 0
     what = f"MBS, fidelity {family.problem.model.fidelity.label}" if mbs else "reduced model"
@@ -81,4 +82,7 @@ def run(args: argparse.Namespace) -> int:
     for i, h in enumerate(points, 1):
         l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
         print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
+    if mbs and points and "not twice differentiable" in family.problem.lyapunov_forms:
+        print("  l1 by differences, and not well posed: the right-hand side is not twice differentiable at straight "
+              "running (MF 6.1's cornering stiffness has |camber|); the cycle branch tells the onset's kind")
     return 0
