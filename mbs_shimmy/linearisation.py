@@ -380,23 +380,27 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         |camber|, which is zero at straight running; exact derivatives there take one side of the kink, differences
         average over their step, and neither is the l1 of a smooth normal form, docs/results.md)."""
         ev = self._at(q)
-        twin = ev.twin
         L = self.layout
-        y0 = np.asarray(x0, dtype=float)[L.x_to_y]
-        if twin is not None and twin.jacobian_and_below(y0, p)[2:] == (True, False):
-            if self._twice_differentiable(twin, y0, p):
-                ev.twin_forms += 1
-                return TwinForms(twin, x0, p, L)
-            ev.kinked_forms += 1
-        else:
+        smooth = self.twice_differentiable(x0, p, q)
+        if smooth:
+            ev.twin_forms += 1
+            return TwinForms(ev.twin, x0, p, L)
+        if smooth is None:
             ev.difference_forms += 1
+        else:
+            ev.kinked_forms += 1
         return super().multilinear_forms(x0, p, q)
 
-    def _twice_differentiable(self, twin, y0: np.ndarray, speed: float) -> bool:
-        """Whether D^2 f is continuous at y0: across y0 along a fixed direction of every state, the jump of the
-        twin's D^2 f shrinks tenfold with a tenfold smaller offset where f is smooth (measured: 0.1000 without the
-        camber force) and stays where it has a kink (0.96 with it)."""
+    def twice_differentiable(self, x0: np.ndarray, speed: float, q: float) -> bool | None:
+        """Whether f is twice differentiable at x0 (extended order), None where the twin cannot tell (no twin, or a
+        load outside its table).  Across x0 along a fixed direction of every state, the jump of the twin's D^2 f
+        shrinks tenfold with a tenfold smaller offset where f is smooth (measured: 0.1000 without the camber force)
+        and stays where it has a kink (0.96 with it)."""
+        twin = self._at(q).twin
         L = self.layout
+        y0 = np.asarray(x0, dtype=float)[L.x_to_y]
+        if twin is None or twin.jacobian_and_below(y0, speed)[2:] != (True, False):
+            return None
         z = (np.cos(1.7 * np.arange(self.n) + 0.3) * self.state_scales(1.0))[L.x_to_y]
         jumps = [float(np.max(np.abs(twin.second_derivative(y0 + e * z, speed, z, z)
                                      - twin.second_derivative(y0 - e * z, speed, z, z)))) for e in (1e-5, 1e-6)]

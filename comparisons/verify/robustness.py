@@ -73,6 +73,9 @@ class PressureStudy:
     table: pa.Table
     file: str
     reduced_onset_l1: float | None = None   # l1 of the reduced model's lowest Hopf point (None: no Hopf point)
+    # whether the axle's full geometry is twice differentiable at straight running (its l1 well posed); None: not
+    # known (mbs_shimmy.linearisation.MbsFamily.twice_differentiable)
+    full_smooth: bool | None = None
 
     @property
     def label(self) -> str:
@@ -172,6 +175,15 @@ def reduced_onset_l1(axle: AxleData, right: float, left: float) -> float | None:
     return points[0].first_lyapunov if points else None
 
 
+def full_geometry_smooth(axle: AxleData, right: float, left: float) -> bool | None:
+    """Whether the axle's full geometry is twice differentiable at straight running (at 40 km/h), so that the l1
+    the onsets are counted by is that of a smooth normal form."""
+    from axles.units import BAR, KMH
+    from comparisons.api import Axle
+    family = Axle(axle).mbs("full").problem(TyrePressures(right * BAR, left * BAR))
+    return family.twice_differentiable(np.zeros(family.n), 40.0 * KMH, family.nominal)
+
+
 def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
                    pressures: tuple[tuple[float, float], ...] | None = None, seed: int = SEED,
                    margin_speeds: int = MARGIN_SPEEDS_FULL,
@@ -195,7 +207,8 @@ def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
                 shutil.rmtree(path + ".parts")
             run = run_sweep(task, design, path, cluster=cluster)
             studies.append(PressureStudy(right, left, design, run.table, os.path.basename(path),
-                                         reduced_onset_l1(axle, right, left)))
+                                         reduced_onset_l1(axle, right, left),
+                                         full_geometry_smooth(axle, right, left)))
     return studies
 
 
@@ -261,6 +274,11 @@ def onset_row(s: PressureStudy) -> Row:
     with_hopf = counts["soft"] + counts["hard"]
     note = (f"of the {with_hopf} axles whose straight running loses stability: {_pct(counts['soft'] / with_hopf)} "
             f"soft, {_pct(counts['hard'] / with_hopf)} hard" if with_hopf else "")
+    if s.full_smooth is False:
+        note += ("; " if note else "") + (
+            "not well posed: the full geometry is not twice differentiable at straight running (MF 6.1's cornering "
+            "stiffness has |camber|), so its l1, by differences across the kink, is an averaged sign, not a "
+            "criticality (docs/results.md)")
     # the counts as numbers too (verify --json); reduced_* are the reduced model's, the same in every axle
     return Row({"case": s.label, "quantity": "onset of shimmy, full geometry: soft (supercritical) or hard "
                                              "(subcritical)", "reduced_value": reduced, "plausible_axles": text,
