@@ -59,6 +59,11 @@ from axles.parameters import ParameterError
 FD_STEP = 1e-4
 V_REF = 100.0          # m/s: second speed of the affine form
 V_LOW = 1.0            # m/s: first speed of the affine form under braking (above the kink at V = 0)
+KINKED_FORMS = "differences, not twice differentiable"     # MbsFamily.lyapunov_forms where f has a kink
+# what every output says where the full geometry's l1 rests on KINKED_FORMS (docs/results.md)
+L1_NOT_WELL_POSED = ("l1 not well posed: the right-hand side is not twice differentiable at straight running (MF 6.1's "
+                     "cornering stiffness has |camber|), so l1 by differences is an average across the kink and its "
+                     "sign is no criticality; the cycle branch tells the onset's kind")
 V_CHECK = 37.0         # m/s: speed where the affine form is checked against a direct Jacobian
 AFFINE_TOL = 1e-8      # relative to max |A|
 EQUILIBRIUM_TOL = 1e-9   # |y'| at straight running (rad/s, rad/s^2) above which it is not an equilibrium
@@ -410,11 +415,11 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     @property
     def lyapunov_forms(self) -> str:
         """Which multilinear forms the normal-form coefficients so far used: ``"twin"`` (exact), ``"differences"``
-        (of Exudyn's right-hand side; ``"differences, not twice differentiable"`` where f has a kink at the
+        (of Exudyn's right-hand side; :data:`KINKED_FORMS` where f has a kink at the
         equilibrium, :meth:`multilinear_forms`), several of them joined by ``" and "``, or ``"none"``."""
         used = [("twin", sum(ev.twin_forms for ev in self._cache.values())),
                 ("differences", sum(ev.difference_forms for ev in self._cache.values())),
-                ("differences, not twice differentiable", sum(ev.kinked_forms for ev in self._cache.values()))]
+                (KINKED_FORMS, sum(ev.kinked_forms for ev in self._cache.values()))]
         return " and ".join(name for name, count in used if count) or "none"
 
     @property

@@ -40,6 +40,8 @@ from mbs_shimmy.twin_equations import NotCovered, TwinData, applied_forces, kine
 from mbs_shimmy.tyre_element import lagrange_weights
 
 OPS = (ca.sin, ca.cos, ca.atan, ca.sqrt, ca.asin, ca.if_else)
+# evaluated in CasADi's virtual machine, never compiled: only normal forms ask for them, once per point
+VM_ONLY = ("second", "third")
 
 
 class _WheelInput:
@@ -129,7 +131,7 @@ class TwinGraph:
             third = ca.jtimes(ca.jtimes(ca.jtimes(f, y, u), y, v), y, w)
             self.vm["third"] = ca.Function("third", inputs + [u, v, w], [third], {"cse": True})
             self.functions.setdefault("third", self.vm["third"])
-        if not self.is_compiled and name not in ("second", "third"):
+        if not self.is_compiled and name not in VM_ONLY:
             self.evaluated += states
             if self.evaluated > twin_library.COMPILE_AFTER and not self._compile_tried:
                 self._compile_tried = True
@@ -139,8 +141,7 @@ class TwinGraph:
     def _compile(self, cached_only: bool) -> None:
         """Switch to the compiled functions (all but ``second`` and ``third``, which the continuation does not
         evaluate)."""
-        built = twin_library.compiled([fn for name, fn in self.vm.items() if name not in ("second", "third")],
-                                      cached_only)
+        built = twin_library.compiled([fn for name, fn in self.vm.items() if name not in VM_ONLY], cached_only)
         if built is not None:
             self.functions, self._maps = {**self.vm, **built}, {}
 

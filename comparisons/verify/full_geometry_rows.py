@@ -103,6 +103,7 @@ def hopf_rows(family, case, points, duration: float) -> list[Row]:
     """Each Hopf point with l1, and the two simulations that bracket it: along the mode that crosses there, one
     decays and the other grows, each at the real part of that mode's eigenvalue."""
     from comparisons.studies.growth import RATE_TOL, envelope_rate
+    from mbs_shimmy.linearisation import L1_NOT_WELL_POSED
     rows = []
     smooth = getattr(family, "twice_differentiable", None)
     kinked = bool(points) and smooth is not None and smooth(np.zeros(family.n), points[0].p, points[0].q) is False
@@ -111,9 +112,7 @@ def hopf_rows(family, case, points, duration: float) -> list[Row]:
                          "criticality": h.criticality.value if h.criticality else None,
                          "first_lyapunov": _finite(h.first_lyapunov), "continuation_hz": h.frequency_hz},
                         CheckStatus.INFO, f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"
-                        + ("; its l1 is by differences across a kink at straight running (MF 6.1's cornering "
-                           "stiffness has |camber|): not well posed, its sign is no criticality; the cycle branch "
-                           "tells the onset's kind" if kinked else "")))
+                        + (f"; {L1_NOT_WELL_POSED}" if kinked else "")))
         sides = [envelope_rate(family, max(from_kmh(1.0), h.p + s * off), duration, near=1j * h.omega)
                  for s in (-1.0, 1.0)]
         apart = sides[0].rate * sides[1].rate < 0.0

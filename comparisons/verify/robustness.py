@@ -275,10 +275,8 @@ def onset_row(s: PressureStudy) -> Row:
     note = (f"of the {with_hopf} axles whose straight running loses stability: {_pct(counts['soft'] / with_hopf)} "
             f"soft, {_pct(counts['hard'] / with_hopf)} hard" if with_hopf else "")
     if s.full_smooth is False:
-        note += ("; " if note else "") + (
-            "not well posed: the full geometry is not twice differentiable at straight running (MF 6.1's cornering "
-            "stiffness has |camber|), so its l1, by differences across the kink, is an averaged sign, not a "
-            "criticality (docs/results.md)")
+        from mbs_shimmy.linearisation import L1_NOT_WELL_POSED
+        note += ("; " if note else "") + L1_NOT_WELL_POSED
     # the counts as numbers too (verify --json); reduced_* are the reduced model's, the same in every axle
     return Row({"case": s.label, "quantity": "onset of shimmy, full geometry: soft (supercritical) or hard "
                                              "(subcritical)", "reduced_value": reduced, "plausible_axles": text,

@@ -82,7 +82,8 @@ def run(args: argparse.Namespace) -> int:
     for i, h in enumerate(points, 1):
         l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
         print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
-    if mbs and points and "not twice differentiable" in family.problem.lyapunov_forms:
-        print("  l1 by differences, and not well posed: the right-hand side is not twice differentiable at straight "
-              "running (MF 6.1's cornering stiffness has |camber|); the cycle branch tells the onset's kind")
+    if mbs and points:
+        from mbs_shimmy.linearisation import KINKED_FORMS, L1_NOT_WELL_POSED
+        if KINKED_FORMS in family.problem.lyapunov_forms:
+            print(f"  {L1_NOT_WELL_POSED}")
     return 0
