@@ -254,10 +254,15 @@ def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
     assert "paper" not in [s["key"] for s in summary["sections"]]    # printed numbers only for the paper's axle
     jumps = section(axle_report, "jumps")["rows"]
     ramps = [r for r in jumps if r["run"].startswith("ramp")]
-    assert len(ramps) == 2 and all(r["status"] == "pass" for r in ramps)
+    # ramps are information since issue 29 (a jump speed under a ramp is not well posed); they still run both models
+    assert len(ramps) == 2 and all(r["status"] == "info" and "not well posed" in r["note"] for r in ramps)
     assert all(r["reduced_kmh"] is not None and r["mbs_reduced_kmh"] is not None for r in ramps)
+    # what each model does from two starts is information (issue 29); that both models end alike is the check
     starts = [r for r in jumps if "two starts" in r["run"]]
-    assert len(starts) == 2 and all(r["status"] == "pass" for r in starts)
+    assert len(starts) == 2 and all(r["status"] == "info" and "two different stable cycles" in r["note"]
+                                    for r in starts)
+    compared = [r for r in jumps if "start on cycle" in r["run"]] + [r for r in jumps if " end " in r["run"]]
+    assert len(compared) == 4 and all(r["status"] == "pass" for r in compared)
     assert not list(out.glob("*.rrd"))          # --no-recordings
     text = (out / "report.md").read_text()
     assert "Axle: axle paper, t0 = 0.25 m" in text and "sha256" in text
