@@ -35,6 +35,7 @@ class ContinuationSettings:
     newton_max_iter: int = 8
     max_turn: float = 0.35     # radians between successive tangents
     chord_max_iter: int = 12   # chord iterations (see :func:`correct`) before falling back to Newton
+    grow_iter: int = 3         # Newton iterations up to which the next step grows (by 1.5)
 
 
 def _solve_bordered(J, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -262,7 +263,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                 branch.points[-1] = renormalized
                 branch.jacobian = residual(renormalized)[1]
                 branch.tangents[-1] = tangent(branch.jacobian, w, previous)
-        ds_next = ds * (1.5 if iters <= 3 else 1.0 if iters <= 5 else 0.6)
+        ds_next = ds * (1.5 if iters <= settings.grow_iter else 1.0 if iters <= max(5, settings.grow_iter) else 0.6)
         if step_bound is not None and ratio > 0.0:
             ds_next = min(ds_next, 0.95 * ds / ratio)
         ds = min(ds_next, settings.ds_max)

@@ -142,8 +142,9 @@ class MbsEvaluator:
     def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False) -> tuple | None:
         """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
         with Exudyn's right-hand side and its differences in the rows where the twin has none (a positive load
-        below the load table, 0 < F_z < 2 % of the static load, or above it), and the twin's differences where a
-        wheel is lifted (below); None where there is no twin."""
+        outside the load table: below 0.01 % of the static load, or above 3 times it), and the twin's differences
+        where a wheel's load is below :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load,
+        lifted wheels included (below); None where there is no twin."""
         twin = self.twin
         if twin is None:
             return None

@@ -26,18 +26,20 @@ The guess is the last k at the same node of the caller (``key``): in a continuat
 
 Coverage: the exact kinematics at a steady speed (every fidelity with ``small_angles`` off).  The first-order
 kinematics (``small_angles``) run a Python user function with Exudyn's coordinate connectors and keep difference
-derivatives (:func:`twin_of` returns None); at a state whose positive load leaves the load table (below 2 % or
-above 3 times the static load) the twin says so (``ok`` False) and its caller uses differences there.
+derivatives (:func:`twin_of` returns None); at a state whose positive load leaves the load table (below 0.01 %
+or above 3 times the static load) the twin says so (``ok`` False) and its caller uses differences there.
 """
 
 from __future__ import annotations
+
+import math
 
 import casadi as ca
 import numpy as np
 
 from mbs_shimmy import compiled_stage, twin_library
 from mbs_shimmy.twin_equations import NotCovered, TwinData, applied_forces, kinetic_energy
-from mbs_shimmy.tyre_element import lagrange_weights
+from mbs_shimmy.tyre_element import LoadTable, lagrange_weights
 
 OPS = (ca.sin, ca.cos, ca.atan, ca.sqrt, ca.asin, ca.if_else)
 # evaluated in CasADi's virtual machine, never compiled: only normal forms ask for them, once per point
@@ -200,6 +202,9 @@ class Twin:
         c = data.constants
         self.tables = np.asarray(data.tables)
         self.table_sizes = [int(c[w + compiled_stage.TABLE + 3]) for w in compiled_stage.WHEELS]
+        # the table position of KINK_BAND times the static load, per wheel (the table starts at RANGE[0] of it)
+        self.kink_x = [math.log(LoadTable.KINK_BAND / LoadTable.RANGE[0]) / c[w + compiled_stage.TABLE + 2]
+                       for w in compiled_stage.WHEELS]
         self.load_dependent = self.graph.load_dependent
         self._k = {}
 
@@ -274,13 +279,14 @@ class Twin:
         return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok, self._below(np.asarray(res[-1]))
 
     def _below(self, x: np.ndarray) -> np.ndarray:
-        """Per state (columns of the table positions x, (2, K)): a load-dependent wheel below the table's first
-        interval (a lifted wheel's x is that of 1 N, far below it)."""
+        """Per state (columns of the table positions x, (2, K)): a load-dependent wheel's load below
+        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load (a lifted wheel's x is that of
+        1 N, below it)."""
         x = np.asarray(x, dtype=float).reshape(2, -1)
         below = np.zeros(x.shape[1], dtype=bool)
         for w in range(2):
             if self.load_dependent[w]:
-                below |= ~(x[w] >= 1.0)
+                below |= ~(x[w] >= self.kink_x[w])
         return below
 
     def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:

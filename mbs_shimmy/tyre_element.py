@@ -38,7 +38,6 @@ error is below 1e-10 relative for loads from 5 % to 2.9 times the static load (`
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import types
 from dataclasses import dataclass
@@ -65,7 +64,7 @@ class ContactState:
 class LoadTable:
     """Tyre properties of one wheel against the vertical load, for fast evaluation at every solver stage.
 
-    Nodes evenly spaced in log(F_z) from 2 % to 3 times the static load (relative spacing 0.33 %), each
+    Nodes evenly spaced in log(F_z) from 0.01 % to 3 times the static load (relative spacing 0.33 %), each
     evaluated with :mod:`reduced_model.tyre` on the parameters with F_z replaced; D_y and D_t are tabulated
     divided by F_z (they are proportional to it up to the df_z terms).  Between nodes cubic Lagrange
     interpolation, outside the grid direct evaluation.  Only the properties the pressure effects make
@@ -73,8 +72,11 @@ class LoadTable:
     with ``rl``, in that order (:attr:`layout`).
     """
 
-    RANGE = (0.02, 3.0)
-    NODES = 1500
+    # Down to 0.01 %: a wheel near lift-off (below 2 %, KINK_BAND) stays in the table, so that the compiled stage
+    # and the twin cover it; before, every such state fell back to Python and to Exudyn's differences.
+    RANGE = (1e-4, 3.0)
+    NODES = 3085
+    KINK_BAND = 0.02    # below this fraction of the static load the twin's Jacobians are differences (twin.py)
 
     def __init__(self, params: ShimmyParameters, effects: Effects, wheel: WheelTyre):
         self.params, self.effects, self.pressure = params, effects, wheel.pressure
@@ -105,10 +107,7 @@ class LoadTable:
         """(B, D, E, Bt, Dt, Et0, a, sigma) at this load from the reduced model's formulas."""
         p = self._p
         p.Fz = load
-        mf = tyre.magic_formula(p, self.pressure)
-        tr = tyre.trail_formula(p, self.pressure)
-        a, sigma = contact_lengths(p, self.effects, self.pressure)
-        return (mf.B, mf.D, mf.E, tr.Bt, tr.Dt, tr.Et0, a, sigma)
+        return tyre_properties(p, self.effects, self.pressure)
 
     def at(self, load: float) -> list[float]:
         """The :attr:`layout` values at this load (N, positive)."""
@@ -298,10 +297,43 @@ _mf_force, _sin, _atan = tyre.mf_force, math.sin, math.atan
 BRAKING_SIZE = 19      # floats of :attr:`reduced_model.tyre.CombinedSlip.constants`
 
 
-@functools.lru_cache(maxsize=16)
+def tyre_properties(p, effects: Effects, pressure: float) -> tuple[float, ...]:
+    """(B, D, E, Bt, Dt, Et0, a, sigma) of a tyre with the parameters ``p`` (its load ``p.Fz``) at ``pressure``."""
+    mf = tyre.magic_formula(p, pressure)
+    tr = tyre.trail_formula(p, pressure)
+    a, sigma = contact_lengths(p, effects, pressure)
+    return (mf.B, mf.D, mf.E, tr.Bt, tr.Dt, tr.Et0, a, sigma)
+
+
+class _Reads:
+    """A parameter set that records which of its entries are read."""
+
+    def __init__(self, params: ShimmyParameters):
+        self._params, self.names = params, set()
+
+    def __getattr__(self, name: str):
+        self.names.add(name)
+        return getattr(self._params, name)
+
+
+_TABLES: dict[tuple, LoadTable] = {}
+TABLES_KEPT = 32
+
+
 def load_table(params: ShimmyParameters, effects: Effects, wheel: WheelTyre) -> LoadTable:
-    """One table per (parameters, effects, pressure): both wheels and successive runs share it."""
-    return LoadTable(params, effects, wheel)
+    """One table per (the entries its formulas read, effects, pressure): both wheels, successive runs, and the
+    systems of a family along an entry no tyre formula reads (t0 along a fold curve: a new system at every Newton
+    iteration) share it.  The entries are those one evaluation reads (:class:`_Reads`), so an entry a formula
+    takes up later is in the key without a list to keep."""
+    reads = _Reads(params)
+    tyre_properties(reads, effects, wheel.pressure)
+    key = (effects, wheel.pressure, params.Fz) + tuple(sorted((n, getattr(params, n)) for n in reads.names))
+    table = _TABLES.get(key)
+    if table is None:
+        if len(_TABLES) >= TABLES_KEPT:
+            _TABLES.pop(next(iter(_TABLES)))
+        table = _TABLES[key] = LoadTable(params, effects, wheel)
+    return table
 
 
 class TyreElement:

@@ -12,7 +12,6 @@ import dataclasses
 import numpy as np
 import scipy.optimize
 import scipy.sparse
-import scipy.sparse.linalg
 
 from bifurcation.continuation import ContinuationSettings, Stop, continue_curve, correct, locate_on_step, tangent
 from bifurcation.cycles import mesh_adaptation
@@ -34,15 +33,19 @@ from bifurcation.cycles.problem import (
 from bifurcation.messages import Message
 from bifurcation.problem import clip_window, describe
 from bifurcation.special_points import BranchStatus, PointKind, PointStatus, SpecialPoint
+from bifurcation.factorization import factorize
 
 FD_RELATIVE = 1e-6          # central differences: step relative to the scale of the direction
 FOLD_SETTINGS = ContinuationSettings(ds=0.02, ds_min=1e-6, ds_max=0.3, max_steps=300, newton_tol=1e-8,
-                                     newton_max_iter=8, max_turn=0.3)
+                                     newton_max_iter=8, max_turn=0.3, grow_iter=4)
 
 
 # a start point's residual above which it is corrected first (below continue_curve's 1e-6 for "not a solution")
 START_RESIDUAL = 1e-8
 START_ROUNDS = 4            # re-meshings of a start point that misses the error tolerance
+# Newton iterations on a start interpolated onto a new mesh: where the right-hand side has a kink on the orbit Newton
+# converges only linearly (up to 15 iterations measured on a multibody model's fold, docs/results.md)
+START_ITERATIONS = 25
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
 
 
@@ -56,7 +59,7 @@ class SparseBordered:
     def solve_bordered(self, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         A = scipy.sparse.vstack([self.J, scipy.sparse.csr_matrix(row[None, :])]).tocsc()
         try:
-            return scipy.sparse.linalg.splu(A).solve(rhs)
+            return factorize(A).solve(rhs)
         except RuntimeError:       # exactly singular
             return np.full(len(rhs), np.nan)
 
@@ -96,6 +99,8 @@ def start_point(make_system, cycle: CyclePoint, continuation: ContinuationSettin
     a mesh its error estimate asks for (up to :data:`START_ROUNDS` times) and corrected there by Newton on the
     defining system with q fixed: the point of this kind on that mesh."""
     system, U0 = None, None
+    continuation = dataclasses.replace(continuation,
+                                       newton_max_iter=max(continuation.newton_max_iter, START_ITERATIONS))
     for _ in range(START_ROUNDS):
         candidate = make_system(cycle)
         U = candidate.start(cycle)

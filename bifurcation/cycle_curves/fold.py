@@ -27,18 +27,21 @@ located by its own test function (:func:`bifurcation.cycle_curves.result.locate_
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import scipy.optimize
 import scipy.sparse
-import scipy.sparse.linalg
 
 from bifurcation.continuation import ContinuationSettings
 from bifurcation.cycle_curves.bordered import (
     FD_RELATIVE,
     FOLD_SETTINGS,
+    START_RESIDUAL,
     SparseBordered,
     curve_q_scale,
     follow_bordered_curve,
+    start_point,
 )
 from bifurcation.cycles import collocation as col
 from bifurcation.cycles.problem import (
@@ -49,6 +52,7 @@ from bifurcation.cycles.problem import (
 )
 from bifurcation.problem import ProblemError
 from bifurcation.special_points import PointKind, SpecialPoint
+from bifurcation.factorization import factorize
 
 
 class FoldSystem:
@@ -136,7 +140,7 @@ class FoldSystem:
         core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
         M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
                                [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
-        lu = scipy.sparse.linalg.splu(M)
+        lu = factorize(M)
         rhs = np.zeros(self.dim + 1)
         rhs[-1] = 1.0
         z = lu.solve(rhs)
@@ -293,3 +297,31 @@ def period_doubling_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                                  accept_hook)
 
 
+def on_tolerance(family, point: SpecialPoint, settings: CycleSettings = CycleSettings()) -> SpecialPoint:
+    """A cycle fold or period-doubling point of a branch in the primary parameter whose orbit misses the
+    tolerance, moved to the same kind of point at the same q on a mesh its error estimate asks for (the defining
+    system of :class:`FoldSystem`, corrected by Newton with q fixed: :func:`~bifurcation.cycle_curves.bordered.start_point`).
+
+    A branch adapts its mesh only at accepted points; a long step across a fold leaves the point located on it on
+    the older mesh.  On a multibody model whose right-hand side has a kink on the orbit (docs/results.md) a fold so
+    located lay on 20 intervals with an error of 3.0e-5 against a tolerance of 1e-5, and 9e-4 (relative, in p)
+    from the fold on an adequate mesh.  The point comes back unchanged where it meets the tolerance, or where Newton
+    does not reach a point that does (its error estimate then says so)."""
+    cycle = point.data["cycle"]
+    if cycle.meets_tolerance or point.kind not in (PointKind.CYCLE_FOLD, PointKind.PERIOD_DOUBLING):
+        return point
+
+    def make_system(c):
+        return FoldSystem(family, c, curve_q_scale(c), settings, kind=point.kind)
+    try:
+        system, U = start_point(make_system, cycle, FOLD_SETTINGS)
+        G = system(U)[0]
+    except (ProblemError, RuntimeError, np.linalg.LinAlgError):
+        return point
+    better = system.point(U)
+    solved = np.all(np.isfinite(G)) and np.max(np.abs(G)) <= START_RESIDUAL * (1.0 + np.max(np.abs(U)))
+    if not (solved and better.meets_tolerance and better.q == cycle.q):
+        return point
+    return dataclasses.replace(point, p=better.p, data={**point.data, "cycle": better, "period": better.period,
+                                                        "amplitude": better.amplitude,
+                                                        "multipliers": better.multipliers})

@@ -24,7 +24,6 @@ import itertools
 import numpy as np
 import scipy.optimize
 import scipy.sparse
-import scipy.sparse.linalg
 
 from bifurcation.continuation import ContinuationSettings, locate_on_step
 from bifurcation.cycle_curves.bordered import (
@@ -40,6 +39,7 @@ from bifurcation.cycles.multipliers import classify_multipliers
 from bifurcation.cycles.problem import CyclePoint, CycleSettings
 from bifurcation.problem import ProblemError
 from bifurcation.special_points import PointKind, SpecialPoint
+from bifurcation.factorization import factorize
 
 RESONANCE_KAPPA = ((PointKind.RESONANCE_1_1, 1.0), (PointKind.RESONANCE_1_2, -1.0),
                    (PointKind.RESONANCE_1_3, -0.5), (PointKind.RESONANCE_1_4, 0.0))
@@ -111,7 +111,7 @@ class TorusSystem(FoldSystem):
         core = self._chain(self._last_jacobian, float(U[K + 3]))
         M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b)],
                                [scipy.sparse.csc_matrix(self.c.T), None]], format="csc")
-        lu = scipy.sparse.linalg.splu(M)
+        lu = factorize(M)
         rhs = np.zeros((2 * K + 2, 2))
         rhs[-2:, :] = np.eye(2)
         Z = lu.solve(rhs)

@@ -309,6 +309,11 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         if state.end is not None:
             state.special += end_segment_points(problem.family, state.records[-1], state.end, settings,
                                                 state.arclength[-1], 1.0)
+    if problem.free == problem.family.primary:
+        # the fold's defining system lives with the two-parameter curves that follow it
+        from bifurcation.cycle_curves.fold import on_tolerance
+        state.special = [on_tolerance(problem.family, s, settings) if s.status is PointStatus.LOCATED else s
+                         for s in state.special]
     message = branch.message
     if not branch.status.is_complete:
         message = Message.of(f"{branch.status.value}: ", message, " (last cycle at ", where(branch.points[-1]), ")")

@@ -36,7 +36,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse
-import scipy.sparse.linalg
+
+from bifurcation.factorization import factorize
 
 DEFAULT_DEGREE = 4
 RECURSION_LIMIT = 1e6   # growth of the partial transfer products beyond which the cyclic system is factorised
@@ -422,7 +423,7 @@ class CondensedJacobian:
         order, indices, indptr, size = _reduced_pattern(N, n)
         A = scipy.sparse.csc_matrix((data[order], indices, indptr), shape=(size, size))
         try:
-            return scipy.sparse.linalg.splu(A).solve(reduced_rhs)
+            return factorize(A).solve(reduced_rhs)
         except RuntimeError:  # exactly singular
             return None
 

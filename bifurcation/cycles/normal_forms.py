@@ -34,10 +34,11 @@ the exact (complex-step) Jacobians along the directions.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse.linalg
+import scipy.sparse
 
 from bifurcation.continuation import locate_on_step
 from bifurcation.cycles import collocation as col
+from bifurcation.factorization import factorize
 
 POLE_RATIO = 1e-6   # |coefficient| at a located sign change above this fraction of its size at the step ends: a pole
 C_STEP = 1e-3       # second differences of Jacobians for C: step relative to the direction's scaled size
@@ -116,7 +117,7 @@ class _Forms:
     def periodic_solve(self, rhs: np.ndarray) -> tuple[np.ndarray, float]:
         """h with h' - T f_x h = rhs + s f (periodic, phase-fixed) from the bordered periodic Jacobian: (h, s)."""
         A = self.pieces[1]
-        sol = scipy.sparse.linalg.splu(A.tocsc()).solve(np.append(rhs.ravel(), 0.0))
+        sol = factorize(A).solve(np.append(rhs.ravel(), 0.0))
         return self.at_points(sol[:self.K]), float(sol[self.K])
 
     def shifted(self, omega: float) -> scipy.sparse.spmatrix:
@@ -150,7 +151,7 @@ def neimark_sacker_coefficient(system, U: np.ndarray) -> complex:
     f = _Forms(system, U, bordered=False)
     T, n, K = f.T, f.n, f.K
     theta = float(np.arccos(np.clip(U[K + 3], -1.0, 1.0)))
-    lu = scipy.sparse.linalg.splu(f.shifted(theta))
+    lu = factorize(f.shifted(theta))
     rng = np.random.default_rng(3)
     v_nodes, psi = (rng.standard_normal(K) + 1j * rng.standard_normal(K) for _ in range(2))
     for _ in range(2):          # inverse iteration on the (nearly) singular operator: its null vectors
@@ -165,7 +166,7 @@ def neimark_sacker_coefficient(system, U: np.ndarray) -> complex:
     h11, s = f.periodic_solve(T * (np.einsum("kab,kb->ka", Ba, a) + np.einsum("kab,kb->ka", Bb, b)))
     alpha = -s / T
     Bvv = np.einsum("kab,kb->ka", Ba + 1j * Bb, v)
-    h20 = f.at_points(scipy.sparse.linalg.splu(f.shifted(2.0 * theta)).solve((T * Bvv).ravel()))
+    h20 = f.at_points(factorize(f.shifted(2.0 * theta)).solve((T * Bvv).ravel()))
     dv = T * np.einsum("kab,kb->ka", f.Jf.reshape(-1, n, n), v) - 1j * theta * v
     num = np.sum(psi * (T * (Cvvv + 2.0 * f.B(h11, v) + f.B(h20, np.conj(v))) - 2.0 * alpha * dv))
     return complex(num / (2.0 * T * np.sum(psi * v)))

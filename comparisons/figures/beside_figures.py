@@ -56,10 +56,11 @@ REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
 
-# The one two-parameter cycle curve of the full geometry measured so far (issue 30): a fold curve over t0 =
-# 0.24-0.26 m took 1440 s.
+# The one two-parameter cycle curve of the full geometry measured so far (issue 30, `shimmy bench
+# mbs_fold_curve_t0`): a fold curve over t0 = 0.24-0.26 m.
 CYCLE_CURVE_COST = ("the full geometry's two-parameter cycle curves are not affordable yet: the one measured, a "
-                    "fold curve over t0 = 0.24-0.26 m (issue 30), took 1440 s")
+                    "fold curve over t0 = 0.24-0.26 m (issue 30), took 166 s and stopped at 0.2441 and 0.2555 m, "
+                    "where a collocation point crosses a wheel's lift-off")
 UNAVAILABLE_BESIDE.update({
     18: f"{CYCLE_CURVE_COST}; figure 18 needs four in (V, p)",
     # Its recipe below is kept for when the twin is faster (issue 30): delete this entry to make it.

@@ -315,8 +315,25 @@ def test_load_table_interpolation():
     forces = MbsModel(effects=Effects.parse("all"), fidelity=Fidelity.full()).forces(TyrePressures(1.5 * BAR, 2.2 * BAR),
                                                                                        constant_speed(10.0))
     loads = np.linspace(0.05, 2.9, 157) * YANG2024.Fz + 3.1
+    near_lift_off = np.geomspace(1.5e-4, 0.05, 61) * YANG2024.Fz * 1.0007
     for element in forces.tyres:
         assert table_error(element, loads) < 1e-10
+        assert table_error(element, near_lift_off) < 1e-10
+
+
+def test_systems_share_a_load_table_only_where_its_formulas_read_the_same_entries():
+    """A family along t0 (the section 3 model's trail, which no load-table formula reads) builds a system per
+    value: they share one table.  A changed tyre entry (p_ky1) or pressure gets its own."""
+    pressures = TyrePressures.uniform(1.5 * BAR)
+
+    def table(params, p=pressures):
+        return MbsModel(params, Effects(), Fidelity.full()).forces(p, constant_speed(10.0)).tyres[0].table
+    base = table(YANG2024)
+    assert table(YANG2024.replace(t0=0.25)) is base
+    assert table(YANG2024.replace(p_ky1=YANG2024.p_ky1 * 1.001)) is not base
+    assert table(YANG2024, TyrePressures.uniform(1.6 * BAR)) is not base
+    shared = table(YANG2024.replace(t0=0.25))
+    assert shared.direct(3000.0) == base.direct(3000.0)
 
 
 def test_dimensions_are_checked():
