@@ -33,6 +33,7 @@ HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two H
 STABLE_BUDGET = 12        # stable-orbit runs over all branches of a case (at most STABLE_PER_BRANCH each)
 STABLE_PER_BRANCH = 6
 UNSTABLE_PER_BRANCH = 2
+QUICK_STABLE_PER_BRANCH = 2    # --quick: the branches cost seconds on the twin, the runs that check them more
 MIN_WINDOW_KMH = 0.5      # narrower bistable windows (next to a degenerate Hopf point) get no ramps and no kick
 
 COLUMNS = ("case", "what", "speed_kmh", "criticality", "first_lyapunov", "eigenvalue_real", "envelope_rate",
@@ -99,9 +100,34 @@ def hopf_offsets(speeds: list[float]) -> list[float]:
     return out
 
 
-def hopf_rows(family, case, points, duration: float) -> list[Row]:
-    """Each Hopf point with l1, and the two simulations that bracket it: along the mode that crosses there, one
-    decays and the other grows, each at the real part of that mode's eigenvalue."""
+def branch_onset(diagram, hopf) -> str | None:
+    """What the cycle branch at ``hopf`` says of the cycles born there, which l1 says too where the right-hand side
+    is twice differentiable and cannot where it is not (the full geometry's camber force): stable (supercritical)
+    unless a cycle fold lies nearer the Hopf point than the first computed cycle, or that cycle is unstable.  None
+    where no branch of ``diagram`` starts or ends there."""
+    if diagram is None:
+        return None
+    for branch in diagram.branches:
+        ends = [(end, near) for end, near in ((branch.start, branch.points[:1]), (branch.end, branch.points[-1:]))
+                if end is not None and near and abs(end.p - hopf.p) <= 1e-6 * max(1.0, abs(hopf.p))]
+        if not ends:
+            continue
+        first = ends[0][1][0]
+        folds = [s for s in branch.special_points if s.kind is PointKind.CYCLE_FOLD
+                 and abs(s.p - hopf.p) < abs(first.p - hopf.p)]
+        if folds:
+            fold = min(folds, key=lambda s: abs(s.p - hopf.p))
+            return (f"its branch: the cycles born there are unstable up to a cycle fold at {kmh(fold.p):.4f} km/h "
+                    f"(subcritical by its branch)")
+        return ("its branch: the cycles born there are stable (supercritical by its branch)" if first.stable else
+                "its branch: the cycles born there are unstable (subcritical by its branch)")
+    return None
+
+
+def hopf_rows(family, case, points, duration: float, diagram=None) -> list[Row]:
+    """Each Hopf point with l1 (and with ``diagram``, what its cycle branch says: :func:`branch_onset`), and the two
+    simulations that bracket it: along the mode that crosses there, one decays and the other grows, each at the
+    real part of that mode's eigenvalue."""
     from comparisons.studies.growth import RATE_TOL, envelope_rate
     from mbs_shimmy.linearisation import L1_NOT_WELL_POSED
     rows = []
@@ -111,8 +137,10 @@ def hopf_rows(family, case, points, duration: float) -> list[Row]:
         rows.append(Row({"case": case.label, "what": f"HB{i}", "speed_kmh": kmh(h.p),
                          "criticality": h.criticality.value if h.criticality else None,
                          "first_lyapunov": _finite(h.first_lyapunov), "continuation_hz": h.frequency_hz},
-                        CheckStatus.INFO, f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"
-                        + (f"; {L1_NOT_WELL_POSED}" if kinked else "")))
+                        CheckStatus.INFO, "; ".join(
+                            [f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"]
+                            + ([L1_NOT_WELL_POSED] if kinked else [])
+                            + [t for t in (branch_onset(diagram, h),) if t])))
         sides = [envelope_rate(family, max(from_kmh(1.0), h.p + s * off), duration, near=1j * h.omega)
                  for s in (-1.0, 1.0)]
         apart = sides[0].rate * sides[1].rate < 0.0
@@ -155,10 +183,14 @@ def _orbit_row(case, what: str, check) -> Row:
     return Row(cells, CheckStatus.PASS if check.ok else CheckStatus.FAIL, check.verdict)
 
 
-def branch_rows(family, case, diagram, settle) -> list[Row]:
+def branch_rows(family, case, diagram, settle, quick: bool = False) -> list[Row]:
+    """A row per branch, then its orbits and special points each checked by runs; ``quick``: at most
+    :data:`QUICK_STABLE_PER_BRANCH` stable orbits and one unstable one per branch."""
     rows = []
     stable_branches = sum(any(p.stable for p in b.points) for b in diagram.branches)
     per_branch = max(1, min(STABLE_PER_BRANCH, STABLE_BUDGET // max(1, stable_branches)))
+    if quick:
+        per_branch = min(per_branch, QUICK_STABLE_PER_BRANCH)
     for b, branch in enumerate(diagram.branches, 1):
         where = f"branch {b} from {kmh(branch.start.p):.2f} km/h"
         stable = sum(p.stable for p in branch.points)
@@ -173,7 +205,7 @@ def branch_rows(family, case, diagram, settle) -> list[Row]:
                         f"continuation stopped: {interface_text(branch.message)}"))
         for point in sample_orbits(branch, per_branch, stable=True):
             rows.append(_orbit_row(case, f"{where}: stable orbit", check_orbit(settle, point)))
-        for point in sample_orbits(branch, UNSTABLE_PER_BRANCH, stable=False):
+        for point in sample_orbits(branch, 1 if quick else UNSTABLE_PER_BRANCH, stable=False):
             rows.append(_orbit_row(case, f"{where}: unstable orbit", check_orbit(settle, point)))
         for s in sorted(branch.special_points, key=lambda s: s.p):
             name = s.kind.value
@@ -189,14 +221,15 @@ def branch_rows(family, case, diagram, settle) -> list[Row]:
     return rows
 
 
-def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], list[str], list]:
-    """The full geometry's bistable windows with the ramps through them and their kick thresholds, or why there
-    is none; (rows, recording names, kick thresholds)."""
+def window_rows(ctx: Context, family, case: Where, diagram, runs: bool = True) -> tuple[list[Row], list[str], list]:
+    """The full geometry's bistable windows with the ramps through them and their kick thresholds (not with
+    ``runs`` False: the windows alone), or why there is none; (rows, recording names, kick thresholds)."""
     from comparisons.verify.full_jumps import jump_rows
     from comparisons.studies.kick import bistable_windows, kicks
     windows = bistable_windows(diagram, family)
     if not windows:
-        crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'}"
+        crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'} by l1"
+                         + (f" ({onset.removeprefix('its branch: ')})" if (onset := branch_onset(diagram, h)) else "")
                          for h in diagram.hopf) or "none"
         folds = diagram.points_of(PointKind.CYCLE_FOLD)
         fold_text = ", ".join(f"{kmh(s.p):.2f} km/h" for s in folds) or "none"
@@ -212,6 +245,10 @@ def window_rows(ctx: Context, family, case: Where, diagram) -> tuple[list[Row], 
     windows = [(a, b) for a, b in windows if kmh(b - a) >= MIN_WINDOW_KMH]
     recordings = []
     if not windows:
+        return rows, [], []
+    if not runs:
+        rows.append(Row({"case": case.label, "what": "ramps and kick"}, CheckStatus.INFO,
+                        "not run in quick mode"))
         return rows, [], []
     if case.pressure_bar is None:
         rows.append(Row({"case": case.label, "what": "ramps"}, CheckStatus.INFO,

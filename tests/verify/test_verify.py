@@ -270,7 +270,8 @@ def test_verify_axle_plans_and_finds_the_bistable_window(axle_report):
 
 def test_verify_full_geometry_in_quick_mode(quick_report):
     """Quick mode: the first case where the full geometry has Hopf points, each with l1 and bracketed by two
-    runs; the branches are skipped with a row that says so (information, never a pass)."""
+    runs, and its cycle branches continued on the twin (seconds), with two of their stable orbits checked by runs
+    and the onset read from the branch, not from the kinked l1."""
     rows = {r["what"]: r for r in section(quick_report, "full_geometry")["rows"]}
     assert rows["HB1"]["case"] == "1.5 bar" and rows["HB1"]["criticality"] == "supercritical"
     assert abs(rows["HB1"]["speed_kmh"] - 39.2273) < 1e-3 and rows["HB1"]["first_lyapunov"] < 0.0
@@ -278,7 +279,13 @@ def test_verify_full_geometry_in_quick_mode(quick_report):
     assert "not well posed" in rows["HB1"]["note"] and "not well posed" in rows["HB2"]["note"]
     brackets = [r for w, r in rows.items() if w.startswith(("HB1,", "HB2,"))]
     assert len(brackets) == 4 and all(r["status"] == "pass" for r in brackets)
-    assert rows["cycle branches"]["status"] == "info" and "skipped in quick mode" in rows["cycle branches"]["note"]
+    branch = rows["branch 1 from 39.23 km/h"]
+    assert branch["status"] == "info" and "31 stable" in branch["note"] and "91.7933 km/h" in branch["note"]
+    assert abs(branch["continuation_theta1_deg"] - 6.95) < 0.01
+    orbits = [r for r in section(quick_report, "full_geometry")["rows"] if r["what"].endswith("stable orbit")]
+    assert len(orbits) == 2 and all(r["status"] == "pass" for r in orbits)
+    assert all("supercritical by its branch" in rows[h]["note"] for h in ("HB1", "HB2"))
+    assert rows["bistable window: none"]["status"] == "info"
 
 
 def test_verify_margin_rows(quick_report):
