@@ -42,6 +42,8 @@ import math
 import types
 from dataclasses import dataclass
 
+import numpy as np
+
 from mbs_shimmy.camber import camber_terms
 from mbs_shimmy.geometry import Vec
 from mbs_shimmy.scalar_ops import MATH
@@ -90,18 +92,14 @@ class LoadTable:
         self.columns = tuple(("B", "D", "E", "Bt", "Dt", "Et0", "a", "sigma").index(k) for k in self.layout)
         self._per_load = tuple(i for i, k in enumerate(self.layout) if k in ("D", "Dt"))
         self._short = len(self.layout) == 3
-        rows = []
-        for k in range(self.n):
-            load = math.exp(self.s0 + k * self.ds)
-            rows.append(self._row(load))
-        self.rows = rows
-
-    def _row(self, load: float) -> tuple[float, ...]:
-        values = self.direct(load)
-        row = [values[i] for i in self.columns]
+        # every node in one evaluation of the formulas on an array of loads (they are numpy-generic): a table per
+        # pressure of a Hopf curve's family, where a loop over the nodes was half the curve's time
+        loads = np.exp(self.s0 + np.arange(self.n) * self.ds)
+        values = self.direct(loads)
+        columns = [np.broadcast_to(values[i], loads.shape) for i in self.columns]
         for i in self._per_load:
-            row[i] /= load
-        return tuple(row)
+            columns[i] = columns[i] / loads
+        self.rows = [tuple(float(v) for v in row) for row in zip(*columns)]
 
     def direct(self, load: float) -> tuple[float, ...]:
         """(B, D, E, Bt, Dt, Et0, a, sigma) at this load from the reduced model's formulas."""

@@ -25,6 +25,11 @@ from bifurcation.messages import Message, Quantity
 from axles.parameters import ParameterError, ShimmyParameters
 
 
+def value(x):
+    """One value as a float; an array (the loads of the MBS's load table, evaluated at once) as it is."""
+    return float(x) if np.ndim(x) == 0 else np.asarray(x)
+
+
 def pressure_increment(params: ShimmyParameters, pressure: float) -> float:
     """dp_i = (p_i - p_i0) / p_i0."""
     return (pressure - params.pi0) / params.pi0
@@ -84,7 +89,7 @@ def magic_formula(params: ShimmyParameters, pressure: float) -> MagicFormula:
     B = cornering_stiffness(params, pressure) / (C * D)
     E = (params.p_ey1 + params.p_ey2 * dfz + params.p_ey3 * dfz ** 2 + params.p_epy1 * dp
          + params.p_epy2 * dp ** 2 + params.p_epey1 * dfz * dp)
-    return MagicFormula(B=float(B), C=float(C), D=float(D), E=float(E))
+    return MagicFormula(B=value(B), C=value(C), D=value(D), E=value(E))
 
 
 def lateral_force(params: ShimmyParameters, alpha, pressure: float):
@@ -113,7 +118,7 @@ def trail_formula(params: ShimmyParameters, pressure: float) -> TrailFormula:
     Dt = params.Fz * params.R / params.Fz0 * (params.q_dz1 + params.q_dz2 * dfz) * (1.0 - params.p_pz1 * dp)
     Bt = params.q_bz1 + params.q_bz2 * dfz + params.q_bz3 * dfz ** 2
     Et0 = params.q_ez1 + params.q_ez2 * dfz + params.q_ez3 * dfz ** 2
-    return TrailFormula(Bt=float(Bt), Ct=params.q_cz1, Dt=float(Dt), Et0=float(Et0), q_ez4=params.q_ez4)
+    return TrailFormula(Bt=value(Bt), Ct=params.q_cz1, Dt=value(Dt), Et0=value(Et0), q_ez4=params.q_ez4)
 
 
 def pneumatic_trail(params: ShimmyParameters, alpha, pressure: float):
@@ -123,13 +128,13 @@ def pneumatic_trail(params: ShimmyParameters, alpha, pressure: float):
 
 def half_contact_length(params: ShimmyParameters, pressure: float) -> float:
     """a(p_i), eq. (4.1): a0 sqrt(Fz/Fz0) sqrt(p_i0/p_i), m."""
-    return float(params.a0 * np.sqrt(params.Fz / params.Fz0) * np.sqrt(params.pi0 / pressure))
+    return value(params.a0 * np.sqrt(params.Fz / params.Fz0) * np.sqrt(params.pi0 / pressure))
 
 
 def relaxation_length(params: ShimmyParameters, pressure: float) -> float:
     """sigma(p_i), eq. (4.9): K_ya / (c_y0 (1 + p_cy1 dp_i)), m."""
     dp = pressure_increment(params, pressure)
-    return float(cornering_stiffness(params, pressure) / (params.c_y0 * (1.0 + params.p_cy1_rl * dp)))
+    return value(cornering_stiffness(params, pressure) / (params.c_y0 * (1.0 + params.p_cy1_rl * dp)))
 
 
 def vertical_stiffness(params: ShimmyParameters, pressure: float) -> float:
