@@ -39,7 +39,7 @@ from bifurcation.equilibria.hopf import find_hopf_points
 # --quick's budget for the full geometry's branches at its one case.  The paper's axle needs 30 cycles of at most 40
 # mesh intervals (2.8 s); an axle whose orbits lift a wheel or reach walking pace needs up to 640 intervals and
 # minutes.  The mesh and the count stop such a run early and alike on every machine; the time is the last resort.
-QUICK_MAX_INTERVALS = 100
+QUICK_MAX_INTERVALS = 60
 QUICK_MAX_CYCLES = 120
 QUICK_BRANCH_BUDGET_S = 15.0
 

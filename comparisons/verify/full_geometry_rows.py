@@ -33,7 +33,7 @@ HOPF_OFFSET_KMH = 4.0     # where each Hopf point is bracketed (less where two H
 STABLE_BUDGET = 12        # stable-orbit runs over all branches of a case (at most STABLE_PER_BRANCH each)
 STABLE_PER_BRANCH = 6
 UNSTABLE_PER_BRANCH = 2
-QUICK_STABLE_PER_BRANCH = 2    # --quick: the branches cost seconds on the twin, the runs that check them more
+QUICK_STABLE_PER_BRANCH = 1    # --quick: the branches cost seconds on the twin, the runs that check them more
 MIN_WINDOW_KMH = 0.5      # narrower bistable windows (next to a degenerate Hopf point) get no ramps and no kick
 
 COLUMNS = ("case", "what", "speed_kmh", "criticality", "first_lyapunov", "eigenvalue_real", "envelope_rate",
