@@ -64,6 +64,7 @@ def test_full_geometry_shimmy_free_boundary_from_the_curves_command():
     assert not _unstable_somewhere(family, (boundary_bar + 0.01) * BAR)
 
 
+@pytest.mark.slow     # 13 s; CI keeps the curve-end tests of tests/bifurcation/test_cycle_curve_ends.py
 def test_a_fold_curve_that_starts_at_vanishing_amplitude_names_its_last_step():
     """The full geometry's 1.3 bar cycle fold sits 0.012 deg from its Hopf point: the fold curve through it ends
     after one step each way.  Its ends are not located; each message names the last step, inside the curve's own
