@@ -83,14 +83,15 @@ def full_geometry_section(ctx: Context) -> Section:
             full = cycle_diagram(family, family.nominal, *case.speeds,
                                  accept_hook=_budget() if ctx.quick else None)
         except _OverBudget:
-            rows += hopf_rows(family, case, points, duration) if points else no_hopf_rows(family, case, duration)
+            full = None
+        rows += (hopf_rows(family, case, points, duration, full) if points else
+                 no_hopf_rows(family, case, duration))
+        if full is None:
             rows.append(Row({"case": case.label, "what": "cycle branches"}, CheckStatus.INFO,
                             f"skipped in quick mode: past its budget for them ({QUICK_MAX_INTERVALS} mesh intervals a "
                             f"cycle, {QUICK_MAX_CYCLES} cycles, {QUICK_BRANCH_BUDGET_S:g} s); the full verify "
                             f"continues them"))
             continue
-        rows += (hopf_rows(family, case, points, duration, full) if points else
-                 no_hopf_rows(family, case, duration))
         rows += branch_rows(family, case, full, lambda v, f=family: settle_function(f, v), quick=ctx.quick)
         ctx.progress(f"Full geometry: bistable windows at {case.label}")
         more, recorded, full_kicks = window_rows(ctx, family, case, full, runs=not ctx.quick)
