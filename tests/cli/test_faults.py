@@ -258,3 +258,28 @@ def test_an_interrupt_swallowed_by_a_callback_exits_at_once_without_a_traceback(
     signals.code = cli_main.EXIT_INTERRUPTED
     signals.unraisable(types.SimpleNamespace(exc_value=KeyboardInterrupt()))
     assert exits == [(cli_main.EXIT_INTERRUPTED, "shimmy: interrupted")]
+
+
+def test_an_interrupt_that_comes_out_as_another_error_still_ends_in_its_one_line(monkeypatch, capsys):
+    """Ctrl-C inside CPython's import lock came out as a KeyError from ``_ModuleLock.acquire`` with the
+    KeyboardInterrupt as its context: exit 1 and a traceback (once in the parametrised test above, under load).
+    After a signal, whatever error ends the run ends it as the signal does."""
+    from comparisons.cli import main as cli_main
+
+    def interrupted_import(argv, parser=None):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)     # the handler raises KeyboardInterrupt here
+            time.sleep(5.0)
+        except KeyboardInterrupt:
+            raise KeyError(140000000000000) from None
+
+    monkeypatch.setattr(cli_main, "parse_command", interrupted_import)
+    assert main(["params"]) == EXIT_INTERRUPTED
+    assert one_line(capsys.readouterr().err) == "shimmy: interrupted"
+
+    def plain_error(argv, parser=None):      # without a signal the same error is a bug, and it is raised
+        raise KeyError(1)
+
+    monkeypatch.setattr(cli_main, "parse_command", plain_error)
+    with pytest.raises(KeyError):
+        main(["params"])

@@ -172,3 +172,19 @@ def test_divergence_is_reported_not_raised():
     assert tr.status is SimulationStatus.DIVERGED and not tr.complete
     assert "passed 3 rad at t = 0.000 s" in str(tr.message)
     assert tr.x.shape == (len(tr.t), 8)
+
+
+def test_a_solver_that_gives_up_is_reported_with_what_it_computed(monkeypatch):
+    import reduced_model.simulation as simulation
+    monkeypatch.setattr(simulation, "MAX_STEPS", 2)       # LSODA's excess-work stop, within the first samples
+    tr = integrate(ShimmyModel(), TyrePressures.uniform(2.5 * BAR), SpeedSchedule.constant(100 * KMH), 1.0)
+    assert tr.status is SimulationStatus.SOLVER_FAILED and not tr.complete
+    assert "LSODA stopped at t = " in str(tr.message) and "Excess work" in str(tr.message)
+    assert 1 <= len(tr.t) < 1001 and np.all(np.isfinite(tr.x)) and tr.x.shape == (len(tr.t), 8)
+
+
+def test_a_non_finite_right_hand_side_raises_where_it_happened(monkeypatch):
+    rhs = ShimmyModel.rhs
+    monkeypatch.setattr(ShimmyModel, "rhs", lambda self, x, *a: rhs(self, x, *a) * (np.nan if np.min(np.real(x[0])) < 0.009 else 1))
+    with pytest.raises(FloatingPointError, match="non-finite right-hand side of the reduced model at t = "):
+        integrate(ShimmyModel(), TyrePressures.uniform(2.5 * BAR), SpeedSchedule.constant(100 * KMH), 1.0)
