@@ -122,7 +122,8 @@ class SweepTask:
                 if "hopf" in self.compute:
                     fields.append(pa.field(f"{c}_shift_kmh", floats))
                 if self.mbs_l1(f):
-                    fields += [pa.field(f"{c}_hopf_l1", floats), pa.field(f"{c}_hopf_criticality", strings)]
+                    fields += [pa.field(f"{c}_hopf_l1", floats), pa.field(f"{c}_hopf_criticality", strings),
+                               pa.field(f"{c}_hopf_criticality_by", strings)]
         if "margins" in self.compute:
             for c in [""] + [f"mbs_{_column_safe(f)}_" for f in self.mbs]:
                 fields += [pa.field(f"{c}margin", pa.float64()), pa.field(f"{c}margin_kmh", pa.float64()),
@@ -190,6 +191,7 @@ class SweepTask:
                 mf = family_of(MbsModel(axle.params, effects, Fidelity.parse(f), axle.dims), pressures, "pressure",
                                self.braking)
                 mbs_families[f] = mf
+                diagram = None
                 if self.mbs_cycles:
                     # the branches start at the diagram's own Hopf points (l1 included): those are the columns
                     try:
@@ -206,7 +208,7 @@ class SweepTask:
                     mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.mbs_l1(f))
                 row.update(_hopf_columns(c, mp))
                 if self.mbs_l1(f):
-                    row.update(_criticality_columns(c, mp))
+                    row.update(_criticality_columns(c, mp, mf, diagram))
                 if "hopf" in self.compute:
                     from comparisons.studies.assumption_study import match_hopf
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
@@ -274,10 +276,28 @@ def _unstable_intervals(family, points, vmax: float) -> tuple[list[float], list[
     return lo, hi
 
 
-def _criticality_columns(prefix: str, points) -> dict:
-    """Each Hopf point's first Lyapunov coefficient and what its sign says (null where l1 is undetermined)."""
-    return {f"{prefix}hopf_l1": [h.first_lyapunov for h in points],
-            f"{prefix}hopf_criticality": [h.criticality.value if h.criticality else None for h in points]}
+def _criticality_columns(prefix: str, points, family=None, diagram=None) -> dict:
+    """Each Hopf point's first Lyapunov coefficient and its criticality (null where undetermined).  For an MBS
+    ``family`` also what the criticality rests on (``<prefix>hopf_criticality_by``): "l1" where the right-hand side
+    is twice differentiable there; where it has a kink (the full geometry's camber force) l1's sign is no
+    criticality, and it is the cycle branch's with a ``diagram`` ("branch"), else l1's sign all the same, marked
+    "l1 across a kink" (:mod:`comparisons.studies.onset`)."""
+    from comparisons.studies.onset import branch_onset, onset_criticality
+    out = {f"{prefix}hopf_l1": [h.first_lyapunov for h in points]}
+    if family is None:
+        out[f"{prefix}hopf_criticality"] = [h.criticality.value if h.criticality else None for h in points]
+        return out
+    values, by = [], []
+    for h in points:
+        kinked = family.twice_differentiable(np.zeros(family.n), h.p, h.q) is False
+        if kinked and diagram is None:
+            criticality, rests_on = h.criticality, "l1 across a kink"
+        else:
+            criticality, rests_on = onset_criticality(h, branch_onset(diagram, h), kinked)
+        values.append(criticality.value if criticality else None)
+        by.append(rests_on)
+    out[f"{prefix}hopf_criticality"], out[f"{prefix}hopf_criticality_by"] = values, by
+    return out
 
 
 def _cycle_diagram(family, vmax: float):

@@ -26,6 +26,7 @@ from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row
 from comparisons.studies.limit_cycle import SETTLE
 from bifurcation.special_points import PointKind
+from comparisons.studies.onset import branch_onset, onset_criticality
 from reduced_model.family import SpeedFamily
 
 QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: comparisons.studies.growth.DURATION)
@@ -100,30 +101,6 @@ def hopf_offsets(speeds: list[float]) -> list[float]:
     return out
 
 
-def branch_onset(diagram, hopf) -> str | None:
-    """What the cycle branch at ``hopf`` says of the cycles born there, which l1 says too where the right-hand side
-    is twice differentiable and cannot where it is not (the full geometry's camber force): stable (supercritical)
-    unless a cycle fold lies nearer the Hopf point than the first computed cycle, or that cycle is unstable.  None
-    where no branch of ``diagram`` starts or ends there."""
-    if diagram is None:
-        return None
-    for branch in diagram.branches:
-        ends = [(end, near) for end, near in ((branch.start, branch.points[:1]), (branch.end, branch.points[-1:]))
-                if end is not None and near and abs(end.p - hopf.p) <= 1e-6 * max(1.0, abs(hopf.p))]
-        if not ends:
-            continue
-        first = ends[0][1][0]
-        folds = [s for s in branch.special_points if s.kind is PointKind.CYCLE_FOLD
-                 and abs(s.p - hopf.p) < abs(first.p - hopf.p)]
-        if folds:
-            fold = min(folds, key=lambda s: abs(s.p - hopf.p))
-            return (f"its branch: the cycles born there are unstable up to a cycle fold at {kmh(fold.p):.4f} km/h "
-                    f"(subcritical by its branch)")
-        return ("its branch: the cycles born there are stable (supercritical by its branch)" if first.stable else
-                "its branch: the cycles born there are unstable (subcritical by its branch)")
-    return None
-
-
 def hopf_rows(family, case, points, duration: float, diagram=None) -> list[Row]:
     """Each Hopf point with l1 (and with ``diagram``, what its cycle branch says: :func:`branch_onset`), and the two
     simulations that bracket it: along the mode that crosses there, one decays and the other grows, each at the
@@ -134,13 +111,15 @@ def hopf_rows(family, case, points, duration: float, diagram=None) -> list[Row]:
     smooth = getattr(family, "twice_differentiable", None)
     kinked = bool(points) and smooth is not None and smooth(np.zeros(family.n), points[0].p, points[0].q) is False
     for i, (h, off) in enumerate(zip(points, hopf_offsets([h.p for h in points])), 1):
+        onset = branch_onset(diagram, h)
+        criticality, _ = onset_criticality(h, onset, kinked)
         rows.append(Row({"case": case.label, "what": f"HB{i}", "speed_kmh": kmh(h.p),
-                         "criticality": h.criticality.value if h.criticality else None,
+                         "criticality": criticality.value if criticality else None,
                          "first_lyapunov": _finite(h.first_lyapunov), "continuation_hz": h.frequency_hz},
                         CheckStatus.INFO, "; ".join(
                             [f"Hopf point of the full geometry at {h.frequency_hz:.2f} Hz"]
-                            + ([L1_NOT_WELL_POSED] if kinked else [])
-                            + [t for t in (branch_onset(diagram, h),) if t])))
+                            + ([L1_NOT_WELL_POSED + " (the criticality column is the branch's)"] if kinked else [])
+                            + ([onset.text] if onset else []))))
         sides = [envelope_rate(family, max(from_kmh(1.0), h.p + s * off), duration, near=1j * h.omega)
                  for s in (-1.0, 1.0)]
         apart = sides[0].rate * sides[1].rate < 0.0
@@ -221,6 +200,20 @@ def branch_rows(family, case, diagram, settle, quick: bool = False) -> list[Row]
     return rows
 
 
+def _onset_text(family, diagram, h) -> str:
+    """'39.23 km/h supercritical by its branch (the cycles born there are stable)' for the no-window row; by l1
+    only where l1 is well posed."""
+    onset = branch_onset(diagram, h)
+    smooth = getattr(family, "twice_differentiable", None)
+    kinked = smooth is not None and smooth(np.zeros(family.n), h.p, h.q) is False
+    criticality, by = onset_criticality(h, onset, kinked)
+    text = f"{kmh(h.p):.2f} km/h {criticality.value if criticality else 'undetermined'} by " + (
+        "l1" if by == "l1" else "its branch")
+    if onset is not None:
+        text += f" ({onset.text if by == 'l1' else onset.detail})"
+    return text
+
+
 def window_rows(ctx: Context, family, case: Where, diagram, runs: bool = True) -> tuple[list[Row], list[str], list]:
     """The full geometry's bistable windows with the ramps through them and their kick thresholds (not with
     ``runs`` False: the windows alone), or why there is none; (rows, recording names, kick thresholds)."""
@@ -228,9 +221,7 @@ def window_rows(ctx: Context, family, case: Where, diagram, runs: bool = True) -
     from comparisons.studies.kick import bistable_windows, kicks
     windows = bistable_windows(diagram, family)
     if not windows:
-        crit = ", ".join(f"{kmh(h.p):.2f} km/h {h.criticality.value if h.criticality else 'undetermined'} by l1"
-                         + (f" ({onset.removeprefix('its branch: ')})" if (onset := branch_onset(diagram, h)) else "")
-                         for h in diagram.hopf) or "none"
+        crit = ", ".join(_onset_text(family, diagram, h) for h in diagram.hopf) or "none"
         folds = diagram.points_of(PointKind.CYCLE_FOLD)
         fold_text = ", ".join(f"{kmh(s.p):.2f} km/h" for s in folds) or "none"
         return [Row({"case": case.label, "what": "bistable window: none"}, CheckStatus.INFO,

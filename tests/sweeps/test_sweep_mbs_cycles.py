@@ -60,6 +60,8 @@ def test_mbs_cycle_columns_equal_shimmy_cycles_and_shimmy_hopf(capsys, tmp_path)
     assert math.isclose(r["mbs_full_hopf_kmh"][0], hopf[0]["speed_kmh"], rel_tol=1e-12)
     assert math.isclose(r["mbs_full_hopf_l1"][0], hopf[0]["first_lyapunov"], rel_tol=1e-9)
     assert r["mbs_full_hopf_criticality"] == [hopf[0]["criticality"]] == ["supercritical"]
+    # the full geometry has a kink at straight running: the criticality is its branch's, which agrees with l1 here
+    assert r["mbs_full_hopf_criticality_by"] == ["branch"]
     # at 2.5 bar the full geometry runs straight below 39.3 km/h: no branch, nothing missing
     calm = rows[2.5]
     assert calm["mbs_full_hopf_kmh"] == [] and calm["mbs_full_cycle_status"] == [] and calm["mbs_full_cycles_complete"]

@@ -88,6 +88,7 @@ def test_onset_shares_add_up_and_l1_agrees_with_shimmy_hopf(capsys):
     assert direct[0]["first_lyapunov"] == r["mbs_full_hopf_l1"][0]
     assert (direct[0]["criticality"] == "supercritical") == (r["mbs_full_hopf_l1"][0] < 0.0)
     assert r["mbs_full_hopf_criticality"][0] == direct[0]["criticality"]
+    assert r["mbs_full_hopf_criticality_by"][0] == "l1 across a kink"      # no branch in this sweep
     assert main(["hopf", "--pressure", "1.5", "--json"]) == 0
     reduced = json.loads(capsys.readouterr().out)["hopf"]
     assert row.cells["reduced_onset_l1"] == reduced[0]["first_lyapunov"]

@@ -285,3 +285,18 @@ def test_a_window_too_narrow_to_resolve_gets_no_ramps_and_no_kick(tmp_path):
     (row,) = rows
     assert row.cells["what"].startswith("bistable window") and "neither is run" in row.note
     assert recordings == [] and found == []
+
+
+def test_where_l1_is_not_well_posed_the_criticality_column_is_the_branchs():
+    """The full geometry's camber force puts a kink at straight running: l1's sign is no criticality there, and the
+    Hopf row's criticality comes from its cycle branch, or is left undetermined without one."""
+    import types
+
+    from bifurcation.special_points import Criticality
+    from comparisons.studies.onset import BranchOnset, onset_criticality
+    hopf = types.SimpleNamespace(criticality=Criticality.SUBCRITICAL)
+    stable = BranchOnset(Criticality.SUPERCRITICAL, "the cycles born there are stable")
+    assert onset_criticality(hopf, stable, kinked=True) == (Criticality.SUPERCRITICAL, "branch")
+    assert onset_criticality(hopf, None, kinked=True) == (None, "branch")
+    assert onset_criticality(hopf, stable, kinked=False) == (Criticality.SUBCRITICAL, "l1")
+    assert stable.text == "its branch: the cycles born there are stable (supercritical by its branch)"
