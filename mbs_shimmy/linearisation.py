@@ -139,12 +139,14 @@ class MbsEvaluator:
         self.twin_jacobians += 1
         return J, Jv
 
-    def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False) -> tuple | None:
+    def twin_batch(self, Y: np.ndarray, speed: float, jacobians: bool = False,
+                   kink_rows: bool = True) -> tuple | None:
         """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
         with Exudyn's right-hand side and its differences in the rows where the twin has none (a positive load
         outside the load table: below 0.01 % of the static load, or above 3 times it), and the twin's differences
         where a wheel's load is below :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load,
-        lifted wheels included (below); None where there is no twin."""
+        lifted wheels included (below; not with ``kink_rows`` False, for a caller that reads only df/dV, which is
+        never differenced); None where there is no twin."""
         twin = self.twin
         if twin is None:
             return None
@@ -157,7 +159,7 @@ class MbsEvaluator:
             # Newton on a fold system cannot follow.  Central differences of step FD_STEP straddle the kink
             # smoothly, as Exudyn's differences did before the twin covered lifted wheels: the twin's, cheap.
             near, differenced = np.flatnonzero(ok & below), 0
-            if len(near):
+            if len(near) and kink_rows:
                 J[near], done = self._twin_differences(Y[near], speed)
                 ok[near[~done]] = False
                 differenced = int(np.sum(done))
@@ -363,7 +365,8 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         :meth:`rhs` (the twin with the numbers of q +- h: one graph, two Exudyn systems to read them from)."""
         if free == self.primary:
             L = self.layout
-            twin = self._at(q).twin_batch(np.asarray(P, dtype=float)[:, L.x_to_y], p, jacobians=True)
+            twin = self._at(q).twin_batch(np.asarray(P, dtype=float)[:, L.x_to_y], p, jacobians=True,
+                                          kink_rows=False)
             if twin is not None:
                 return twin[2][:, L.y_to_x]
             return super().parameter_derivative(P, p, q, free, scale)
