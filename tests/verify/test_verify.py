@@ -30,6 +30,11 @@ def test_verify_quick_passes_and_writes_report(quick_report):
     assert proc.returncode == 0, proc.stderr
     summary = json.loads(proc.stdout)
     assert summary["failed"] is False
+    # computed with the sections that collect the second process's work last, reported in their own order
+    assert [s["key"] for s in summary["sections"]] == ["plan", "paper", "hopf", "margins", "transient", "cycles",
+                                                       "jumps", "bistable", "full_geometry", "assumptions", "braking",
+                                                       "robustness"]
+    assert proc.stderr.index("Robustness: done in") < proc.stderr.index("Bistable jumps: done in")
     text = (out / "report.md").read_text()
     assert text.startswith("# shimmy verification report") and "## Summary" in text
     assert not [f for f in os.listdir(out) if f.startswith(".")]
