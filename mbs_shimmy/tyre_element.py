@@ -76,7 +76,7 @@ class LoadTable:
 
     # Down to 0.01 %: a wheel near lift-off (below 2 %, KINK_BAND) stays in the table, so that the compiled stage
     # and the twin cover it; before, every such state fell back to Python and to Exudyn's differences.
-    # Up to 10 times: violent tramp cycles of plausible axles put 3.3 times the static load on a wheel (a 9.6 deg
+    # Up to 10 times: violent cycles of plausible axles put 3.3 times the static load on a wheel (a 9.6 deg
     # yaw cycle at 213 km/h, 1.5 bar), and beyond 3 times every state fell back to Exudyn's differences (minutes).
     RANGE = (1e-4, 10.0)
     NODES = 3445
