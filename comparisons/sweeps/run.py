@@ -241,11 +241,28 @@ def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, 
     # The task as the output of a task, not scattered: when every worker holding it dies, Dask computes it again
     # (a scattered value lost with its last worker cancels every batch that needs it).
     shared = cluster.client.submit(_the_task, task, pure=False, key=f"shimmy-sweep-{tag}-task")
-    futures = [cluster.client.submit(evaluate_batch, shared, b, b * size, design.values[b * size:(b + 1) * size],
-                                     pure=False, key=f"shimmy-sweep-{tag}-batch-{b}") for b in todo]
-    batch_of = {fut.key: b for fut, b in zip(futures, todo)}
-    for fut in as_completed(futures):
-        b = batch_of[fut.key]
+    # On every worker: with it on one alone, the scheduler queued every batch there (where their input was) and
+    # left the others idle while a slow sample ran (6 minutes in a 16-sample sweep, docs/sweeps.md).
+    from distributed import wait
+    wait([shared])
+    cluster.client.replicate([shared])
+    waiting, batch_of = list(reversed(todo)), {}
+
+    def submit_more(running) -> None:
+        # no more batches in flight than the cluster has threads: the scheduler assigns a task to a worker when it
+        # is submitted, and a batch queued behind a slow sample waited there while other workers stood idle
+        threads = max(1, sum(cluster.client.nthreads().values()))
+        while waiting and len(batch_of) < threads:
+            b = waiting.pop()
+            fut = cluster.client.submit(evaluate_batch, shared, b, b * size, design.values[b * size:(b + 1) * size],
+                                        pure=False, key=f"shimmy-sweep-{tag}-batch-{b}")
+            batch_of[fut.key] = b
+            running.add(fut)
+
+    running = as_completed([])
+    submit_more(running)
+    for fut in running:
+        b = batch_of.pop(fut.key)
         table, died = _batch_result(fut, cluster, task, design, b, size)
         if died:
             killed.append(b)
@@ -254,4 +271,5 @@ def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, 
         fut.release()
         if progress is not None:
             progress(done, n)
+        submit_more(running)
     return todo, sorted(killed)
