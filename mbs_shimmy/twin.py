@@ -234,15 +234,16 @@ class Twin:
             k = guess
         return res
 
-    def _batch(self, name: str, Y, speed, extra=()):
+    def _batch(self, name: str, Y, speed, extra=(), pad: bool = False):
         """fn's outputs at each state of Y (K, N) in one call of fn mapped over K (a Python call into CasADi
         costs as much as evaluating the equations), with the intervals guessed per row (key = row) and
         corrected rows evaluated again."""
         Y = np.asarray(Y, dtype=float)
         K = len(Y)
-        # padded to a bucket size: a mapped function is built once per size (tens of ms), and the Jacobian rows
-        # differenced near a lift-off come in every count (a third of a violent branch's time went to building)
-        Kb = _bucket(K)
+        # with ``pad``, padded to a bucket size: a mapped function is built once per size (tens of ms), and the
+        # Jacobian rows differenced near a lift-off come in every count (a third of a violent branch's time went
+        # to building); a mesh's own count repeats from step to step and is not padded
+        Kb = _bucket(K) if pad else K
         if Kb > K:
             Y = np.concatenate([Y, np.repeat(Y[-1:], Kb - K, axis=0)])
         mapped = self.graph.mapped(name, Kb)
@@ -272,9 +273,10 @@ class Twin:
             res = [np.asarray(r)[:, :np.shape(r)[1] // Kb * K] for r in res]
         return res, ok[:K]
 
-    def rhs_batch(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray]:
-        """f (K, N) and ok (K,) at the states Y (K, N)."""
-        res, ok = self._batch("f", Y, speed)
+    def rhs_batch(self, Y, speed: float, pad: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """f (K, N) and ok (K,) at the states Y (K, N); ``pad``: a batch whose size varies from call to call
+        (:meth:`_batch`)."""
+        res, ok = self._batch("f", Y, speed, pad=pad)
         return np.asarray(res[0]).T, ok
 
     def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
