@@ -5,7 +5,7 @@ The first Lyapunov coefficient l1 says which where the right-hand side is twice 
 The full geometry's is not (MF 6.1's cornering stiffness has |camber|: ``mbs_shimmy.linearisation``), and there
 l1 by differences is an average across the kink whose sign is no criticality.  The cycle branch born at the Hopf
 point says it in every case: its first computed cycle is stable or unstable, or a cycle fold lies between them
-(Kuznetsov, Elements of Applied Bifurcation Theory, 3rd ed., 2004, section 3.5: the sign of l1 decides the
+(Kuznetsov, Elements of Applied Bifurcation Theory, 3rd ed., 2004, chapter 3: the sign of l1 decides the
 stability of the cycles born at a Hopf point; the branch reads that stability directly).
 """
 
