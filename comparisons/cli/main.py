@@ -248,6 +248,14 @@ class _Signals:
             self._raise()
 
 
+def received_signal() -> int | None:
+    """The exit code of the signal this run has received (EXIT_INTERRUPTED, EXIT_TERMINATED), None before one, or
+    outside :func:`main`: a command that answers an interrupt itself asks it when an error that is not a
+    KeyboardInterrupt ends its work (an interrupt inside a library's or the import system's bookkeeping)."""
+    owner = getattr(signal.getsignal(signal.SIGINT), "__self__", None)
+    return owner.code if isinstance(owner, _Signals) else None
+
+
 def _where(exc: BaseException) -> str:
     """The innermost frame of this project in the traceback: 'module.function'."""
     place = "?"

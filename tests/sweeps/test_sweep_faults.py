@@ -311,3 +311,29 @@ def test_ctrl_c_during_local_cluster_start_up_within_a_second_with_the_same_line
     run = sweep_json(shimmy(resume_command(message(err))[1:] + ["--json"], tmp_path))["run"]
     assert run["computed_batches"] == BATCHES
     assert_complete(out, reference)
+
+
+def test_ctrl_c_that_comes_out_of_the_sweep_as_another_error_keeps_its_line(monkeypatch, tmp_path, capsys):
+    """Ctrl-C inside a library's bookkeeping may come out as another error (CPython's import lock raised a KeyError
+    with the KeyboardInterrupt as its context); once the signal has come, the sweep answers it as Ctrl-C, with the
+    batches it kept.  Without a signal the same error is a bug, and it is raised."""
+    import comparisons.sweeps.run as sweep_run
+
+    def interrupted(*args, **kwargs):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(5.0)
+        except KeyboardInterrupt:
+            raise KeyError(140000000000000) from None
+
+    monkeypatch.setattr(sweep_run, "run_sweep", interrupted)
+    out = str(tmp_path / "k.parquet")
+    assert main(SWEEP + ["--workers", "1", "--out", out]) == 130
+    assert message(capsys.readouterr().err) == "shimmy: interrupted; nothing was kept; the same command starts again"
+
+    def broken(*args, **kwargs):
+        raise KeyError(1)
+
+    monkeypatch.setattr(sweep_run, "run_sweep", broken)
+    with pytest.raises(KeyError):
+        main(SWEEP + ["--workers", "1", "--out", out])

@@ -177,7 +177,7 @@ def kept_line(what: str, out: str, argv: list[str], when: str = "") -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from comparisons.cli.main import EXIT_INCOMPLETE, EXIT_INTERRUPTED
+    from comparisons.cli.main import EXIT_INCOMPLETE, EXIT_INTERRUPTED, received_signal
     from comparisons.files import OutputFault
     from comparisons.sweeps.analysis import OutputChoice, sensitivity, write_plot
     from comparisons.sweeps.cluster import SweepStopped, scheduler_address
@@ -206,6 +206,14 @@ def run(args: argparse.Namespace) -> int:
         bar.close()
         _quiet_shutdown()
         raise OutputFault(kept_line(exc.message, args.out, args.argv, "once there is space, ")) from None
+    except Exception:
+        # Ctrl-C that came out as another error (raised inside Dask's start-up or an import): still the interrupt
+        if received_signal() != EXIT_INTERRUPTED:
+            raise
+        bar.close()
+        _quiet_shutdown()
+        sys.stderr.write(kept_line("shimmy: interrupted", args.out, args.argv) + "\n")
+        return EXIT_INTERRUPTED
     finally:
         bar.close()
     sens = sensitivity(result.table, design, output)
