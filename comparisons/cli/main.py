@@ -351,31 +351,23 @@ def main(argv: list[str] | None = None) -> int:
             if _stdout_fault(exc):
                 raise OutputFault(f"cannot write to stdout: {exc.strerror}") from None
             raise
-    except KeyboardInterrupt:
-        _stop_children()
-        remove_live_temporaries()
-        _say("shimmy: interrupted")
-        return EXIT_INTERRUPTED
-    except Interrupted:
-        _stop_children()
-        remove_live_temporaries()
-        _say("shimmy: terminated")
-        return EXIT_TERMINATED
     except OutputFault as exc:
         remove_live_temporaries()
         if "stdout" in exc.message:
             _silence_stdout()
         _say(f"shimmy: write error: {exc.message}")
         return EXIT_WRITE
-    except BaseException:
-        if signals.code is None:
-            raise
+    except BaseException as exc:
         # After a signal the signal decides: an interrupt raised inside the import system's bookkeeping comes out
         # as another error (a KeyError from CPython's _ModuleLock.acquire, seen once in 1000 runs of the tests).
+        code = (EXIT_INTERRUPTED if isinstance(exc, KeyboardInterrupt) else
+                EXIT_TERMINATED if isinstance(exc, Interrupted) else signals.code)
+        if code is None:
+            raise
         _stop_children()
         remove_live_temporaries()
-        _say("shimmy: interrupted" if signals.code == EXIT_INTERRUPTED else "shimmy: terminated")
-        return signals.code
+        _say("shimmy: interrupted" if code == EXIT_INTERRUPTED else "shimmy: terminated")
+        return code
     finally:
         signals.restore()
 

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from axles.units import kmh
 from bifurcation.special_points import Criticality, PointKind
 
@@ -52,6 +54,13 @@ def branch_onset(diagram, hopf) -> BranchOnset | None:
             return BranchOnset(Criticality.SUPERCRITICAL, "the cycles born there are stable")
         return BranchOnset(Criticality.SUBCRITICAL, "the cycles born there are unstable")
     return None
+
+
+def has_kink(family, hopf) -> bool:
+    """Whether ``family``'s right-hand side has a kink at straight running at ``hopf`` (False where the family
+    cannot tell, or has no such test: the reduced model is smooth)."""
+    smooth = getattr(family, "twice_differentiable", None)
+    return smooth is not None and smooth(np.zeros(family.n), hopf.p, hopf.q) is False
 
 
 def onset_criticality(hopf, onset: BranchOnset | None, kinked: bool) -> tuple[Criticality | None, str]:

@@ -282,14 +282,14 @@ def _criticality_columns(prefix: str, points, family=None, diagram=None) -> dict
     is twice differentiable there; where it has a kink (the full geometry's camber force) l1's sign is no
     criticality, and it is the cycle branch's with a ``diagram`` ("branch"), else l1's sign all the same, marked
     "l1 across a kink" (:mod:`comparisons.studies.onset`)."""
-    from comparisons.studies.onset import branch_onset, onset_criticality
+    from comparisons.studies.onset import branch_onset, has_kink, onset_criticality
     out = {f"{prefix}hopf_l1": [h.first_lyapunov for h in points]}
     if family is None:
         out[f"{prefix}hopf_criticality"] = [h.criticality.value if h.criticality else None for h in points]
         return out
     values, by = [], []
     for h in points:
-        kinked = family.twice_differentiable(np.zeros(family.n), h.p, h.q) is False
+        kinked = has_kink(family, h)
         if kinked and diagram is None:
             criticality, rests_on = h.criticality, "l1 across a kink"
         else:

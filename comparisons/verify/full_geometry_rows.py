@@ -26,7 +26,7 @@ from comparisons.verify.plan import VMAX, BistableCase
 from comparisons.verify.report import CheckStatus, Row
 from comparisons.studies.limit_cycle import SETTLE
 from bifurcation.special_points import PointKind
-from comparisons.studies.onset import branch_onset, onset_criticality
+from comparisons.studies.onset import branch_onset, has_kink, onset_criticality
 from reduced_model.family import SpeedFamily
 
 QUICK_GROWTH_S = 2.0      # s of each growth run in quick mode (4 s otherwise: comparisons.studies.growth.DURATION)
@@ -108,8 +108,7 @@ def hopf_rows(family, case, points, duration: float, diagram=None) -> list[Row]:
     from comparisons.studies.growth import RATE_TOL, envelope_rate
     from mbs_shimmy.linearisation import L1_NOT_WELL_POSED
     rows = []
-    smooth = getattr(family, "twice_differentiable", None)
-    kinked = bool(points) and smooth is not None and smooth(np.zeros(family.n), points[0].p, points[0].q) is False
+    kinked = bool(points) and has_kink(family, points[0])
     for i, (h, off) in enumerate(zip(points, hopf_offsets([h.p for h in points])), 1):
         onset = branch_onset(diagram, h)
         criticality, _ = onset_criticality(h, onset, kinked)
@@ -204,9 +203,7 @@ def _onset_text(family, diagram, h) -> str:
     """'39.23 km/h supercritical by its branch (the cycles born there are stable)' for the no-window row; by l1
     only where l1 is well posed."""
     onset = branch_onset(diagram, h)
-    smooth = getattr(family, "twice_differentiable", None)
-    kinked = smooth is not None and smooth(np.zeros(family.n), h.p, h.q) is False
-    criticality, by = onset_criticality(h, onset, kinked)
+    criticality, by = onset_criticality(h, onset, has_kink(family, h))
     text = f"{kmh(h.p):.2f} km/h {criticality.value if criticality else 'undetermined'} by " + (
         "l1" if by == "l1" else "its branch")
     if onset is not None:

@@ -192,11 +192,6 @@ def run(args: argparse.Namespace) -> int:
     try:
         result = run_sweep(task, design, args.out, scheduler=args.scheduler, workers=args.workers,
                            size=args.batch_size, resume=args.resume, progress=bar, notice=bar.note)
-    except KeyboardInterrupt:
-        bar.close()
-        _quiet_shutdown()
-        sys.stderr.write(kept_line("shimmy: interrupted", args.out, args.argv) + "\n")
-        return EXIT_INTERRUPTED
     except SweepStopped as exc:
         bar.close()
         _quiet_shutdown()
@@ -206,9 +201,9 @@ def run(args: argparse.Namespace) -> int:
         bar.close()
         _quiet_shutdown()
         raise OutputFault(kept_line(exc.message, args.out, args.argv, "once there is space, ")) from None
-    except Exception:
-        # Ctrl-C that came out as another error (raised inside Dask's start-up or an import): still the interrupt
-        if received_signal() != EXIT_INTERRUPTED:
+    except BaseException as exc:
+        # Ctrl-C, also where it came out as another error (raised inside Dask's start-up or an import)
+        if not isinstance(exc, KeyboardInterrupt) and received_signal() != EXIT_INTERRUPTED:
             raise
         bar.close()
         _quiet_shutdown()
