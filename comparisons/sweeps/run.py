@@ -247,11 +247,16 @@ def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, 
     wait([shared])
     cluster.client.replicate([shared])
     waiting, batch_of = list(reversed(todo)), {}
+    threads = 1
 
     def submit_more(running) -> None:
         # no more batches in flight than the cluster has threads: the scheduler assigns a task to a worker when it
         # is submitted, and a batch queued behind a slow sample waited there while other workers stood idle
-        threads = max(1, sum(cluster.client.nthreads().values()))
+        nonlocal threads
+        try:
+            threads = max(1, sum(cluster.client.nthreads().values()))
+        except Exception:  # noqa: BLE001 - a lost scheduler: the batches in flight say so (_batch_result)
+            pass
         while waiting and len(batch_of) < threads:
             b = waiting.pop()
             fut = cluster.client.submit(evaluate_batch, shared, b, b * size, design.values[b * size:(b + 1) * size],
