@@ -36,6 +36,9 @@ class ContinuationSettings:
     max_turn: float = 0.35     # radians between successive tangents
     chord_max_iter: int = 12   # chord iterations (see :func:`correct`) before falling back to Newton
     grow_iter: int = 3         # Newton iterations up to which the next step grows (by 1.5)
+    # Steps tried over a corner where the step size underflows (:func:`step_over`), 0: none.  Only for curves of
+    # piecewise smooth problems, whose discretised curve has gaps where a node crosses a kink.
+    corner_steps: int = 0
 
 
 def _solve_bordered(J, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -136,6 +139,46 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
     return None
 
 
+CORNER_MEMORY = 32     # accepted steps whose largest sets the first step over a corner
+CORNER_COLLAPSE = 1.0 / 64.0    # a step this far below that largest is taken for a collapse onto a corner
+
+
+def recent_step(branch: "Branch") -> float:
+    """The largest of the last :data:`CORNER_MEMORY` accepted steps (the first step's size at the start)."""
+    return max(branch.steps[-CORNER_MEMORY:] + [branch.settings.ds])
+
+
+def step_over(residual: Residual, branch: "Branch", w: np.ndarray, blocks: Blocks, settings: ContinuationSettings,
+              value: Value | None = None, step_bound=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int] | None:
+    """A step over a corner of the curve: (u, DG(u), tangent, ds, iterations), or None.
+
+    Where the problem is only piecewise smooth (a right-hand side with a kink, discretised at fixed nodes), the
+    discretised curve has a steep piece wherever a node crosses the kink: the Jacobian of G changes there over the
+    width of a difference step, so the step size collapses onto the crossing (:func:`continue_curve` calls this
+    once its retries fall to :data:`CORNER_COLLAPSE` of :func:`recent_step`, or to ``ds_min``).  The curve of the
+    problem itself goes on (the discretised one on either side of the crossing approximates it to the
+    discretisation's accuracy), so the corrector is started beyond the crossing instead: steps of 1, 2, 4, ...
+    times the largest of the last :data:`CORNER_MEMORY` accepted steps, the first that converges with its tangent
+    within ``max_turn`` of the one before the corner, i.e. the curve going on as it came (and within
+    ``step_bound``, as :func:`continue_curve`'s steps).  The caller records the
+    gap (``Branch.corners``); events on such a step may fail to be located and are then reported by bracket."""
+    u, t = branch.points[-1], branch.tangents[-1]
+    first = recent_step(branch)
+    for j in range(settings.corner_steps):
+        ds = min(first * 2.0 ** j, settings.ds_max)
+        result = correct(residual, u + ds * t, t, w, settings, blocks=blocks, value=value, frozen=branch.jacobian)
+        if result is None:
+            continue
+        u_new, J_new, iters = result
+        t_new = tangent(J_new, w, t)
+        bounded = step_bound is None or step_bound(u, u_new) <= 1.0
+        if bounded and np.dot(t_new * w, t * w) >= np.cos(settings.max_turn):
+            return u_new, J_new, t_new, ds, iters
+        if ds >= settings.ds_max:
+            break
+    return None
+
+
 @dataclass(frozen=True)
 class Stop:
     """What an ``accept`` callback of :func:`continue_curve` returns to end a curve: its status and where."""
@@ -160,6 +203,7 @@ class Branch:
     blocks: tuple[slice, ...] | None = None
     value: Value | None = None          # G alone, for chord iterations (:func:`correct`)
     jacobian: object = None             # DG at the last accepted point, for chord iterations
+    corners: list[int] = field(default_factory=list)    # points reached by a step over a corner (:func:`step_over`)
 
     def point_at(self, k: int, s: float) -> tuple[np.ndarray, np.ndarray]:
         """Corrected point at arclength s from point k along its tangent, and the tangent there (only for the
@@ -225,6 +269,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     ds = settings.ds
     for _ in range(settings.max_steps):
         u, t = branch.points[-1], branch.tangents[-1]
+        tried_over = False
         while True:
             result = correct(residual, u + ds * t, t, w, settings, blocks=blk, value=value, frozen=branch.jacobian)
             if result is not None:
@@ -238,6 +283,17 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                     ds = 0.95 * ds / ratio
                     continue
             ds *= 0.5
+            # A step size collapsing far below the recent ones: a corner, where the problem is piecewise smooth
+            # (once per point, before the step size underflows).
+            corner = settings.corner_steps and not tried_over and ds < max(CORNER_COLLAPSE * recent_step(branch),
+                                                                           settings.ds_min)
+            over = step_over(residual, branch, w, blk, settings, value, step_bound) if corner else None
+            tried_over = tried_over or corner
+            if over is not None:
+                u_new, J_new, t_new, ds, iters = over
+                ratio = 0.0
+                branch.corners.append(len(branch.points))
+                break
             if ds < settings.ds_min:
                 branch.status = BranchStatus.STEP_UNDERFLOW
                 branch.message = Message.of(f"step size underflow after {len(branch.points)} points")

@@ -51,8 +51,9 @@ class ComplexStepDerivatives:
 
     costly_jacobian = False     # one vectorised call gives f and df/dx together
 
-    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
-        """f (M, n) and df/dx (M, n, n) at the states P (M, n)."""
+    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float,
+                          kink_rows: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """f (M, n) and df/dx (M, n, n) at the states P (M, n) (smooth: ``kink_rows`` changes nothing)."""
         return values_and_jacobians(lambda Z: self.rhs(Z, p, q), P)
 
     def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
@@ -71,7 +72,8 @@ class DifferenceDerivatives:
 
     costly_jacobian = True      # df/dx costs about 2 n evaluations of f: continuation runs chord iterations
 
-    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
+    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float,
+                          kink_rows: bool = True) -> tuple[np.ndarray, np.ndarray]:
         P = np.asarray(P, dtype=float)
         f = np.array([self.rhs(x, p, q) for x in P])
         J = np.array([self.jacobian(x, p, q) for x in P])

@@ -77,8 +77,12 @@ class Family(Protocol):
     # How the derivatives are formed: inherit one of :mod:`bifurcation.derivatives`.
     costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)
 
-    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
-        """f (M, n) and df/dx (M, n, n) at the states P (M, n)."""
+    def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float,
+                          kink_rows: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """f (M, n) and df/dx (M, n, n) at the states P (M, n).  Where f has a kink near a state, df/dx is smoothed
+        across it (differences straddling it) so that a fold's test function does not jump as a collocation state
+        crosses the kink; with ``kink_rows`` False one side's exact df/dx, enough for a caller that only forms a
+        Newton direction from it (the gradients of bordered test functions).  Smooth families ignore it."""
 
     def parameter_derivative(self, P: np.ndarray, p: float, q: float, free: str, scale: float) -> np.ndarray:
         """df/d(free) (M, n) at the states P (M, n); ``scale`` is the free parameter's size."""

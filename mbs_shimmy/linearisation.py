@@ -146,7 +146,7 @@ class MbsEvaluator:
         outside the load table: below 0.01 % of the static load, or above 10 times it), and the twin's differences
         where a wheel's load is below :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load,
         lifted wheels included (below; not with ``kink_rows`` False, for a caller that reads only df/dV, which is
-        never differenced); None where there is no twin."""
+        never differenced, or forms only a Newton direction); None where there is no twin."""
         twin = self.twin
         if twin is None:
             return None
@@ -269,6 +269,9 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
     _equilibria: dict = field(default_factory=dict, init=False, repr=False)
     # the full geometry's forces carry ~1e-10 of rounding (module docstring): a steady state is found to that
     steady_tolerance = EQUILIBRIUM_TOL
+    # a wheel's lift-off (and with the camber force, straight running) puts kinks in f: two-parameter cycle curves
+    # step over the gaps a collocation node's crossing makes (bifurcation.continuation.step_over)
+    piecewise_smooth = True
 
     def __post_init__(self) -> None:
         self.check_param()
@@ -337,15 +340,18 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         J = exact[0] if exact is not None else ev.jacobian(y, speed)
         return J[np.ix_(L.y_to_x, L.y_to_x)]
 
-    def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float) -> tuple[np.ndarray, np.ndarray]:
+    def rhs_and_jacobians(self, P: np.ndarray, speed: float, q: float,
+                          kink_rows: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """f and df/dx at the states P (M, n) (extended order): what collocation needs.  Both from the twin in one
-        call (:meth:`MbsEvaluator.twin_batch`), or with :attr:`exudyn_residuals` per state Exudyn's f with the
-        twin's df/dx (:meth:`MbsEvaluator.exact_jacobian`) or :meth:`MbsEvaluator.rhs_and_jacobian`'s
-        differences."""
+        call (:meth:`MbsEvaluator.twin_batch`; ``kink_rows`` False: no differences near a lift-off, the twin's
+        exact one-sided df/dx, :meth:`bifurcation.problem.Family.rhs_and_jacobians`), or with
+        :attr:`exudyn_residuals` per state Exudyn's f with the twin's df/dx (:meth:`MbsEvaluator.exact_jacobian`)
+        or :meth:`MbsEvaluator.rhs_and_jacobian`'s differences."""
         ev = self._at(q)
         L = self.layout
         P = np.asarray(P, dtype=float)
-        twin = None if self.exudyn_residuals else ev.twin_batch(P[:, L.x_to_y], speed, jacobians=True)
+        twin = None if self.exudyn_residuals else ev.twin_batch(P[:, L.x_to_y], speed, jacobians=True,
+                                                                  kink_rows=kink_rows)
         if twin is not None:
             return twin[0][:, L.y_to_x], twin[1][np.ix_(np.arange(len(P)), L.y_to_x, L.y_to_x)]
         f, J = np.empty(P.shape), np.empty(P.shape + (P.shape[1],))

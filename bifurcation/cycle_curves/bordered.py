@@ -46,6 +46,9 @@ START_ROUNDS = 4            # re-meshings of a start point that misses the error
 # Newton iterations on a start interpolated onto a new mesh: where the right-hand side has a kink on the orbit Newton
 # converges only linearly (up to 15 iterations measured on a multibody model's fold, docs/results.md)
 START_ITERATIONS = 25
+# Steps over a corner (bifurcation.continuation.step_over) where the family says its right-hand side is only
+# piecewise smooth: 1 and 2 times the recent steps (no gap wider than the curve's own steps is stepped over).
+CORNER_STEPS = 2
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
 
 
@@ -136,7 +139,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     :class:`FoldSystem` by default; its unknowns end with (p, q) at K + 1, K + 2 and possibly more after them),
     from its start on an adequate mesh (:func:`start_point`); ``accept_hook(cycle)`` after each accepted point."""
     from bifurcation.cycle_curves.ends import locate_end
-    from bifurcation.cycle_curves.result import CycleCurve
+    from bifurcation.cycle_curves.result import Corner, CycleCurve
 
     folds = point.kind is PointKind.CYCLE_FOLD
     ends_at_zero = point.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)
@@ -149,6 +152,9 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     start_state = (system.b.copy(), system.c.copy(), system.cp.reference)
     halves = []
     special: list[SpecialPoint] = []
+    corners: list[Corner] = []
+    if getattr(family, "piecewise_smooth", False):
+        continuation = dataclasses.replace(continuation, corner_steps=CORNER_STEPS)
     for sign in (1.0, -1.0):
         system.b, system.c = start_state[0].copy(), start_state[1].copy()
         system.cp.set_reference(start_state[2])
@@ -160,6 +166,9 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
         def accept(branch, points=points, ends=ends, kappas=kappas) -> Stop | None:
             U, U_old = branch.points[-1], branch.points[-2]
             p, q = U[ip], U[iq]
+            if len(branch.points) - 1 in branch.corners:
+                corners.append(Corner(before=(U_old[ip], U_old[iq]), after=(p, q), bracket=(
+                    sign * arclength[-1], sign * (arclength[-1] + branch.steps[-1]))))
             a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
             # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
             # curve would come back on itself.  Near the end amp^2 is affine along the curve.
@@ -259,6 +268,6 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                       amplitudes=np.array([p.amplitude for p in pts]), periods=np.array([p.period for p in pts]),
                       status=(s_bwd, s_fwd), messages=(m_bwd, m_fwd),
                       ends=tuple(None if e is None else (e.p, e.q) for e in (e_bwd, e_fwd)),
-                      end_points=(e_bwd, e_fwd), special_points=tuple(special),
+                      end_points=(e_bwd, e_fwd), special_points=tuple(special), corners=tuple(corners),
                       kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd),
                       errors=np.array([p.error for p in pts]), tolerances=np.array([p.tolerance for p in pts]))

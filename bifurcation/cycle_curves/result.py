@@ -30,6 +30,17 @@ END_KIND = {PointKind.TORUS: PointKind.HOPF_HOPF, PointKind.CYCLE_FOLD: PointKin
 
 
 @dataclass(frozen=True)
+class Corner:
+    """A gap in a curve, stepped over (:func:`bifurcation.continuation.step_over`): where the right-hand side has a
+    kink on the critical cycle, the discretised curve jumps where a collocation node crosses it.  The last point
+    before and the first after, (p, q) in SI, and the arclength bracket of the step."""
+
+    before: tuple[float, float]
+    after: tuple[float, float]
+    bracket: tuple[float, float]
+
+
+@dataclass(frozen=True)
 class CycleCurve:
     """A curve of cycle folds, torus or period-doubling points in (p, q): arrays along the curve (SI) and how each end ended."""
 
@@ -47,6 +58,7 @@ class CycleCurve:
     kappas: np.ndarray | None = None    # torus curves: cos theta of the critical pair per point (else NaN)
     errors: np.ndarray | None = None    # estimated collocation error per point, relative to the amplitudes
     tolerances: np.ndarray | None = None    # the tolerance each point was computed for
+    corners: tuple[Corner, ...] = ()        # gaps stepped over, in the order met (backward half first)
 
     @property
     def meets_tolerance(self) -> np.ndarray:

@@ -127,8 +127,11 @@ class TorusSystem(FoldSystem):
         p, q = e["p"], e["q"]
         hp, hq = FD_RELATIVE * cp.p_scale, FD_RELATIVE * self.q_scale
 
+        # Parameter derivatives of f_x, for gradients that only steer Newton: one side's Jacobian at a kink is enough
+        # (the state derivative f_xx keeps the smoothed Jacobians: one-sided there, a fold curve of the full geometry
+        # did not take a step, measured)
         def jac(p_, q_):
-            return self.family.rhs_and_jacobians(xk, p_, q_)[1]
+            return self.family.rhs_and_jacobians(xk, p_, q_, kink_rows=False)[1]
         return (jac(p + hp, q) - jac(p - hp, q)) / (2 * hp), (jac(p, q + hq) - jac(p, q - hq)) / (2 * hq)
 
     def _entry_gradient(self, U: np.ndarray, e: dict, Z: np.ndarray, W: np.ndarray, i: int, j: int,

@@ -278,7 +278,7 @@ def _mbs_fold_curve():
 
 def _fold_curve_counts(curve) -> dict:
     return {"points": len(curve.ps), "t0": f"{min(curve.qs):.5f}-{max(curve.qs):.5f} m",
-            "ends": ", ".join(s.value for s in curve.status)}
+            "ends": ", ".join(s.value for s in curve.status), "gaps_stepped_over": len(curve.corners)}
 
 
 def _sweep(samples: int, mbs: tuple[str, ...] = (), in_process: bool = False):

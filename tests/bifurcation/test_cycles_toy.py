@@ -217,9 +217,9 @@ class CountingToy(ToyFamily):
         super().__init__(field, n)
         self.jacobian_batches = 0
 
-    def rhs_and_jacobians(self, P, p, q):
+    def rhs_and_jacobians(self, P, p, q, kink_rows=True):
         self.jacobian_batches += 1
-        return super().rhs_and_jacobians(P, p, q)
+        return super().rhs_and_jacobians(P, p, q, kink_rows)
 
 
 class CostlyToy(CountingToy):

@@ -85,3 +85,25 @@ def test_an_adapted_one_parameter_fold_lies_on_the_curve_to_the_tolerance(fold_c
     folds = [p for b in diagram.branches for p in b.special_points if p.kind is PointKind.CYCLE_FOLD]
     nearest = min(folds, key=lambda f: abs(f.p - point.p))
     assert nearest.data["cycle"].meets_tolerance and abs(nearest.p - point.p) < 1e-4 * point.p
+
+
+@pytest.mark.slow
+def test_the_fold_curve_crosses_the_whole_trail_window_over_its_gaps():
+    """Over t0 = 0.24-0.26 m (the bench's curve, about 2 min) the curve meets collocation points crossing the
+    lift-off and steps over each gap (bifurcation.continuation.step_over): both ends leave the window, every gap
+    is listed, and each is a step along the curve's own direction no longer than its regular steps."""
+    family = family_of(MbsModel(YANG2024.replace(t0=0.25), fidelity=Fidelity.full()),
+                       TyrePressures.uniform(1.5 * BAR), "t0")
+    diagram = cycle_diagram(family, 0.25, 194.5 * KMH, 206 * KMH, SETTINGS)
+    fold = next(p for b in diagram.branches for p in b.special_points if p.kind is PointKind.CYCLE_FOLD)
+    curve = cycle_bifurcation_curve(family, fold, 0.24, 0.26, 150 * KMH, 250 * KMH, SETTINGS)
+    assert curve.complete
+    assert min(curve.qs) == pytest.approx(0.24, abs=1e-9) and max(curve.qs) == pytest.approx(0.26, abs=1e-9)
+    assert curve.corners        # measured 4 (2026-12-07): without them the curve stopped at 0.2441 and 0.2555 m
+    order = np.argsort(curve.qs)
+    slope = np.diff(curve.ps[order]) / np.diff(curve.qs[order])
+    steps = np.abs(np.diff(curve.qs[order]))
+    for c in curve.corners:
+        dq = c.after[1] - c.before[1]
+        assert abs(dq) <= 1.01 * np.max(steps)
+        assert (c.after[0] - c.before[0]) / dq == pytest.approx(np.median(slope), rel=0.5)

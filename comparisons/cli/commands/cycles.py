@@ -265,7 +265,10 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
                     "ends_at_zero_amplitude": [None if e is None else [kmh(e[0]), e[1] / factor]
                                                for e in curve.ends],
                     "end_points": [None if e is None else codim2_row(e, factor) for e in curve.end_points],
-                    "special_points": [codim2_row(e, factor) for e in curve.special_points]})
+                    "special_points": [codim2_row(e, factor) for e in curve.special_points],
+                    # gaps stepped over where a collocation node crosses a kink of the right-hand side
+                    "corners": [{"before": [kmh(c.before[0]), c.before[1] / factor],
+                                 "after": [kmh(c.after[0]), c.after[1] / factor]} for c in curve.corners]})
     return out
 
 
@@ -470,6 +473,11 @@ def print_curves(curves, labels, name: str) -> None:
         for p in curve.special_points:
             print(f"         {p.kind.value} at {kmh(p.p):.4f} km/h, {name} {p.q / factor:.6g} {unit} "
                   f"({p.status.value})")
+        if curve.corners:
+            dv = max(abs(kmh(c.after[0] - c.before[0])) for c in curve.corners)
+            dq = max(abs(c.after[1] - c.before[1]) for c in curve.corners) / factor
+            print(f"         stepped over {len(curve.corners)} gap(s) where a collocation node crosses a kink of the "
+                  f"right-hand side (the largest step: {dv:.3g} km/h, {name} {dq:.3g} {unit})")
 
 
 def model_text(args: argparse.Namespace, family) -> str:
