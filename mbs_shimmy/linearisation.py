@@ -160,7 +160,7 @@ class MbsEvaluator:
             # smoothly, as Exudyn's differences did before the twin covered lifted wheels: the twin's, cheap.
             near, differenced = np.flatnonzero(ok & below), 0
             if len(near) and kink_rows:
-                J[near], done = self._twin_differences(Y[near], speed)
+                J[near], done = self._twin_differences(Y[near], speed, keys=near)
                 ok[near[~done]] = False
                 differenced = int(np.sum(done))
         else:
@@ -179,14 +179,18 @@ class MbsEvaluator:
                 f[k] = self.rhs(Y[k], speed)
         return out
 
-    def _twin_differences(self, Y: np.ndarray, speed: float, step: float = FD_STEP) -> tuple[np.ndarray, np.ndarray]:
+    def _twin_differences(self, Y: np.ndarray, speed: float, step: float = FD_STEP,
+                          keys=None) -> tuple[np.ndarray, np.ndarray]:
         """d y'/d y at the states Y (K, n) by second-order central differences of the twin's right-hand side (as
         :meth:`rhs_and_jacobian`, all 2 n K states in one call), and per state whether the twin covered every
         state of its stencil (where it did not, Exudyn's differences take over)."""
         K, n = Y.shape
         E = step * np.eye(n)
         stencil = np.concatenate([Y[:, None, :] + E[None], Y[:, None, :] - E[None]], axis=1).reshape(-1, n)
-        f, ok = self.twin.rhs_batch(stencil, speed, pad=True)
+        # each stencil state starts from its node's load-table interval (``keys``: the nodes' rows in the batch)
+        # and leaves the nodes' cache alone: keyed by its own row, a stencil guessed wrong and was evaluated again
+        f, ok = self.twin.rhs_batch(stencil, speed, pad=True, remember=False,
+                                    keys=None if keys is None else np.repeat(keys, 2 * n))
         self.twin_calls += len(stencil)
         f, ok = f.reshape(K, 2 * n, n), ok.reshape(K, 2 * n)
         J = ((f[:, :n] - f[:, n:]) / (2.0 * step)).transpose(0, 2, 1)

@@ -234,12 +234,14 @@ class Twin:
             k = guess
         return res
 
-    def _batch(self, name: str, Y, speed, extra=(), pad: bool = False):
+    def _batch(self, name: str, Y, speed, extra=(), pad: bool = False, keys=None, remember: bool = True):
         """fn's outputs at each state of Y (K, N) in one call of fn mapped over K (a Python call into CasADi
-        costs as much as evaluating the equations), with the intervals guessed per row (key = row) and
-        corrected rows evaluated again."""
+        costs as much as evaluating the equations), with the intervals guessed per row from the cache under its key
+        (``keys``, default the row) and the batch evaluated again where a guess was wrong.  ``remember`` False: the
+        rows' intervals are not cached (states beside the keyed ones, as a difference stencil about a node)."""
         Y = np.asarray(Y, dtype=float)
         K = len(Y)
+        keys = np.arange(K) if keys is None else np.asarray(keys, dtype=int)
         # with ``pad``, padded to a bucket size: a mapped function is built once per size (tens of ms), and the
         # Jacobian rows differenced near a lift-off come in every count (a third of a violent branch's time went
         # to building); a mesh's own count repeats from step to step and is not padded
@@ -247,36 +249,37 @@ class Twin:
         if Kb > K:
             Y = np.concatenate([Y, np.repeat(Y[-1:], Kb - K, axis=0)])
         mapped = self.graph.mapped(name, Kb)
-        ks = [self._k.get(min(i, K - 1), (0, 0)) for i in range(Kb)]
+        cached = self._k.get
+        ks = np.array([cached(k, (0, 0)) for k in keys.tolist()] + [cached(int(keys[-1]), (0, 0))] * (Kb - K),
+                      dtype=int).reshape(Kb, 2)
+        dependent = np.asarray(self.load_dependent, dtype=bool)[:, None]
         for _ in range(3):
             inputs = [Y.T, speed, self.numbers]
             for w in range(2):
-                k = np.clip([kk[w] for kk in ks], 0, self.table_sizes[w] - 4)
+                k = np.clip(ks[:, w], 0, self.table_sizes[w] - 4)
                 rows = self.tables[w][k[:, None] + np.arange(4)[None, :]]          # (K, 4, columns)
                 inputs += [k[None, :].astype(float), rows.transpose(1, 0, 2).reshape(4, -1)]
             res = mapped(*inputs, *extra)
             ok = np.asarray(res[-2]).ravel() != 0.0
-            x = np.asarray(res[-1])
-            wrong = False
-            for i in range(Kb):
-                if ok[i]:
-                    if i < K:
-                        self._k[i] = ks[i]
-                    continue
-                guess = tuple(int(np.floor(v)) - 1 if self.load_dependent[w] and np.isfinite(v) else 0
-                              for w, v in enumerate(x[:, i]))
-                if guess != ks[i]:
-                    ks[i], wrong = guess, True
-            if not wrong:
+            x = np.asarray(res[-1], dtype=float).reshape(2, Kb)
+            usable = dependent & np.isfinite(x)
+            guess = np.where(usable, np.floor(np.where(usable, x, 0.0)) - 1.0, 0.0).astype(int).T   # (Kb, 2)
+            wrong = ~ok & np.any(guess != ks, axis=1)
+            if not wrong.any():
                 break
+            ks[wrong] = guess[wrong]
+        if remember:
+            good = ok[:K]
+            self._k.update(zip(keys[good].tolist(), map(tuple, ks[:K][good].tolist())))
         if Kb > K:      # each output holds its Kb blocks of columns side by side
             res = [np.asarray(r)[:, :np.shape(r)[1] // Kb * K] for r in res]
         return res, ok[:K]
 
-    def rhs_batch(self, Y, speed: float, pad: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """f (K, N) and ok (K,) at the states Y (K, N); ``pad``: a batch whose size varies from call to call
-        (:meth:`_batch`)."""
-        res, ok = self._batch("f", Y, speed, pad=pad)
+    def rhs_batch(self, Y, speed: float, pad: bool = False, keys=None,
+                  remember: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """f (K, N) and ok (K,) at the states Y (K, N); ``pad``: a batch whose size varies from call to call;
+        ``keys``, ``remember``: the rows' load-table intervals (:meth:`_batch`)."""
+        res, ok = self._batch("f", Y, speed, pad=pad, keys=keys, remember=remember)
         return np.asarray(res[0]).T, ok
 
     def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,

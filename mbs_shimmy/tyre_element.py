@@ -74,12 +74,17 @@ class LoadTable:
     with ``rl``, in that order (:attr:`layout`).
     """
 
-    # Down to 0.01 %: a wheel near lift-off (below 2 %, KINK_BAND) stays in the table, so that the compiled stage
-    # and the twin cover it; before, every such state fell back to Python and to Exudyn's differences.
+    # Down to 1e-6 of the static load (0.03 N on the paper's axle): a wheel near lift-off (below 2 %, KINK_BAND)
+    # stays in the table, so that the compiled stage and the twin cover it.  Down to 2 % only, every such state fell
+    # back to Python and to Exudyn's differences; down to 1e-4, still 2849 Jacobians of a fold curve did, a stencil
+    # state of a node near lift-off carrying a few newtons (10 % of the curve's time).  Not lower: the formulas' E
+    # grows as 1/F_z^2 (-9e17 at 1e-9), and with the table down to 1e-9 the fold's branch took 43 s instead of 3 s,
+    # its Newton iterates wandering to 55 times the static load (measured 2026-12-07).
     # Up to 10 times: violent cycles of plausible axles put 3.3 times the static load on a wheel (a 9.6 deg
     # yaw cycle at 213 km/h, 1.5 bar), and beyond 3 times every state fell back to Exudyn's differences (minutes).
-    RANGE = (1e-4, 10.0)
-    NODES = 3445
+    # The nodes keep their spacing (3445 from 1e-4).
+    RANGE = (1e-6, 10.0)
+    NODES = 4823
     KINK_BAND = 0.02    # below this fraction of the static load the twin's Jacobians are differences (twin.py)
 
     def __init__(self, params: ShimmyParameters, effects: Effects, wheel: WheelTyre):

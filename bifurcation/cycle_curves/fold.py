@@ -181,8 +181,8 @@ class FoldSystem:
         # a kink is enough, and saves the differences near a lift-off (a fold curve of the full geometry: 175 s ->
         # 123 s, the same points).  The state derivative above keeps them: one-sided there, no step was taken.
         def psi(p_, q_):
-            fv = self.family.rhs_and_jacobians(xk, p_, q_, kink_rows=False)[1]
-            return T * np.einsum("kab,kb->ka", fv, vk) + S * self.family.rhs(xk.T, p_, q_).T
+            f, fx = self.family.rhs_and_jacobians(xk, p_, q_, kink_rows=False)
+            return T * np.einsum("kab,kb->ka", fx, vk) + S * f
 
         hp = FD_RELATIVE * cp.p_scale
         hq = FD_RELATIVE * self.q_scale
