@@ -83,7 +83,7 @@ def constants(forces) -> tuple[np.ndarray, np.ndarray]:
         else:
             c += [1.0, t.s0, t.ds, float(t.n), float(element.pt), float(element.hcl), float(element.rl),
                   float(len(t.layout)), element.lifted[6], element.lifted[7]]
-            tables.append(np.array(t.rows, dtype=float))
+            tables.append(t.array)
         c += [float(element.braked)] + [float(v) for v in element.braking_constants]
     assert len(c) == ALIGNMENT
     c += [float(v) for v in f.alignment]

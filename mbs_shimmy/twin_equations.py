@@ -20,6 +20,7 @@ scalar type that has the arithmetic operators.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -156,6 +157,10 @@ class TwinData:
                    forces.stage_tables)
 
     def split(self) -> tuple[tuple, np.ndarray]:
+        return self._split
+
+    @functools.cached_property
+    def _split(self) -> tuple[tuple, np.ndarray]:
         """(structure, numbers): what selects the equations' code paths, hashable, and the axle's numbers that
         enter them only as values (offsets, masses, inertias, stiffnesses, the user function's constants).  Two
         systems with equal structures have one graph, whose numbers are an input (:meth:`with_numbers`).

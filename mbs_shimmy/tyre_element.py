@@ -107,6 +107,10 @@ class LoadTable:
         for i in self._per_load:
             columns[i] = columns[i] / loads
         self.rows = [tuple(float(v) for v in row) for row in zip(*columns)]
+        # the same as one array, for the compiled stage and the twin (a system per Newton iteration of a fold curve
+        # in t0 converted the list again: 2 ms of its 9)
+        self.array = np.array(self.rows, dtype=float)
+        self.array.flags.writeable = False
 
     def direct(self, load: float) -> tuple[float, ...]:
         """(B, D, E, Bt, Dt, Et0, a, sigma) at this load from the reduced model's formulas."""

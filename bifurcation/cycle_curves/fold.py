@@ -75,6 +75,7 @@ class FoldSystem:
         self.b = rng.standard_normal(self.dim)
         self.c = rng.standard_normal(self.dim)
         self._cache: tuple[np.ndarray, tuple] | None = None
+        self._sides: tuple | None = None      # (p, q), states, (f, f_x) at q +- h (:meth:`_q_sides`)
 
     @property
     def K(self) -> int:
@@ -129,8 +130,19 @@ class FoldSystem:
         return G, A, col_p, col_q, e
 
     def _df_dq(self, P: np.ndarray, p: float, q: float) -> np.ndarray:
+        (f_plus, _), (f_minus, _) = self._q_sides(P, p, q)
+        return (f_plus - f_minus) / (2 * FD_RELATIVE * self.q_scale)
+
+    def _q_sides(self, P: np.ndarray, p: float, q: float) -> tuple[tuple, tuple]:
+        """(f, f_x) at the states P (one side's f_x at a kink) at q + h and q - h, h = FD_RELATIVE q_scale: the
+        q column of the collocation Jacobian and the q derivative of the gradient read the same evaluations."""
+        cached = self._sides
+        if cached is not None and cached[0] == (p, q) and np.array_equal(cached[1], P):
+            return cached[2]
         h = FD_RELATIVE * self.q_scale
-        return ((self.family.rhs(P.T, p, q + h) - self.family.rhs(P.T, p, q - h)) / (2 * h)).T
+        sides = tuple(self.family.rhs_and_jacobians(P, p, q + s, kink_rows=False) for s in (h, -h))
+        self._sides = ((p, q), P.copy(), sides)
+        return sides
 
     def evaluate(self, U: np.ndarray):
         if self._cache is not None and np.array_equal(self._cache[0], U):
@@ -180,14 +192,15 @@ class FoldSystem:
         # Parameter derivatives steer Newton only (g itself comes from collocation's Jacobian): one side's Jacobian at
         # a kink is enough, and saves the differences near a lift-off (a fold curve of the full geometry: 175 s ->
         # 123 s, the same points).  The state derivative above keeps them: one-sided there, no step was taken.
-        def psi(p_, q_):
-            f, fx = self.family.rhs_and_jacobians(xk, p_, q_, kink_rows=False)
+        def psi(f, fx):
             return T * np.einsum("kab,kb->ka", fx, vk) + S * f
 
         hp = FD_RELATIVE * cp.p_scale
         hq = FD_RELATIVE * self.q_scale
-        g_p = float(np.sum(wk * (psi(p + hp, q) - psi(p - hp, q))) / (2 * hp))
-        g_q = float(np.sum(wk * (psi(p, q + hq) - psi(p, q - hq))) / (2 * hq))
+        g_p = float(np.sum(wk * (psi(*self.family.rhs_and_jacobians(xk, p + hp, q, kink_rows=False))
+                                 - psi(*self.family.rhs_and_jacobians(xk, p - hp, q, kink_rows=False)))) / (2 * hp))
+        plus, minus = self._q_sides(xk, p, q)
+        g_q = float(np.sum(wk * (psi(*plus) - psi(*minus))) / (2 * hq))
         return np.concatenate([g_nodes.ravel(), [g_T, g_p, g_q]])
 
     def __call__(self, U: np.ndarray):
