@@ -59,7 +59,7 @@ FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GEN
 # The one two-parameter cycle curve of the full geometry measured so far (issue 30, `shimmy bench
 # mbs_fold_curve_t0`): a fold curve over t0 = 0.24-0.26 m.
 CYCLE_CURVE_COST = ("the full geometry's two-parameter cycle curves are not drawn yet: one costs minutes (a fold curve "
-                    "over t0 = 0.24-0.26 m: 121 s, `shimmy bench mbs_fold_curve_t0`), and the branches they start "
+                    "over t0 = 0.24-0.26 m: 85 s, `shimmy bench mbs_fold_curve_t0`), and the branches they start "
                     "from cost more over a figure's whole speed window (figure 9's at t = 0.25 m had not finished "
                     "after 30 CPU-minutes, 2026-12-07)")
 UNAVAILABLE_BESIDE.update({

@@ -99,7 +99,7 @@ def test_the_fold_curve_crosses_the_whole_trail_window_over_its_gaps():
     curve = cycle_bifurcation_curve(family, fold, 0.24, 0.26, 150 * KMH, 250 * KMH, SETTINGS)
     assert curve.complete
     assert min(curve.qs) == pytest.approx(0.24, abs=1e-9) and max(curve.qs) == pytest.approx(0.26, abs=1e-9)
-    assert curve.corners        # measured 4 (2026-12-07): without them the curve stopped at 0.2441 and 0.2555 m
+    assert curve.corners        # measured 3 (2026-12-07): without them the curve stopped at 0.2441 and 0.2555 m
     order = np.argsort(curve.qs)
     slope = np.diff(curve.ps[order]) / np.diff(curve.qs[order])
     steps = np.abs(np.diff(curve.qs[order]))
