@@ -110,6 +110,15 @@ class FoldSystem:
 
     def _pieces(self, U: np.ndarray):
         """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the columns in p and q."""
+        G, A, CJ, e = self._collocation(U)
+        n, q = self.cp.n, float(U[self.K + 2])
+        col_p = np.append(CJ.col_p.ravel(), 0.0)
+        col_q = np.append(-e["T"] * self._df_dq(e["Xc"].reshape(-1, n), e["p"], q).ravel(), 0.0)
+        return G, A, col_p, col_q, e
+
+    def _collocation(self, U: np.ndarray):
+        """Collocation residual, its Jacobian A = [F_x F_T; P_x 0] (sparse), the collocation Jacobian's blocks and
+        the evaluation at the collocation points."""
         K, cp = self.K, self.cp
         q = float(U[K + 2])
         cp.set_fixed(q=q)
@@ -125,9 +134,7 @@ class FoldSystem:
         cols = np.concatenate([cols, np.full(K, K), np.arange(K)])
         data = np.concatenate([data, CJ.col_T.ravel(), CJ.phase.ravel()])
         A = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(K + 1, K + 1))
-        col_p = np.append(CJ.col_p.ravel(), 0.0)
-        col_q = np.append(-e["T"] * self._df_dq(e["Xc"].reshape(-1, n), e["p"], q).ravel(), 0.0)
-        return G, A, col_p, col_q, e
+        return G, A, CJ, e
 
     def _df_dq(self, P: np.ndarray, p: float, q: float) -> np.ndarray:
         (f_plus, _), (f_minus, _) = self._q_sides(P, p, q)
@@ -144,15 +151,35 @@ class FoldSystem:
         self._sides = ((p, q), P.copy(), sides)
         return sides
 
+    def _bordered(self, A):
+        """The LU factors of the bordered matrix M of the module docstring."""
+        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
+        M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
+                               [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
+        return factorize(M)
+
+    def value(self, U: np.ndarray) -> np.ndarray:
+        """H(U) alone, for the chord iterations of :func:`bifurcation.continuation.correct`: the collocation
+        residual and g, without the parameter columns and g's gradient (a third of an evaluation of H with its
+        Jacobian; Newton on this system converges only linearly where f has a kink on the orbit, so chord
+        iterations lose little there)."""
+        if self._cache is not None and np.array_equal(self._cache[0], U):
+            return np.append(self._cache[1][0], self._cache[1][5][-1])
+        try:
+            G, A, _, _ = self._collocation(U)
+            rhs = np.zeros(self.dim + 1)
+            rhs[-1] = 1.0
+            g = self._bordered(A).solve(rhs)[-1]
+        except (ProblemError, RuntimeError):
+            return np.full(self.K + 2, np.nan)
+        return np.append(G, g)
+
     def evaluate(self, U: np.ndarray):
         if self._cache is not None and np.array_equal(self._cache[0], U):
             return self._cache[1]
         K = self.K
         G, A, col_p, col_q, e = self._pieces(U)
-        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
-        M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
-                               [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
-        lu = factorize(M)
+        lu = self._bordered(A)
         rhs = np.zeros(self.dim + 1)
         rhs[-1] = 1.0
         z = lu.solve(rhs)

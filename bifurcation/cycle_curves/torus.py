@@ -103,6 +103,9 @@ class TorusSystem(FoldSystem):
         return scipy.sparse.csc_matrix((np.concatenate(d), (np.concatenate(r), np.concatenate(c))),
                                        shape=(2 * K, 2 * K))
 
+    # no chord iterations on the torus system: its value would need the same chained bordered solve as the rest
+    value = None
+
     def evaluate(self, U: np.ndarray):
         if self._cache is not None and np.array_equal(self._cache[0], U):
             return self._cache[1]

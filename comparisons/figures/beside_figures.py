@@ -58,10 +58,10 @@ FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GEN
 
 # The one two-parameter cycle curve of the full geometry measured so far (issue 30, `shimmy bench
 # mbs_fold_curve_t0`): a fold curve over t0 = 0.24-0.26 m.
-CYCLE_CURVE_COST = ("the full geometry's two-parameter cycle curves are not drawn yet: one costs minutes (a fold curve "
-                    "over t0 = 0.24-0.26 m: 85 s, `shimmy bench mbs_fold_curve_t0`), and the branches they start "
-                    "from cost more over a figure's whole speed window (figure 9's at t = 0.25 m had not finished "
-                    "after 30 CPU-minutes, 2026-12-07)")
+CYCLE_CURVE_COST = ("the full geometry's two-parameter cycle curves are not drawn yet: one costs seconds to minutes (a "
+                    "fold curve over t0 = 0.24-0.26 m: 17 s, `shimmy bench mbs_fold_curve_t0`), but the branches "
+                    "they start from cost far more over a figure's whole speed window (figure 9's at t = 0.25 m had "
+                    "not finished after 30 CPU-minutes, 2026-12-07)")
 UNAVAILABLE_BESIDE.update({
     18: f"{CYCLE_CURVE_COST}; figure 18 needs four in (V, p)",
     # Its recipe below is kept for when the twin is faster (issue 30): delete this entry to make it.
