@@ -76,6 +76,9 @@ class Family(Protocol):
 
     # How the derivatives are formed: inherit one of :mod:`bifurcation.derivatives`.
     costly_jacobian: bool   # df/dx costs many evaluations of f (continuation then reuses Jacobians)
+    # Optional, False where absent: f has kinks (two-parameter cycle curves then step over the gaps a collocation
+    # node's crossing makes and run chord iterations, :mod:`bifurcation.cycle_curves.bordered`)
+    piecewise_smooth: bool
 
     def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float,
                           kink_rows: bool = True) -> tuple[np.ndarray, np.ndarray]:

@@ -250,8 +250,8 @@ class Twin:
             Y = np.concatenate([Y, np.repeat(Y[-1:], Kb - K, axis=0)])
         mapped = self.graph.mapped(name, Kb)
         cached = self._k.get
-        ks = np.array([cached(k, (0, 0)) for k in keys.tolist()] + [cached(int(keys[-1]), (0, 0))] * (Kb - K),
-                      dtype=int).reshape(Kb, 2)
+        padding = [cached(int(keys[-1]), (0, 0))] * (Kb - K) if Kb > K else []
+        ks = np.array([cached(k, (0, 0)) for k in keys.tolist()] + padding, dtype=int).reshape(Kb, 2)
         dependent = np.asarray(self.load_dependent, dtype=bool)[:, None]
         for _ in range(3):
             inputs = [Y.T, speed, self.numbers]

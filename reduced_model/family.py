@@ -54,6 +54,7 @@ class ShimmyFamily:
     primary_scale = SPEED_SCALE
     primary_min = MIN_SPEED
     steady_tolerance = 1e-12    # |f| (rad/s, rad/s^2) at which Newton's steady state under braking is accepted
+    piecewise_smooth = False    # the reduced model's f is smooth (the MBS's is not: mbs_shimmy.linearisation)
 
     def check_param(self) -> None:
         if self.param in BRAKE_PARAMS:

@@ -151,9 +151,10 @@ class FoldSystem:
         self._sides = ((p, q), P.copy(), sides)
         return sides
 
-    def _bordered(self, A):
-        """The LU factors of the bordered matrix M of the module docstring."""
-        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(self._last_jacobian)
+    def _bordered(self, A, CJ):
+        """The LU factors of the bordered matrix M of the module docstring (A and the collocation Jacobian CJ of
+        one evaluation)."""
+        core = A if self.kind is PointKind.CYCLE_FOLD else self._variational(CJ)
         M = scipy.sparse.bmat([[core, scipy.sparse.csc_matrix(self.b[:, None])],
                                [scipy.sparse.csc_matrix(self.c[None, :]), None]], format="csc")
         return factorize(M)
@@ -166,10 +167,10 @@ class FoldSystem:
         if self._cache is not None and np.array_equal(self._cache[0], U):
             return np.append(self._cache[1][0], self._cache[1][5][-1])
         try:
-            G, A, _, _ = self._collocation(U)
+            G, A, CJ, _ = self._collocation(U)
             rhs = np.zeros(self.dim + 1)
             rhs[-1] = 1.0
-            g = self._bordered(A).solve(rhs)[-1]
+            g = self._bordered(A, CJ).solve(rhs)[-1]
         except (ProblemError, RuntimeError):
             return np.full(self.K + 2, np.nan)
         return np.append(G, g)
@@ -179,7 +180,7 @@ class FoldSystem:
             return self._cache[1]
         K = self.K
         G, A, col_p, col_q, e = self._pieces(U)
-        lu = self._bordered(A)
+        lu = self._bordered(A, self._last_jacobian)
         rhs = np.zeros(self.dim + 1)
         rhs[-1] = 1.0
         z = lu.solve(rhs)
