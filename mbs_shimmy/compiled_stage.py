@@ -15,9 +15,10 @@ only: reading the constants array, the load table's cubic interpolation on an ar
 (``tests/mbs/test_mbs_compiled_stage.py``).
 
 Where the compiled stage cannot follow the Python one it returns ``None`` and the caller evaluates that stage in
-Python: a positive load outside the load table (below 0.01 % or beyond 10 times the static load), where the
-properties come from the reduced model's formulas directly.  A lifted wheel's properties are constants (those at
-1 % of the static load) and stay compiled.  The first-order element (``small_angles``) stays in Python.
+Python: a positive load outside the load table (:attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 or
+beyond 10 times the static load), where the properties come from the reduced model's formulas directly.  A lifted
+wheel's properties are constants (those at 1 % of the static load) and stay compiled.  The first-order element
+(``small_angles``) stays in Python.
 Under braking the stage carries each wheel's MF 6.1 combined slip (F_x at the contact point, the weighted F_y, the
 combined aligning moment: :func:`~reduced_model.tyre.combined_forces`) as the Python path does.
 

@@ -143,10 +143,11 @@ class MbsEvaluator:
                    kink_rows: bool = True) -> tuple | None:
         """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
         with Exudyn's right-hand side and its differences in the rows where the twin has none (a positive load
-        outside the load table: below 0.01 % of the static load, or above 10 times it), and the twin's differences
-        where a wheel's load is below :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load,
-        lifted wheels included (below; not with ``kink_rows`` False, for a caller that reads only df/dV, which is
-        never differenced, or forms only a Newton direction); None where there is no twin."""
+        outside the load table, :attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 of the static load, or
+        above 10 times it), and the twin's differences where a wheel's load is below
+        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load, lifted wheels included (below;
+        not with ``kink_rows`` False, for a caller that reads only df/dV, which is never differenced, or forms only
+        a Newton direction); None where there is no twin."""
         twin = self.twin
         if twin is None:
             return None

@@ -26,8 +26,9 @@ The guess is the last k at the same node of the caller (``key``): in a continuat
 
 Coverage: the exact kinematics at a steady speed (every fidelity with ``small_angles`` off).  The first-order
 kinematics (``small_angles``) run a Python user function with Exudyn's coordinate connectors and keep difference
-derivatives (:func:`twin_of` returns None); at a state whose positive load leaves the load table (below 0.01 %
-or above 10 times the static load) the twin says so (``ok`` False) and its caller uses differences there.
+derivatives (:func:`twin_of` returns None); at a state whose positive load leaves the load table
+(:attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 or above 10 times the static load) the twin says so
+(``ok`` False) and its caller uses differences there.
 """
 
 from __future__ import annotations

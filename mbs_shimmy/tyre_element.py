@@ -66,7 +66,7 @@ class ContactState:
 class LoadTable:
     """Tyre properties of one wheel against the vertical load, for fast evaluation at every solver stage.
 
-    Nodes evenly spaced in log(F_z) from 0.01 % to 10 times the static load (relative spacing 0.33 %), each
+    Nodes evenly spaced in log(F_z) over :attr:`RANGE`, 1e-6 to 10 times the static load (relative spacing 0.33 %), each
     evaluated with :mod:`reduced_model.tyre` on the parameters with F_z replaced; D_y and D_t are tabulated
     divided by F_z (they are proportional to it up to the df_z terms).  Between nodes cubic Lagrange
     interpolation, outside the grid direct evaluation.  Only the properties the pressure effects make
