@@ -133,8 +133,8 @@ class MbsEvaluator:
         twin = self.twin
         if twin is None:
             return None
-        J, Jv, ok, below = twin.jacobian_and_below(np.asarray(y, dtype=float), speed, key)
-        if not ok or below:      # near a lift-off: differences (twin_batch)
+        J, Jv, ok, near = twin.jacobian_and_near_kink(np.asarray(y, dtype=float), speed, key)
+        if not ok or near:       # about a lift-off: differences (twin_batch)
             return None
         self.twin_jacobians += 1
         return J, Jv
@@ -144,8 +144,8 @@ class MbsEvaluator:
         """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
         with Exudyn's right-hand side and its differences in the rows where the twin has none (a positive load
         outside the load table, :attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 of the static load, or
-        above 10 times it), and the twin's differences where a wheel's load is below
-        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load, lifted wheels included (below;
+        above 10 times it), and the twin's differences where a wheel's load lies within
+        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load of zero, lifted or not (below;
         not with ``kink_rows`` False, for a caller that reads only df/dV, which is never differenced, or forms only
         a Newton direction); None where there is no twin."""
         twin = self.twin
@@ -153,13 +153,13 @@ class MbsEvaluator:
             return None
         Y = np.asarray(Y, dtype=float)
         if jacobians:
-            f, J, Jv, ok, below = twin.rhs_and_jacobians(Y, speed)
+            f, J, Jv, ok, near_kink = twin.rhs_and_jacobians(Y, speed)
             out = (f, J, Jv)
-            # Below the load table, lifted wheels included, the forces have a kink at zero load: the exact
-            # Jacobian jumps there, and with it a fold's test function as a collocation state crosses it, which
-            # Newton on a fold system cannot follow.  Central differences of step FD_STEP straddle the kink
-            # smoothly, as Exudyn's differences did before the twin covered lifted wheels: the twin's, cheap.
-            near, differenced = np.flatnonzero(ok & below), 0
+            # About a lift-off the forces have a kink at zero load: the exact Jacobian jumps there, and with it a
+            # fold's test function as a collocation state crosses it, which Newton on a fold system cannot follow.
+            # Central differences of step FD_STEP straddle the kink smoothly, as Exudyn's differences did before
+            # the twin covered lifted wheels: the twin's, cheap.
+            near, differenced = np.flatnonzero(ok & near_kink), 0
             if len(near) and kink_rows:
                 J[near], done = self._twin_differences(Y[near], speed, keys=near)
                 ok[near[~done]] = False
@@ -419,7 +419,7 @@ class MbsFamily(DifferenceDerivatives, ShimmyFamily):
         twin = self._at(q).twin
         L = self.layout
         y0 = np.asarray(x0, dtype=float)[L.x_to_y]
-        if twin is None or twin.jacobian_and_below(y0, speed)[2:] != (True, False):
+        if twin is None or twin.jacobian_and_near_kink(y0, speed)[2:] != (True, False):
             return None
         z = (np.cos(1.7 * np.arange(self.n) + 0.3) * self.state_scales(1.0))[L.x_to_y]
         jumps = [float(np.max(np.abs(twin.second_derivative(y0 + e * z, speed, z, z)

@@ -60,6 +60,9 @@ def _lookup(table: _WheelInput, c, t: int, Fz):
     # a lifted wheel (Fz <= 0) reads no row (compiled_stage.wheel_terms): its x is any finite number, it is ok
     x = (ca.log(ca.if_else(Fz > 0.0, Fz, 1.0)) - c[t + 1]) / c[t + 2]
     table.x = x
+    # the load as a fraction of the static load, negative where the wheel is lifted (the table starts at RANGE[0]
+    # of the static load: c[t + 1] is its log), for the band about the kink at zero load (Twin._near_kink)
+    table.load = Fz * (LoadTable.RANGE[0] * ca.exp(-c[t + 1]))
     k = table.k
     ok = ca.logic_or(Fz <= 0.0, ca.logic_and(x >= k + 1.0, x < k + 2.0))
     w0, w1, w2, w3 = lagrange_weights(x - (k + 1.0))
@@ -99,7 +102,9 @@ class TwinGraph:
         ok, Q = applied_forces(sym, q, qd, V, OPS, _lookup, wheels)
         acc = ca.solve(M, ca.vertcat(*Q) - h)
         f = ca.vertcat(y[m:2 * m], acc)
-        xs = ca.vertcat(*[w.x if self.load_dependent[i] else ca.SX(0.0) for i, w in enumerate(wheels)])
+        # per wheel its table position, then its load as a fraction of the static load (Twin._near_kink)
+        xs = ca.vertcat(*[w.x if self.load_dependent[i] else ca.SX(0.0) for i, w in enumerate(wheels)],
+                        *[w.load if self.load_dependent[i] else ca.SX(0.0) for i, w in enumerate(wheels)])
         inputs = [y, V, P, wheels[0].k, wheels[0].rows, wheels[1].k, wheels[1].rows]
         J = ca.jacobian(f, y)
         u, v = ca.SX.sym("u", N), ca.SX.sym("v", N)
@@ -203,9 +208,6 @@ class Twin:
         c = data.constants
         self.tables = np.asarray(data.tables)
         self.table_sizes = [int(c[w + compiled_stage.TABLE + 3]) for w in compiled_stage.WHEELS]
-        # the table position of KINK_BAND times the static load, per wheel (the table starts at RANGE[0] of it)
-        self.kink_x = [math.log(LoadTable.KINK_BAND / LoadTable.RANGE[0]) / c[w + compiled_stage.TABLE + 2]
-                       for w in compiled_stage.WHEELS]
         self.load_dependent = self.graph.load_dependent
         self._k = {}
 
@@ -226,7 +228,7 @@ class Twin:
             if bool(res[-2]):
                 self._k[key] = k
                 return res
-            x = np.asarray(res[-1]).ravel()
+            x = np.asarray(res[-1]).ravel()[:2]
             if not np.all(np.isfinite(x)):      # a non-finite load: no table position
                 break
             guess = tuple(int(np.floor(v)) - 1 if self.load_dependent[i] else 0 for i, v in enumerate(x))
@@ -243,6 +245,14 @@ class Twin:
         Y = np.asarray(Y, dtype=float)
         K = len(Y)
         keys = np.arange(K) if keys is None else np.asarray(keys, dtype=int)
+        if K > CHUNK:
+            # building a map costs about seven of its calls and grows with its size (20 us per state): a violent
+            # branch's difference stencils, thousands of states in ever new counts, spent a quarter of their time
+            # building; chunks of one size are built once
+            parts = [self._batch(name, Y[i:i + CHUNK], speed, extra, pad, keys[i:i + CHUNK], remember)
+                     for i in range(0, K, CHUNK)]
+            return ([np.concatenate([p[0][j] for p in parts], axis=1) for j in range(len(parts[0][0]))],
+                    np.concatenate([p[1] for p in parts]))
         # with ``pad``, padded to a bucket size: a mapped function is built once per size (tens of ms), and the
         # Jacobian rows differenced near a lift-off come in every count (a third of a violent branch's time went
         # to building); a mesh's own count repeats from step to step and is not padded
@@ -262,7 +272,7 @@ class Twin:
                 inputs += [k[None, :].astype(float), rows.transpose(1, 0, 2).reshape(4, -1)]
             res = mapped(*inputs, *extra)
             ok = np.asarray(res[-2]).ravel() != 0.0
-            x = np.asarray(res[-1], dtype=float).reshape(2, Kb)
+            x = np.asarray(res[-1], dtype=float).reshape(4, Kb)[:2]
             usable = dependent & np.isfinite(x)
             guess = np.where(usable, np.floor(np.where(usable, x, 0.0)) - 1.0, 0.0).astype(int).T   # (Kb, 2)
             wrong = ~ok & np.any(guess != ks, axis=1)
@@ -285,23 +295,26 @@ class Twin:
 
     def rhs_and_jacobians(self, Y, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                                           np.ndarray]:
-        """f (K, N), df/dy (K, N, N), df/dV (K, N), ok (K,) and below (K,) at the states Y (K, N); below: a
-        load-dependent wheel's load lies below the load table, lifted wheels included."""
+        """f (K, N), df/dy (K, N, N), df/dV (K, N), ok (K,) and near (K,) at the states Y (K, N); near: a
+        load-dependent wheel's load lies about its kink at zero load (:meth:`_near_kink`)."""
         res, ok = self._batch("fJ", Y, speed)
         K, N = np.shape(Y)
         J = np.asarray(res[1]).reshape(N, K, N).transpose(1, 0, 2)
-        return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok, self._below(np.asarray(res[-1]))
+        return np.asarray(res[0]).T, J, np.asarray(res[2]).T, ok, self._near_kink(np.asarray(res[-1]))
 
-    def _below(self, x: np.ndarray) -> np.ndarray:
-        """Per state (columns of the table positions x, (2, K)): a load-dependent wheel's load below
-        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load (a lifted wheel's x is that of
-        1 N, below it)."""
-        x = np.asarray(x, dtype=float).reshape(2, -1)
-        below = np.zeros(x.shape[1], dtype=bool)
+    def _near_kink(self, x: np.ndarray) -> np.ndarray:
+        """Per state (columns of the functions' last output, (4, K)): a load-dependent wheel's load within
+        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load of zero, on either side (a lifted
+        wheel's is negative).  Further from the kink the forces are smooth: a wheel lifted by more than the band
+        has its exact Jacobian (a difference stencil of step 1e-4 moves a load by about 0.3 % of the static
+        load), and a violent cycle that lifts a wheel for half its period differences only the nodes about its
+        lift-off and touch-down."""
+        load = np.asarray(x, dtype=float).reshape(4, -1)[2:]
+        near = np.zeros(load.shape[1], dtype=bool)
         for w in range(2):
             if self.load_dependent[w]:
-                below |= ~(x[w] >= self.kink_x[w])
-        return below
+                near |= ~(np.abs(load[w]) >= LoadTable.KINK_BAND)
+        return near
 
     def rhs(self, y, speed: float, key=0) -> tuple[np.ndarray, bool]:
         f, ok, _ = self._call("f", y, speed, key)
@@ -312,12 +325,12 @@ class Twin:
         f, J, Jv, ok, _ = self._call("fJ", y, speed, key)
         return np.asarray(f).ravel(), np.asarray(J), np.asarray(Jv).ravel(), bool(ok)
 
-    def jacobian_and_below(self, y, speed: float, key=0) -> tuple[np.ndarray, np.ndarray, bool, bool]:
-        """df/dy, df/dV, ok and below at (y, speed) from one evaluation; below: a load-dependent wheel's load lies
-        below the load table, lifted included (near a wheel's lift-off, where the forces have a kink at zero
+    def jacobian_and_near_kink(self, y, speed: float, key=0) -> tuple[np.ndarray, np.ndarray, bool, bool]:
+        """df/dy, df/dV, ok and near at (y, speed) from one evaluation; near: a load-dependent wheel's load lies
+        about its kink at zero load, lifted or not (:meth:`_near_kink`; where the forces have a kink at zero
         load: :meth:`rhs_and_jacobians`)."""
         _, J, Jv, ok, x = self._call("fJ", y, speed, key)
-        return np.asarray(J), np.asarray(Jv).ravel(), bool(ok), bool(self._below(np.asarray(x))[0])
+        return np.asarray(J), np.asarray(Jv).ravel(), bool(ok), bool(self._near_kink(np.asarray(x))[0])
 
     def second_derivative(self, y, speed: float, u, v, key=0) -> np.ndarray:
         """d/de (df/dy (y + e v)) u, exact (:attr:`second`); NaN where the load leaves the table."""
@@ -337,6 +350,9 @@ class Twin:
         change dP of the numbers (:meth:`TwinData.split`), exact."""
         res, ok = self._batch("f_numbers", Y, speed, (np.asarray(dP, dtype=float),))
         return np.asarray(res[0]).T, np.asarray(res[1]).T, ok
+
+
+CHUNK = 512     # states per mapped call at most (:meth:`Twin._batch`): 1 us of a call per state from a few hundred
 
 
 def _bucket(K: int) -> int:

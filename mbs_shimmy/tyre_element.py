@@ -85,7 +85,7 @@ class LoadTable:
     # The nodes keep their spacing (3445 from 1e-4).
     RANGE = (1e-6, 10.0)
     NODES = 4823
-    KINK_BAND = 0.02    # below this fraction of the static load the twin's Jacobians are differences (twin.py)
+    KINK_BAND = 0.02    # within this fraction of the static load of zero load, the twin's Jacobians are differences
 
     def __init__(self, params: ShimmyParameters, effects: Effects, wheel: WheelTyre):
         self.params, self.effects, self.pressure = params, effects, wheel.pressure

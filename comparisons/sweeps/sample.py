@@ -34,10 +34,10 @@ PRESSURE_LIMITS_BAR = (0.05, 20.0)
 # Rough cost of one sample (s, one core) for batch sizing; measured on the paper's axle at 1.5 bar.
 COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assumptions": 0.3, "cycles": 1.5}
 # MBS cycle branches (--compute cycles --mbs F), per fidelity, mean over samples.  full: 16 plausible axles of the
-# paper's truck at 1.5 bar, 0-400 km/h, 1538 s of CPU in all (96 s each; 9 without a Hopf point took seconds, the
-# others minutes; docs/sweeps.md).  reduced: not measured, taken as full's (any value above 1 s gives one sample
-# per batch).
-MBS_CYCLES_COST_S = {"reduced": 95.0, "full": 95.0}
+# paper's truck at 1.5 bar, 0-400 km/h, 70 s of CPU in all in one process (4.4 s each; 9 without a Hopf point under
+# a second, one violent axle 37 s; docs/sweeps.md).  reduced: not measured, taken as full's (any value above 1 s
+# gives one sample per batch).
+MBS_CYCLES_COST_S = {"reduced": 4.4, "full": 4.4}
 # The MBS Hopf points' l1 (with --lyapunov, and always with MBS cycles, whose branch switching needs it)
 MBS_LYAPUNOV_COST_S = 0.1
 

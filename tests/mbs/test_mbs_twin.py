@@ -85,6 +85,25 @@ def test_twin_equals_exudyn_on_random_plausible_axles(number, campaign_tool):
     assert _check(axle, switch, count=2, seed=number) == 2
 
 
+def _rolled(system, fraction, seed=7):
+    """A state rolled (psi, by bisection) until the least loaded wheel carries ``fraction`` of its static load
+    (negative: lifted off the road), and that load fraction computed by the Python forces."""
+    forces, m = system.forces, system.layout.n_mech
+    y = next(_states(system.layout, 1, seed))
+
+    def load(psi):
+        y[forces.i_psi] = psi
+        system.set_state(y)
+        states = []
+        forces.evaluate(0.0, [float(v) for v in y[:m]] + [0.0, 0.0], [0.0] * (m + 2), states, python=True)
+        return min(s.vertical_force for s in states) / forces.tyres[0].static_load - fraction
+    lo, hi = 0.0, 0.2 if load(0.2) < 0.0 else -0.2
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if load(mid) > 0.0 else (lo, mid)
+    return y.copy(), load(hi) + fraction       # load() leaves y rolled to hi
+
+
 @pytest.mark.parametrize("names", ["", "all"])
 def test_twin_equals_exudyn_with_a_lifted_wheel(names):
     """A wheel lifted off the road (no grip; with hcl and rl its contact and relaxation lengths are those at 1 % of
@@ -93,21 +112,9 @@ def test_twin_equals_exudyn_with_a_lifted_wheel(names):
     from reduced_model.model import Effects
     system = MbsModel(effects=Effects.parse(names) if names else Effects(), fidelity=FULL).system(
         TyrePressures.uniform(1.5 * BAR), speed_is_time)
-    forces, m = system.forces, system.layout.n_mech
     exudyn, twin = MbsEvaluator(system), twin_of(system)
-    y = next(_states(system.layout, 1, 7))
-
-    def load(psi):
-        y[forces.i_psi] = psi
-        system.set_state(y)
-        states = []
-        forces.evaluate(0.0, [float(v) for v in y[:m]] + [0.0, 0.0], [0.0] * (m + 2), states, python=True)
-        return min(s.vertical_force for s in states) / forces.tyres[0].static_load + 0.2
-    lo, hi = 0.0, 0.2 if load(0.2) < 0.0 else -0.2
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if load(mid) > 0.0 else (lo, mid)
-    assert load(hi) <= 0.0          # leaves y rolled to hi
+    y, fraction = _rolled(system, -0.2)
+    assert fraction <= -0.2 + 1e-9
     for speed in (5.0, 33.0):
         f, J, Jv, ok = twin.rhs_and_jacobian(y, speed)
         assert ok
@@ -115,6 +122,29 @@ def test_twin_equals_exudyn_with_a_lifted_wheel(names):
         assert np.max(np.abs(f - fe)) <= 1e-10 * np.max(np.abs(fe))
         Je = exudyn.jacobian(y, speed)
         assert np.max(np.abs(J - Je)) <= 5e-9 * np.max(np.abs(Je))
+
+
+def test_only_states_about_a_lift_off_are_near_the_kink():
+    """The band whose Jacobians are differenced (:meth:`mbs_shimmy.twin.Twin._near_kink`): a wheel carrying
+    within 2 % of its static load of zero, lifted or not; a wheel lifted by 20 % of it or loaded normally keeps its
+    exact Jacobian.  The twin's load output is the Python forces' load (to rounding), and a batch of more states
+    than one mapped call takes (:data:`mbs_shimmy.twin.CHUNK`) equals the states one by one."""
+    from mbs_shimmy.twin import CHUNK
+    system = MbsModel(fidelity=FULL).system(TyrePressures.uniform(1.5 * BAR), speed_is_time)
+    twin = twin_of(system)
+    fractions = (-0.2, -0.015, 0.015, 0.3)
+    states = [_rolled(system, f) for f in fractions]
+    Y = np.array([y for y, _ in states])
+    f, J, Jv, ok, near = twin.rhs_and_jacobians(Y, 20.0)
+    assert ok.all()
+    assert near.tolist() == [False, True, True, False]
+    _, _, x = twin._batch("f", Y, 20.0)[0]
+    np.testing.assert_allclose(np.min(x[2:], axis=0), [load for _, load in states], rtol=1e-9, atol=1e-12)
+    big = np.concatenate([Y] * (CHUNK // 2 + 3))             # more than two chunks
+    fb, okb = twin.rhs_batch(big, 20.0, pad=True)
+    assert len(big) > 2 * CHUNK and okb.all()
+    # to rounding: the batch may be the first evaluation of the compiled library instead of the virtual machine
+    np.testing.assert_allclose(fb, np.concatenate([f] * (CHUNK // 2 + 3)), rtol=1e-12, atol=1e-12 * np.abs(f).max())
 
 
 def test_one_graph_serves_every_axle_and_pressure(campaign_tool):
