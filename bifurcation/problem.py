@@ -79,6 +79,9 @@ class Family(Protocol):
     # Optional, False where absent: f has kinks (two-parameter cycle curves then step over the gaps a collocation
     # node's crossing makes and run chord iterations, :mod:`bifurcation.cycle_curves.bordered`)
     piecewise_smooth: bool
+    # Optional: ``twice_differentiable(x0, p, q) -> bool | None`` says whether f is twice differentiable at the
+    # equilibrium x0 (None: cannot tell); where False, a Hopf point's criticality is its kink coefficient's
+    # (:func:`bifurcation.equilibria.hopf.kink_coefficient`), not l1's
 
     def rhs_and_jacobians(self, P: np.ndarray, p: float, q: float,
                           kink_rows: bool = True) -> tuple[np.ndarray, np.ndarray]:

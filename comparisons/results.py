@@ -93,17 +93,24 @@ class Shown:
 class HopfSummary:
     """A Hopf point of straight running as the API shows it (the toolkit's :class:`~bifurcation.equilibria.hopf.HopfPoint`
     is ``point``): where shimmy sets in (SI).  ``first_lyapunov`` is NaN and
-    ``criticality`` None where l1 could not be computed.  ``point`` is the toolkit's, for further analysis."""
+    ``criticality`` None where l1 could not be computed.  ``kink`` is the quadratic amplitude coefficient where the
+    right-hand side has a kink at straight running (the full geometry's camber force), NaN elsewhere, and
+    ``kink_criticality`` its reading at vanishing amplitude.  ``point`` is the toolkit's, for further analysis."""
 
     speed: float                      # m/s
     omega: float                      # rad/s
     first_lyapunov: float
     criticality: Criticality | None
     point: ToolkitHopfPoint = field(compare=False, repr=False)
+    kink: float = float("nan")        # 1/s per unit of the state's norm (the eigenvector of norm 1)
 
     @classmethod
     def of(cls, point: ToolkitHopfPoint) -> "HopfSummary":
-        return cls(point.p, point.omega, point.first_lyapunov, point.criticality, point)
+        return cls(point.p, point.omega, point.first_lyapunov, point.criticality, point, point.kink)
+
+    @property
+    def kink_criticality(self) -> Criticality | None:
+        return self.point.kink_criticality
 
     @property
     def speed_kmh(self) -> float:
@@ -127,10 +134,15 @@ class HopfResult(Shown):
     status: BranchStatus = BranchStatus.COMPLETE
 
     def table(self) -> Table:
+        kinked = any(p.kink_criticality is not None for p in self.points)
         rows = tuple((f"{p.speed_kmh:.4f}", f"{p.frequency_hz:.3f}",
                       "-" if p.criticality is None else f"{p.first_lyapunov:+.4e}",
-                      "-" if p.criticality is None else p.criticality.value) for p in self.points)
-        return Table(("speed km/h", "frequency Hz", "l1", "criticality"), rows,
+                      "-" if p.criticality is None else p.criticality.value)
+                     + ((f"{p.kink:+.4e}" if p.kink_criticality else "-",
+                         p.kink_criticality.value if p.kink_criticality else "-") if kinked else ())
+                     for p in self.points)
+        return Table(("speed km/h", "frequency Hz", "l1", "criticality")
+                     + (("kink a", "criticality at the kink") if kinked else ()), rows,
                      f"Hopf points, {self.title}, {kmh(self.vmin):g}-{kmh(self.vmax):g} km/h "
                      f"({self.status.value})")
 

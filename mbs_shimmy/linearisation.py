@@ -63,7 +63,8 @@ KINKED_FORMS = "differences, not twice differentiable"     # MbsFamily.lyapunov_
 # what every output says where the full geometry's l1 rests on KINKED_FORMS (docs/results.md)
 L1_NOT_WELL_POSED = ("l1 not well posed: the right-hand side is not twice differentiable at straight running (MF 6.1's "
                      "cornering stiffness has |camber|), so l1 by differences is an average across the kink and its "
-                     "sign is no criticality; the cycle branch tells the onset's kind")
+                     "sign is no criticality: the kink's quadratic coefficient a decides it at vanishing amplitude "
+                     "(a > 0 subcritical), the cycle branch at the amplitudes it computes")
 V_CHECK = 37.0         # m/s: speed where the affine form is checked against a direct Jacobian
 AFFINE_TOL = 1e-8      # relative to max |A|
 EQUILIBRIUM_TOL = 1e-9   # |y'| at straight running (rad/s, rad/s^2) above which it is not an equilibrium

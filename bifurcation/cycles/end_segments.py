@@ -51,8 +51,12 @@ def hopf_multipliers(family: Family, hopf: HopfPoint) -> np.ndarray:
 
 def hopf_side(family: Family, hopf: HopfPoint) -> float:
     """sign(p - p_H) of the small cycles near ``hopf``: -l1 / mu' (Kuznetsov 2004, theorem 3.3, with mu' =
-    d Re lambda / dp); NaN when l1 is unknown."""
-    if not np.isfinite(hopf.first_lyapunov) or hopf.first_lyapunov == 0.0:
+    d Re lambda / dp), or -a / mu' where f has a kink at the equilibrium (its kink coefficient a,
+    :attr:`~bifurcation.equilibria.hopf.HopfPoint.kink`, decides there: the cycles' amplitude grows linearly
+    with p - p_H, and l1's side was the wrong one where their signs differ, which put a fold into the segment that
+    is not there or hid one that is); NaN when neither is known."""
+    leading = hopf.kink if np.isfinite(hopf.kink) else hopf.first_lyapunov
+    if not np.isfinite(leading) or leading == 0.0:
         return float("nan")
     A = family.linear_matrix(hopf.p, hopf.q)
     lam, vecs = np.linalg.eig(A)
@@ -61,7 +65,7 @@ def hopf_side(family: Family, hopf: HopfPoint) -> float:
     p = left[:, int(np.argmin(np.abs(lam_l - 1j * hopf.omega)))]          # p^T A = i w p^T
     q = vecs[:, k]
     mu_prime = float((p @ primary_derivative(family, hopf.p, hopf.q, A) @ q / (p @ q)).real)
-    return float(np.sign(-hopf.first_lyapunov / mu_prime)) if mu_prime != 0.0 else float("nan")
+    return float(np.sign(-leading / mu_prime)) if mu_prime != 0.0 else float("nan")
 
 
 class EndSegment:

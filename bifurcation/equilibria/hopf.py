@@ -8,7 +8,8 @@ Equilibria, SIAM 2000, ch. 4; Guckenheimer, Myers & Sturmfels, SIAM J. Numer. An
 points cannot slip between grid nodes.  When A is not affine in p the seeding falls back to an eigenvalue scan.
 Each seed is then polished by Newton's method on the standard defining system
 (A(p) - i w I) v = 0, c^H v = 1 in the unknowns (Re v, Im v, w, p) (Kuznetsov 2004, section 10.2.2), and its
-first Lyapunov coefficient is computed (:mod:`bifurcation.equilibria.normal_form`).
+first Lyapunov coefficient is computed (:mod:`bifurcation.equilibria.normal_form`), and where f has a kink at the
+equilibrium (once but not twice differentiable) the quadratic coefficient that takes l1's place there.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import numpy as np
 import scipy.linalg
 
 from bifurcation.messages import Message
+from bifurcation.equilibria import normal_form
 from bifurcation.equilibria.normal_form import first_lyapunov_coefficient
 from bifurcation.problem import Family, clip_window, describe
 from bifurcation.special_points import ConvergenceError, Criticality
@@ -38,6 +40,10 @@ class HopfPoint:
     first_lyapunov: float
     eigenvector: np.ndarray = field(compare=False, repr=False)
     newton_iterations: int = 0
+    # where f is once but not twice differentiable at the equilibrium (the family's ``twice_differentiable`` says
+    # so), the quadratic coefficient a of the amplitude equation (:func:`kink_coefficient`), which decides the
+    # criticality at vanishing amplitude that l1 cannot; NaN where f is smooth there or l1 was not asked for
+    kink: float = float("nan")
 
     @property
     def frequency_hz(self) -> float:
@@ -45,10 +51,20 @@ class HopfPoint:
 
     @property
     def criticality(self) -> Criticality | None:
-        """None when l1 was not computed (a vector field that cannot be evaluated at complex states)."""
+        """By l1's sign; None when l1 was not computed (a vector field that cannot be evaluated at complex states).
+        Where f has a kink at the equilibrium l1's sign is no criticality: :attr:`kink_criticality` is."""
         if np.isnan(self.first_lyapunov):
             return None
         return Criticality.SUPERCRITICAL if self.first_lyapunov < 0.0 else Criticality.SUBCRITICAL
+
+
+    @property
+    def kink_criticality(self) -> Criticality | None:
+        """At vanishing amplitude, where f has a kink at the equilibrium: a > 0 subcritical, a < 0 supercritical;
+        None where f is smooth there (or a is 0)."""
+        if not np.isfinite(self.kink) or self.kink == 0.0:
+            return None
+        return Criticality.SUPERCRITICAL if self.kink < 0.0 else Criticality.SUBCRITICAL
 
 
 def eigenvalues(family: Family, p: float, q: float) -> np.ndarray:
@@ -120,13 +136,26 @@ def locate_hopf(family: Family, q: float, p: float, omega: float, v: np.ndarray,
                                           f" (last step {np.max(np.abs(dy)):.2e})"))
     vr, vi, w, p_hopf = y[:n], y[n:2 * n], abs(y[2 * n]), y[2 * n + 1]
     vec = vr + 1j * vi if y[2 * n] > 0 else vr - 1j * vi
-    l1 = float("nan")
+    l1 = kink = float("nan")
     if lyapunov:
         A = family.linear_matrix(p_hopf, q)
         x0 = family.equilibrium(p_hopf, q)
         l1 = first_lyapunov_coefficient(family.multilinear_forms(x0, p_hopf, q), A, w, vec)
+        smooth = getattr(family, "twice_differentiable", None)
+        if smooth is not None and smooth(x0, p_hopf, q) is False:
+            kink = kink_coefficient(family, x0, float(p_hopf), q, A, w, vec)[0]
     return HopfPoint(p=float(p_hopf), q=float(q), omega=float(w), first_lyapunov=l1, eigenvector=vec,
-                     newton_iterations=it)
+                     newton_iterations=it, kink=kink)
+
+
+def kink_coefficient(family: Family, x0: np.ndarray, p: float, q: float, A: np.ndarray, omega: float,
+                     v: np.ndarray) -> tuple[float, float]:
+    """(a, its quadrature error) at a Hopf point of ``family`` (A v = i omega v at the equilibrium x0) whose f has
+    a kink there, from the family's one-sided exact Jacobians
+    (:func:`bifurcation.equilibria.normal_form.kink_coefficient`)."""
+    def jacobians(X: np.ndarray) -> np.ndarray:
+        return family.rhs_and_jacobians(X, p, q, kink_rows=False)[1]
+    return normal_form.kink_coefficient(jacobians, x0, A, omega, v)
 
 
 @functools.lru_cache(maxsize=8)

@@ -7,6 +7,16 @@ l1 by differences is an average across the kink whose sign is no criticality.  T
 point says it in every case: its first computed cycle is stable or unstable, or a cycle fold lies between them
 (Kuznetsov, Elements of Applied Bifurcation Theory, 3rd ed., 2004, chapter 3: the sign of l1 decides the
 stability of the cycles born at a Hopf point; the branch reads that stability directly).
+
+At vanishing amplitude the kink decides: its quadratic coefficient a (:func:`bifurcation.equilibria.hopf.kink_coefficient`)
+adds a rho^2 to the amplitude equation rho' = sigma' dp rho + a rho^2 + c rho^3 and outweighs the cubic term below
+rho ~ |a / c|.  On the paper's axle a > 0 at both Hopf points at 1.5 bar: the cycles born there are unstable and
+fold back at theta1 0.0097 deg, 1.3e-5 km/h from HB1 (2.2e-6 km/h from HB2), the branch's end segment locates
+those folds (:mod:`bifurcation.cycles.end_segments`, its side now a's), and every cycle beyond them is stable.  So
+the onset is subcritical by a jump of a hundredth of a degree.  A jump whose fold cycle stays below
+:data:`JUMP_TOL_DEG` in steer and tramp is counted a soft onset in practice (:attr:`BranchOnset.soft`), with the
+fold's size reported; ``tests/mbs/test_mbs_kink.py`` checks the folds against a branch started forty times
+smaller and against the normal form's estimate.
 """
 
 from __future__ import annotations
@@ -19,16 +29,43 @@ from axles.units import kmh
 from bifurcation.special_points import Criticality, PointKind
 
 
+# A subcritical onset whose unstable cycles fold back below this largest angle (steer, tramp; deg) is soft in
+# practice: the jump it makes is a twentieth of a degree at most, below the first cycle a branch computes (0.077 deg
+# on the paper's axle) and far below the shimmy the paper reports (degrees).  A classification, stated with it.
+JUMP_TOL_DEG = 0.05
+ANGLES = ("theta1", "theta2", "psi")
+
+
 @dataclass(frozen=True)
 class BranchOnset:
     """What a Hopf point's cycle branch says of the cycles born there (:func:`branch_onset`)."""
 
     criticality: Criticality
     detail: str               # "the cycles born there are stable", ...
+    # subcritical with a located fold: the largest angle of the fold's cycle (deg), the least size of the jump
+    jump_deg: float | None = None
+
+    @property
+    def soft(self) -> bool:
+        """Soft in practice: supercritical, or its unstable cycles fold back below :data:`JUMP_TOL_DEG`."""
+        return self.criticality is Criticality.SUPERCRITICAL or (self.jump_deg is not None
+                                                                  and self.jump_deg < JUMP_TOL_DEG)
+
+    @property
+    def kind(self) -> str:
+        """"soft" or "hard" (:attr:`soft`)."""
+        return "soft" if self.soft else "hard"
 
     @property
     def text(self) -> str:
-        return f"its branch: {self.detail} ({self.criticality.value} by its branch)"
+        tail = f", a soft onset in practice" if self.soft and self.criticality is Criticality.SUBCRITICAL else ""
+        return f"its branch: {self.detail} ({self.criticality.value} by its branch{tail})"
+
+
+def largest_angle(names, amplitude) -> tuple[str, float] | None:
+    """(name, deg) of the largest of theta1, theta2 and psi in an amplitude vector (SI), None without them."""
+    found = [(n, float(np.degrees(amplitude[names.index(n)]))) for n in ANGLES if n in names]
+    return max(found, key=lambda t: t[1]) if found else None
 
 
 def branch_onset(diagram, hopf) -> BranchOnset | None:
@@ -44,12 +81,25 @@ def branch_onset(diagram, hopf) -> BranchOnset | None:
         if not ends:
             continue
         first = ends[0][1][0]
+        # a fold between the Hopf point and the first cycle: nearer in speed, or in the end segment there (its
+        # cycles grow from zero amplitude to the first's; a fold just short of the first cycle in amplitude can lie
+        # farther in speed, the first cycle having turned back towards the Hopf point)
+        size = np.linalg.norm(first.amplitude)
         folds = [s for s in branch.special_points if s.kind is PointKind.CYCLE_FOLD
-                 and abs(s.p - hopf.p) < abs(first.p - hopf.p)]
+                 and (abs(s.p - hopf.p) < abs(first.p - hopf.p)
+                      or (s.data.get("end_segment") and np.linalg.norm(s.data["amplitude"]) < size))]
         if folds:
             fold = min(folds, key=lambda s: abs(s.p - hopf.p))
-            return BranchOnset(Criticality.SUBCRITICAL, f"the cycles born there are unstable up to a cycle fold at "
-                                                        f"{kmh(fold.p):.4f} km/h")
+            cycle = fold.data.get("cycle")
+            size = largest_angle(cycle.names, cycle.amplitude) if cycle is not None else None
+            detail = (f"the cycles born there are unstable up to a cycle fold at {kmh(fold.p):.4f} km/h "
+                      f"({kmh(fold.p) - kmh(hopf.p):+.2g} km/h from the Hopf point"
+                      + (f", {size[0]} {size[1]:.2g} deg)" if size is not None else ")"))
+            if hopf.kink_criticality is Criticality.SUBCRITICAL:
+                detail += f", made by the kink (a = {hopf.kink:+.3g})"
+            if size is not None and size[1] < JUMP_TOL_DEG:
+                detail += f": a jump below {JUMP_TOL_DEG:g} deg"
+            return BranchOnset(Criticality.SUBCRITICAL, detail, None if size is None else size[1])
         if first.stable:
             return BranchOnset(Criticality.SUPERCRITICAL, "the cycles born there are stable")
         return BranchOnset(Criticality.SUBCRITICAL, "the cycles born there are unstable")
@@ -61,6 +111,37 @@ def has_kink(family, hopf) -> bool:
     cannot tell, or has no such test: the reduced model is smooth)."""
     smooth = getattr(family, "twice_differentiable", None)
     return smooth is not None and smooth(np.zeros(family.n), hopf.p, hopf.q) is False
+
+
+@dataclass(frozen=True)
+class OnsetReading:
+    """How the shimmy sets in at one Hopf point, and what says so (:func:`read_onset`)."""
+
+    criticality: Criticality | None
+    by: str                   # "l1" (smooth there), "branch" (its cycle branch), "kink" (a, no branch)
+    kind: str | None          # "soft" or "hard"; None where nothing says it (a kink without a branch)
+    jump_deg: float | None    # a subcritical branch's fold cycle, largest angle (deg)
+    detail: str               # the branch's words, "" without one
+
+    def to_json(self, hopf) -> dict:
+        return {"criticality": self.criticality.value if self.criticality else None, "criticality_by": self.by,
+                "onset": self.kind, "jump_deg": self.jump_deg,
+                "kink_coefficient": hopf.kink if hopf.kink_criticality else None, "detail": self.detail or None}
+
+
+def read_onset(family, hopf, diagram=None) -> OnsetReading:
+    """l1's reading where the right-hand side is twice differentiable at straight running (soft where
+    supercritical); where it has a kink, the branch's from ``hopf`` in ``diagram`` (:func:`branch_onset`), or
+    without one the kink coefficient's criticality with the onset unknown."""
+    kinked = has_kink(family, hopf)
+    onset = branch_onset(diagram, hopf)
+    criticality, by = onset_criticality(hopf, onset, kinked)
+    if by == "l1":
+        kind = None if criticality is None else ("soft" if criticality is Criticality.SUPERCRITICAL else "hard")
+        return OnsetReading(criticality, by, kind, None, onset.text if onset else "")
+    if onset is None:
+        return OnsetReading(hopf.kink_criticality, "kink", None, None, "")
+    return OnsetReading(criticality, by, onset.kind, onset.jump_deg, onset.detail)
 
 
 def onset_criticality(hopf, onset: BranchOnset | None, kinked: bool) -> tuple[Criticality | None, str]:

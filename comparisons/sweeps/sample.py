@@ -40,6 +40,8 @@ COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assu
 MBS_CYCLES_COST_S = {"reduced": 4.4, "full": 4.4}
 # The MBS Hopf points' l1 (with --lyapunov, and always with MBS cycles, whose branch switching needs it)
 MBS_LYAPUNOV_COST_S = 0.1
+# mbs_onset: the lowest Hopf point's one-step branch with its end segment (0.43 s on the paper's axle at 1.5 bar)
+MBS_ONSET_COST_S = 0.45
 
 
 _MODES = ModeClassifier()
@@ -71,6 +73,10 @@ class SweepTask:
     margin_speeds: int = MARGIN_SPEEDS      # speeds of the margins output
     mbs_lyapunov: tuple[str, ...] = ()      # MBS fidelities whose Hopf points get l1 without ``lyapunov`` too
     braking: Braking = FREE_ROLLING         # a steady braking of every sample (both models)
+    # MBS fidelities whose lowest Hopf point, where the right-hand side has a kink there, gets a one-step cycle
+    # branch with its end segment: how the shimmy sets in, and the size of the jump, where l1 cannot say (cheap:
+    # about 0.4 s; the whole branches of ``--compute cycles`` say it too)
+    mbs_onset: tuple[str, ...] = ()
 
     @property
     def mbs_cycles(self) -> bool:
@@ -79,12 +85,13 @@ class SweepTask:
 
     def mbs_l1(self, fidelity: str) -> bool:
         """Whether this MBS fidelity's Hopf points carry l1 (columns ``mbs_<fidelity>_hopf_l1``)."""
-        return self.lyapunov or self.mbs_cycles or fidelity in self.mbs_lyapunov
+        return self.lyapunov or self.mbs_cycles or fidelity in self.mbs_lyapunov or fidelity in self.mbs_onset
 
     def cost_s(self) -> float:
         cost = COST_S["hopf"] + (COST_S["lyapunov"] if self.lyapunov else 0.0) + COST_S["mbs"] * len(self.mbs)
         cost += MBS_LYAPUNOV_COST_S * sum(self.mbs_l1(f) for f in self.mbs)
         cost += sum(MBS_CYCLES_COST_S[f] for f in self.mbs) if self.mbs_cycles else 0.0
+        cost += MBS_ONSET_COST_S * len(self.mbs_onset) if not self.mbs_cycles else 0.0
         margins = (COST_S["margins"] * (1 + len(self.mbs)) * self.margin_speeds / MARGIN_SPEEDS
                    if "margins" in self.compute else 0.0)
         return cost + margins + sum(COST_S[c] for c in self.compute if c not in ("hopf", "margins"))
@@ -95,6 +102,7 @@ class SweepTask:
                 "compute": list(self.compute), "mbs": list(self.mbs), "vmax_kmh": self.vmax_kmh,
                 "lyapunov": self.lyapunov, "margin_speeds": self.margin_speeds,
                 **({"mbs_lyapunov": list(self.mbs_lyapunov)} if self.mbs_lyapunov else {}),
+                **({"mbs_onset": list(self.mbs_onset)} if self.mbs_onset else {}),
                 **({"braking": self.braking.describe()} if self.braking.active else {})}
 
     # --- schema -------------------------------------------------------------------------------------------
@@ -123,7 +131,8 @@ class SweepTask:
                     fields.append(pa.field(f"{c}_shift_kmh", floats))
                 if self.mbs_l1(f):
                     fields += [pa.field(f"{c}_hopf_l1", floats), pa.field(f"{c}_hopf_criticality", strings),
-                               pa.field(f"{c}_hopf_criticality_by", strings)]
+                               pa.field(f"{c}_hopf_criticality_by", strings), pa.field(f"{c}_hopf_kink", floats),
+                               pa.field(f"{c}_hopf_onset", strings), pa.field(f"{c}_hopf_jump_deg", floats)]
         if "margins" in self.compute:
             for c in [""] + [f"mbs_{_column_safe(f)}_" for f in self.mbs]:
                 fields += [pa.field(f"{c}margin", pa.float64()), pa.field(f"{c}margin_kmh", pa.float64()),
@@ -206,6 +215,8 @@ class SweepTask:
                         row.update(cycle_columns(c, mf, diagram))
                 else:
                     mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=self.mbs_l1(f))
+                    if f in self.mbs_onset and mp:
+                        diagram = _onset_branch(mf, mp[0], vmax)
                 row.update(_hopf_columns(c, mp))
                 if self.mbs_l1(f):
                     row.update(_criticality_columns(c, mp, mf, diagram))
@@ -280,24 +291,43 @@ def _criticality_columns(prefix: str, points, family=None, diagram=None) -> dict
     """Each Hopf point's first Lyapunov coefficient and its criticality (null where undetermined).  For an MBS
     ``family`` also what the criticality rests on (``<prefix>hopf_criticality_by``): "l1" where the right-hand side
     is twice differentiable there; where it has a kink (the full geometry's camber force) l1's sign is no
-    criticality, and it is the cycle branch's with a ``diagram`` ("branch"), else l1's sign all the same, marked
-    "l1 across a kink" (:mod:`comparisons.studies.onset`)."""
-    from comparisons.studies.onset import branch_onset, has_kink, onset_criticality
+    criticality, and it is the cycle branch's where ``diagram`` has one from that point ("branch"), else the kink
+    coefficient's ("kink", ``<prefix>hopf_kink``) (:mod:`comparisons.studies.onset`).  And how the shimmy sets in
+    there (``<prefix>hopf_onset``: "soft" or "hard", null where no branch says it at a kink) with the size of the
+    jump a subcritical branch's fold makes (``<prefix>hopf_jump_deg``)."""
+    from comparisons.studies.onset import read_onset
     out = {f"{prefix}hopf_l1": [h.first_lyapunov for h in points]}
     if family is None:
         out[f"{prefix}hopf_criticality"] = [h.criticality.value if h.criticality else None for h in points]
         return out
-    values, by = [], []
-    for h in points:
-        kinked = has_kink(family, h)
-        if kinked and diagram is None:
-            criticality, rests_on = h.criticality, "l1 across a kink"
-        else:
-            criticality, rests_on = onset_criticality(h, branch_onset(diagram, h), kinked)
-        values.append(criticality.value if criticality else None)
-        by.append(rests_on)
-    out[f"{prefix}hopf_criticality"], out[f"{prefix}hopf_criticality_by"] = values, by
+    readings = [read_onset(family, h, diagram) for h in points]
+    out[f"{prefix}hopf_criticality"] = [r.criticality.value if r.criticality else None for r in readings]
+    out[f"{prefix}hopf_criticality_by"] = [r.by for r in readings]
+    out[f"{prefix}hopf_kink"] = [h.kink if math.isfinite(h.kink) else None for h in points]
+    out[f"{prefix}hopf_onset"] = [r.kind for r in readings]
+    out[f"{prefix}hopf_jump_deg"] = [r.jump_deg for r in readings]
     return out
+
+
+class _OnsetBranches:
+    """The one-step branch at a Hopf point (:func:`_onset_branch`) as :func:`branch_onset` reads a diagram."""
+
+    def __init__(self, branches):
+        self.branches = branches
+
+
+def _onset_branch(family, hopf, vmax: float):
+    """A one-step cycle branch from ``hopf`` with its end segment (its cycle folds between the Hopf point and the
+    first cycle), where the right-hand side has a kink there; None elsewhere (l1 says it)."""
+    import dataclasses
+    from bifurcation.cycles.branches import branch_from_hopf
+    from bifurcation.cycles.problem import CycleSettings
+    from comparisons.studies.onset import has_kink
+    if not has_kink(family, hopf):
+        return None
+    s = CycleSettings()
+    s = dataclasses.replace(s, continuation=dataclasses.replace(s.continuation, max_steps=1))
+    return _OnsetBranches((branch_from_hopf(family, hopf, 0.0, vmax, settings=s),))
 
 
 def _cycle_diagram(family, vmax: float):

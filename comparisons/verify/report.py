@@ -18,6 +18,8 @@ import subprocess
 import sys
 from dataclasses import dataclass, field
 
+from comparisons.studies.onset import JUMP_TOL_DEG
+
 
 def is_missing(value) -> bool:
     """No value: shown as "-" and explained under the table (an empty text too, never a blank cell)."""
@@ -109,10 +111,13 @@ COLUMN_LABELS: dict[str, Column] = {
     "reduced_value": Column("reduced model (does not depend on the multibody dimensions)"),
     "plausible_axles": Column("over the plausible axles (median, 5-95 % range or share)"),
     "samples": Column("plausible axles sampled"),
-    "soft_count": Column("axles whose full geometry sets in softly (lowest Hopf point supercritical)"),
-    "hard_count": Column("axles whose full geometry jumps in (lowest Hopf point subcritical)"),
+    "soft_count": Column("axles whose full geometry sets in softly at its lowest Hopf point (from zero, or a jump "
+                         f"below {JUMP_TOL_DEG:g} deg)"),
+    "hard_count": Column("axles whose full geometry jumps in at its lowest Hopf point (a larger jump)"),
     "none_count": Column("axles whose full geometry has no Hopf point"),
-    "undetermined_count": Column("axles whose onset l1 could not be decided"),
+    "undetermined_count": Column("axles whose onset nothing decided (no branch at a kink, or l1 not a number)"),
+    "kink_jump_count": Column(f"soft onsets subcritical at the camber kink (a jump below {JUMP_TOL_DEG:g} deg)"),
+    "kink_jump_max_deg": Column("largest such jump [deg]", dash="none"),
     "soft_share": Column("share of the axles that set in softly"),
     "hard_share": Column("share of the axles that jump in"),
     "reduced_onset": Column("reduced model's onset (soft, hard or none)"),

@@ -122,13 +122,22 @@ class PressureStudy:
         return worst
 
     def onsets(self) -> dict[str, int]:
-        """How the full geometry's shimmy sets in, counted over the axles that exist: ``soft`` (its lowest Hopf
-        point supercritical, l1 < 0: the amplitude grows from zero), ``hard`` (subcritical, l1 > 0: it jumps to a
-        large cycle), ``none`` (no Hopf point in 0-400 km/h), ``undetermined`` (l1 not a number)."""
+        """How the full geometry's shimmy sets in at its lowest Hopf point, counted over the axles that exist:
+        ``soft`` (the amplitude grows from zero, or jumps by less than :data:`~comparisons.studies.onset.JUMP_TOL_DEG`),
+        ``hard`` (it jumps to a larger cycle), ``none`` (no Hopf point in 0-400 km/h), ``undetermined`` (nothing
+        said it: no branch where the right-hand side has a kink, or l1 not a number where it has none).  Read from
+        the sweep's ``mbs_full_hopf_onset``: the one-step branch with its end segment at a kink (``mbs_onset``),
+        l1's sign where the right-hand side is smooth."""
         out = dict.fromkeys(ONSETS, 0)
-        for l1 in self.column("mbs_full_hopf_l1"):
-            out[onset_kind(l1[0] if l1 else None, bool(l1))] += 1
+        for kinds, l1 in zip(self.column("mbs_full_hopf_onset"), self.column("mbs_full_hopf_l1")):
+            out[onset_kind(kinds[0] if kinds else None, bool(l1))] += 1
         return out
+
+    def kink_jumps(self) -> list[float]:
+        """The jumps (deg) of the soft onsets that are subcritical by a branch's fold: the fold the kink makes."""
+        return [j[0] for j, k, c in zip(self.column("mbs_full_hopf_jump_deg"), self.column("mbs_full_hopf_onset"),
+                                        self.column("mbs_full_hopf_criticality"))
+                if j and j[0] is not None and k[0] == "soft" and c[0] == "subcritical"]
 
     def margins(self, prefix: str) -> np.ndarray:
         """The minimum margin of each sampled axle (NaN: nothing oscillates)."""
@@ -157,11 +166,17 @@ class PressureStudy:
 ONSETS = ("soft", "hard", "none", "undetermined")
 
 
-def onset_kind(l1: float | None, has_hopf: bool) -> str:
+def onset_kind(kind: str | None, has_hopf: bool) -> str:
+    """One of :data:`ONSETS` from a Hopf point's onset reading ("soft", "hard" or None)."""
     if not has_hopf:
         return "none"
+    return kind if kind in ("soft", "hard") else "undetermined"
+
+
+def l1_onset(l1: float | None) -> str | None:
+    """The reduced model's onset (smooth: l1 says it): "soft" for l1 < 0, "hard" for l1 > 0, None otherwise."""
     if l1 is None or not math.isfinite(l1) or l1 == 0.0:
-        return "undetermined"
+        return None
     return "soft" if l1 < 0.0 else "hard"
 
 
@@ -200,7 +215,7 @@ def run_robustness(axle: AxleData, out_dir: str, samples: int, *,
             message(f"Robustness: {samples} plausible axles at {label}")
             task = SweepTask(axle=axle, effects=(), pressure_right_bar=right, pressure_left_bar=left,
                              names=design.names, compute=("hopf", "margins"), mbs=("reduced", "full"),
-                             margin_speeds=margin_speeds, mbs_lyapunov=("full",))
+                             margin_speeds=margin_speeds, mbs_lyapunov=("full",), mbs_onset=("full",))
             from comparisons.verify.file_names import case_file_name
             path = os.path.join(out_dir, case_file_name("robustness", "parquet", right, left))
             if os.path.isdir(path + ".parts"):   # left by an interrupted verify: its outputs are made afresh
@@ -259,28 +274,38 @@ def study_rows(studies: list[PressureStudy]) -> list[Row]:
 
 
 def onset_row(s: PressureStudy) -> Row:
-    """Soft or hard onset of the full geometry's shimmy over the plausible axles, from l1 of its lowest Hopf
-    point; the reduced model's for comparison (one verdict: it does not depend on the dimensions)."""
+    """Soft or hard onset of the full geometry's shimmy over the plausible axles, at its lowest Hopf point (a
+    one-step branch with its end segment where its right-hand side has a kink, l1 where it has none); the reduced
+    model's for comparison (one verdict: it does not depend on the dimensions)."""
+    from comparisons.studies.onset import JUMP_TOL_DEG
     counts = s.onsets()
     n = sum(counts.values())
     l1 = s.reduced_onset_l1
-    kind = onset_kind(l1, l1 is not None)
+    kind = onset_kind(l1_onset(l1), l1 is not None)
+    jumps = s.kink_jumps()
     reduced = {"soft": "soft (HB1 supercritical", "hard": "hard (HB1 subcritical", "none": "no Hopf point",
                "undetermined": "undetermined (l1"}[kind] + (f", l1 = {l1:.3g})" if l1 is not None else "")
     share = {k: (v / n if n else math.nan) for k, v in counts.items()}
     text = ", ".join(f"{label} in {_pct(share[k])}" for k, label in
                      (("soft", "soft"), ("hard", "hard"), ("none", "no Hopf point"),
-                      ("undetermined", "l1 undetermined")) if k != "undetermined" or counts[k]) + f" of {n} axles"
+                      ("undetermined", "undetermined")) if k != "undetermined" or counts[k]) + f" of {n} axles"
     with_hopf = counts["soft"] + counts["hard"]
     note = (f"of the {with_hopf} axles whose straight running loses stability: {_pct(counts['soft'] / with_hopf)} "
             f"soft, {_pct(counts['hard'] / with_hopf)} hard" if with_hopf else "")
+    if jumps:
+        note += (f"; {len(jumps)} of the soft ones are subcritical at the camber kink, their small unstable cycles "
+                 f"folding back at {min(jumps):.2g}-{max(jumps):.2g} deg (below {JUMP_TOL_DEG:g} deg: a jump of that "
+                 f"size, soft in practice)")
     if s.full_smooth is False:
-        from mbs_shimmy.linearisation import L1_NOT_WELL_POSED
-        note += ("; " if note else "") + L1_NOT_WELL_POSED
+        note += ("; " if note else "") + ("the full geometry has a kink at straight running (its camber force), "
+                                          "where l1 is no criticality: each onset is read from a one-step cycle "
+                                          "branch with its end segment")
     # the counts as numbers too (verify --json); reduced_* are the reduced model's, the same in every axle
-    return Row({"case": s.label, "quantity": "onset of shimmy, full geometry: soft (supercritical) or hard "
-                                             "(subcritical)", "reduced_value": reduced, "plausible_axles": text,
+    return Row({"case": s.label, "quantity": "onset of shimmy, full geometry: soft (from zero, or a jump below "
+                                             f"{JUMP_TOL_DEG:g} deg) or hard, at the lowest Hopf point",
+                "reduced_value": reduced, "plausible_axles": text,
                 "samples": n, **{f"{k}_count": v for k, v in counts.items()},
+                "kink_jump_count": len(jumps), "kink_jump_max_deg": max(jumps) if jumps else None,
                 **{f"{k}_share": share[k] for k in ("soft", "hard")},
                 "reduced_onset": kind, "reduced_onset_l1": l1}, CheckStatus.INFO, note)
 
@@ -385,6 +410,7 @@ def robustness_section(ctx: Context) -> Section:
               f"Information: how often each mode exists with the full geometry, each Hopf point's shift (median, "
               f"5-95 %) and the dimension its shift depends on most (standardized regression coefficient), and the "
               f"full geometry's minimum margin (median, 5-95 %, share of axles where it is negative), and in what "
-              f"share of the axles its shimmy sets in softly (its lowest Hopf point supercritical, first Lyapunov "
-              f"coefficient l1 < 0: the amplitude grows from zero) or jumps in (subcritical, l1 > 0), from l1 of the "
-              f"full geometry's Hopf points on Exudyn in every sample, beside the reduced model's."))
+              f"share of the axles its shimmy sets in softly (the amplitude grows from zero, or jumps by less than a "
+              f"twentieth of a degree) or jumps in, at its lowest Hopf point: where the full geometry's right-hand "
+              f"side has a kink at straight running (its camber force) from a one-step cycle branch with the folds "
+              f"between it and the Hopf point, elsewhere from l1, beside the reduced model's (l1)."))

@@ -21,7 +21,10 @@ def test_hopf_json_schema(capsys):
     assert out["pressure_bar"] == 2.5 and out["effects"] == []
     assert [round(h["speed_kmh"], 2) for h in out["hopf"]] == [46.14, 70.5]
     assert {h["criticality"] for h in out["hopf"]} == {"supercritical"}
-    assert all(set(h) == {"speed_kmh", "frequency_hz", "first_lyapunov", "criticality"} for h in out["hopf"])
+    assert all(set(h) == {"speed_kmh", "frequency_hz", "first_lyapunov", "criticality", "kink_coefficient",
+                          "kink_criticality"} for h in out["hopf"])
+    # the reduced model is smooth at straight running: no kink coefficient
+    assert all(h["kink_coefficient"] is None and h["kink_criticality"] is None for h in out["hopf"])
 
 
 def test_hopf_with_effects_and_set(capsys):

@@ -59,9 +59,14 @@ def test_mbs_cycle_columns_equal_shimmy_cycles_and_shimmy_hopf(capsys, tmp_path)
     assert len(hopf) == len(r["mbs_full_hopf_kmh"]) == 1
     assert math.isclose(r["mbs_full_hopf_kmh"][0], hopf[0]["speed_kmh"], rel_tol=1e-12)
     assert math.isclose(r["mbs_full_hopf_l1"][0], hopf[0]["first_lyapunov"], rel_tol=1e-9)
-    assert r["mbs_full_hopf_criticality"] == [hopf[0]["criticality"]] == ["supercritical"]
-    # the full geometry has a kink at straight running: the criticality is its branch's, which agrees with l1 here
+    # the full geometry has a kink at straight running: the criticality is its branch's, which locates the fold
+    # of the small unstable cycles the kink makes (a > 0: shimmy hopf's kink criticality) against l1's sign, and
+    # that fold is a jump of a hundredth of a degree: a soft onset in practice
+    assert hopf[0]["criticality"] == "supercritical"
+    assert r["mbs_full_hopf_criticality"] == [hopf[0]["kink_criticality"]] == ["subcritical"]
     assert r["mbs_full_hopf_criticality_by"] == ["branch"]
+    assert math.isclose(r["mbs_full_hopf_kink"][0], hopf[0]["kink_coefficient"], rel_tol=1e-9)
+    assert r["mbs_full_hopf_onset"] == ["soft"] and 0.005 < r["mbs_full_hopf_jump_deg"][0] < 0.02
     # at 2.5 bar the full geometry runs straight below 39.3 km/h: no branch, nothing missing
     calm = rows[2.5]
     assert calm["mbs_full_hopf_kmh"] == [] and calm["mbs_full_cycle_status"] == [] and calm["mbs_full_cycles_complete"]
@@ -111,4 +116,6 @@ def test_a_continuation_that_raises_keeps_the_hopf_points_and_marks_the_cycles_u
     assert row["mbs_full_cycles_message"] == "cycle continuation failed: RuntimeError: corrector failed at s = 0.38 " \
                                              "after point 82"
     assert row["mbs_full_peak_yaw_theta1_deg"] is None
-    assert len(row["mbs_full_hopf_kmh"]) == 1 and row["mbs_full_hopf_criticality"] == ["supercritical"]
+    # no branch: the criticality is the kink coefficient's (a > 0 on this axle), the onset unknown
+    assert len(row["mbs_full_hopf_kmh"]) == 1 and row["mbs_full_hopf_criticality"] == ["subcritical"]
+    assert row["mbs_full_hopf_criticality_by"] == ["kink"] and row["mbs_full_hopf_onset"] == [None]

@@ -57,10 +57,12 @@ def test_robustness_rows_agree_with_the_assumption_study_sample_by_sample(tmp_pa
     assert f"{float(np.median(margins)):+.4f} (5-95 %" in spread.cells["plausible_axles"]
 
 
-def test_onset_shares_add_up_and_l1_agrees_with_shimmy_hopf(capsys):
-    """The soft/hard onset row: its counts add up to the axles that exist, its shares are the counts', and the
-    sign (and value) of l1 at one sampled axle's lowest full-geometry Hopf point is `shimmy hopf --model mbs`'s
-    for that axle; the reduced model's onset l1 is `shimmy hopf`'s."""
+def test_onset_shares_add_up_and_agree_with_shimmy_cycles_and_shimmy_hopf(capsys):
+    """The soft/hard onset row: its counts add up to the axles that exist, its shares are the counts', and at one
+    sampled axle's lowest full-geometry Hopf point the onset (a one-step branch with its end segment: the full
+    geometry has a kink at straight running) is `shimmy cycles --model mbs`'s reading of its whole branch, the
+    criticality the same, and l1 and the kink coefficient `shimmy hopf --model mbs`'s; the reduced model's onset is
+    l1's, `shimmy hopf`'s."""
     import json
     import tempfile
 
@@ -77,24 +79,30 @@ def test_onset_shares_add_up_and_l1_agrees_with_shimmy_hopf(capsys):
     assert row.cells["hard_share"] == row.cells["hard_count"] / n
     assert f"of {n} axles" in row.cells["plausible_axles"]
     assert row.cells["soft_count"] + row.cells["hard_count"] > 0      # some sampled axle shimmies (seed 2024)
+    assert row.cells["undetermined_count"] == 0
     ok = [r for r in study.table.to_pylist() if r["status"] == "ok"]
-    assert sum(onset_kind(r["mbs_full_hopf_l1"][0] if r["mbs_full_hopf_l1"] else None,
+    assert sum(onset_kind(r["mbs_full_hopf_onset"][0] if r["mbs_full_hopf_onset"] else None,
                           bool(r["mbs_full_hopf_l1"])) == "soft" for r in ok) == row.cells["soft_count"]
     r = next(r for r in ok if r["mbs_full_hopf_kmh"])
+    assert r["mbs_full_hopf_criticality_by"][0] == "branch"      # its one-step branch
     sets = [a for n_ in study.design.names for a in ("--set", f"{n_}={r[n_]!r}")]
     assert main(["hopf", "--model", "mbs", "--fidelity", "full", "--pressure", "1.5", *sets, "--json"]) == 0
     direct = json.loads(capsys.readouterr().out)["hopf"]
     assert [h["speed_kmh"] for h in direct] == r["mbs_full_hopf_kmh"]
     assert direct[0]["first_lyapunov"] == r["mbs_full_hopf_l1"][0]
-    assert (direct[0]["criticality"] == "supercritical") == (r["mbs_full_hopf_l1"][0] < 0.0)
-    assert r["mbs_full_hopf_criticality"][0] == direct[0]["criticality"]
-    assert r["mbs_full_hopf_criticality_by"][0] == "l1 across a kink"      # no branch in this sweep
+    assert direct[0]["kink_coefficient"] == r["mbs_full_hopf_kink"][0]
+    vmax = f"{r['mbs_full_hopf_kmh'][0] + 0.5:.4f}"
+    assert main(["cycles", "--model", "mbs", "--fidelity", "full", "--pressure", "1.5", *sets, "--vmax", vmax,
+                 "--json"]) == 0
+    whole = json.loads(capsys.readouterr().out)
+    hb = whole["hopf"][0]
+    assert hb["criticality"] == r["mbs_full_hopf_criticality"][0] and hb["onset"] == r["mbs_full_hopf_onset"][0]
     assert main(["hopf", "--pressure", "1.5", "--json"]) == 0
     reduced = json.loads(capsys.readouterr().out)["hopf"]
     assert row.cells["reduced_onset_l1"] == reduced[0]["first_lyapunov"]
     assert row.cells["reduced_onset"] == ("soft" if reduced[0]["first_lyapunov"] < 0 else "hard")
-    # The paper's full geometry has a kink at straight running (its camber force): the row says its onsets are an
-    # averaged sign; the same study of a geometry without the kink would not
-    assert study.full_smooth is False and "not well posed" in row.note
+    # The paper's full geometry has a kink at straight running (its camber force): the row says how its onsets
+    # were read; the same study of a geometry without the kink would not
+    assert study.full_smooth is False and "one-step cycle branch" in row.note
     import dataclasses
-    assert "not well posed" not in onset_row(dataclasses.replace(study, full_smooth=True)).note
+    assert "one-step cycle branch" not in onset_row(dataclasses.replace(study, full_smooth=True)).note

@@ -40,6 +40,7 @@ from bifurcation.special_points import ConvergenceError, PointKind
 from reduced_model.family import MIN_SPEED, SpeedFamily
 from reduced_model.model import STATE_NAMES
 from comparisons.api import family_of
+from comparisons.studies.onset import read_onset
 
 TWO_PARAMS = SECOND_PARAMETERS
 DEFAULT_SETTINGS = CycleSettings()
@@ -225,7 +226,11 @@ def diagram_json(diagram: CycleDiagram, family: SpeedFamily, pressure_bar: float
             specials.append({"kind": s.kind.value, "label": labels[id(s)], "speed_kmh": kmh(s.p),
                              "max_theta1_deg": degrees(amp[0]), "max_psi_deg": degrees(amp[4]),
                              "frequency_hz": 1.0 / s.data["period"], "status": s.status.value, "branch": i})
-    return {"pressure_bar": pressure_bar, "effects": list(effects), "complete": diagram.complete,
+    # how the shimmy sets in at each Hopf point, and what says so (l1, or where the right-hand side has a kink at
+    # straight running its branch: the full geometry's camber force)
+    hopf = [{"speed_kmh": kmh(h.p), "frequency_hz": h.frequency_hz, **read_onset(family, h, diagram).to_json(h)}
+            for h in diagram.hopf]
+    return {"pressure_bar": pressure_bar, "effects": list(effects), "complete": diagram.complete, "hopf": hopf,
             "branches": [branch_row(b, family) for b in diagram.branches], "special_points": specials}
 
 
@@ -498,10 +503,14 @@ def print_diagram(diagram: CycleDiagram, family: SpeedFamily, args: argparse.Nam
               "  no Hopf point in the window and straight running stable throughout: no shimmy")
     labels = {id(p): text for text, p in special_point_labels(diagram)}
     for b in diagram.branches:
-        head = f"  branch from HB at {kmh(b.start.p):.3f} km/h ({b.start.frequency_hz:.3f} Hz, " \
-               f"{b.start.criticality.value if b.start.criticality else 'criticality unknown'}): " \
-               f"{len(b.points)} cycles"
+        onset = read_onset(family, b.start, diagram)
+        crit = onset.criticality.value if onset.criticality else "criticality unknown"
+        head = f"  branch from HB at {kmh(b.start.p):.3f} km/h ({b.start.frequency_hz:.3f} Hz, {crit}" \
+               f"{'' if onset.by == 'l1' else ' by its ' + onset.by}" \
+               f"{', ' + onset.kind + ' onset' if onset.kind else ''}): {len(b.points)} cycles"
         print(head + ("" if b.complete else "  [INCOMPLETE]"))
+        if onset.by != "l1" and onset.detail:
+            print(f"    onset: {onset.detail}")
         print(f"    end: {interface_text(b.message)}")
         if not b.points:
             continue

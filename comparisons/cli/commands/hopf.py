@@ -36,7 +36,11 @@ def add_parser(sub) -> None:
 def hopf_row(h: HopfSummary) -> dict:
     return {"speed_kmh": h.speed_kmh, "frequency_hz": h.frequency_hz,
             "first_lyapunov": None if h.criticality is None else h.first_lyapunov,
-            "criticality": h.criticality.value if h.criticality else None}
+            "criticality": h.criticality.value if h.criticality else None,
+            # where the right-hand side has a kink at straight running: the quadratic amplitude coefficient and
+            # the criticality it gives at vanishing amplitude (null where it is smooth there)
+            "kink_coefficient": h.kink if h.kink_criticality else None,
+            "kink_criticality": h.kink_criticality.value if h.kink_criticality else None}
 
 
 STEADY_KMH = 60.0     # where hopf reports the braked steady state
@@ -81,7 +85,9 @@ def run(args: argparse.Namespace) -> int:
         print("  none: straight running is stable at every speed in the window")
     for i, h in enumerate(points, 1):
         l1 = "" if h.criticality is None else f"  l1 = {h.first_lyapunov:+.4e}  ({h.criticality.value})"
-        print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}")
+        kink = (f"  at the kink a = {h.kink:+.4e} ({h.kink_criticality.value} at vanishing amplitude)"
+                if h.kink_criticality else "")
+        print(f"  HB{i}: {h.speed_kmh:10.4f} km/h  {h.frequency_hz:7.3f} Hz{l1}{kink}")
     if mbs and points:
         from mbs_shimmy.linearisation import KINKED_FORMS, L1_NOT_WELL_POSED
         if KINKED_FORMS in family.problem.lyapunov_forms:
