@@ -10,7 +10,8 @@ ch. 8 and 10):
   sweep in p meet and an oscillation mode vanishes, like the paper's F1),
 * ``hopf_hopf`` / ``zero_hopf``: the real part of another eigenvalue, when the count of unstable eigenvalues other
   than the tracked pair changes,
-* ``generalized_hopf``: the first Lyapunov coefficient (the paper's DH points).
+* ``generalized_hopf``: the first Lyapunov coefficient (the paper's DH points), or where f has a kink at the
+  equilibrium the kink coefficient that takes its place (:func:`bifurcation.equilibria.hopf.kink_coefficient`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from bifurcation.equilibria.hopf import (
     HopfPoint,
     find_hopf_points,
     hopf_jacobian,
+    kink_coefficient,
     hopf_residual,
     parameter_derivative,
     primary_derivative,
@@ -46,7 +48,8 @@ class HopfCurve:
     ps: np.ndarray
     qs: np.ndarray
     omegas: np.ndarray
-    first_lyapunov: np.ndarray
+    # per point l1, or where f has a kink at the equilibrium the kink coefficient a that decides there instead
+    criticality_coefficient: np.ndarray
     status: tuple[BranchStatus, BranchStatus]  # backward end, forward end
     messages: tuple[Message, Message]
     special_points: tuple[SpecialPoint, ...] = field(default=())
@@ -121,12 +124,19 @@ class _HopfProblem:
             lam = np.delete(lam, np.argmin(np.abs(lam - target)))
         return lam
 
-    def first_lyapunov(self, u: np.ndarray) -> float:
+    def criticality_coefficient(self, u: np.ndarray) -> float:
+        """l1 at the curve point u; where the family says f has a kink at the equilibrium (once but not twice
+        differentiable: ``twice_differentiable`` False) the kink coefficient a, which decides the criticality
+        there (:func:`bifurcation.equilibria.hopf.kink_coefficient`): a generalized Hopf point is where it
+        changes sign."""
         vr, vi, w, p, q = self.unpack(u)
         A = self.family.linear_matrix(p, q)
         x0 = self.family.equilibrium(p, q)
-        return first_lyapunov_coefficient(self.family.multilinear_forms(x0, p, q), A, abs(w),
-                                          vr + 1j * vi if w > 0 else vr - 1j * vi)
+        v = vr + 1j * vi if w > 0 else vr - 1j * vi
+        smooth = getattr(self.family, "twice_differentiable", None)
+        if smooth is not None and smooth(x0, p, q) is False:
+            return kink_coefficient(self.family, x0, p, q, A, abs(w), v)[0]
+        return first_lyapunov_coefficient(self.family.multilinear_forms(x0, p, q), A, abs(w), v)
 
 
 def _weights(family: Family, q_range: float) -> np.ndarray:
@@ -156,7 +166,7 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
     iq, ip, iw = 2 * n + 2, 2 * n + 1, 2 * n
     w = _weights(problem.family, hi - lo)
     found: list[SpecialPoint] = []
-    l1s = [problem.first_lyapunov(start)]
+    l1s = [problem.criticality_coefficient(start)]
     others = [problem.other_eigenvalues(start)]
     arclength = [0.0]
 
@@ -200,12 +210,12 @@ def _follow(problem: _HopfProblem, start: np.ndarray, direction: np.ndarray, lo:
                                Message.of("left the window at ", describe(problem.family, u_new[ip], u_new[iq])))
                 break
         arclength.append(arclength[-1] + step)
-        l1_new = problem.first_lyapunov(u_new)
+        l1_new = problem.criticality_coefficient(u_new)
         other_new = problem.other_eigenvalues(u_new)
         if np.sign(branch.tangents[k][iq]) != np.sign(branch.tangents[-1][iq]):
             locate(branch, k, step, lambda u, t: t[iq], PointKind.HOPF_FOLD)
         if np.sign(l1s[-1]) != np.sign(l1_new):
-            locate(branch, k, step, lambda u, t: problem.first_lyapunov(u), PointKind.GENERALIZED_HOPF)
+            locate(branch, k, step, lambda u, t: problem.criticality_coefficient(u), PointKind.GENERALIZED_HOPF)
         if np.sum(others[-1].real > 0) != np.sum(other_new.real > 0):
             lam = _crossing_eigenvalue(others[-1], other_new)
             if lam is not None:
@@ -269,7 +279,7 @@ def hopf_curve(family: Family, point: HopfPoint, lo: float, hi: float, p_min: fl
         messages.insert(0, halves[0][0].message)
     U = np.vstack(pts)
     return HopfCurve(ps=U[:, 2 * n + 1], qs=U[:, 2 * n + 2], omegas=np.abs(U[:, 2 * n]),
-                     first_lyapunov=np.concatenate(l1), status=(statuses[0], statuses[1]),
+                     criticality_coefficient=np.concatenate(l1), status=(statuses[0], statuses[1]),
                      messages=(messages[0], messages[1]), special_points=tuple(special))
 
 

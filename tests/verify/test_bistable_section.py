@@ -116,7 +116,8 @@ def test_the_background_job_and_its_result_cross_a_process_boundary():
 @pytest.mark.slow
 def test_the_full_geometry_of_the_paper_axle_loses_its_stable_shimmy_where_its_hopf_points_vanish():
     """The full geometry's own map on the paper's axle at 1.5-2.5 bar (about 2 min on the twin under load): its
-    Hopf points there are supercritical (the degenerate Hopf point lies at 1.43 bar), so no region; and the pressure
+    Hopf points there are subcritical only by the camber kink, their unstable cycles folding back within 1e-4 km/h
+    at a hundredth of a degree (tests/mbs/test_mbs_kink.py), so no region a kick could use; and the pressure
     above which no stable cycle exists is where straight running stops shimmying at all: Hopf points at the
     bracket's low end, none at its high end (the linear test, independent of the cycles)."""
     from bifurcation.equilibria.hopf import find_hopf_points
