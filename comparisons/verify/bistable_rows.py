@@ -182,7 +182,8 @@ def full_map(ctx: Context) -> tuple[BistableMap, float]:
 
 # Why --quick leaves the full geometry's map out: the quick verify's budget is a minute on two cores.
 QUICK_REASON = ("not computed in --quick: its cycle branches in speed at every grid pressure, continued on the MBS's "
-                "compiled twin, cost 10-20 s each; the full verify computes it")
+                "compiled twin, take 8 s on the paper's axle but can take many minutes where violent cycles lift "
+                "a wheel (a random plausible axle: over 30 CPU-minutes); the full verify computes it")
 
 
 def model_rows(ctx: Context, model: Model, found: BistableMap, seconds: float, step: float
