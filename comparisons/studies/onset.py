@@ -83,11 +83,14 @@ def branch_onset(diagram, hopf) -> BranchOnset | None:
         first = ends[0][1][0]
         # a fold between the Hopf point and the first cycle: nearer in speed, or in the end segment there (its
         # cycles grow from zero amplitude to the first's; a fold just short of the first cycle in amplitude can lie
-        # farther in speed, the first cycle having turned back towards the Hopf point)
+        # farther in speed, the first cycle having turned back towards the Hopf point), not the end segment at the
+        # branch's other Hopf end
         size = np.linalg.norm(first.amplitude)
+        other = branch.end if ends[0][0] is branch.start else branch.start
         folds = [s for s in branch.special_points if s.kind is PointKind.CYCLE_FOLD
                  and (abs(s.p - hopf.p) < abs(first.p - hopf.p)
-                      or (s.data.get("end_segment") and np.linalg.norm(s.data["amplitude"]) < size))]
+                      or (s.data.get("end_segment") and np.linalg.norm(s.data["amplitude"]) < size
+                          and (other is None or abs(s.p - hopf.p) < abs(s.p - other.p))))]
         if folds:
             fold = min(folds, key=lambda s: abs(s.p - hopf.p))
             cycle = fold.data.get("cycle")

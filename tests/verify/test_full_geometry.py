@@ -300,3 +300,41 @@ def test_where_l1_is_not_well_posed_the_criticality_column_is_the_branchs():
     assert onset_criticality(hopf, None, kinked=True) == (None, "branch")
     assert onset_criticality(hopf, stable, kinked=False) == (Criticality.SUBCRITICAL, "l1")
     assert stable.text == "its branch: the cycles born there are stable (supercritical by its branch)"
+
+
+def test_an_end_segment_fold_belongs_to_its_own_hopf_point():
+    """A branch from HB1 (a < 0: no fold of its own) to HB2 (a > 0: the kink's fold in its end segment, a hundredth
+    of a degree): HB1 reads supercritical, HB2 subcritical with that fold as its jump (soft in practice), though
+    the fold's amplitude is below HB1's first cycle too.  A fold in HB1's own end segment just short of its first
+    cycle in amplitude, but farther from it in speed (the first cycle turned back), is HB1's."""
+    import types
+
+    from bifurcation.special_points import Criticality, PointKind
+    from comparisons.studies.onset import branch_onset
+    names = ("theta1", "theta1_dot", "theta2", "psi")
+
+    def cycle(p, deg, stable=True):
+        amp = np.radians([deg, 0.0, 0.0, 0.0])
+        return types.SimpleNamespace(p=p, amplitude=amp, stable=stable, names=names)
+
+    def fold(p, deg):
+        c = cycle(p, deg)
+        return types.SimpleNamespace(kind=PointKind.CYCLE_FOLD, p=p, data={"amplitude": c.amplitude, "cycle": c,
+                                                                           "end_segment": True})
+
+    def hopf(p, a):
+        return types.SimpleNamespace(p=p, kink=a, kink_criticality=(Criticality.SUBCRITICAL if a > 0
+                                                                    else Criticality.SUPERCRITICAL))
+    hb1, hb2 = hopf(10.0, -1e-4), hopf(25.0, 2e-4)
+    points = (cycle(10.001, 0.08), cycle(15.0, 5.0), cycle(24.999, 0.06))
+    branch = types.SimpleNamespace(start=hb1, end=hb2, points=points, special_points=(fold(25.00001, 0.002),))
+    diagram = types.SimpleNamespace(branches=(branch,))
+    first, second = branch_onset(diagram, hb1), branch_onset(diagram, hb2)
+    assert first.criticality is Criticality.SUPERCRITICAL and first.soft
+    assert second.criticality is Criticality.SUBCRITICAL and second.soft and second.jump_deg == pytest.approx(0.002)
+    assert "made by the kink" in second.detail and "a jump below 0.05 deg" in second.detail
+    hb1 = hopf(10.0, 3e-4)
+    turned = types.SimpleNamespace(start=hb1, end=None, points=(cycle(9.99998, 0.03), cycle(10.01, 0.2)),
+                                   special_points=(fold(9.99997, 0.025),))
+    own = branch_onset(types.SimpleNamespace(branches=(turned,)), hb1)
+    assert own.criticality is Criticality.SUBCRITICAL and own.jump_deg == pytest.approx(0.025)
