@@ -122,8 +122,9 @@ class EndSegment:
         return classify_multipliers(mu)[0]
 
     def fold_test(self, c: float) -> float:
-        """(dp/dc) / c: finite at the Hopf point, where p - p_H ~ c^2, and through zero at a fold of cycles.  At
-        c = 0 only its sign is exact (the normal form's side of the small cycles): Brent needs no more."""
+        """(dp/dc) / c: finite at the Hopf point, where p - p_H ~ c^2 (at a kink ~ c: it grows as 1/c, its sign
+        kept), and through zero at a fold of cycles.  At c = 0 only its sign is exact (the normal form's side of the
+        small cycles, :func:`hopf_side`): Brent needs no more."""
         if c == 0.0:
             if not np.isfinite(self.side):
                 return float("nan")
