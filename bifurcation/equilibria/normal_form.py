@@ -172,7 +172,7 @@ def kink_coefficient(jacobians: Callable[[np.ndarray], np.ndarray], x0: np.ndarr
     """(a, its quadrature error estimate): the quadratic coefficient of the amplitude equation rho' = sigma rho +
     a rho^2 + O(rho^3) at a Hopf point (A q = i omega q, |q| = 1, x = 2 Re(z q), rho = |z|) of a vector field that
     is once but not twice differentiable at the equilibrium x0, its second derivative jumping across a surface
-    through x0 (a kink such as |camber| times a slip).
+    through x0 (a kink such as |x_1| x_2).
 
     Then f(x0 + x) = f(x0) + A x + Q(x) + O(|x|^3) with Q positively homogeneous of degree 2 (Q(t x) = t^2 Q(x),
     t > 0) but Q(-x) != Q(x), and first-order averaging over the linear oscillation x = rho u(phi),
