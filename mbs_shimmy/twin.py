@@ -33,8 +33,6 @@ derivatives (:func:`twin_of` returns None); at a state whose positive load leave
 
 from __future__ import annotations
 
-import math
-
 import casadi as ca
 import numpy as np
 

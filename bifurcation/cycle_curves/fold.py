@@ -178,7 +178,6 @@ class FoldSystem:
     def evaluate(self, U: np.ndarray):
         if self._cache is not None and np.array_equal(self._cache[0], U):
             return self._cache[1]
-        K = self.K
         G, A, col_p, col_q, e = self._pieces(U)
         lu = self._bordered(A, self._last_jacobian)
         rhs = np.zeros(self.dim + 1)

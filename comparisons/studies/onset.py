@@ -58,7 +58,7 @@ class BranchOnset:
 
     @property
     def text(self) -> str:
-        tail = f", a soft onset in practice" if self.soft and self.criticality is Criticality.SUBCRITICAL else ""
+        tail = ", a soft onset in practice" if self.soft and self.criticality is Criticality.SUBCRITICAL else ""
         return f"its branch: {self.detail} ({self.criticality.value} by its branch{tail})"
 
 
@@ -85,11 +85,11 @@ def branch_onset(diagram, hopf) -> BranchOnset | None:
         # cycles grow from zero amplitude to the first's; a fold just short of the first cycle in amplitude can lie
         # farther in speed, the first cycle having turned back towards the Hopf point), not the end segment at the
         # branch's other Hopf end
-        size = np.linalg.norm(first.amplitude)
+        first_size = np.linalg.norm(first.amplitude)
         other = branch.end if ends[0][0] is branch.start else branch.start
         folds = [s for s in branch.special_points if s.kind is PointKind.CYCLE_FOLD
                  and (abs(s.p - hopf.p) < abs(first.p - hopf.p)
-                      or (s.data.get("end_segment") and np.linalg.norm(s.data["amplitude"]) < size
+                      or (s.data.get("end_segment") and np.linalg.norm(s.data["amplitude"]) < first_size
                           and (other is None or abs(s.p - hopf.p) < abs(s.p - other.p))))]
         if folds:
             fold = min(folds, key=lambda s: abs(s.p - hopf.p))

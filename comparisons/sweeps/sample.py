@@ -318,12 +318,12 @@ class _OnsetBranches:
 
 def _onset_branch(family, hopf, vmax: float):
     """A one-step cycle branch from ``hopf`` with its end segment (its cycle folds between the Hopf point and the
-    first cycle), where the right-hand side has a kink there; None elsewhere (l1 says it)."""
+    first cycle), where the right-hand side has a kink there (``hopf.kink``, computed with l1 where the family
+    says so: no second test); None elsewhere (l1 says it)."""
     import dataclasses
     from bifurcation.cycles.branches import branch_from_hopf
     from bifurcation.cycles.problem import CycleSettings
-    from comparisons.studies.onset import has_kink
-    if not has_kink(family, hopf):
+    if not math.isfinite(hopf.kink):
         return None
     s = CycleSettings()
     s = dataclasses.replace(s, continuation=dataclasses.replace(s.continuation, max_steps=1))
