@@ -15,6 +15,8 @@ pressures is missed, which the grid spacing in the result says.
 from __future__ import annotations
 
 import enum
+import math
+import time
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
@@ -30,6 +32,7 @@ STABLE_XTOL_BAR = 0.01            # bisection tolerance of the stable-shimmy-fre
 class MapStatus(enum.Enum):
     COMPLETE = "complete"                  # every slice's branches ended as they should
     INCOMPLETE = "incomplete"              # a slice's continuation stopped early: the map may miss a region
+    OVER_BUDGET = "over_budget"            # the time budget ran out: a slice stopped, or was not computed
 
     @property
     def is_complete(self) -> bool:
@@ -39,13 +42,16 @@ class MapStatus(enum.Enum):
 @dataclass(frozen=True)
 class Slice:
     """One pressure of the grid (Pa): the bistable speed intervals (m/s) there, whether any stable cycle exists at
-    some speed, and whether every branch of its diagram is complete."""
+    some speed (a computed one: True is a fact even where the slice is incomplete, False only where it is complete),
+    and whether every branch of its diagram is complete; ``over_budget``: stopped, or not started, by the map's
+    time budget (its intervals are then empty: not computed)."""
 
     pressure: float
     intervals: tuple[tuple[float, float], ...]
     stable_cycle: bool
     complete: bool
     message: str = ""
+    over_budget: bool = False
 
 
 @dataclass(frozen=True)
@@ -89,6 +95,8 @@ class BistableMap:
     stable_shimmy_free: float | None
     stable_shimmy_free_bracket: tuple[float, float] | None
     status: MapStatus
+    budget_s: float | None = None                # the time budget it was computed within (None: none)
+    free_determined: bool = True                 # False: a slice above the last stable cycle is incomplete
 
     @property
     def spacing(self) -> float:
@@ -101,16 +109,30 @@ class BistableMap:
                    "bistable at " + "; ".join(r.text() for r in self.regions))
         free = self.stable_shimmy_free
         top = self.slices[-1].pressure / BAR
-        stable = (f"no stable shimmy at any speed above {free / BAR:.2f} bar" if free is not None and
+        stable = ("the stable-shimmy-free pressure is not determined (a slice above the last stable cycle is "
+                  "incomplete)" if not self.free_determined else
+                  f"no stable shimmy at any speed above {free / BAR:.2f} bar" if free is not None and
                   free > self.slices[0].pressure else
                   "no stable shimmy at any speed of the window" if free is not None else
                   f"stable shimmy up to the top of the window ({top:g} bar)")
-        missing = "" if self.status.is_complete else " (INCOMPLETE: a continuation stopped early at " + ", ".join(
-            f"{s.pressure / BAR:g} bar" for s in self.slices if not s.complete) + ")"
-        return f"{self.label}: {regions}; {stable}{missing}"
+        return f"{self.label}: {regions}; {stable}{self._missing()}"
+
+    def _missing(self) -> str:
+        if self.status.is_complete:
+            return ""
+        stopped = [s for s in self.slices if s.over_budget]
+        early = [s for s in self.slices if not s.complete and not s.over_budget]
+        parts = []
+        if early:
+            parts.append("a continuation stopped early at " + ", ".join(f"{s.pressure / BAR:g} bar" for s in early))
+        if stopped:
+            parts.append(f"the time budget of {self.budget_s:g} s ran out at " + ", ".join(
+                f"{s.pressure / BAR:g} bar" for s in stopped) + f" ({stopped[0].message})")
+        return " (INCOMPLETE: " + "; ".join(parts) + ")"
 
     def to_json(self) -> dict:
-        return {"status": self.status.value, "grid_step_bar": self.spacing / BAR,
+        return {"status": self.status.value, "grid_step_bar": self.spacing / BAR, "budget_s": self.budget_s,
+                "stable_shimmy_free_determined": self.free_determined,
                 "regions": [r.to_json() for r in self.regions],
                 "stable_shimmy_free_above_bar": None if self.stable_shimmy_free is None
                 else self.stable_shimmy_free / BAR,
@@ -119,9 +141,28 @@ class BistableMap:
                 "text": self.text()}
 
 
-def slice_at(family: Family, q: float, p_min: float, p_max: float) -> Slice:
-    """The bistable speed intervals of ``family`` at its second parameter ``q``."""
-    diagram = cycle_diagram(family, q, p_min, p_max)
+class _OutOfTime(Exception):
+    """A slice's share of the map's time budget ran out (raised from the branches' accept hook)."""
+
+
+def slice_at(family: Family, q: float, p_min: float, p_max: float, deadline: float = math.inf) -> Slice:
+    """The bistable speed intervals of ``family`` at its second parameter ``q``, stopped when ``time.monotonic()``
+    passes ``deadline`` (then an over-budget slice, which says where its branch was)."""
+    if time.monotonic() >= deadline:
+        return Slice(q, (), False, False, "not started: the budget was spent", over_budget=True)
+    stable = [False]                    # a stable cycle among those computed before the stop
+
+    def watch(cycle) -> None:
+        stable[0] = stable[0] or bool(cycle.stable)
+        if time.monotonic() > deadline:
+            where = (f"a branch at {kmh(cycle.p):.1f} km/h, max|{family.state_names[0]}| "
+                     f"{math.degrees(float(cycle.amplitude[0])):.2f} deg, {cycle.orbit.intervals} mesh intervals")
+            raise _OutOfTime(where)
+
+    try:
+        diagram = cycle_diagram(family, q, p_min, p_max, accept_hook=watch)
+    except _OutOfTime as stop:
+        return Slice(q, (), stable[0], False, f"stopped on {stop}", over_budget=True)
     incomplete = [b for b in diagram.branches if not b.complete]
     return Slice(q, tuple(bistable_windows(diagram, family, MIN_WIDTH)),
                  any(p.stable for b in diagram.branches for p in b.points), not incomplete,
@@ -158,18 +199,26 @@ def regions_of(slices: Sequence[Slice]) -> tuple[BistableRegion, ...]:
 
 def bistable_map(family_at: Callable[[float], Family], pressures: Sequence[float], p_min: float, p_max: float,
                  label: str, xtol: float = STABLE_XTOL_BAR * BAR,
-                 progress: Callable[[str], None] = lambda text: None) -> BistableMap:
+                 progress: Callable[[str], None] = lambda text: None, budget_s: float | None = None) -> BistableMap:
     """The bistable regions of the families ``family_at(pressure)`` (Pa, both tyres) on the grid ``pressures``
     (Pa, rising) over the speed window [p_min, p_max] (m/s), and the stable-shimmy-free pressure, bisected to
-    ``xtol`` between the highest grid pressure with a stable cycle and the next."""
+    ``xtol`` between the highest grid pressure with a stable cycle and the next; within ``budget_s`` seconds of
+    wall clock (module docstring; the bisection gets what the grid left, and stops with a wider bracket)."""
+    end = math.inf if budget_s is None else time.monotonic() + budget_s
     slices = []
-    for pressure in pressures:
+    for i, pressure in enumerate(pressures):
         progress(f"{label}: cycles at {pressure / BAR:g} bar")
         family = family_at(pressure)
-        slices.append(slice_at(family, family.nominal, p_min, p_max))
+        now = time.monotonic()
+        share = now + (end - now) / (len(pressures) - i) if math.isfinite(end) else math.inf
+        slices.append(slice_at(family, family.nominal, p_min, p_max, share))
     stable = [s for s in slices if s.stable_cycle]
     free = bracket = None
-    if not stable:
+    above = slices[slices.index(stable[-1]) + 1:] if stable else slices
+    determined = all(s.complete for s in above)
+    if not determined:
+        pass                            # no slice above the last stable cycle may be read as having none
+    elif not stable:
         free, bracket = slices[0].pressure, None
     elif stable[-1] is not slices[-1]:
         lo = stable[-1].pressure
@@ -178,12 +227,17 @@ def bistable_map(family_at: Callable[[float], Family], pressures: Sequence[float
             mid = 0.5 * (lo + hi)
             progress(f"{label}: stable shimmy at {mid / BAR:.3f} bar?")
             family = family_at(mid)
-            s = slice_at(family, family.nominal, p_min, p_max)
-            if not s.complete:
+            s = slice_at(family, family.nominal, p_min, p_max, end)
+            if s.stable_cycle:
+                lo = mid                # a computed stable cycle, complete slice or not
+            elif s.complete:
+                hi = mid
+            else:
                 slices.append(s)        # reported as incomplete: the bracket is kept as it is
                 break
-            lo, hi = (mid, hi) if s.stable_cycle else (lo, mid)
         free, bracket = hi, (lo, hi)
     grid = sorted((s for s in slices if s.pressure in pressures), key=lambda s: s.pressure)
-    status = MapStatus.COMPLETE if all(s.complete for s in slices) else MapStatus.INCOMPLETE
-    return BistableMap(label, (p_min, p_max), tuple(grid), regions_of(grid), free, bracket, status)
+    status = (MapStatus.COMPLETE if all(s.complete for s in slices) else
+              MapStatus.OVER_BUDGET if any(s.over_budget for s in slices) else MapStatus.INCOMPLETE)
+    return BistableMap(label, (p_min, p_max), tuple(grid), regions_of(grid), free, bracket, status, budget_s,
+                       determined)

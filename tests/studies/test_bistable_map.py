@@ -80,3 +80,30 @@ def test_the_stable_shimmy_free_pressure_is_bracketed_by_bisection():
     lo, hi = found.stable_shimmy_free_bracket
     assert 2.5 * BAR <= lo < hi <= 3.0 * BAR and hi - lo <= 0.05 * BAR and found.stable_shimmy_free == hi
     assert f"no stable shimmy at any speed above {hi / BAR:.2f} bar" in found.text()
+
+
+def test_a_map_past_its_budget_says_where_it_stopped_and_claims_nothing_it_did_not_compute():
+    """A budget far too small (1 ms for three pressures): the first slice stops on its first cycle and says where;
+    the others are not started; no region and no stable-shimmy-free pressure are read off slices never computed."""
+    from axles.axle import paper_axle
+    from comparisons.verify.bistable_rows import family_at
+    from comparisons.verify.scan import VMAX, Model
+    found = bistable_map(family_at(paper_axle(), Model.REDUCED), [b * BAR for b in (1.5, 2.5, 3.5)], from_kmh(0.5),
+                         VMAX, "the reduced model", budget_s=1e-3)
+    assert found.status is MapStatus.OVER_BUDGET and not found.status.is_complete
+    assert all(s.over_budget and not s.complete and s.intervals == () for s in found.slices)
+    assert found.slices[0].message.startswith("stopped on a branch at ")
+    assert [s.message for s in found.slices[1:]] == ["not started: the budget was spent"] * 2
+    assert found.regions == () and not found.free_determined and found.stable_shimmy_free is None
+    assert "the time budget of 0.001 s ran out at 1.5 bar, 2.5 bar, 3.5 bar" in found.text()
+    assert found.to_json()["status"] == "over_budget"
+
+
+def test_a_budget_it_stays_within_changes_nothing(paper_t025_map):
+    axle, unbounded = paper_t025_map
+    from comparisons.verify.bistable_rows import family_at
+    from comparisons.verify.scan import VMAX, Model
+    found = bistable_map(family_at(axle, Model.REDUCED), [b * BAR for b in (0.5, 1.5, 3.5)], from_kmh(0.5), VMAX,
+                         "the reduced model", budget_s=600.0)
+    assert found.status is MapStatus.COMPLETE and found.regions == unbounded.regions
+    assert found.text() == unbounded.text()

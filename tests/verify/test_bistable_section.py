@@ -1,6 +1,6 @@
-"""``verify``'s section "Bistable regions" for both models: the full geometry's map is computed in the full verify
-(in a second process when one is running), left out of ``--quick`` with the reason, and a continuation that fails
-is "could not check" with its error, never read as "no region".  The maps are made up here (the studies are
+"""``verify``'s section "Bistable regions" for both models: the full geometry's map is computed in a second process
+when one is running, quick or not, each map within its time budget, and a continuation that fails or a map past its
+budget is "could not check" with the reason, never read as "no region".  The maps are made up here (the studies are
 tested in tests/studies/test_bistable_map.py); the full geometry's own map is the slow test at the end."""
 
 import pytest
@@ -26,8 +26,9 @@ def calls(monkeypatch):
     """The models whose maps were asked for, and the regions whose kicks were checked."""
     asked = {"maps": [], "kicks": []}
 
-    def model_map(axle, model, grid, xtol, progress=lambda text: None):
+    def model_map(axle, model, grid, xtol, budget_s=None, progress=lambda text: None):
         asked["maps"].append(model)
+        asked.setdefault("budgets", []).append(budget_s)
         if model is Model.FULL and asked.get("fail"):
             raise RuntimeError("the branch at 1 bar did not converge")
         return made_up_map(model.label, region=model is Model.FULL), 12.0
@@ -45,14 +46,27 @@ def facts(section):
     return {f.model: f for f in section.verdict_facts}
 
 
-def test_quick_leaves_the_full_geometry_out_with_the_reason(calls):
+def test_quick_computes_both_maps_within_the_quick_budget(calls):
     section = bistable_rows.bistable_section(Context(out="unused", quick=True, axle=paper_axle()))
-    assert calls["maps"] == [Model.REDUCED]
-    full = facts(section)[Model.FULL]
-    assert full.map is None and "not computed in --quick" in full.reason
-    (row,) = [r for r in section.rows if r.cells["model"] == "full"]
-    assert row.status is CheckStatus.COULD_NOT_CHECK and full.reason in row.note
-    assert full.to_json()["status"] == "not_computed"
+    assert calls["maps"] == [Model.REDUCED, Model.FULL] and calls["kicks"] == [Model.FULL]
+    assert calls["budgets"] == [bistable_rows.QUICK_BUDGET_S] * 2
+    assert facts(section)[Model.FULL].map is not None
+
+
+def test_a_map_past_its_budget_is_could_not_check_with_where_it_stopped(monkeypatch):
+    """A slice stopped by the budget: the map's row says which pressures and where the branch was."""
+    v = from_kmh(1.0)
+    over = BistableMap("the full geometry", (0.0, 400 * v),
+                       (Slice(1e5, (), False, False, "stopped on a branch at 6.1 km/h", over_budget=True),
+                        Slice(2e5, (), False, True)), (), None, None, MapStatus.OVER_BUDGET, 30.0, False)
+    monkeypatch.setattr(bistable_rows, "model_map", lambda *a, **k: (over, 30.2))
+    section = bistable_rows.bistable_section(Context(out="unused", quick=True, axle=paper_axle()))
+    rows = [r for r in section.rows if r.cells["model"] == "full"]
+    assert [r.status for r in rows] == [CheckStatus.COULD_NOT_CHECK]
+    assert "the time budget of 30 s ran out at 1 bar (stopped on a branch at 6.1 km/h)" in rows[0].note
+    assert "stable-shimmy-free pressure is not determined" in rows[0].note
+    got = facts(section)[Model.FULL].to_json()
+    assert got["status"] == "over_budget" and got["stable_shimmy_free_determined"] is False
 
 
 def test_the_full_verify_computes_the_full_geometry_and_checks_its_regions(calls):
@@ -90,14 +104,16 @@ class FakeBackground:
         return job(*args)
 
 
-def test_the_full_map_runs_in_the_background_in_the_full_verify_only(calls):
+def test_the_full_map_runs_in_the_background_quick_or_not(calls):
     background = FakeBackground()
     bistable_rows.start_full_map(Context(out="unused", quick=True, axle=paper_axle(), background=background))
-    assert background.jobs == {}
+    job, (_, _, grid, _, budget) = background.jobs.pop(bistable_rows.FULL_JOB)
+    assert len(grid) == 7 and budget == bistable_rows.QUICK_BUDGET_S
     ctx = Context(out="unused", quick=False, axle=paper_axle(), background=background)
     bistable_rows.start_full_map(ctx)
-    job, (axle, model, grid, xtol) = background.jobs[bistable_rows.FULL_JOB]
+    job, (axle, model, grid, xtol, budget) = background.jobs[bistable_rows.FULL_JOB]
     assert model is Model.FULL and grid[0] == pytest.approx(0.5 * BAR) and xtol == pytest.approx(0.01 * BAR)
+    assert budget == bistable_rows.BUDGET_S
     found, _ = bistable_rows.full_map(ctx)        # collected from the job, not computed again
     assert found.label == Model.FULL.label and not background.jobs
 
@@ -106,8 +122,8 @@ def test_the_background_job_and_its_result_cross_a_process_boundary():
     """A spawned process receives the job by pickling and sends the map back the same way."""
     import pickle
     ctx = Context(out="unused", quick=False, axle=paper_axle())
-    _, grid, xtol = bistable_rows.map_settings(ctx)
-    job = pickle.loads(pickle.dumps((bistable_rows.model_map, (ctx.axle, Model.FULL, grid, xtol))))
+    _, grid, xtol, budget = bistable_rows.map_settings(ctx)
+    job = pickle.loads(pickle.dumps((bistable_rows.model_map, (ctx.axle, Model.FULL, grid, xtol, budget))))
     assert job[0] is bistable_rows.model_map and job[1][1] is Model.FULL
     found = made_up_map("the full geometry", region=True)
     assert pickle.loads(pickle.dumps((found, 1.0)))[0].to_json() == found.to_json()
