@@ -9,13 +9,13 @@ Here numba compiles the *same* functions the Python path calls (:func:`~reduced_
 (:data:`STAGE`) with few arguments: numba's call overhead grows with the number of arguments (about 0.7 us for 20
 floats), and compiling the small functions one by one was slower than Python.  What the entry point adds is glue
 only: reading the constants array, the load table's cubic interpolation on an array (the Python path's
-:meth:`~mbs_shimmy.tyre_element.LoadTable.at` on lists, same weights
-:func:`~mbs_shimmy.tyre_element.lagrange_weights`), and the sums of
+:meth:`~mbs_shimmy.load_table.LoadTable.at` on lists, same weights
+:func:`~mbs_shimmy.load_table.lagrange_weights`), and the sums of
 :meth:`~mbs_shimmy.forces.AxleForces.evaluate`.  No fastmath: results equal the Python path's to the last bit
 (``tests/mbs/test_mbs_compiled_stage.py``).
 
 Where the compiled stage cannot follow the Python one it returns ``None`` and the caller evaluates that stage in
-Python: a positive load outside the load table (:attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 or
+Python: a positive load outside the load table (:attr:`~mbs_shimmy.load_table.LoadTable.RANGE`: below 1e-6 or
 beyond 10 times the static load), where the properties come from the reduced model's formulas directly.  A lifted
 wheel's properties are constants (those at 1 % of the static load) and stay compiled.  The first-order element
 (``small_angles``) stays in Python.
@@ -36,17 +36,17 @@ import numba
 import numpy as np
 from numba.extending import register_jitable
 
-from mbs_shimmy import camber, knuckle, scalar_ops, tyre_element
+from mbs_shimmy import camber, knuckle, load_table, scalar_ops, tyre_element
 from reduced_model import tyre
 
 _SHARED = (tyre.mf_force, tyre.mf_trail, tyre.mf_weight, tyre.combined_weights, tyre.trail_slip,
-           tyre.combined_forces, tyre.braked_relaxation_length, camber.camber_terms, tyre_element.lagrange_weights,
+           tyre.combined_forces, tyre.braked_relaxation_length, camber.camber_terms, load_table.lagrange_weights,
            tyre_element.table_values, tyre_element.wheel_contact, tyre_element.vertical_load,
            tyre_element.slip_forces, tyre_element.contact_forces, tyre_element.brake_forces, knuckle.knuckle_pose,
            knuckle.rotor_moment, knuckle.ramp_moments, scalar_ops.choose)
 for _f in _SHARED:
     register_jitable(_f)
-_SOURCES = (tyre, camber, tyre_element, knuckle, scalar_ops)
+_SOURCES = (tyre, camber, load_table, tyre_element, knuckle, scalar_ops)
 
 # --- layout of the constants array ---------------------------------------------------------------------------
 # axle: coordinate indices (psi, theta1, theta2, lateral, bounce; -1 if absent), Oz at rest, roll height h,
@@ -92,9 +92,9 @@ def constants(forces) -> tuple[np.ndarray, np.ndarray]:
 
 
 def table_row(table, c, t: int, Fz):
-    """(ok, the load table's :attr:`~mbs_shimmy.tyre_element.LoadTable.layout` values at the load Fz, D and D_t
-    times the load) by the cubic interpolation of :meth:`~mbs_shimmy.tyre_element.LoadTable.at` on an array (same
-    grid test and weights, :func:`~mbs_shimmy.tyre_element.lagrange_weights`).  ok False where a positive load is
+    """(ok, the load table's :attr:`~mbs_shimmy.load_table.LoadTable.layout` values at the load Fz, D and D_t
+    times the load) by the cubic interpolation of :meth:`~mbs_shimmy.load_table.LoadTable.at` on an array (same
+    grid test and weights, :func:`~mbs_shimmy.load_table.lagrange_weights`).  ok False where a positive load is
     outside the table; the values are then those at the table's nearest end, finite and to be discarded, as they
     are for a lifted wheel (Fz <= 0, ok: :func:`wheel_terms` takes its constants).  The compiled stage's lookup;
     the twin (:mod:`mbs_shimmy.twin`) has its own on traced values."""
@@ -106,7 +106,7 @@ def table_row(table, c, t: int, Fz):
     if not ok:
         x = min(max(x, 1.0), c[t + 3] - 2.5)
     k = int(x) - 1
-    w0, w1, w2, w3 = tyre_element.lagrange_weights(x - (k + 1.0))
+    w0, w1, w2, w3 = load_table.lagrange_weights(x - (k + 1.0))
     v = np.empty(table.shape[1])
     for j in range(table.shape[1]):
         v[j] = table[k, j] * w0 + table[k + 1, j] * w1 + table[k + 2, j] * w2 + table[k + 3, j] * w3

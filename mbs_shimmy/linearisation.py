@@ -144,9 +144,9 @@ class MbsEvaluator:
                    kink_rows: bool = True) -> tuple | None:
         """The twin at the states Y (K, n) in one call: (f,) or with ``jacobians`` (f, df/dy, df/dV), MBS order,
         with Exudyn's right-hand side and its differences in the rows where the twin has none (a positive load
-        outside the load table, :attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 of the static load, or
+        outside the load table, :attr:`~mbs_shimmy.load_table.LoadTable.RANGE`: below 1e-6 of the static load, or
         above 10 times it), and the twin's differences where a wheel's load lies within
-        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load of zero, lifted or not (below;
+        :attr:`~mbs_shimmy.load_table.LoadTable.KINK_BAND` of its static load of zero, lifted or not (below;
         not with ``kink_rows`` False, for a caller that reads only df/dV, which is never differenced, or forms only
         a Newton direction); None where there is no twin."""
         twin = self.twin

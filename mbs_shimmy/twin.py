@@ -27,7 +27,7 @@ The guess is the last k at the same node of the caller (``key``): in a continuat
 Coverage: the exact kinematics at a steady speed (every fidelity with ``small_angles`` off).  The first-order
 kinematics (``small_angles``) run a Python user function with Exudyn's coordinate connectors and keep difference
 derivatives (:func:`twin_of` returns None); at a state whose positive load leaves the load table
-(:attr:`~mbs_shimmy.tyre_element.LoadTable.RANGE`: below 1e-6 or above 10 times the static load) the twin says so
+(:attr:`~mbs_shimmy.load_table.LoadTable.RANGE`: below 1e-6 or above 10 times the static load) the twin says so
 (``ok`` False) and its caller uses differences there.
 """
 
@@ -38,7 +38,7 @@ import numpy as np
 
 from mbs_shimmy import compiled_stage, twin_library
 from mbs_shimmy.twin_equations import NotCovered, TwinData, applied_forces, kinetic_energy
-from mbs_shimmy.tyre_element import LoadTable, lagrange_weights
+from mbs_shimmy.load_table import LoadTable, lagrange_weights
 
 OPS = (ca.sin, ca.cos, ca.atan, ca.sqrt, ca.asin, ca.if_else)
 # evaluated in CasADi's virtual machine, never compiled: only normal forms ask for them, once per point
@@ -302,7 +302,7 @@ class Twin:
 
     def _near_kink(self, x: np.ndarray) -> np.ndarray:
         """Per state (columns of the functions' last output, (4, K)): a load-dependent wheel's load within
-        :attr:`~mbs_shimmy.tyre_element.LoadTable.KINK_BAND` of its static load of zero, on either side (a lifted
+        :attr:`~mbs_shimmy.load_table.LoadTable.KINK_BAND` of its static load of zero, on either side (a lifted
         wheel's is negative).  Further from the kink the forces are smooth: a wheel lifted by more than the band
         has its exact Jacobian (a difference stencil of step 1e-4 moves a load by about 0.3 % of the static
         load), and a violent cycle that lifts a wheel for half its period differences only the nodes about its

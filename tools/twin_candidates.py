@@ -18,7 +18,7 @@ jax.config.update("jax_enable_x64", True)     # before any array is made: the tw
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mbs_shimmy.tyre_element import lagrange_weights  # noqa: E402
+from mbs_shimmy.load_table import lagrange_weights  # noqa: E402
 from mbs_shimmy.twin_equations import TwinData, applied_forces, kinetic_energy  # noqa: E402
 
 OPS = (jnp.sin, jnp.cos, jnp.arctan, jnp.sqrt, jnp.arcsin, jnp.where)

@@ -18,7 +18,7 @@ from axles.units import BAR
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
 from mbs_shimmy.linearisation import constant_speed
 from mbs_shimmy.model import MbsModel
-from mbs_shimmy.tyre_element import LoadTable
+from mbs_shimmy.load_table import LoadTable
 from reduced_model.model import Effects
 from axles.pressures import TyrePressures
 
