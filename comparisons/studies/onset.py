@@ -110,10 +110,11 @@ def branch_onset(diagram, hopf) -> BranchOnset | None:
 
 
 def has_kink(family, hopf) -> bool:
-    """Whether ``family``'s right-hand side has a kink at straight running at ``hopf`` (False where the family
-    cannot tell, or has no such test: the reduced model is smooth)."""
+    """Whether ``family``'s right-hand side has a kink at its equilibrium at ``hopf`` (straight running, or the
+    steady braked state off x = 0; False where the family cannot tell, or has no such test: the reduced model is
+    smooth)."""
     smooth = getattr(family, "twice_differentiable", None)
-    return smooth is not None and smooth(np.zeros(family.n), hopf.p, hopf.q) is False
+    return smooth is not None and smooth(family.equilibrium(hopf.p, hopf.q), hopf.p, hopf.q) is False
 
 
 @dataclass(frozen=True)

@@ -140,3 +140,21 @@ def test_a_says_which_way_the_smallest_cycles_go_on_random_plausible_axles(seed,
         assert not first.stable and not ahead
     else:
         assert first.stable and ahead
+
+
+def test_the_kink_is_looked_for_at_the_equilibrium_not_at_zero():
+    """Under brake slip the full geometry's steady state lies off x = 0 (toe and camber), where the camber force is
+    smooth: the onset reads l1 there, not a kink it would find at x = 0 (where the braked axle never is)."""
+    from types import SimpleNamespace
+    from axles.braking import Braking
+    from comparisons.api import Axle
+    from comparisons.studies.onset import has_kink
+    at = SimpleNamespace(p=100.0 * KMH)
+    free = Axle.paper().mbs("full").problem(TyrePressures(1.5 * BAR, 1.5 * BAR))
+    braked = Axle.paper().mbs("full").problem(TyrePressures(1.5 * BAR, 1.5 * BAR), braking=Braking.of_slip(0.05, 0.05))
+    at.q = free.nominal
+    assert has_kink(free, at)
+    at.q = braked.nominal
+    x = braked.equilibrium(at.p, at.q)
+    assert np.max(np.abs(x)) > 1e-3 and not has_kink(braked, at)
+    assert braked.twice_differentiable(np.zeros(braked.n), at.p, at.q) is False    # what x = 0 would have said
