@@ -277,4 +277,5 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                       ends=tuple(None if e is None else (e.p, e.q) for e in (e_bwd, e_fwd)),
                       end_points=(e_bwd, e_fwd), special_points=tuple(special), corners=tuple(corners),
                       kappas=np.array(list(reversed(k_bwd[1:])) + k_fwd),
-                      errors=np.array([p.error for p in pts]), tolerances=np.array([p.tolerance for p in pts]))
+                      errors=np.array([p.error for p in pts]), tolerances=np.array([p.tolerance for p in pts]),
+                      cycles=tuple(pts))

@@ -15,7 +15,7 @@ to look.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -59,6 +59,7 @@ class CycleCurve:
     errors: np.ndarray | None = None    # estimated collocation error per point, relative to the amplitudes
     tolerances: np.ndarray | None = None    # the tolerance each point was computed for
     corners: tuple[Corner, ...] = ()        # gaps stepped over, in the order met (backward half first)
+    cycles: tuple = field(default=(), repr=False, compare=False)   # the critical cycle (CyclePoint) per point
 
     @property
     def meets_tolerance(self) -> np.ndarray:

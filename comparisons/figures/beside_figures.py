@@ -15,6 +15,7 @@ checked_on_exudyn`, as ``shimmy cycles --model mbs``); the notes give the larges
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -22,11 +23,12 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from axles.axle import interface_text
 from axles.units import BAR, KMH, kmh
 from bifurcation.equilibria.hopf import find_hopf_points
 from bifurcation.special_points import PointKind
 from comparisons.figures.cycle_figures import TRAIL_FIG9, _cycle_notes
-from comparisons.figures.cycle_plots import LABELS, branch_lines, special_point_labels
+from comparisons.figures.cycle_plots import CURVE_STYLES, LABELS, branch_lines, special_point_labels
 from comparisons.figures.drawing import SPECIAL_MARKERS, _incomplete_notes, _located, _point_note, _speed_axis
 from comparisons.figures.hopf_figures import T0_RANGE, pressure_key
 from comparisons.figures.model_differences import compare_windows, stability_difference, windows_of
@@ -56,17 +58,18 @@ REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
 
-# The one two-parameter cycle curve of the full geometry measured so far (issue 30, `shimmy bench
-# mbs_fold_curve_t0`): a fold curve over t0 = 0.24-0.26 m.
-CYCLE_CURVE_COST = ("the full geometry's two-parameter cycle curves are not drawn yet: one costs seconds to minutes (a "
-                    "fold curve over t0 = 0.24-0.26 m: 17 s, `shimmy bench mbs_fold_curve_t0`), but the branches "
-                    "they start from cost far more over a figure's whole speed window (figure 9's at t = 0.25 m had "
-                    "not finished after 30 CPU-minutes, 2026-12-07)")
+# Figure 18's four curves in (V, p) start from the full geometry's branches at 0.25 bar, which have not been measured.
+CYCLE_CURVE_COST = ("the full geometry's cycle curves in (V, p) for this figure are not drawn yet: one fold curve "
+                    "costs seconds to minutes (over t0 = 0.24-0.26 m: 17 s, `shimmy bench mbs_fold_curve_t0`; "
+                    "figure 8's S1 over 0.21-0.31 m: about 4 min), and the branches they start from have not been "
+                    "measured at 0.25 bar")
 UNAVAILABLE_BESIDE.update({
     18: f"{CYCLE_CURVE_COST}; figure 18 needs four in (V, p)",
-    # Its recipe below is kept for when the twin is faster (issue 30): delete this entry to make it.
-    9: "the full geometry's cycle branches at t = 0.25 m over 0.5-800 km/h had not finished after 30 CPU-minutes "
-       "(2026-12-07); its window at 1.5 bar, 194.65-204.10 km/h, is in verify's full-geometry section",
+    # Its recipe below is kept for when the crawl is solved (issue 30): delete this entry to make it.
+    9: "the full geometry's branch at t = 0.25 m, 1.5 bar, born at a Hopf point at 3.56 km/h, reaches yaw cycles of "
+       "27 deg that lift a wheel by 6.15 km/h, where the continuation crawls (0.001 deg in 50 s, 2026-12-07); its "
+       "branches above 100 km/h are in figure 8's notes, and its window at 1.5 bar, 194.65-204.10 km/h, is in "
+       "verify's full-geometry section",
 })
 
 
@@ -165,15 +168,52 @@ def draw_pressure_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
                          f"running stable in one model only")
 
 
-@register(8, "trail_hopf_curves_1.5bar", cost=90, beside=True)
+# Figure 8's cycle curves start from each model's cycles at t = 0.25 m (figure 9a's), the full geometry's above
+# FIG8_MBS_VMIN_KMH only: its branch born at a few km/h grows within 10 km/h to yaw cycles of 27 deg that lift a
+# wheel, where the continuation crawls (docs/results.md, "Bistable regions"); the S and T points of figure 9a lie at
+# 150-350 km/h.
+FIG8_MBS_VMIN_KMH = 100.0
+
+
+@register(8, "trail_hopf_curves_1.5bar", cost=400, beside=True)
 def draw_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
+    from bifurcation.cycles.branches import cycle_diagram
+    from comparisons.figures.cycle_curve_figures import FIG8_START_T, _draw_cycle_curves
+    from comparisons.studies.exudyn_check import curve_on_exudyn
     key = DiagramKey(Effects(), "t0", 1.5, *T0_RANGE, 0.0, VMAX_KMH)
-    drawing = _plane_figure(store, key, fidelity, 1.0, "m", YANG2024.t0, "pneumatic trail t [m]",
-                            f"Fig. 8: {mbs_name(fidelity)} in red, {REFERENCE_NAME} in black; Hopf curves in "
-                            f"(V, t) at 1.5 bar\nHB labels on the Table 1 trail (dotted); hatched: straight running "
-                            f"stable in one model only; the cycle-fold and torus curves are not drawn")
-    return replace(drawing, notes=drawing.notes + (
-        f"the paper's S and T curves are left out: {CYCLE_CURVE_COST}; the reduced model's are in its own figure 8",))
+    fig = Figure(figsize=(9.6, 5.0))
+    ax = fig.subplots()
+    items, notes, complete = hopf_plane(ax, store, key, fidelity, 1.0, "m", YANG2024.t0, legend=False)
+    for k, colour, name, vmin in ((key, REFERENCE_COLOUR, REFERENCE_NAME, 0.0),
+                                  (replace(key, fidelity=fidelity), MBS_COLOUR, mbs_name(fidelity),
+                                   FIG8_MBS_VMIN_KMH)):
+        family = store.family(k)
+        cycles = cycle_diagram(family, FIG8_START_T, vmin * KMH, VMAX_KMH * KMH)
+        more, ok = _draw_cycle_curves(ax, family, cycles, key.lo, key.hi, vmin, VMAX_KMH, 1.0, "m", FIG8_START_T,
+                                      notes, label_at=0.75, colour=colour, prefix=f"{name}: ",
+                                      check=None if colour == REFERENCE_COLOUR else
+                                      (lambda curve, family=family: curve_on_exudyn(family, curve)))
+        items += more
+        complete &= ok and cycles.complete
+        notes += [f"{name}: the branch from {kmh(b.start.p) if b.start else math.nan:.2f} km/h at t = {FIG8_START_T:g} m is INCOMPLETE: "
+                  f"{interface_text(b.message)}" for b in cycles.branches if not b.complete]
+    notes.append(f"{mbs_name(fidelity)}: S and T curves from its cycles at t = {FIG8_START_T:g} m above "
+                 f"{FIG8_MBS_VMIN_KMH:g} km/h only (its branch born at a few km/h reaches yaw cycles of 27 deg that "
+                 f"lift a wheel within 10 km/h, where the continuation crawls)")
+    ax.axhline(FIG8_START_T, color="0.5", lw=0.7, ls=":")
+    handles = plane_key(fidelity) + [Line2D([], [], color="0.3", ls=CURVE_STYLES[kind][0], lw=1.4, label=label)
+                                     for kind, label in ((PointKind.CYCLE_FOLD, "saddle-node (S) curves"),
+                                                         (PointKind.TORUS, "torus (T) curves"))]
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.9)
+    _speed_axis(ax, key.vmax_kmh, key.vmin_kmh)
+    ax.set_ylim(key.lo, key.hi)
+    ax.set_ylabel("pneumatic trail t [m]")
+    ax.set_title(f"Fig. 8: {mbs_name(fidelity)} in red, {REFERENCE_NAME} in black; Hopf curves in (V, t) at 1.5 bar"
+                 f"\nHB labels on the Table 1 trail (dotted); S, T curves from each model's cycles at t = "
+                 f"{FIG8_START_T:g} m (dotted); hatched: straight running stable in one model only", fontsize=9)
+    fig.tight_layout()
+    place_labels(ax, items, fontsize=7)        # the layout is final
+    return Drawing(fig, tuple(notes), complete)
 
 
 # --- limit cycles ------------------------------------------------------------------------------------------------

@@ -45,10 +45,12 @@ FIG18_START_BAR = 0.25                      # pressure of the one-parameter bran
 
 
 def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float, vmax_kmh: float,
-                       factor: float, unit: str, start: float, notes: list, label_at: float = 0.5
-                       ) -> tuple[list, bool]:
+                       factor: float, unit: str, start: float, notes: list, label_at: float = 0.5,
+                       colour: str | None = None, prefix: str = "", check=None) -> tuple[list, bool]:
     """Continue every cycle fold (S) and torus point (T) of the one-parameter ``cycles`` (at q = ``start``) in
-    the (V, q) window and draw it; returns (labels to place: (x, y, text, colour), complete)."""
+    the (V, q) window and draw it (in ``colour``, else each kind's own; ``prefix`` before each note); ``check``
+    (curve -> :class:`~comparisons.studies.exudyn_check.CurveCheck`): an MBS curve's points on Exudyn, in the notes,
+    a failing point making the figure incomplete.  Returns (labels to place: (x, y, text, colour), complete)."""
     items, complete = [], True
     for text, point in special_point_labels(cycles):
         if point.kind not in (PointKind.CYCLE_FOLD, PointKind.TORUS):
@@ -56,11 +58,18 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
         try:
             curve: CycleCurve = cycle_bifurcation_curve(family, point, lo, hi, vmin_kmh * KMH, vmax_kmh * KMH)
         except ConvergenceError as exc:
-            notes.append(f"{text}: INCOMPLETE: {interface_text(exc)}")
+            notes.append(f"{prefix}{text}: INCOMPLETE: {interface_text(exc)}")
             complete = False
             continue
         origin = f"from {kmh(point.p):.2f} km/h at {start / factor:g} {unit}"
-        complete &= _draw_cycle_curve(ax, family, text, origin, curve, factor, unit, start, notes, items, label_at)
+        more: list = []
+        complete &= _draw_cycle_curve(ax, family, text, origin, curve, factor, unit, start, more, items, label_at,
+                                      colour)
+        if check is not None:
+            checked = check(curve)
+            more.append(f"{text}: {checked.text()}")
+            complete &= checked.failing == 0
+        notes += [prefix + n for n in more]
     return items, complete
 
 
@@ -71,10 +80,11 @@ CODIM2_LABELS = {PointKind.CUSP_OF_CYCLES: "CPC", PointKind.FOLD_FLIP: "LPPD", P
 
 
 def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, factor: float, unit: str,
-                      start: float, notes: list, items: list, label_at: float) -> bool:
-    """Draw one S or T curve with its ends (stars) and the codimension-two points of cycles found along it (x);
-    add its label to ``items`` and its notes; returns whether the curve is complete."""
-    style, colour = CURVE_STYLES[curve.kind]
+                      start: float, notes: list, items: list, label_at: float, colour: str | None = None) -> bool:
+    """Draw one S or T curve with its ends (stars) and the codimension-two points of cycles found along it (x),
+    in ``colour`` (else its kind's); add its label to ``items`` and its notes; returns whether it is complete."""
+    style, own = CURVE_STYLES[curve.kind]
+    colour = colour or own
     ax.plot(kmh(curve.ps), curve.qs / factor, style, color=colour, lw=1.6,
             label=f"{'saddle-node (S)' if curve.kind is PointKind.CYCLE_FOLD else 'torus (T)'} curves"
             if text in ("S1", "T1") else None)

@@ -46,3 +46,30 @@ def checked_on_exudyn(family, point: CyclePoint) -> ExudynCheck:
         return ExudynCheck(residual, False, point)
     polished = cycle_at(family.on_exudyn(), point, point.p, mesh=point.orbit.mesh)
     return ExudynCheck(exudyn_residual(family, polished), True, polished)
+
+
+@dataclass(frozen=True)
+class CurveCheck:
+    """A two-parameter curve's critical cycles checked on Exudyn: each point's residual there.  Not polished: at a
+    fold or torus point the cycle at fixed parameters is singular or nearly so, and the curve's own defining system
+    is the twin's; a point above :data:`RESIDUAL_TOL` is reported as failing."""
+
+    residuals: tuple[float, ...]
+
+    @property
+    def largest(self) -> float:
+        return max(self.residuals, default=0.0)
+
+    @property
+    def failing(self) -> int:
+        return sum(not r <= RESIDUAL_TOL for r in self.residuals)
+
+    def text(self) -> str:
+        return (f"{len(self.residuals) - self.failing} of {len(self.residuals)} critical cycles within "
+                f"{RESIDUAL_TOL:g} on Exudyn's right-hand side (largest residual {self.largest:.2g})")
+
+
+def curve_on_exudyn(family, curve) -> CurveCheck:
+    """Each critical cycle of ``curve`` (a :class:`~bifurcation.cycle_curves.result.CycleCurve` of an MBS family)
+    checked on Exudyn's own right-hand side."""
+    return CurveCheck(tuple(exudyn_residual(family, c) for c in curve.cycles))

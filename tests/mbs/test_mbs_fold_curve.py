@@ -8,6 +8,8 @@ On meshes each adapts for itself they differ by the discretisation at that toler
 over t0 = 0.252-0.2554 m (docs/results.md), which the last test (slow: 22 s) bounds at one t0.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -52,6 +54,21 @@ def test_the_fold_curve_crosses_its_window(fold_curve):
     # the fold moves to higher speeds with the trail (about 370 km/h per m here)
     order = np.argsort(curve.qs)
     assert np.all(np.diff(curve.ps[order]) > 0.0)
+
+
+def test_every_point_of_the_fold_curve_solves_exudyns_collocation_equations(fold_curve):
+    """The curve ran on the twin; each point's critical cycle is checked on Exudyn's own right-hand side (one
+    Exudyn call per collocation point), as `shimmy cycles --model mbs --two-param` reports it."""
+    from comparisons.studies.exudyn_check import RESIDUAL_TOL, curve_on_exudyn
+    family, _, curve, _ = fold_curve
+    assert len(curve.cycles) == len(curve.ps)
+    assert [c.p for c in curve.cycles] == list(curve.ps) and [c.q for c in curve.cycles] == list(curve.qs)
+    check = curve_on_exudyn(family, curve)
+    assert len(check.residuals) == len(curve.ps) and check.failing == 0 and check.largest <= RESIDUAL_TOL
+    # the check can fail: the same orbits against Exudyn at another speed are far from solutions
+    moved = dataclasses.replace(curve, cycles=tuple(dataclasses.replace(c, p=c.p + 1.0 * KMH)
+                                                    for c in curve.cycles[:2]))
+    assert curve_on_exudyn(family, moved).failing == 2
 
 
 @pytest.mark.parametrize("t0", (0.2503, 0.2509, 0.2515))

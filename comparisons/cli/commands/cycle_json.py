@@ -144,9 +144,11 @@ def codim2_row(p, factor: float) -> dict:
     return {"kind": p.kind.value, "speed_kmh": kmh(p.p), "value": p.q / factor, "status": p.status.value}
 
 
-def curves_json(curves, labels, factor: float) -> list[dict]:
+def curves_json(curves, labels, factor: float, checks=None) -> list[dict]:
+    """The two-parameter curves; with ``checks`` (an MBS's :class:`~comparisons.studies.exudyn_check.CurveCheck`
+    per curve, None where it failed) each point's residual on Exudyn's right-hand side."""
     out = []
-    for (curve, error), label in zip(curves, labels):
+    for i, ((curve, error), label) in enumerate(zip(curves, labels)):
         if curve is None:
             out.append({"label": label, "kind": None, "complete": False, "status": ["newton_failed"] * 2,
                         "messages": [error, error], "points": [], "ends_at_zero_amplitude": [None, None]})
@@ -165,6 +167,8 @@ def curves_json(curves, labels, factor: float) -> list[dict]:
                     # gaps stepped over where a collocation node crosses a kink of the right-hand side
                     "corners": [{"before": [kmh(c.before[0]), c.before[1] / factor],
                                  "after": [kmh(c.after[0]), c.after[1] / factor]} for c in curve.corners]})
+        if checks is not None and checks[i] is not None:
+            out[-1].update({"exudyn_residual": list(checks[i].residuals), "exudyn_failing": checks[i].failing})
     return out
 
 

@@ -216,6 +216,11 @@ def run(args: argparse.Namespace) -> int:
                                      f"({model_text(args, family)}, "
                                      f"{effects}); solid stable, dashed unstable")
     factor = interface_unit(args.two_param)[1] if args.two_param else 1.0
+    # every reported curve point of the MBS checked on Exudyn's own right-hand side (the curves ran on its twin)
+    checks = None
+    if args.model == "mbs" and curves:
+        from comparisons.studies.exudyn_check import curve_on_exudyn
+        checks = [None if c is None else curve_on_exudyn(family, c) for c, _ in curves]
     if args.json:
         out = diagram_json(diagram, family, to_interface(args.tyre_pressures.value("pressure"), "Pa"), model.effects.names)
         del out["pressure_bar"], out["effects"]
@@ -234,7 +239,7 @@ def run(args: argparse.Namespace) -> int:
             out["complete"], out["note"] = False, unstable
         if args.two_param:
             out["two_param"] = {"param": args.two_param, "unit": interface_unit(args.two_param)[0],
-                                "curves": curves_json(curves, labels, factor)}
+                                "curves": curves_json(curves, labels, factor, checks)}
             out["complete"] = out["complete"] and all(c is not None and c.complete for c, _ in curves)
         emit_json(out)
     else:
@@ -245,7 +250,7 @@ def run(args: argparse.Namespace) -> int:
         if args.kick:
             print_kicks(found_kicks)
         if args.two_param:
-            print_curves(curves, labels, args.two_param)
+            print_curves(curves, labels, args.two_param, checks)
     problems = [f"branch from {kmh(b.start.p):.3f} km/h stopped: {interface_text(b.message)}"
                 for b in diagram.branches if not b.complete]
     if unstable is not None:
@@ -255,6 +260,8 @@ def run(args: argparse.Namespace) -> int:
     problems += [f"curve {label}: " + (error or "; ".join(interface_text(m) for m, s in zip(c.messages, c.status)
                                                          if not s.is_complete))
                  for (c, error), label in zip(curves, labels) if c is None or not c.complete]
+    problems += [f"curve {label}: {check.text()}" for check, label in zip(checks or (), labels)
+                 if check is not None and check.failing]
     missed = inaccurate(diagram)
     if missed:
         first = missed[0]
@@ -310,10 +317,10 @@ def unstable_without_hopf(diagram: CycleDiagram, family: SpeedFamily, q: float) 
             f"in the window: the shimmy cycles there are born outside it (widen --vmin/--vmax)")
 
 
-def print_curves(curves, labels, name: str) -> None:
+def print_curves(curves, labels, name: str, checks=None) -> None:
     unit, factor = interface_unit(name)
     print(f"  two-parameter curves in (V, {name}):")
-    for (curve, error), label in zip(curves, labels):
+    for i, ((curve, error), label) in enumerate(zip(curves, labels)):
         if curve is None:
             print(f"    {label:4s} [INCOMPLETE] {error}")
             continue
@@ -330,6 +337,9 @@ def print_curves(curves, labels, name: str) -> None:
             dq = max(abs(c.after[1] - c.before[1]) for c in curve.corners) / factor
             print(f"         stepped over {len(curve.corners)} gap(s) where a collocation node crosses a kink of the "
                   f"right-hand side (the largest step: {dv:.3g} km/h, {name} {dq:.3g} {unit})")
+        check = checks[i] if checks else None
+        if check is not None:
+            print(f"         {check.text()}")
 
 
 def model_text(args: argparse.Namespace, family) -> str:
