@@ -170,7 +170,7 @@ def step_over(residual: Residual, branch: "Branch", w: np.ndarray, blocks: Block
         if result is None:
             continue
         u_new, J_new, iters = result
-        t_new = tangent(J_new, w, t)
+        t_new = branch.tangent_of(u_new, J_new, w, t)
         bounded = step_bound is None or step_bound(u, u_new) <= 1.0
         if bounded and np.dot(t_new * w, t * w) >= np.cos(settings.max_turn):
             return u_new, J_new, t_new, ds, iters
@@ -204,6 +204,11 @@ class Branch:
     value: Value | None = None          # G alone, for chord iterations (:func:`correct`)
     jacobian: object = None             # DG at the last accepted point, for chord iterations
     corners: list[int] = field(default_factory=list)    # points reached by a step over a corner (:func:`step_over`)
+    tangent_jacobian: Callable | None = None    # DG for the tangents where not Newton's (:func:`continue_curve`)
+
+    def tangent_of(self, u: np.ndarray, J, w: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
+        """The tangent at the solution u, whose Newton Jacobian is J (:attr:`tangent_jacobian`'s where set)."""
+        return tangent(J if self.tangent_jacobian is None else self.tangent_jacobian(u), w, previous)
 
     def point_at(self, k: int, s: float) -> tuple[np.ndarray, np.ndarray]:
         """Corrected point at arclength s from point k along its tangent, and the tangent there (only for the
@@ -214,7 +219,7 @@ class Branch:
         if result is None:
             raise RuntimeError(f"corrector failed at s = {s:.3g} after point {k}")
         u, J, _ = result
-        return u, tangent(J, self.weights, self.tangents[k])
+        return u, self.tangent_of(u, J, self.weights, self.tangents[k])
 
 
 def locate_on_step(branch: Branch, k: int, s_hi: float, fun: Callable[[np.ndarray, np.ndarray], float],
@@ -235,7 +240,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                    accept: Callable[[Branch], Stop | None] | None = None,
                    renormalize: Callable[[np.ndarray], object] | None = None, blocks=None,
                    step_bound: Callable[[np.ndarray, np.ndarray], float] | None = None,
-                   value: Value | None = None) -> Branch:
+                   value: Value | None = None, tangent_jacobian: Callable | None = None) -> Branch:
     """Follow G(u) = 0 from u0 (already a solution) in ``direction``.
 
     ``accept(branch)`` runs after each accepted point and returns None to go on, or a :class:`Stop` to end the
@@ -247,20 +252,25 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
     size of a step relative to a bound the caller sets (e.g. on one parameter): a step above 1 is retried
     shorter, and the next step is not predicted longer than the bound allows.  ``value`` (G alone) lets the
     corrector run chord iterations with the last point's Jacobian (:func:`correct`), for residuals whose
-    Jacobian is expensive.
+    Jacobian is expensive.  ``tangent_jacobian(u)``: DG at a solution for its tangent, where it is not the one
+    Newton's method uses: a piecewise smooth problem converges with one side's exact Jacobian (an element of the
+    generalized Jacobian: semismooth Newton, Qi and Sun 1993), while its tangent, whose sign change in a parameter
+    is a fold, is taken from a Jacobian smoothed across the kink, so that a collocation point crossing the kink
+    does not make the tangent jump (a spurious pair of folds).
     """
     def current():
         w_ = np.asarray(weights() if callable(weights) else weights, dtype=float)
         return w_, (blocks() if callable(blocks) else blocks)
 
     w, blk = current()
-    branch = Branch(residual=residual, weights=w, settings=settings, blocks=blk, value=value)
+    branch = Branch(residual=residual, weights=w, settings=settings, blocks=blk, value=value,
+                    tangent_jacobian=tangent_jacobian)
     G, J = residual(u0)
     branch.jacobian = J
     if np.max(np.abs(G)) > 1e-6 * (1.0 + np.max(np.abs(u0))):
         branch.status, branch.message = BranchStatus.NEWTON_FAILED, Message.of("start point is not a solution")
         return branch
-    t = tangent(J, w, None)
+    t = branch.tangent_of(u0, J, w, None)
     if direction is not None and np.dot(t * w, direction * w) < 0:
         t = -t
     branch.points.append(u0)
@@ -274,7 +284,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
             result = correct(residual, u + ds * t, t, w, settings, blocks=blk, value=value, frozen=branch.jacobian)
             if result is not None:
                 u_new, J_new, iters = result
-                t_new = tangent(J_new, w, t)
+                t_new = branch.tangent_of(u_new, J_new, w, t)
                 turn = np.arccos(np.clip(np.dot(t_new * w, t * w), -1.0, 1.0))
                 ratio = step_bound(u, u_new) if step_bound is not None else 0.0
                 if turn <= settings.max_turn and ratio <= 1.0:
@@ -318,7 +328,7 @@ def continue_curve(residual: Residual, u0: np.ndarray, direction: np.ndarray | N
                 branch.weights, branch.blocks = w, blk
                 branch.points[-1] = renormalized
                 branch.jacobian = residual(renormalized)[1]
-                branch.tangents[-1] = tangent(branch.jacobian, w, previous)
+                branch.tangents[-1] = branch.tangent_of(renormalized, branch.jacobian, w, previous)
         ds_next = ds * (1.5 if iters <= settings.grow_iter else 1.0 if iters <= max(5, settings.grow_iter) else 0.6)
         if step_bound is not None and ratio > 0.0:
             ds_next = min(ds_next, 0.95 * ds / ratio)

@@ -69,7 +69,7 @@ class FoldSystem:
         self.family = family
         self.kind = kind
         self.cp = CycleProblem(family, family.primary, cycle.p, cycle.q, cycle.orbit,
-                               state_scales(family, omega), family.primary_scale, settings)
+                               state_scales(family, omega), family.primary_scale, settings, smoothed=True)
         self.q_scale = q_scale
         rng = np.random.default_rng(1)
         self.b = rng.standard_normal(self.dim)

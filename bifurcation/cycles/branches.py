@@ -288,7 +288,8 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
 
     branch = continue_curve(problem, u0, direction, problem.weights, settings.continuation, accept=accept,
                             renormalize=renormalize, blocks=problem.blocks_of_unknowns, step_bound=bound,
-                            value=problem.value if problem.family.costly_jacobian else None)
+                            value=problem.value if problem.family.costly_jacobian else None,
+                            tangent_jacobian=problem.smoothed_jacobian if problem.one_sided else None)
     # Requested values between a Hopf end and the nearest computed cycle: Newton at the fixed value from that
     # cycle shrunk towards the Hopf point as the square root of the distance (amp^2 affine near a Hopf point).
     first, last = (state.records[0], state.records[-1]) if state.records else (None, None)
