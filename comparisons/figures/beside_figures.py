@@ -65,10 +65,11 @@ CYCLE_CURVE_COST = ("the full geometry's cycle curves in (V, p) for this figure 
                     "measured at 0.25 bar")
 UNAVAILABLE_BESIDE.update({
     18: f"{CYCLE_CURVE_COST}; figure 18 needs four in (V, p)",
-    # Its recipe below is kept for when the crawl is solved (issue 30): delete this entry to make it.
-    9: "the full geometry's branch at t = 0.25 m, 1.5 bar, born at a Hopf point at 3.56 km/h, reaches yaw cycles of "
-       "27 deg that lift a wheel by 6.15 km/h, where the continuation crawls (0.001 deg in 50 s, 2026-12-07); its "
-       "branches above 100 km/h are in figure 8's notes, and its window at 1.5 bar, 194.65-204.10 km/h, is in "
+    # Its recipe below is kept for when these branches are cheaper (issue 30): delete this entry to make it.
+    9: "the full geometry's branch at t = 0.25 m, 1.5 bar, born at a Hopf point at 3.56 km/h, grows to yaw cycles of "
+       "50-60 deg that lift a wheel, every one on 640 mesh intervals: it had reached 52.6 km/h (193 cycles) after "
+       "9.5 min of an 0.5-800 km/h window, with three more Hopf points and the 0.285 m diagram to go (2026-12-07); "
+       "its branches above 100 km/h are in figure 8's notes, and its window at 1.5 bar, 194.65-204.10 km/h, is in "
        "verify's full-geometry section",
 })
 
@@ -169,9 +170,9 @@ def draw_pressure_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
 
 
 # Figure 8's cycle curves start from each model's cycles at t = 0.25 m (figure 9a's), the full geometry's above
-# FIG8_MBS_VMIN_KMH only: its branch born at a few km/h grows within 10 km/h to yaw cycles of 27 deg that lift a
-# wheel, where the continuation crawls (docs/results.md, "Bistable regions"); the S and T points of figure 9a lie at
-# 150-350 km/h.
+# FIG8_MBS_VMIN_KMH only: its branch born at 3.56 km/h grows to yaw cycles of 50-60 deg that lift a wheel, each on
+# 640 mesh intervals (52.6 km/h after 9.5 min, docs/results.md); the S and T points of figure 9a lie at 150-350
+# km/h.
 FIG8_MBS_VMIN_KMH = 100.0
 
 
@@ -198,8 +199,8 @@ def draw_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
         notes += [f"{name}: the branch from {kmh(b.start.p) if b.start else math.nan:.2f} km/h at t = {FIG8_START_T:g} m is INCOMPLETE: "
                   f"{interface_text(b.message)}" for b in cycles.branches if not b.complete]
     notes.append(f"{mbs_name(fidelity)}: S and T curves from its cycles at t = {FIG8_START_T:g} m above "
-                 f"{FIG8_MBS_VMIN_KMH:g} km/h only (its branch born at a few km/h reaches yaw cycles of 27 deg that "
-                 f"lift a wheel within 10 km/h, where the continuation crawls)")
+                 f"{FIG8_MBS_VMIN_KMH:g} km/h only (its branch born at 3.56 km/h grows to yaw cycles of 50-60 deg "
+                 f"that lift a wheel, each on 640 mesh intervals: minutes for every 50 km/h)")
     ax.axhline(FIG8_START_T, color="0.5", lw=0.7, ls=":")
     handles = plane_key(fidelity) + [Line2D([], [], color="0.3", ls=CURVE_STYLES[kind][0], lw=1.4, label=label)
                                      for kind, label in ((PointKind.CYCLE_FOLD, "saddle-node (S) curves"),
