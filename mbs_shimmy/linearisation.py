@@ -99,6 +99,9 @@ class MbsEvaluator:
         self.kinked_forms = 0            # (MbsFamily.lyapunov_forms)
         self._twin = None
         self._twin_built = False
+        # the last batch of the twin's Jacobians (states, speed, outputs): a Newton iteration asks for the same
+        # states again, for df/dV (MbsFamily.parameter_derivative) and for a tangent's smoothed df/dx
+        self._last_batch: tuple | None = None
         self.m = system.layout.n_mech
         self.n = system.layout.n
         settings = exu.SimulationSettings()
@@ -153,8 +156,15 @@ class MbsEvaluator:
         if twin is None:
             return None
         Y = np.asarray(Y, dtype=float)
+        fresh = True
         if jacobians:
-            f, J, Jv, ok, near_kink = twin.rhs_and_jacobians(Y, speed)
+            last = self._last_batch
+            if last is not None and last[1] == speed and last[0].shape == Y.shape and np.array_equal(last[0], Y):
+                f, J, Jv, ok, near_kink = (a.copy() for a in last[2])
+                fresh = False
+            else:
+                f, J, Jv, ok, near_kink = twin.rhs_and_jacobians(Y, speed)
+                self._last_batch = (Y.copy(), speed, tuple(a.copy() for a in (f, J, Jv, ok, near_kink)))
             out = (f, J, Jv)
             # About a lift-off the forces have a kink at zero load: the exact Jacobian jumps there, and with it a
             # fold's test function as a collocation state crosses it, which Newton on a fold system cannot follow.
@@ -168,9 +178,10 @@ class MbsEvaluator:
         else:
             f, ok = twin.rhs_batch(Y, speed)
             out = (f,)
-        self.twin_calls += int(np.sum(ok))
+        if fresh:
+            self.twin_calls += int(np.sum(ok))
         if jacobians:
-            self.twin_jacobians += int(np.sum(ok)) - differenced
+            self.twin_jacobians += int(np.sum(ok)) - differenced if fresh else 0
             self.difference_jacobians += differenced
         for k in np.flatnonzero(~ok):
             if jacobians:
