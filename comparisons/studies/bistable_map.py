@@ -23,6 +23,7 @@ from typing import Callable, Sequence
 from axles.units import BAR, from_kmh, kmh
 from bifurcation.cycles.branches import cycle_diagram
 from bifurcation.problem import Family
+from comparisons.studies.budget import OutOfTime, deadline_watch
 from comparisons.studies.kick import bistable_windows
 
 MIN_WIDTH = from_kmh(0.5)           # m/s: a narrower interval is the spacing of two computed cycles
@@ -141,28 +142,16 @@ class BistableMap:
                 "text": self.text()}
 
 
-class _OutOfTime(Exception):
-    """A slice's share of the map's time budget ran out (raised from the branches' accept hook)."""
-
-
 def slice_at(family: Family, q: float, p_min: float, p_max: float, deadline: float = math.inf) -> Slice:
     """The bistable speed intervals of ``family`` at its second parameter ``q``, stopped when ``time.monotonic()``
     passes ``deadline`` (then an over-budget slice, which says where its branch was)."""
     if time.monotonic() >= deadline:
         return Slice(q, (), False, False, "not started: the budget was spent", over_budget=True)
-    stable = [False]                    # a stable cycle among those computed before the stop
-
-    def watch(cycle) -> None:
-        stable[0] = stable[0] or bool(cycle.stable)
-        if time.monotonic() > deadline:
-            where = (f"a branch at {kmh(cycle.p):.1f} km/h, max|{family.state_names[0]}| "
-                     f"{math.degrees(float(cycle.amplitude[0])):.2f} deg, {cycle.orbit.intervals} mesh intervals")
-            raise _OutOfTime(where)
-
+    watch = deadline_watch(deadline, family.state_names)
     try:
         diagram = cycle_diagram(family, q, p_min, p_max, accept_hook=watch)
-    except _OutOfTime as stop:
-        return Slice(q, (), stable[0], False, f"stopped on {stop}", over_budget=True)
+    except OutOfTime as stop:
+        return Slice(q, (), watch.stable[0], False, f"stopped on {stop}", over_budget=True)
     incomplete = [b for b in diagram.branches if not b.complete]
     return Slice(q, tuple(bistable_windows(diagram, family, MIN_WIDTH)),
                  any(p.stable for b in diagram.branches for p in b.points), not incomplete,

@@ -155,3 +155,73 @@ def onset_criticality(hopf, onset: BranchOnset | None, kinked: bool) -> tuple[Cr
     if not kinked:
         return hopf.criticality, "l1"
     return (onset.criticality, "branch") if onset is not None else (None, "branch")
+
+
+def stable_sides(family, q: float, hopf, points, p_min: float, p_max: float, past: float
+                 ) -> list[tuple[float, float]]:
+    """The parameter intervals (p_lo, p_hi) beside the Hopf point ``hopf`` (one of ``points``) where the equilibrium
+    is stable (by the eigenvalues halfway to the neighbouring Hopf point or window end), stopping ``past`` short of
+    that neighbour (whose own branch stays out) and reaching ``past`` beyond the point itself: its side above
+    first."""
+    from bifurcation.equilibria.hopf import eigenvalues
+    ordered = sorted(points, key=lambda h: h.p)
+    i = next(k for k, h in enumerate(ordered) if h is hopf)
+    edges = [p_min] + [h.p for h in ordered] + [p_max]
+    low, high = edges[i], edges[i + 2]
+    out = []
+    if eigenvalues(family, 0.5 * (hopf.p + high), q)[0].real < 0.0:
+        out.append((hopf.p - past, high - past if i < len(ordered) - 1 else high))
+    if eigenvalues(family, 0.5 * (low + hopf.p), q)[0].real < 0.0:
+        out.append((low + past if i > 0 else low, hopf.p + past))
+    return out
+
+
+def onset_windows(family, q: float, hopf, p_min: float, p_max: float, past: float) -> list[tuple[float, float]]:
+    """Parameter intervals (p_lo, p_hi) to continue the cycles of each subcritical Hopf point (l1's sign) in: its
+    :func:`stable_sides`."""
+    return [w for h in sorted(hopf, key=lambda h: h.p) if h.criticality is Criticality.SUBCRITICAL
+            for w in stable_sides(family, q, h, hopf, p_min, p_max, past)]
+
+
+@dataclass(frozen=True)
+class OnsetWindow:
+    """Where a kick sets shimmy off next to a hard onset: the speed interval (m/s) beside the Hopf point where
+    straight running is stable and the point's own branch has a stable cycle too (:func:`onset_window`).
+    ``kind``: "window" (``interval`` set), "none" (the branch's cycles leave the side without a stable one wider
+    than the minimum), "no_stable_side" (straight running is unstable on both sides of the point), "incomplete"
+    (the branch stopped early: nothing is claimed)."""
+
+    kind: str
+    interval: tuple[float, float] | None = None
+    message: str = ""
+
+
+def onset_window(family, hopf, points, p_max: float, min_width: float, past: float,
+                 budget_s: float | None = None) -> OnsetWindow:
+    """The bistable window next to the Hopf point ``hopf`` (one of the window's ``points``, sorted or not): its
+    cycle branch continued over the side where straight running is stable (:func:`stable_sides`, stopping
+    ``past`` short of the neighbouring Hopf point), and the intervals there where two stable states coexist
+    (:func:`comparisons.studies.kick.bistable_windows`, narrower than ``min_width`` dropped) that reach the point.
+    Within ``budget_s`` seconds of wall clock (:mod:`comparisons.studies.budget`): past it, "incomplete"."""
+    import math
+    import time
+    from comparisons.studies.budget import OutOfTime, deadline_watch
+    from bifurcation.cycles.branches import CycleDiagram, branch_from_hopf
+    from comparisons.studies.kick import bistable_windows
+    # the point's sides whatever l1 says: at a kink a hard onset is read from its branch, not from l1's sign
+    sides = stable_sides(family, family.nominal, hopf, points, 0.0, p_max, past)
+    if not sides:
+        return OnsetWindow("no_stable_side")
+    lo, hi = sides[0]
+    watch = deadline_watch(math.inf if budget_s is None else time.monotonic() + budget_s, family.state_names)
+    try:
+        branch = branch_from_hopf(family, hopf, lo, hi, others=tuple(h for h in points if h is not hopf),
+                                  accept_hook=watch)
+    except OutOfTime as stop:
+        return OnsetWindow("incomplete", message=f"over its {budget_s:g} s budget, stopped on {stop}")
+    if not branch.complete:
+        return OnsetWindow("incomplete", message=str(branch.message))
+    diagram = CycleDiagram(q=family.nominal, p_min=lo, p_max=hi, hopf=tuple(h for h in points if lo <= h.p <= hi),
+                           branches=(branch,))
+    found = [w for w in bistable_windows(diagram, family, min_width) if w[0] <= hopf.p <= w[1]]
+    return OnsetWindow("window", found[0]) if found else OnsetWindow("none")

@@ -40,8 +40,10 @@ COST_S = {"hopf": 0.004, "lyapunov": 0.003, "mbs": 0.03, "margins": 0.016, "assu
 MBS_CYCLES_COST_S = {"reduced": 4.4, "full": 4.4}
 # The MBS Hopf points' l1 (with --lyapunov, and always with MBS cycles, whose branch switching needs it)
 MBS_LYAPUNOV_COST_S = 0.1
-# mbs_onset: the lowest Hopf point's one-step branch with its end segment (0.43 s on the paper's axle at 1.5 bar)
-MBS_ONSET_COST_S = 0.45
+# mbs_onset: the lowest Hopf point's one-step branch with its end segment (0.43 s on the paper's axle at 1.5 bar),
+# and where the onset is hard its branch over the side where straight running is stable (0.5-2 s, at most
+# ONSET_WINDOW_BUDGET_S; 9 of 256 plausible axles at 1.5 bar)
+MBS_ONSET_COST_S = 0.5
 
 
 _MODES = ModeClassifier()
@@ -133,6 +135,8 @@ class SweepTask:
                     fields += [pa.field(f"{c}_hopf_l1", floats), pa.field(f"{c}_hopf_criticality", strings),
                                pa.field(f"{c}_hopf_criticality_by", strings), pa.field(f"{c}_hopf_kink", floats),
                                pa.field(f"{c}_hopf_onset", strings), pa.field(f"{c}_hopf_jump_deg", floats)]
+                if f in self.mbs_onset:
+                    fields += [pa.field(f"{c}_onset_window", pa.string()), pa.field(f"{c}_onset_window_kmh", floats)]
         if "margins" in self.compute:
             for c in [""] + [f"mbs_{_column_safe(f)}_" for f in self.mbs]:
                 fields += [pa.field(f"{c}margin", pa.float64()), pa.field(f"{c}margin_kmh", pa.float64()),
@@ -220,6 +224,8 @@ class SweepTask:
                 row.update(_hopf_columns(c, mp))
                 if self.mbs_l1(f):
                     row.update(_criticality_columns(c, mp, mf, diagram))
+                if f in self.mbs_onset:
+                    row.update(_onset_window_columns(c, mf, mp, row[f"{c}hopf_onset"], vmax))
                 if "hopf" in self.compute:
                     from comparisons.studies.assumption_study import match_hopf
                     # each reduced-model Hopf point's shift (MBS - reduced), None where the mode has no partner
@@ -307,6 +313,28 @@ def _criticality_columns(prefix: str, points, family=None, diagram=None) -> dict
     out[f"{prefix}hopf_onset"] = [r.kind for r in readings]
     out[f"{prefix}hopf_jump_deg"] = [r.jump_deg for r in readings]
     return out
+
+
+def _onset_window_columns(prefix: str, family, points, onsets, vmax: float) -> dict:
+    """Where the lowest Hopf point's onset is hard, the bistable window next to it (``<prefix>onset_window``: its
+    kind, :class:`comparisons.studies.onset.OnsetWindow`; ``<prefix>onset_window_kmh``: [low, high] where there is
+    one); null where the onset is soft or unknown, or there is no Hopf point."""
+    from axles.units import from_kmh
+    from comparisons.studies.bistable_map import MIN_WIDTH
+    from comparisons.studies.onset import onset_window
+    if not points or onsets[0] != "hard":
+        return {f"{prefix}onset_window": None, f"{prefix}onset_window_kmh": None}
+    found = onset_window(family, points[0], points, vmax, MIN_WIDTH, from_kmh(ONSET_WINDOW_PAST_KMH),
+                         ONSET_WINDOW_BUDGET_S)
+    return {f"{prefix}onset_window": found.kind,
+            f"{prefix}onset_window_kmh": None if found.interval is None else [kmh(v) for v in found.interval]}
+
+
+# how far short of the neighbouring Hopf point an onset window's branch stops (that point's own branch stays out)
+ONSET_WINDOW_PAST_KMH = 0.5
+# and its budget of wall clock: most take 0.5-2 s, but violent cycles that lift a wheel took 22-32 s (two of 256
+# plausible axles at 1.5 bar: about 100 cycles on up to 640 mesh intervals), which verify's budget cannot carry
+ONSET_WINDOW_BUDGET_S = 10.0
 
 
 class _OnsetBranches:

@@ -39,26 +39,6 @@ class OtherAxleResult:
     figures: tuple[str, ...]
 
 
-def onset_windows(family, q: float, hopf, p_min: float, p_max: float, past: float) -> list[tuple[float, float]]:
-    """Parameter intervals (p_lo, p_hi) to continue the cycles of each subcritical Hopf point in: its side where
-    the equilibrium is stable (by the eigenvalues halfway to the neighbouring Hopf point or window end), stopping
-    ``past`` short of that neighbour (whose own branch stays out) and reaching ``past`` beyond the point itself."""
-    from bifurcation.equilibria.hopf import eigenvalues
-    from bifurcation.special_points import Criticality
-    points = sorted(hopf, key=lambda h: h.p)
-    edges = [p_min] + [h.p for h in points] + [p_max]
-    out = []
-    for i, h in enumerate(points, 1):
-        if h.criticality is not Criticality.SUBCRITICAL:
-            continue
-        low, high = edges[i - 1], edges[i + 1]
-        if eigenvalues(family, 0.5 * (h.p + high), q)[0].real < 0.0:
-            out.append((h.p - past, high - past if i < len(points) else high))
-        if eigenvalues(family, 0.5 * (low + h.p), q)[0].real < 0.0:
-            out.append((low + past if i > 1 else low, h.p + past))
-    return out
-
-
 def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxleResult:
     """Everything the section reports at one bistable case on another axle; the background job."""
     from comparisons.verify.full_geometry_rows import Where, branch_rows, branches_figure, hopf_rows, window_rows
@@ -66,6 +46,7 @@ def full_geometry_at(case: BistableCase, out: str, recordings: bool) -> OtherAxl
     from comparisons.verify.plan import VMAX
     from comparisons.studies.growth import DURATION
     from comparisons.studies.kick import kicks, settle_function
+    from comparisons.studies.onset import onset_windows
     from bifurcation.cycles.branches import cycle_diagram
     from bifurcation.cycles.problem import CycleSettings
     from bifurcation.equilibria.hopf import find_hopf_points

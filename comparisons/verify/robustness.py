@@ -133,6 +133,18 @@ class PressureStudy:
             out[onset_kind(kinds[0] if kinds else None, bool(l1))] += 1
         return out
 
+    def onset_windows(self) -> dict[str, list]:
+        """The hard onsets' bistable windows next to their Hopf point, by kind (``window``: the [low, high] km/h of
+        each; ``none``, ``no_stable_side``, ``incomplete``: the samples), from the sweep's ``mbs_full_onset_window``
+        (:func:`comparisons.studies.onset.onset_window`)."""
+        out: dict[str, list] = {"window": [], "none": [], "no_stable_side": [], "incomplete": []}
+        if "mbs_full_onset_window" not in self.table.column_names:     # a sweep without mbs_onset
+            return out
+        for kind, interval in zip(self.column("mbs_full_onset_window"), self.column("mbs_full_onset_window_kmh")):
+            if kind is not None:
+                out.setdefault(kind, []).append(interval if kind == "window" else None)
+        return out
+
     def kink_jumps(self) -> list[float]:
         """The jumps (deg) of the soft onsets that are subcritical by a branch's fold: the fold the kink makes."""
         return [j[0] for j, k, c in zip(self.column("mbs_full_hopf_jump_deg"), self.column("mbs_full_hopf_onset"),
@@ -296,6 +308,19 @@ def onset_row(s: PressureStudy) -> Row:
         note += (f"; {len(jumps)} of the soft ones are subcritical at the camber kink, their small unstable cycles "
                  f"folding back at {min(jumps):.2g}-{max(jumps):.2g} deg (below {JUMP_TOL_DEG:g} deg: a jump of that "
                  f"size, soft in practice)")
+    from comparisons.sweeps.sample import ONSET_WINDOW_BUDGET_S
+    windows = s.onset_windows()
+    if counts["hard"]:
+        widths = [b - a for a, b in windows["window"]]
+        note += (f"; bistable window next to a hard onset (its branch over the side where straight running is stable, "
+                 f"windows from 0.5 km/h): {len(widths)} of {counts['hard']}"
+                 + (f", {min(widths):.2f}-{max(widths):.2f} km/h wide" if widths else "")
+                 + (f"; {len(windows['none'])} without one (no stable cycle on that side of the branch)"
+                    if windows["none"] else "")
+                 + (f"; {len(windows['no_stable_side'])} with straight running unstable on both sides"
+                    if windows["no_stable_side"] else "")
+                 + (f"; {len(windows['incomplete'])} not known (the branch stopped early, or ran past its "
+                    f"{ONSET_WINDOW_BUDGET_S:g} s budget)" if windows["incomplete"] else ""))
     if s.full_smooth is False:
         note += ("; " if note else "") + ("the full geometry has a kink at straight running (its camber force), "
                                           "where l1 is no criticality: each onset is read from a one-step cycle "
@@ -306,6 +331,8 @@ def onset_row(s: PressureStudy) -> Row:
                 "reduced_value": reduced, "plausible_axles": text,
                 "samples": n, **{f"{k}_count": v for k, v in counts.items()},
                 "kink_jump_count": len(jumps), "kink_jump_max_deg": max(jumps) if jumps else None,
+                "onset_window_count": len(windows["window"]), "onset_windows_kmh": windows["window"],
+                "onset_window_unknown": len(windows["incomplete"]),
                 **{f"{k}_share": share[k] for k in ("soft", "hard")},
                 "reduced_onset": kind, "reduced_onset_l1": l1}, CheckStatus.INFO, note)
 

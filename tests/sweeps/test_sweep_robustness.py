@@ -83,6 +83,17 @@ def test_onset_shares_add_up_and_agree_with_shimmy_cycles_and_shimmy_hopf(capsys
     ok = [r for r in study.table.to_pylist() if r["status"] == "ok"]
     assert sum(onset_kind(r["mbs_full_hopf_onset"][0] if r["mbs_full_hopf_onset"] else None,
                           bool(r["mbs_full_hopf_l1"])) == "soft" for r in ok) == row.cells["soft_count"]
+    # the bistable window next to each hard onset: a kind for every hard one, nothing for the others, and a
+    # window reaches its Hopf point
+    hard = [r for r in ok if r["mbs_full_hopf_onset"] and r["mbs_full_hopf_onset"][0] == "hard"]
+    assert all(r["mbs_full_onset_window"] in ("window", "none", "no_stable_side", "incomplete") for r in hard)
+    assert all(r["mbs_full_onset_window"] is None for r in ok if r not in hard)
+    for r in hard:
+        if r["mbs_full_onset_window"] == "window":
+            low, high = r["mbs_full_onset_window_kmh"]
+            assert high - low > 0.5 and min(abs(low - r["mbs_full_hopf_kmh"][0]),
+                                            abs(high - r["mbs_full_hopf_kmh"][0])) < 1e-9
+    assert row.cells["onset_window_count"] == sum(r["mbs_full_onset_window"] == "window" for r in hard)
     r = next(r for r in ok if r["mbs_full_hopf_kmh"])
     assert r["mbs_full_hopf_criticality_by"][0] == "branch"      # its one-step branch
     sets = [a for n_ in study.design.names for a in ("--set", f"{n_}={r[n_]!r}")]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from comparisons.verify.background import Background, BackgroundJobError
-from comparisons.verify.other_axle import onset_windows
+from comparisons.studies.onset import onset_windows
 from comparisons.studies.kick import bistable_windows
 from bifurcation.cycles.branches import cycle_diagram
 from bifurcation.equilibria.hopf import find_hopf_points
