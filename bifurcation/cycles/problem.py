@@ -313,10 +313,14 @@ class CycleProblem:
             nan = np.full((N, m, n), np.nan)
             return (np.full(self.size + 1, np.nan),
                     col.CondensedJacobian(np.full((N, m, n, m + 1, n), np.nan), nan, nan, nan.reshape(-1, n)))
-        T = e["T"]
-        G = np.concatenate([(e["dX"] - T * e["f"]).ravel(), [self._phase(e["Xc"])]])
+        G = np.concatenate([(e["dX"] - e["T"] * e["f"]).ravel(), [self._phase(e["Xc"])]])
+        return G, self._condensed(e, self.blocks(u), e["f"])
+
+    def _condensed(self, e: dict, blocks, f: np.ndarray) -> col.CondensedJacobian:
+        """DG from the collocation blocks (of df/dx) and f at the nodes of the unpacked point ``e``."""
+        N, m, n = self.intervals, self.degree, self.n
         dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["p"], e["q"]).reshape(N, m, n)
-        return G, col.CondensedJacobian(self.blocks(u), -e["f"], -T * dfdp, self.phase_gradient)
+        return col.CondensedJacobian(blocks, -f, -e["T"] * dfdp, self.phase_gradient)
 
     def smoothed_jacobian(self, u: np.ndarray) -> col.CondensedJacobian:
         """DG at u with df/dx differenced across a kink (the family's ``kink_rows``): a piecewise smooth branch's
@@ -328,8 +332,7 @@ class CycleProblem:
         e = self._unpack(u)
         f, Jf = self.family.rhs_and_jacobians(e["Xc"].reshape(-1, n), e["p"], e["q"], kink_rows=True)
         blocks = col.block_jacobians(Jf.reshape(N, m, n, n), self.widths, e["T"], self.sch)
-        dfdp = self._parameter_derivative(e["Xc"].reshape(-1, n), e["p"], e["q"]).reshape(N, m, n)
-        return col.CondensedJacobian(blocks, -f.reshape(N, m, n), -e["T"] * dfdp, self.phase_gradient)
+        return self._condensed(e, blocks, f.reshape(N, m, n))
 
     # --- results -------------------------------------------------------------------------------------
     def multipliers(self, u: np.ndarray) -> np.ndarray:
