@@ -58,13 +58,15 @@ REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
 
-# Figure 18's four curves in (V, p) start from the full geometry's branches at 0.25 bar, which have not been measured.
-CYCLE_CURVE_COST = ("the full geometry's cycle curves in (V, p) for this figure are not drawn yet: one fold curve "
-                    "costs seconds to minutes (over t0 = 0.24-0.26 m: 17 s, `shimmy bench mbs_fold_curve_t0`; "
-                    "figure 8's S1 over 0.21-0.31 m: about 4 min), and the branches they start from have not been "
-                    "measured at 0.25 bar")
+# Figure 18's curves are born at codimension-two points of the Hopf curves (HH1 and DH in the reduced model).
+CYCLE_CURVE_COST = ("the full geometry's cycle curves in (V, p) for this figure are not drawn: in its window (hcl,pt, "
+                    "0.2-0.6 bar, 100-300 km/h) it has no Hopf-Hopf point and one generalized Hopf point, at 204.72 "
+                    "km/h and 0.2561 bar, where the camber kink's coefficient changes sign; branch switching there is "
+                    "built on the smooth Bautin normal form and gives no curve, and its one-parameter branch at 0.25 "
+                    "bar has no fold or torus point to start from (2026-12-07; one fold curve elsewhere costs 17 s, "
+                    "`shimmy bench mbs_fold_curve_t0`)")
 UNAVAILABLE_BESIDE.update({
-    18: f"{CYCLE_CURVE_COST}; figure 18 needs four in (V, p)",
+    18: CYCLE_CURVE_COST,
     # Its recipe below is kept for when these branches are cheaper (issue 30): delete this entry to make it.
     9: "the full geometry's branch at t = 0.25 m, 1.5 bar, born at a Hopf point at 3.56 km/h, grows to yaw cycles of "
        "50-60 deg that lift a wheel, every one on 640 mesh intervals: it had reached 52.6 km/h (193 cycles) after "
