@@ -23,7 +23,7 @@ from typing import Callable, Sequence
 from axles.units import BAR, from_kmh, kmh
 from bifurcation.cycles.branches import cycle_diagram
 from bifurcation.problem import Family
-from comparisons.studies.budget import OutOfTime, deadline_watch
+from comparisons.studies.budget import DeadlineWatch, OutOfTime
 from comparisons.studies.kick import bistable_windows
 
 MIN_WIDTH = from_kmh(0.5)           # m/s: a narrower interval is the spacing of two computed cycles
@@ -147,11 +147,11 @@ def slice_at(family: Family, q: float, p_min: float, p_max: float, deadline: flo
     passes ``deadline`` (then an over-budget slice, which says where its branch was)."""
     if time.monotonic() >= deadline:
         return Slice(q, (), False, False, "not started: the budget was spent", over_budget=True)
-    watch = deadline_watch(deadline, family.state_names)
+    watch = DeadlineWatch(deadline, family.state_names)
     try:
         diagram = cycle_diagram(family, q, p_min, p_max, accept_hook=watch)
     except OutOfTime as stop:
-        return Slice(q, (), watch.stable[0], False, f"stopped on {stop}", over_budget=True)
+        return Slice(q, (), watch.stable, False, f"stopped on {stop}", over_budget=True)
     incomplete = [b for b in diagram.branches if not b.complete]
     return Slice(q, tuple(bistable_windows(diagram, family, MIN_WIDTH)),
                  any(p.stable for b in diagram.branches for p in b.points), not incomplete,

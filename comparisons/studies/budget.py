@@ -15,18 +15,18 @@ class OutOfTime(Exception):
     """The budget ran out; the message says where the branch was."""
 
 
-def deadline_watch(deadline: float, state_names: tuple[str, ...]):
-    """An accept hook (a cycle -> None) that raises :class:`OutOfTime` once ``time.monotonic()`` is past
-    ``deadline``, and remembers whether any cycle it saw was stable (its ``stable`` attribute, a list of one bool:
-    a computed stable cycle is a fact even when the computation stops)."""
-    seen = [False]
+class DeadlineWatch:
+    """An accept hook for continuations (a cycle -> None) that raises :class:`OutOfTime` once ``time.monotonic()``
+    is past ``deadline``; :attr:`stable` says whether any cycle it saw was stable (a computed stable cycle is a fact
+    even when the computation stops)."""
 
-    def watch(cycle) -> None:
-        seen[0] = seen[0] or bool(cycle.stable)
-        if time.monotonic() > deadline:
-            raise OutOfTime(f"a branch at {kmh(cycle.p):.1f} km/h, max|{state_names[0]}| "
+    def __init__(self, deadline: float, state_names: tuple[str, ...]):
+        self.deadline, self.state_names = deadline, state_names
+        self.stable = False
+
+    def __call__(self, cycle) -> None:
+        self.stable = self.stable or bool(cycle.stable)
+        if time.monotonic() > self.deadline:
+            raise OutOfTime(f"a branch at {kmh(cycle.p):.1f} km/h, max|{self.state_names[0]}| "
                             f"{math.degrees(float(cycle.amplitude[0])):.2f} deg, {cycle.orbit.intervals} mesh "
                             f"intervals")
-
-    watch.stable = seen
-    return watch

@@ -21,6 +21,8 @@ smaller and against the normal form's estimate.
 
 from __future__ import annotations
 
+import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -203,9 +205,7 @@ def onset_window(family, hopf, points, p_max: float, min_width: float, past: flo
     ``past`` short of the neighbouring Hopf point), and the intervals there where two stable states coexist
     (:func:`comparisons.studies.kick.bistable_windows`, narrower than ``min_width`` dropped) that reach the point.
     Within ``budget_s`` seconds of wall clock (:mod:`comparisons.studies.budget`): past it, "incomplete"."""
-    import math
-    import time
-    from comparisons.studies.budget import OutOfTime, deadline_watch
+    from comparisons.studies.budget import DeadlineWatch, OutOfTime
     from bifurcation.cycles.branches import CycleDiagram, branch_from_hopf
     from comparisons.studies.kick import bistable_windows
     # the point's sides whatever l1 says: at a kink a hard onset is read from its branch, not from l1's sign
@@ -213,7 +213,7 @@ def onset_window(family, hopf, points, p_max: float, min_width: float, past: flo
     if not sides:
         return OnsetWindow("no_stable_side")
     lo, hi = sides[0]
-    watch = deadline_watch(math.inf if budget_s is None else time.monotonic() + budget_s, family.state_names)
+    watch = DeadlineWatch(math.inf if budget_s is None else time.monotonic() + budget_s, family.state_names)
     try:
         branch = branch_from_hopf(family, hopf, lo, hi, others=tuple(h for h in points if h is not hopf),
                                   accept_hook=watch)
