@@ -50,6 +50,10 @@ START_ITERATIONS = 25
 # piecewise smooth: 1 and 2 times the recent steps (no gap wider than the curve's own steps is stepped over).
 CORNER_STEPS = 2
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
+# ... or, on a curve that starts below it (a fold made by a kink of f sits a few thousandths of a degree from its Hopf
+# point, and the fold curve runs on at such amplitudes), this fraction of the largest amplitude it has had: the curve
+# must have shrunk towards zero, not merely be small.
+END_FRACTION = 0.1
 
 
 class SparseBordered:
@@ -169,8 +173,9 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
         kappas: list[float] = [system.kappa(U0)]
         ends: list = []
         arclength = [0.0]
+        largest = [system.cp.scaled_rms(U0[:iq])]
 
-        def accept(branch, points=points, ends=ends, kappas=kappas) -> Stop | None:
+        def accept(branch, points=points, ends=ends, kappas=kappas, largest=largest) -> Stop | None:
             U, U_old = branch.points[-1], branch.points[-2]
             p, q = U[ip], U[iq]
             if len(branch.points) - 1 in branch.corners:
@@ -180,7 +185,8 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
             # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
             # curve would come back on itself.  Near the end amp^2 is affine along the curve.
             crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
-            if ends_at_zero and (crossed or a_new < END_AMPLITUDE):
+            largest[0] = max(largest[0], a_new)
+            if ends_at_zero and (crossed or a_new < min(END_AMPLITUDE, END_FRACTION * largest[0])):
                 s2 = -a_new ** 2 if crossed else a_new ** 2
                 # At most one more step: a curve that starts with its amplitude already below END_AMPLITUDE
                 # barely changes it, and the affine zero would lie far off (0.44 bar, from a 1.3 bar fold).

@@ -15,6 +15,8 @@ Hopf point is handled the same way with its one frequency, the cycle fold in pla
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from bifurcation.cycle_curves.curve import cycle_bifurcation_curve
@@ -26,6 +28,32 @@ from bifurcation.problem import ProblemError
 from bifurcation.special_points import ConvergenceError, PointKind, PointStatus, SpecialPoint
 
 BORN_AT = {PointKind.HOPF_HOPF: PointKind.TORUS, PointKind.GENERALIZED_HOPF: PointKind.CYCLE_FOLD}
+
+
+@dataclass(frozen=True)
+class Switched:
+    """The curves switched onto at one codimension-two point: none where no side's branch gives one that ends
+    there, and ``error`` where a curve's start failed to converge."""
+
+    origin: SpecialPoint
+    curves: tuple[CycleCurve, ...]
+    error: ConvergenceError | None = None
+
+
+def switched_curves(family, points, lo: float, hi: float, p_min: float, p_max: float,
+                    settings: CycleSettings = CycleSettings(), progress=None) -> tuple[Switched, ...]:
+    """:func:`curves_from_codimension_two` at each of ``points`` (Hopf-Hopf and generalized Hopf points of a Hopf
+    diagram), in order; ``progress(point)`` after each."""
+    out = []
+    for point in points:
+        try:
+            out.append(Switched(point, curves_from_codimension_two(family, point, lo, hi, p_min, p_max,
+                                                                   settings=settings)))
+        except ConvergenceError as exc:
+            out.append(Switched(point, (), exc))
+        if progress is not None:
+            progress(point)
+    return tuple(out)
 
 
 def curves_from_codimension_two(family, hh: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,

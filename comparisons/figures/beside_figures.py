@@ -58,15 +58,7 @@ REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
 
-# Figure 18's curves are born at codimension-two points of the Hopf curves (HH1 and DH in the reduced model).
-CYCLE_CURVE_COST = ("the full geometry's cycle curves in (V, p) for this figure are not drawn: in its window (hcl,pt, "
-                    "0.2-0.6 bar, 100-300 km/h) it has no Hopf-Hopf point and one generalized Hopf point, at 204.72 "
-                    "km/h and 0.2561 bar, where the camber kink's coefficient changes sign; branch switching there is "
-                    "built on the smooth Bautin normal form and gives no curve, and its one-parameter branch at 0.25 "
-                    "bar has no fold or torus point to start from (2026-12-07; one fold curve elsewhere costs 17 s, "
-                    "`shimmy bench mbs_fold_curve_t0`)")
 UNAVAILABLE_BESIDE.update({
-    18: CYCLE_CURVE_COST,
     # Its recipe below is kept for when these branches are cheaper (issue 30): delete this entry to make it.
     9: "the full geometry's branch at t = 0.25 m, 1.5 bar, born at a Hopf point at 3.56 km/h, grows to yaw cycles of "
        "50-60 deg that lift a wheel, every one on 640 mesh intervals: it had reached 52.6 km/h (193 cycles) after "
@@ -217,6 +209,81 @@ def draw_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
     fig.tight_layout()
     place_labels(ax, items, fontsize=7)        # the layout is final
     return Drawing(fig, tuple(notes), complete)
+
+
+# Figure 18's full-geometry S curves start from its cycles at FIG18_MBS_START_BAR: its one generalized Hopf point in
+# the window (204.72 km/h, 0.2561 bar) is a sign change of the camber kink's coefficient, below which (0.25 bar, the
+# reduced model's line) its onset is soft with no fold or torus point, and above which a kink makes its onset hard
+# with a fold a few thousandths of a degree from the Hopf point (0.0038 deg at 0.3 bar, 2026-12-07).  Branch
+# switching at that point starts 0.004 bar from it, where the fold's cycles are 0.0004 deg and its curve underflows
+# at once; from 0.3 bar it runs to the window's top and down to 0.263 bar.
+FIG18_MBS_START_BAR = 0.3
+
+
+@register(18, "cycle_bifurcation_curves_hcl_pt", cost=300, beside=True)
+def draw_cycle_curves_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
+    from bifurcation.cycles.branches import cycle_diagram
+    from comparisons.figures.cycle_curve_figures import (
+        FIG18_EFFECTS,
+        FIG18_START_BAR,
+        FIG18_VIEW_KMH,
+        FIG18_WINDOW,
+        _draw_cycle_curves,
+        _draw_switched_curves,
+    )
+    from comparisons.studies.exudyn_check import curve_on_exudyn
+    lo_bar, hi_bar, vmin_kmh, vmax_kmh = FIG18_WINDOW
+    key = pressure_key(Effects.parse(FIG18_EFFECTS), lo_bar, hi_bar, vmin_kmh, vmax_kmh, n_seeds=21)
+    fig = Figure(figsize=(9.6, 5.4))
+    ax = fig.subplots()
+    items, notes, complete = hopf_plane(ax, store, key, fidelity, BAR, "bar", FIG18_START_BAR * BAR, legend=False)
+    family = store.family(key)
+    complete &= _draw_switched_curves(ax, family, store.diagram(key), FIG18_WINDOW, notes, items,
+                                      colour=REFERENCE_COLOUR, prefix=f"{REFERENCE_NAME}: ")
+    mbs_key = replace(key, fidelity=fidelity)
+    mbs, name = store.family(mbs_key), mbs_name(fidelity)
+
+    def on_exudyn(curve):
+        return curve_on_exudyn(mbs, curve)
+
+    complete &= _draw_switched_curves(ax, mbs, store.diagram(mbs_key), FIG18_WINDOW, notes, items,
+                                      colour=MBS_COLOUR, prefix=f"{name}: ", check=on_exudyn)
+    line = FIG18_MBS_START_BAR * BAR
+    cycles = cycle_diagram(mbs, line, vmin_kmh * KMH, vmax_kmh * KMH)
+    for b in cycles.branches:
+        notes.append(f"{name}: at {FIG18_MBS_START_BAR:g} bar, " + _onset_text(b))
+    more, ok = _draw_cycle_curves(ax, mbs, cycles, key.lo, key.hi, vmin_kmh, vmax_kmh, BAR, "bar", line, notes,
+                                  label_at=0.75, colour=MBS_COLOUR, prefix=f"{name}: ", check=on_exudyn)
+    items += more
+    complete &= ok and cycles.complete
+    ax.axhline(FIG18_MBS_START_BAR, color=MBS_COLOUR, lw=0.7, ls=":")
+    handles = plane_key(fidelity) + [Line2D([], [], color="0.3", ls=CURVE_STYLES[kind][0], lw=1.4, label=label)
+                                     for kind, label in ((PointKind.CYCLE_FOLD, "saddle-node (S) curves"),
+                                                         (PointKind.TORUS, "torus (T) curves"))]
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.9)
+    _speed_axis(ax, FIG18_VIEW_KMH[1], FIG18_VIEW_KMH[0])
+    ax.set_ylim(lo_bar, hi_bar)
+    ax.set_ylabel("inflation pressure $p_i$ [bar]")
+    ax.set_title(f"Fig. 18: {name} in red, {REFERENCE_NAME} in black; effects HCL + PT\nthe reduced model's S, T "
+                 f"curves switched onto at its HH1 and DH; the full geometry's from its cycles at "
+                 f"{FIG18_MBS_START_BAR:g} bar (red dotted); hatched: straight running stable in one model only",
+                 fontsize=9)
+    fig.tight_layout()
+    place_labels(ax, items, fontsize=7)        # the layout is final
+    return Drawing(fig, tuple(notes), complete)
+
+
+def _onset_text(branch) -> str:
+    """A branch's start and its onset as one note: where the cycles are born and how far its first fold lies."""
+    from bifurcation.special_points import PointStatus
+    start = f"the branch from {kmh(branch.start.p):.3f} km/h" if branch.start else "a branch"
+    folds = [p for p in branch.points_of(PointKind.CYCLE_FOLD) if p.status is PointStatus.LOCATED]
+    if not folds or branch.start is None:
+        return f"{start}: no cycle fold"
+    first = min(folds, key=lambda p: abs(p.p - branch.start.p))
+    theta = float(np.degrees(first.data["cycle"].amplitude[0]))
+    return (f"{start}: first cycle fold at {kmh(first.p):.4f} km/h ({kmh(first.p - branch.start.p):+.2g} km/h from "
+            f"the Hopf point, max|theta1| {theta:.2g} deg)")
 
 
 # --- limit cycles ------------------------------------------------------------------------------------------------

@@ -73,6 +73,42 @@ def _draw_cycle_curves(ax, family, cycles, lo: float, hi: float, vmin_kmh: float
     return items, complete
 
 
+def _draw_switched_curves(ax, family, hopf, window: tuple[float, float, float, float], notes: list, items: list,
+                          colour: str | None = None, prefix: str = "", check=None) -> bool:
+    """The cycle curves born at the Hopf-Hopf (T) and generalized Hopf (S) points of ``hopf`` in ``window`` (bar,
+    bar, km/h, km/h), by branch switching there, drawn (in ``colour``, else each kind's) with their notes
+    (``prefix`` before each); ``check`` as in :func:`_draw_cycle_curves`.  Returns whether every one is complete."""
+    from bifurcation.cycle_curves.switching import switched_curves
+
+    lo_bar, hi_bar, vmin_kmh, vmax_kmh = window
+    complete = True
+    named: dict[str, int] = {}
+    origins = [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
+        [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]
+    found = switched_curves(family, [p for _, p in origins], lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
+                            vmax_kmh * KMH)
+    for (origin, point), switched in zip(origins, found):
+        if switched.error is not None:
+            notes.append(f"{prefix}curves from {origin}: INCOMPLETE: {interface_text(switched.error)}")
+            complete = False
+            continue
+        if not switched.curves:
+            notes.append(f"{prefix}branch switching at {origin} ({kmh(point.p):.2f} km/h, {point.q / BAR:.4g} bar) "
+                         "gives no curve that ends there")
+        letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
+        for curve in sorted(switched.curves, key=lambda c: -c.ps[int(np.argmin(c.qs))]):
+            named[letter] = named.get(letter, 0) + 1
+            more: list = []
+            complete &= _draw_cycle_curve(ax, family, f"{letter}{named[letter]}", f"born at {origin}", curve, BAR,
+                                          "bar", FIG18_START_BAR * BAR, more, items, 0.5, colour)
+            if check is not None:
+                checked = check(curve)
+                more.append(f"{letter}{named[letter]}: {checked.text()}")
+                complete &= checked.failing == 0
+            notes += [prefix + n for n in more]
+    return complete
+
+
 # MatCont's abbreviations for the codimension-two points of cycles (the notes spell them out).
 CODIM2_LABELS = {PointKind.CUSP_OF_CYCLES: "CPC", PointKind.FOLD_FLIP: "LPPD", PointKind.FOLD_NEIMARK_SACKER: "LPNS",
                  PointKind.RESONANCE_1_3: "R3", PointKind.RESONANCE_1_4: "R4", PointKind.RESONANCE_1_1: "R1",
@@ -104,7 +140,9 @@ def _draw_cycle_curve(ax, family, text: str, origin: str, curve: CycleCurve, fac
         notes.append(f"{text}: {sp.kind.value.replace('_', ' ')} ({CODIM2_LABELS.get(sp.kind, '')}) at "
                      f"{kmh(sp.p):.2f} km/h, {sp.q / factor:.4g} {unit} ({sp.status.value})")
     messages = " | ".join(interface_text(m) for m in curve.messages)
-    notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}")
+    theta1 = np.degrees(curve.amplitudes[:, 0])    # how wide a band of (V, q) the curve's cycles can shimmy in
+    notes.append(f"{text} ({curve.kind.value}, {origin}): {end_text or 'no zero-amplitude end'}; {messages}; "
+                 f"its critical cycles' max|theta1| {theta1.min():.2g}-{theta1.max():.2g} deg")
     return curve.complete
 
 
@@ -128,25 +166,7 @@ def draw_cycle_curves(store: DiagramStore) -> Drawing:
     for i, dh in enumerate(_located(hopf, PointKind.GENERALIZED_HOPF), 1):
         _mark(ax, dh, BAR, "DH", colour="tab:blue", marker="D", items=items)
         notes.append(_point_note("DH (HB3 turns subcritical)", dh, "bar", BAR))
-    # The curves are born at the codimension-two points (branch switching from HH1 and DH), not taken from the
-    # one-parameter branches; names as in the paper: T1 the torus curve at higher speed on the window's edge.
-    from bifurcation.cycle_curves.switching import curves_from_codimension_two
-
-    named: dict[str, int] = {}
-    for origin, point in [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
-            [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]:
-        try:
-            found = curves_from_codimension_two(family, point, lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
-                                                vmax_kmh * KMH)
-        except ConvergenceError as exc:
-            notes.append(f"curves from {origin}: INCOMPLETE: {interface_text(exc)}")
-            complete = False
-            continue
-        letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
-        for curve in sorted(found, key=lambda c: -c.ps[int(np.argmin(c.qs))]):
-            named[letter] = named.get(letter, 0) + 1
-            complete &= _draw_cycle_curve(ax, family, f"{letter}{named[letter]}", f"born at {origin}", curve, BAR,
-                                          "bar", FIG18_START_BAR * BAR, notes, items, 0.5)
+    complete &= _draw_switched_curves(ax, family, hopf, FIG18_WINDOW, notes, items)
     ax.axhline(FIG18_START_BAR, color="0.5", lw=0.7, ls=":")
     # The paper's names: HB3 turns subcritical at DH (its cycles are unstable below it), HB2 stays supercritical.
     for h in cycles.hopf:

@@ -236,3 +236,22 @@ def test_simulate_mbs_period_limit_uses_the_mbs_fastest_mode(monkeypatch, capsys
     assert "the MBS's fastest oscillation" in err
     hz = float(err.split("oscillation, ")[1].split(" Hz")[0])
     assert hz * 40 > simulate_command.MAX_CYCLES and hz > 100.0
+
+
+def test_curves_switches_onto_the_cycle_curves_born_at_its_codimension_two_points(capsys):
+    """``shimmy curves --cycle-curves`` (figure 18's window): the cycle-fold curve born at the generalized Hopf
+    point and the two torus curves born at the Hopf-Hopf point, each ending at the point it was switched onto."""
+    assert main(["curves", "--effects", "hcl,pt", "--param", "pressure", "--range", "0.2", "0.6", "--vmax", "300",
+                 "--cycle-curves", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    switched = out["cycle_curves"]
+    origins = {o["kind"]: o for o in switched["origins"]}
+    assert {k: o["curves"] for k, o in origins.items()} == {"generalized_hopf": 1, "hopf_hopf": 2}
+    assert switched["complete"]
+    for c in switched["curves"]:
+        origin = origins["generalized_hopf" if c["kind"] == "cycle_fold" else "hopf_hopf"]
+        (end,) = [e for e in c["end_points"] if e is not None]
+        assert end["kind"] == origin["kind"] and end["status"] == "located"
+        assert end["speed_kmh"] == pytest.approx(origin["speed_kmh"], abs=1e-4)
+        assert end["value"] == pytest.approx(origin["value"], abs=1e-6)
+        assert len(c["max_abs_theta1_deg"]) == len(c["points"]) and min(c["max_abs_theta1_deg"]) > 0.0

@@ -41,8 +41,41 @@ def add_parser(sub) -> None:
     add_braking_options(p)
     add_model_choice(p)
     add_speed_window(p)
+    p.add_argument("--cycle-curves", action="store_true",
+                   help="also the cycle-fold (S) and torus (T) curves born at the Hopf curves' generalized Hopf and "
+                        "Hopf-Hopf points, by branch switching there (figure 18); the MBS's curve points are "
+                        "checked on Exudyn's own right-hand side")
     add_output_options(p, plot=True)
     p.set_defaults(run=run)
+
+
+def switched(family, diagram: HopfDiagram, vmax: float, quiet: bool, model: str):
+    """The cycle curves born at the diagram's located Hopf-Hopf and generalized Hopf points: (the switching per
+    point, [(curve or None, error)], labels, Exudyn checks or None) in the form ``shimmy cycles`` prints."""
+    from bifurcation.cycle_curves.switching import switched_curves
+    from bifurcation.special_points import PointKind, PointStatus
+
+    origins = [p for p in diagram.special_points if p.status is PointStatus.LOCATED
+               and p.kind in (PointKind.HOPF_HOPF, PointKind.GENERALIZED_HOPF)]
+    with progress(len(origins), "cycle curves", quiet) as bar:
+        found = switched_curves(family, origins, diagram.lo, diagram.hi, diagram.p_min, vmax,
+                                progress=lambda _: bar.update(1))
+    curves, labels, count = [], [], {}
+    for s in found:
+        letter = "T" if s.origin.kind is PointKind.HOPF_HOPF else "S"
+        if s.error is not None:
+            count[letter] = count.get(letter, 0) + 1
+            curves.append((None, f"newton_failed: {interface_text(s.error)}"))
+            labels.append(f"{letter}{count[letter]}")
+        for c in s.curves:
+            count[letter] = count.get(letter, 0) + 1
+            curves.append((c, ""))
+            labels.append(f"{letter}{count[letter]}")
+    checks = None
+    if model == "mbs":
+        from comparisons.studies.exudyn_check import curve_on_exudyn
+        checks = [None if c is None else curve_on_exudyn(family, c) for c, _ in curves]
+    return found, curves, labels, checks
 
 
 def diagram_json(diagram: HopfDiagram, factor: float) -> dict:
@@ -76,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
     quiet = args.json or not sys.stderr.isatty()
     with progress(10, "Hopf curves", quiet) as bar:
         diagram = hopf_diagram(family, lo * factor, hi * factor, 0.0, args.vmax * KMH, progress=ticker(bar))
+    cycle_curves = switched(family, diagram, args.vmax * KMH, quiet, args.model) if args.cycle_curves else None
     if args.plot and args.param in PRESSURE_PARAMS:
         import numpy as np
 
@@ -89,7 +123,10 @@ def run(args: argparse.Namespace) -> int:
         plot_hopf_diagram(diagram, family, args.plot)
     if args.json:
         model = {"model": "mbs", "fidelity": family.model.fidelity.label} if args.model == "mbs" else {}
-        emit_json({**inputs_json(args), **model, **diagram_json(diagram, factor)})
+        out = {**inputs_json(args), **model, **diagram_json(diagram, factor)}
+        if cycle_curves is not None:
+            out["cycle_curves"] = cycle_curves_json(cycle_curves, factor)
+        emit_json(out)
     else:
         print(f"Hopf curves in (V, {args.param}) for {args.param} in [{lo:g}, {hi:g}] {unit}, V in "
               f"[{kmh(diagram.p_min):g}, {args.vmax:g}] km/h"
@@ -102,10 +139,46 @@ def run(args: argparse.Namespace) -> int:
         for s in diagram.special_points:
             print(f"  {s.kind.value:17s} {kmh(s.p):9.3f} km/h  {args.param} = {s.q / factor:.6g} {unit}"
                   f"  ({s.status.value})")
+        if cycle_curves is not None:
+            print_switched(cycle_curves, args.param)
         if args.plot:
             print(f"  plot written to {args.plot}")
-    if not diagram.complete:
-        sys.stderr.write("shimmy: incomplete: a Hopf curve stopped before leaving the window "
-                         "(see the curve end messages)\n")
+    problems = [] if diagram.complete else ["a Hopf curve stopped before leaving the window (see the curve end "
+                                            "messages)"]
+    if cycle_curves is not None:
+        _, curves, labels, checks = cycle_curves
+        problems += [f"cycle curve {label}: " + (error or "; ".join(interface_text(m) for m, s in
+                                                                    zip(c.messages, c.status) if not s.is_complete))
+                     for (c, error), label in zip(curves, labels) if c is None or not c.complete]
+        problems += [f"cycle curve {label}: {check.text()}" for check, label in zip(checks or (), labels)
+                     if check is not None and check.failing]
+    if problems:
+        sys.stderr.write("shimmy: incomplete: " + "; ".join(problems) + "\n")
         return 3
     return 0
+
+
+def cycle_curves_json(cycle_curves, factor: float) -> dict:
+    from comparisons.cli.commands.cycle_json import curves_json
+    found, curves, labels, checks = cycle_curves
+    return {"origins": [{"kind": s.origin.kind.value, "speed_kmh": kmh(s.origin.p), "value": s.origin.q / factor,
+                         "curves": len(s.curves), "error": None if s.error is None else interface_text(s.error)}
+                        for s in found],
+            "curves": curves_json(curves, labels, factor, checks),
+            "complete": all(c is not None and c.complete for c, _ in curves)
+            and not any(c is not None and c.failing for c in checks or ())}
+
+
+def print_switched(cycle_curves, name: str) -> None:
+    from comparisons.cli.commands.cycles import print_curves
+    found, curves, labels, checks = cycle_curves
+    unit, factor = interface_unit(name)
+    if not found:
+        print("  no generalized Hopf or Hopf-Hopf point located: no cycle curve to switch onto")
+        return
+    for s in found:
+        what = "error" if s.error is not None else f"{len(s.curves)} curve(s) end there"
+        print(f"  switching at the {s.origin.kind.value} point {kmh(s.origin.p):.3f} km/h, {name} = "
+              f"{s.origin.q / factor:.6g} {unit}: {what}")
+    if curves:
+        print_curves(curves, labels, name, checks)

@@ -156,6 +156,7 @@ def curves_json(curves, labels, factor: float, checks=None) -> list[dict]:
         out.append({"label": label, "kind": curve.kind.value, "complete": curve.complete,
                     "status": [s.value for s in curve.status], "messages": [interface_text(m) for m in curve.messages],
                     "points": [[kmh(v), q / factor] for v, q in zip(curve.ps, curve.qs)],
+                    "max_abs_theta1_deg": [float(np.degrees(a[0])) for a in curve.amplitudes],
                     # Per point, parallel to "points": past a 1:1 or 1:2 resonance a torus curve goes on as
                     # neutral saddles; a curve keeps its start mesh, so its error estimate is marked, not enforced.
                     "neutral_saddle": [bool(f) for f in curve.neutral_saddle],

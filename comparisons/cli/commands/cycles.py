@@ -89,7 +89,7 @@ def curve_ticker(bar, label: str, name: str):
     def tick(cycle) -> None:
         count[0] += 1
         bar.set_postfix_str(f"{label}: {count[0]} points, at {kmh(cycle.p):.3f} km/h, {name} = "
-                            f"{cycle.q * factor:.5g} {unit}")
+                            f"{cycle.q / factor:.5g} {unit}")
     return tick
 
 
@@ -329,6 +329,8 @@ def print_curves(curves, labels, name: str, checks=None) -> None:
               f"{curve.qs.min() / factor:.6g}-{curve.qs.max() / factor:.6g} {unit}{flag}")
         for message in curve.messages:
             print(f"         end: {interface_text(message)}")
+        theta1 = np.degrees(curve.amplitudes[:, 0])
+        print(f"         critical cycles: max|theta1| {theta1.min():.3g}-{theta1.max():.3g} deg")
         for p in curve.special_points:
             print(f"         {p.kind.value} at {kmh(p.p):.4f} km/h, {name} {p.q / factor:.6g} {unit} "
                   f"({p.status.value})")

@@ -14,7 +14,7 @@ from comparisons.cli.progress import progress
 from comparisons.files import watch_folder
 
 DEFAULT_OUT = os.path.join("docs", "figures")
-EXIT_INCOMPLETE = 3     # a Hopf curve stopped before leaving its window (as ``shimmy curves``)
+EXIT_INCOMPLETE = 3     # a curve or branch stopped before leaving its window (as ``shimmy curves``)
 EXIT_UNAVAILABLE = 4    # a requested figure needs what the project cannot compute yet
 
 
@@ -97,8 +97,9 @@ def run(args: argparse.Namespace) -> int:
                 print(f"  fig {n:2d}  {PAPER_TITLES[n]}: {unavailable_reason(n, fidelity)}")
     code = 0
     if not all(r.complete for r in results):
-        sys.stderr.write("shimmy: incomplete: a Hopf curve stopped before leaving its window "
-                         "(figures drawn anyway; see the notes in --json)\n")
+        numbers = ", ".join(str(r.number) for r in results if not r.complete)
+        sys.stderr.write(f"shimmy: incomplete: figure(s) {numbers}: a curve or branch stopped before leaving its "
+                         "window (drawn anyway; the notes in --json say where)\n")
         code = EXIT_INCOMPLETE
     if requested is not None and missing:
         sys.stderr.write(f"shimmy: figure(s) {', '.join(map(str, missing))} cannot be made yet: "
