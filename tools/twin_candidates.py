@@ -122,7 +122,7 @@ def main(argv=None) -> int:
 
     from axles.pressures import TyrePressures
     from mbs_shimmy.fidelity import Fidelity
-    from mbs_shimmy.linearisation import MbsEvaluator, speed_is_time
+    from mbs_shimmy.evaluator import MbsEvaluator, speed_is_time
     from mbs_shimmy.model import MbsModel
     from mbs_shimmy.twin import Twin as CasadiTwin
 

@@ -177,7 +177,7 @@ def _mbs_stage_costs(trajectory) -> dict:
 
     from mbs_shimmy.fidelity import Fidelity
     from mbs_shimmy.forces import _POS, _ROT
-    from mbs_shimmy.linearisation import constant_speed
+    from mbs_shimmy.evaluator import constant_speed
     from mbs_shimmy.model import MbsModel
     from mbs_shimmy.simulation import extended_states
 

@@ -21,7 +21,7 @@ from axles.units import BAR, KMH, kmh
 from comparisons.api import family_of
 from mbs_shimmy import Fidelity
 from mbs_shimmy.fidelity import ISSUE_18
-from mbs_shimmy.linearisation import constant_speed
+from mbs_shimmy.evaluator import constant_speed
 from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
 from reduced_model.model import Effects, ShimmyModel
@@ -258,7 +258,7 @@ def test_twin_equals_exudyn_under_braking():
     right-hand side equals Exudyn's (Python user function's combined slip) and its Jacobian Exudyn's five-point
     differences, as tests/mbs/test_mbs_twin.py checks free rolling (constant_load on: no load-table kinks)."""
     from mbs_shimmy.fidelity import Assumption
-    from mbs_shimmy.linearisation import MbsEvaluator, speed_is_time
+    from mbs_shimmy.evaluator import MbsEvaluator, speed_is_time
     from mbs_shimmy.twin import twin_of
     fidelity = Fidelity(frozenset({Assumption.CONSTANT_LOAD}))
     braking = Braking.of_slip(-0.04, 0.08)                  # the right wheel driven, the left braked

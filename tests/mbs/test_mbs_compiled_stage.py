@@ -16,7 +16,7 @@ import pytest
 from axles.braking import FREE_ROLLING, Braking
 from axles.units import BAR
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
-from mbs_shimmy.linearisation import constant_speed
+from mbs_shimmy.evaluator import constant_speed
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.load_table import LoadTable
 from reduced_model.model import Effects

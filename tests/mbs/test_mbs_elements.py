@@ -19,7 +19,8 @@ from axles.dimensions import DEFAULT_DIMENSIONS
 from hand_pose import rot, wheel_pose
 from mbs_shimmy import Fidelity, tyre_element
 from mbs_shimmy.fidelity import ISSUE_18, Assumption
-from mbs_shimmy.linearisation import constant_speed, MbsFamily
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.evaluator import constant_speed
 from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
 from bifurcation.equilibria.hopf import find_hopf_points

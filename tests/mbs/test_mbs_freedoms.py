@@ -16,7 +16,7 @@ from axles.units import BAR, KMH
 from axles.dimensions import DEFAULT_DIMENSIONS
 from mbs_shimmy import Fidelity
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption
-from mbs_shimmy.linearisation import constant_speed
+from mbs_shimmy.evaluator import constant_speed
 from mbs_shimmy.model import MbsModel
 from reduced_model import tyre
 from axles.parameters import YANG2024
@@ -209,7 +209,7 @@ def test_bounce_linear_terms():
     * bump steer: the drag link rises at eps towards the gear, so lifting its arm end by z shortens it by
       z sin(eps): K[theta2, z] = k_d j (-sin eps) with j = -r_d cos(g - eps) its lever about the kingpin and
       k_d = k2 / j^2 (as the roll steer of tests/mbs/test_mbs_model.py)."""
-    from mbs_shimmy.linearisation import MbsEvaluator
+    from mbs_shimmy.evaluator import MbsEvaluator
     from reduced_model.model import Effects, ShimmyModel
     system = MbsModel(fidelity=only(Assumption.RIGID_VERTICAL_MOUNTS)).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     L = system.layout
@@ -245,7 +245,7 @@ def test_bounce_linear_terms():
 
 def _connector_stiffness(fidelity, name):
     """-dQ/d(name) of Exudyn's own elements (tree, joint springs, connectors) without the Python force element."""
-    from mbs_shimmy.linearisation import MbsEvaluator
+    from mbs_shimmy.evaluator import MbsEvaluator
     system = MbsModel(fidelity=fidelity).system(TyrePressures.uniform(1.5 * BAR), constant_speed(0.0))
     m = system.layout.n_mech
     system.forces = _NoForces(m + 2)
@@ -269,7 +269,7 @@ def test_link_masses_in_the_mass_matrix(with_mounts_and_gear):
     the Pitman ball at -r_p phi' x on the gear; so each mass m_b adds m_b (J_a . J_b) to M[a, b].  The arms (no
     Ackermann, no inclination): tie-rod a_t = -r_t (cos g, 0, sin g) rearward, drag-link a_d = (0, -r_d, 0) inboard
     on the left knuckle.  The axle keeps Table 1's I3 about the wheel-centre line (the axle's own share shrinks)."""
-    from mbs_shimmy.linearisation import MbsEvaluator
+    from mbs_shimmy.evaluator import MbsEvaluator
     off = {Assumption.RIGID_AXLE_MOUNTS, Assumption.RIGID_STEERING_GEAR} if with_mounts_and_gear else set()
     fid = Fidelity(only(Assumption.MASSLESS_LINKS).assumed - off)
     ref = Fidelity(fid.assumed | {Assumption.MASSLESS_LINKS})

@@ -14,7 +14,8 @@ from mbs_shimmy import Assumption, Fidelity, assumptions_table
 from comparisons.studies.assumption_study import study_fidelities
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, ISSUE_18
 from mbs_shimmy.geometry import disc_contact
-from mbs_shimmy.linearisation import constant_speed, MbsEvaluator, MbsFamily
+from mbs_shimmy.linearisation import MbsFamily
+from mbs_shimmy.evaluator import constant_speed, MbsEvaluator
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.system import TreeInertia
 from reduced_model.model import Effects

@@ -22,7 +22,7 @@ from axles.axle import paper_axle
 from axles.pressures import TyrePressures
 from axles.units import BAR
 from mbs_shimmy.fidelity import ELEMENT_ASSUMPTIONS, Assumption, Fidelity
-from mbs_shimmy.linearisation import MbsEvaluator, speed_is_time
+from mbs_shimmy.evaluator import MbsEvaluator, speed_is_time
 from mbs_shimmy.model import MbsModel
 from mbs_shimmy.twin import twin_of
 
