@@ -47,6 +47,7 @@ kingpins they are exactly k1, c1 and k2, c2; with the first-order kinematics (``
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass, field
 
 from mbs_shimmy import engine  # noqa: F401  (before exudyn: chooses Exudyn's compiled module)
@@ -279,6 +280,21 @@ def _lever(e: tuple, arm: tuple, direction: tuple) -> float:
     return dot(direction, cross(e, arm))
 
 
+def _weak_user_function(system: MbsSystem):
+    """The tree's force user function as Exudyn keeps it: a closure over a weak reference to ``system``.  Exudyn
+    holds the function in C++, where Python's garbage collector cannot see it; a bound method there closed a cycle
+    (system -> container -> C++ system -> method -> system) that was never freed: 2.4 MB per system, and a Hopf
+    curve of the full geometry builds a system per parameter value (5 GB in 60 s at 0.05-0.2 bar, 2026-12-07)."""
+    ref = weakref.ref(system)
+
+    def force(mbs, t, itemNumber, q, q_t):
+        owner = ref()
+        if owner is None:
+            raise RuntimeError("an Exudyn system was evaluated after its MbsSystem was freed: keep the MbsSystem")
+        return owner._tree_force(mbs, t, itemNumber, q, q_t)
+    return force
+
+
 def build_system(params: ShimmyParameters, effects: Effects, fidelity: Fidelity, dims: AxleDimensions,
                  forces: AxleForces, y0: np.ndarray | None = None, output_interval: float | None = None,
                  drawing: bool = False) -> MbsSystem:
@@ -313,7 +329,7 @@ def build_system(params: ShimmyParameters, effects: Effects, fidelity: Fidelity,
     if uncoupled and need_geometry:
         geometry_tree = mbs.AddObject(_tree_object(node, layout, g, coupled, dims, P, massless=True, control=False))
     system = MbsSystem(container, mbs, tree, node, forces, layout, geometry_tree)
-    mbs.SetObjectParameter(tree, "forceUserFunction", system._tree_force)
+    mbs.SetObjectParameter(tree, "forceUserFunction", _weak_user_function(system))
     i = layout.index
     if need_geometry:
         T = coupled.joint_rotations
