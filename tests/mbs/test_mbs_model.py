@@ -362,3 +362,23 @@ def test_family_over_a_table_entry_and_bad_values():
         find_hopf_points(MbsFamily(), -1.0 * BAR, 0.0, 100.0, lyapunov=False)
     with pytest.raises(ParameterError, match="t0 = -0.1 m is outside its physical range"):
         MbsFamily(param="t0").validate(-0.1)
+
+
+def test_an_assembled_system_is_freed_when_dropped():
+    """Exudyn keeps the tree's force user function in C++, out of the garbage collector's sight; a bound method of
+    the system there made every system immortal (2.4 MB each; a full-geometry Hopf curve builds one per parameter
+    value and grew to 24 GB).  Dropped, a system is freed, and it still evaluates while it is kept."""
+    import gc
+    import weakref
+
+    from mbs_shimmy.evaluator import speed_is_time
+
+    model = MbsModel(fidelity=Fidelity.full())
+    system = model.system(TyrePressures.uniform(1.5 * BAR), speed_is_time)
+    y = np.zeros(system.layout.n)
+    y[system.layout.index("theta1")] = 0.01
+    assert np.any(MbsEvaluator(system).rhs(y, 20.0) != 0.0)
+    ref = weakref.ref(system)
+    del system
+    gc.collect()
+    assert ref() is None
