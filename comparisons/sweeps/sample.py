@@ -26,6 +26,9 @@ from reduced_model.modes import ModeClassifier
 from axles.braking import FREE_ROLLING, Braking
 from axles.pressures import TyrePressures
 from comparisons.api import family_of
+from comparisons.studies.bistable_map import MIN_WIDTH
+from comparisons.studies.budget import DeadlineWatch, OutOfTime
+from comparisons.studies.kick import bistable_windows
 
 COMPUTE = ("hopf", "margins", "assumptions", "cycles")
 # margins: the least damping ratio of straight running on this many even speeds from 0.5 km/h to vmax (default)
@@ -152,7 +155,8 @@ class SweepTask:
                            pa.field(f"{c}cycle_peak_psi_deg", floats), pa.field(f"{c}cycle_peak_hz", floats),
                            pa.field(f"{c}cycles_complete", pa.bool_()), pa.field(f"{c}cycles_message", pa.string()),
                            pa.field(f"{c}peak_yaw_theta1_deg", pa.float64()),
-                           pa.field(f"{c}peak_tramp_theta1_deg", pa.float64())]
+                           pa.field(f"{c}peak_tramp_theta1_deg", pa.float64()),
+                           pa.field(f"{c}bistable_from_kmh", floats), pa.field(f"{c}bistable_to_kmh", floats)]
         return pa.schema(fields)
 
     # --- one sample ---------------------------------------------------------------------------------------
@@ -209,6 +213,10 @@ class SweepTask:
                     # the branches start at the diagram's own Hopf points (l1 included): those are the columns
                     try:
                         diagram = _cycle_diagram(mf, vmax)
+                    except OutOfTime as stop:
+                        mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
+                        row.update(failed_cycle_columns(c, f"over the budget of {CYCLES_BUDGET_S:g} s: stopped on "
+                                                           f"{stop}"))
                     except (RuntimeError, np.linalg.LinAlgError) as exc:
                         # a continuation that raised instead of ending its branch with a status: the sample keeps
                         # its Hopf points, its cycles are unknown (null), never an empty set of branches
@@ -243,7 +251,10 @@ class SweepTask:
                 row[f"shift_{r.assumption}_kmh"] = [shift_kmh(h) for h in r.hopf if h.reduced_speed is not None]
                 row[f"only_{r.assumption}_kmh"] = [mbs_kmh(h) for h in r.hopf if h.reduced_speed is None]
         if "cycles" in self.compute:
-            row.update(cycle_columns("", family, _cycle_diagram(family, vmax)))
+            try:
+                row.update(cycle_columns("", family, _cycle_diagram(family, vmax)))
+            except OutOfTime as stop:
+                row.update(failed_cycle_columns("", f"over the budget of {CYCLES_BUDGET_S:g} s: stopped on {stop}"))
         return row
 
 
@@ -320,7 +331,6 @@ def _onset_window_columns(prefix: str, family, points, onsets, vmax: float) -> d
     kind, :class:`comparisons.studies.onset.OnsetWindow`; ``<prefix>onset_window_kmh``: [low, high] where there is
     one); null where the onset is soft or unknown, or there is no Hopf point."""
     from axles.units import from_kmh
-    from comparisons.studies.bistable_map import MIN_WIDTH
     from comparisons.studies.onset import onset_window
     if not points or onsets[0] != "hard":
         return {f"{prefix}onset_window": None, f"{prefix}onset_window_kmh": None}
@@ -358,9 +368,19 @@ def _onset_branch(family, hopf, vmax: float):
     return _OnsetBranches((branch_from_hopf(family, hopf, 0.0, vmax, settings=s),))
 
 
+# Wall clock for one model's cycle branches of one sample: the paper's axle's take 2-4 s in the full geometry, but
+# violent cycles that lift a wheel need minutes (a random plausible axle's 0.5 bar branch: 112 s, 2026-12-07); past
+# the budget the sample's cycles are unknown (null, cycles_complete false, the message says where), never "none".
+CYCLES_BUDGET_S = 30.0
+
+
 def _cycle_diagram(family, vmax: float):
+    """The sample's cycle branches over 0-``vmax`` within :data:`CYCLES_BUDGET_S` (:class:`OutOfTime` past it)."""
+    import time
+
     from bifurcation.cycles.branches import cycle_diagram
-    return cycle_diagram(family, family.nominal, 0.0, vmax)
+    return cycle_diagram(family, family.nominal, 0.0, vmax,
+                         accept_hook=DeadlineWatch(time.monotonic() + CYCLES_BUDGET_S, family.state_names))
 
 
 def _branch_peak(family, branch):
@@ -381,7 +401,8 @@ def failed_cycle_columns(prefix: str, error: str) -> dict:
     """The cycle columns of a continuation that failed as a whole: branches unknown (null), not complete."""
     return {**{f"{prefix}cycle_{k}": None for k in CYCLE_LISTS}, f"{prefix}cycles_complete": False,
             f"{prefix}cycles_message": f"cycle continuation failed: {error}",
-            f"{prefix}peak_yaw_theta1_deg": None, f"{prefix}peak_tramp_theta1_deg": None}
+            f"{prefix}peak_yaw_theta1_deg": None, f"{prefix}peak_tramp_theta1_deg": None,
+            f"{prefix}bistable_from_kmh": None, f"{prefix}bistable_to_kmh": None}
 
 
 def cycle_columns(prefix: str, family, diagram) -> dict:
@@ -412,6 +433,11 @@ def cycle_columns(prefix: str, family, diagram) -> dict:
         whole = all(b.complete for b, _ in mine)
         row[f"{prefix}peak_{m}_theta1_deg"] = (max((t for _, t in mine if t is not None), default=None)
                                                if whole else None)
+    # Every speed interval where two stable states coexist (a stable cycle beside stable straight running, or two
+    # stable cycles), wherever on the branches: each is a fact; an incomplete diagram may miss some.
+    windows = bistable_windows(diagram, family, MIN_WIDTH)
+    row[f"{prefix}bistable_from_kmh"] = [kmh(a) for a, _ in windows]
+    row[f"{prefix}bistable_to_kmh"] = [kmh(b) for _, b in windows]
     stopped = [b for b in diagram.branches if not b.complete]
     row[f"{prefix}cycles_complete"] = not stopped
     row[f"{prefix}cycles_message"] = ("; ".join(

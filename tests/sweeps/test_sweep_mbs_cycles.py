@@ -119,3 +119,58 @@ def test_a_continuation_that_raises_keeps_the_hopf_points_and_marks_the_cycles_u
     # no branch: the criticality is the kink coefficient's (a > 0 on this axle), the onset unknown
     assert len(row["mbs_full_hopf_kmh"]) == 1 and row["mbs_full_hopf_criticality"] == ["subcritical"]
     assert row["mbs_full_hopf_criticality_by"] == ["kink"] and row["mbs_full_hopf_onset"] == [None]
+
+
+def test_bistable_windows_anywhere_on_the_branches_end_at_their_folds_torus_and_hopf_points():
+    """The sweep's ``bistable_from_kmh``/``_to_kmh`` (read from the branches' stable stretches and straight
+    running's stability) at figure 9a's t = 0.25 m, 1.5 bar: a window away from any onset, where the yaw branch's
+    stable cycles (past its torus point T2) coexist with the tramp branch's (up to its fold S1).  Each end is a
+    computed cycle next to a cycle fold, torus or Hopf point located on its own test function, on a step of its
+    branch next to it (measured: 159.19 km/h after T2 at 157.38, 183.89 before S1 at 184.75)."""
+    from comparisons.api import family_of
+    from axles.parameters import YANG2024
+    from axles.units import kmh
+    from bifurcation.special_points import PointKind, PointStatus
+
+    family = family_of(ShimmyModel(params=YANG2024.replace(t0=0.25)), TyrePressures.uniform(1.5e5), "pressure")
+    diagram = cycle_diagram(family, family.nominal, from_kmh(100.0), from_kmh(300.0))
+    cols = cycle_columns("x_", family, diagram)
+    windows = list(zip(cols["x_bistable_from_kmh"], cols["x_bistable_to_kmh"]))
+    assert diagram.complete and len(windows) == 1
+
+    def next_to_a_located_point(end: float) -> bool:
+        """``end`` is a computed cycle, and a located point lies on a step of its branch next to it (in branch
+        order: a branch turns at its folds, so speed order would not do)."""
+        for b in diagram.branches:
+            speeds = [kmh(h.p) for h in (b.start,) if h is not None] + [kmh(p.p) for p in b.points] + \
+                [kmh(h.p) for h in (b.end,) if h is not None]
+            points = [kmh(p.p) for p in b.special_points if p.status is PointStatus.LOCATED
+                      and p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS)] + speeds[:1] + speeds[-1:]
+            for i in (i for i, v in enumerate(speeds) if v == end):
+                steps = [speeds[j:j + 2] for j in (i - 1, i) if 0 <= j < len(speeds) - 1]
+                if any(min(a, c) <= v <= max(a, c) for a, c in steps for v in points):
+                    return True
+        return False
+
+    for lo, hi in windows:
+        assert hi - lo > 0.5
+        assert next_to_a_located_point(lo) and next_to_a_located_point(hi), (lo, hi)
+
+
+def test_cycles_past_their_budget_are_unknown_not_none(monkeypatch):
+    """Past :data:`~comparisons.sweeps.sample.CYCLES_BUDGET_S` a sample's cycles are unknown (null lists, not
+    complete, the message says where the branch was), its Hopf points kept."""
+    import numpy as np
+
+    from axles.axle import AxleData
+    from comparisons.sweeps import sample
+
+    monkeypatch.setattr(sample, "CYCLES_BUDGET_S", 0.0)
+    task = sample.SweepTask(axle=AxleData(), effects=(), pressure_right_bar=1.5, pressure_left_bar=1.5,
+                            names=("pressure",), compute=("cycles",), mbs=("full",), vmax_kmh=VMAX_KMH)
+    (row,) = sample.evaluate_batch(task, 0, 0, np.array([[1.5]])).to_pylist()
+    for c in ("", "mbs_full_"):
+        assert row[f"{c}cycles_complete"] is False and row[f"{c}cycle_status"] is None
+        assert row[f"{c}bistable_from_kmh"] is None and row[f"{c}bistable_to_kmh"] is None
+        assert "over the budget of 0 s: stopped on a branch at" in row[f"{c}cycles_message"]
+    assert len(row["mbs_full_hopf_kmh"]) == 1
