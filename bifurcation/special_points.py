@@ -43,6 +43,7 @@ class BranchStatus(enum.Enum):
     STEP_UNDERFLOW = "step_underflow"
     NEWTON_FAILED = "newton_failed"
     DEGENERATE = "degenerate"        # frequency went to zero (Bogdanov-Takens-like end)
+    STOPPED = "stopped"              # ended by its caller's accept hook (a time budget): the rest is not computed
 
     @property
     def is_complete(self) -> bool:

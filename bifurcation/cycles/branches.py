@@ -140,7 +140,7 @@ class BranchFollowing:
 
 def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, lo: float, hi: float,
                   hopf: tuple[HopfPoint, ...] = (), start: HopfPoint | None = None,
-                  accept_hook: Callable[[CyclePoint], None] | None = None, at: tuple[float, ...] = (),
+                  accept_hook: Callable[[CyclePoint], Stop | None] | None = None, at: tuple[float, ...] = (),
                   max_step: float | None = None) -> CycleBranch:
     """Pseudo-arclength continuation of cycles from u0 until the free parameter leaves [lo, hi], the branch
     returns to a Hopf point (its amplitude vanishes), the period blows up, or the continuation fails.
@@ -148,7 +148,9 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
     ``at``: values of the free parameter where the orbits are located on the branch as events (AUTO's user
     points, by Brent's method on the corrected branch: the continuation's own orbits), every time the branch
     passes them; between a Hopf end and the nearest computed cycle they come from Newton at fixed parameter.
-    ``max_step`` bounds the change of the free parameter per continuation step (denser output)."""
+    ``max_step`` bounds the change of the free parameter per continuation step (denser output).
+    ``accept_hook(cycle)`` after each accepted cycle; a :class:`~bifurcation.continuation.Stop` it returns ends the
+    branch there with that status and message (a caller's time budget: ``BranchStatus.STOPPED``)."""
     # The number of unknowns changes with the mesh: the free parameter and the period are always the last two.
     ip, iT = -1, -2
     settings = problem.settings
@@ -228,10 +230,11 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
             locate(branch, k, step, lambda u, t: period_doubling_test(nontrivial(u)), PointKind.PERIOD_DOUBLING)
         state.records.append(rec)
         state.amplitudes.append(amp)
-        if accept_hook is not None:
-            accept_hook(rec)
+        stopped = accept_hook(rec) if accept_hook is not None else None
         if verdict is not None:
             return verdict
+        if stopped is not None:
+            return stopped
         # Near a Hopf point amp^2 is affine in the parameter: when it extrapolates to zero within one more
         # step of the same size, the Hopf point of the equilibrium is solved for and the branch ends there.
         before = state.amplitudes[-2]

@@ -37,7 +37,6 @@ from comparisons.figures.registry import (
     EFFECT_STYLES,
     FIG9_VMAX_KMH,
     P_I0_BAR,
-    UNAVAILABLE_BESIDE,
     VMAX_KMH,
     CycleKey,
     DiagramKey,
@@ -58,14 +57,6 @@ REFERENCE_NAME = "the reduced model"
 GRID = (201, 121)       # speeds, parameter values of the stability grids (as the reduced model's figures)
 FOLD_NAMES = {PointKind.HOPF_FOLD: "F", PointKind.HOPF_HOPF: "HH", PointKind.GENERALIZED_HOPF: "DH"}
 
-UNAVAILABLE_BESIDE.update({
-    # Its recipe below is kept for when these branches are cheaper (issue 30): delete this entry to make it.
-    9: "the full geometry's branch at t = 0.25 m, 1.5 bar, born at a Hopf point at 3.56 km/h, grows to yaw cycles of "
-       "50-60 deg that lift a wheel, every one on 640 mesh intervals: it had reached 52.6 km/h (193 cycles) after "
-       "9.5 min of an 0.5-800 km/h window, with three more Hopf points and the 0.285 m diagram to go (2026-12-07); "
-       "its branches above 100 km/h are in figure 8's notes, and its window at 1.5 bar, 194.65-204.10 km/h, is in "
-       "verify's full-geometry section",
-})
 
 
 def mbs_name(fidelity: Fidelity) -> str:
@@ -319,9 +310,10 @@ def _unstable_bars(ax, windows, colour: str, level: int, top: float) -> None:
 
 
 def cycle_panels_beside(store: DiagramStore, panels, vmax_kmh: float, figure_title: str, fidelity: Fidelity,
-                        paper_args=None) -> Drawing:
+                        paper_args=None, mbs_branch_budget_s: float | None = None) -> Drawing:
     """One column of (max|theta1|, max|psi|) axes per panel (title, CycleKey of the reduced model), each with both
-    models."""
+    models; ``mbs_branch_budget_s``: wall clock per MBS branch, past which it is drawn as far as it got and the
+    figure is incomplete."""
     columns = len(panels)
     names = (REFERENCE_NAME, mbs_name(fidelity))
     colours = COLOURS
@@ -332,7 +324,8 @@ def cycle_panels_beside(store: DiagramStore, panels, vmax_kmh: float, figure_tit
         prefix = f"{title.split(' ')[0]} " if columns > 1 else ""
         items = ([], [])
         found = []
-        for k, name, colour in zip((key, replace(key, fidelity=fidelity)), names, colours):
+        mbs_key = replace(key, fidelity=fidelity, branch_budget_s=mbs_branch_budget_s)
+        for k, name, colour in zip((key, mbs_key), names, colours):
             family, diagram = store_cycles(store, k)
             _draw_model(axes[:, j], diagram, colour, items)
             args = dict((paper_args or [{}] * columns)[j]) if k.fidelity is None else {}
@@ -398,12 +391,19 @@ def draw_cycles_low_high_beside(store: DiagramStore, fidelity: Fidelity) -> Draw
                                f"{REFERENCE_NAME} in black; limit cycles at low and high pressure", fidelity)
 
 
+# Figure 9's full-geometry branch at t = 0.25 m born at 3.56 km/h grows to yaw cycles of 50-60 deg that lift a
+# wheel, each on 640 mesh intervals: 52.6 km/h after 9.5 min (2026-12-07), and not finished after 43 min beside other
+# runs.  Each of its branches gets this much wall clock and is drawn as far as it got (the figure incomplete).
+FIG9_MBS_BRANCH_BUDGET_S = 90.0
+
+
 @register(9, "cycles_trail", cost=600, beside=True)
 def draw_cycles_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
     panels = [(f"({c}) t = {t0:g} m, 1.5 bar", CycleKey(1.5, FIG9_VMAX_KMH, (("t0", t0),)))
               for c, t0 in zip("ab", TRAIL_FIG9)]
     return cycle_panels_beside(store, panels, FIG9_VMAX_KMH, f"Fig. 9: {mbs_name(fidelity)} in red, "
-                               f"{REFERENCE_NAME} in black; limit cycles at two pneumatic trails, 1.5 bar", fidelity)
+                               f"{REFERENCE_NAME} in black; limit cycles at two pneumatic trails, 1.5 bar", fidelity,
+                               mbs_branch_budget_s=FIG9_MBS_BRANCH_BUDGET_S)
 
 
 

@@ -149,6 +149,7 @@ class DiagramKey:
     vmax_kmh: float
     n_seeds: int = 9
     fidelity: Fidelity | None = None    # None: the reduced model; else the MBS at this fidelity
+    branch_budget_s: float | None = None    # wall clock per branch (comparisons.studies.budget.BranchBudget)
 
 
 @dataclass
@@ -260,6 +261,7 @@ class CycleKey:
     effects: Effects = field(default_factory=Effects)
     vmin_kmh: float = 0.0
     fidelity: Fidelity | None = None    # None: the reduced model; else the MBS at this fidelity
+    branch_budget_s: float | None = None    # wall clock per branch (comparisons.studies.budget.BranchBudget)
 
 
 def _cycle_family(key: CycleKey) -> SpeedFamily:
@@ -271,6 +273,11 @@ def store_cycles(store: DiagramStore, key: CycleKey) -> tuple[SpeedFamily, Cycle
     cache = store._cycles
     if key not in cache:
         family = _cycle_family(key)
+        budget = {}
+        if key.branch_budget_s is not None:
+            from comparisons.studies.budget import BranchBudget
+            hook = BranchBudget(key.branch_budget_s, family.state_names)
+            budget = {"accept_hook": hook, "progress": hook.next_branch}
         cache[key] = (family, cycle_diagram(family, key.pressure_bar * BAR, key.vmin_kmh * KMH,
-                                            key.vmax_kmh * KMH))
+                                            key.vmax_kmh * KMH, **budget))
     return cache[key]

@@ -30,3 +30,28 @@ class DeadlineWatch:
             raise OutOfTime(f"a branch at {kmh(cycle.p):.1f} km/h, max|{self.state_names[0]}| "
                             f"{math.degrees(float(cycle.amplitude[0])):.2f} deg, {cycle.orbit.intervals} mesh "
                             f"intervals")
+
+
+class BranchBudget:
+    """An accept hook for :func:`bifurcation.cycles.branches.cycle_diagram` that gives each branch ``seconds`` of
+    wall clock and then ends it (``BranchStatus.STOPPED``, the message saying where it was), keeping what it
+    computed; pass :meth:`next_branch` as the diagram's ``progress`` so that each branch starts its own budget.
+    A stopped branch is incomplete: its cycles are drawn and reported as computed, never as the whole branch."""
+
+    def __init__(self, seconds: float, state_names: tuple[str, ...]):
+        self.seconds, self.state_names = seconds, state_names
+        self.start = time.monotonic()
+
+    def next_branch(self, done: int = 0, total: int = 0) -> None:
+        self.start = time.monotonic()
+
+    def __call__(self, cycle):
+        from bifurcation.continuation import Stop
+        from bifurcation.messages import Message
+        from bifurcation.special_points import BranchStatus
+        if time.monotonic() - self.start <= self.seconds:
+            return None
+        return Stop(BranchStatus.STOPPED, Message.of(
+            f"stopped after its time budget of {self.seconds:g} s, at {kmh(cycle.p):.1f} km/h, "
+            f"max|{self.state_names[0]}| {math.degrees(float(cycle.amplitude[0])):.2f} deg, "
+            f"{cycle.orbit.intervals} mesh intervals"))

@@ -107,3 +107,25 @@ def test_a_budget_it_stays_within_changes_nothing(paper_t025_map):
                          "the reduced model", budget_s=600.0)
     assert found.status is MapStatus.COMPLETE and found.regions == unbounded.regions
     assert found.text() == unbounded.text()
+
+
+def test_a_branch_past_its_budget_stops_with_what_it_computed():
+    """``BranchBudget`` (figure 9 for the full geometry): a branch past its wall clock ends as ``stopped``, not
+    complete, with the cycles it computed and a message saying where; the next branch starts its own budget."""
+    from axles.pressures import TyrePressures
+    from axles.units import from_kmh
+    from bifurcation.cycles.branches import cycle_diagram
+    from bifurcation.special_points import BranchStatus
+    from comparisons.studies.budget import BranchBudget
+    from reduced_model.family import SpeedFamily
+    from reduced_model.model import ShimmyModel
+
+    family = SpeedFamily(ShimmyModel(), pressures=TyrePressures.uniform(1.5e5))
+    whole = cycle_diagram(family, family.nominal, 0.0, from_kmh(400.0))
+    hook = BranchBudget(0.0, family.state_names)
+    cut = cycle_diagram(family, family.nominal, 0.0, from_kmh(400.0), accept_hook=hook, progress=hook.next_branch)
+    assert whole.complete and not cut.complete
+    assert len(cut.branches) >= len(whole.branches)
+    for b in cut.branches:
+        assert b.status is BranchStatus.STOPPED and not b.status.is_complete
+        assert len(b.points) >= 1 and "stopped after its time budget of 0 s, at" in str(b.message)
