@@ -313,8 +313,10 @@ def follow_branch(problem: CycleProblem, u0: np.ndarray, direction: np.ndarray, 
         if state.end is not None:
             state.special += end_segment_points(problem.family, state.records[-1], state.end, settings,
                                                 state.arclength[-1], 1.0)
-    if problem.free == problem.family.primary:
-        # the fold's defining system lives with the two-parameter curves that follow it
+    if problem.free == problem.family.primary and branch.status is not BranchStatus.STOPPED:
+        # the fold's defining system lives with the two-parameter curves that follow it.  A branch its caller
+        # stopped (a time budget) keeps its points as located, each cycle's error estimate saying whether it meets
+        # the tolerance: on violent cycles of 640 mesh intervals these re-solutions take minutes each.
         from bifurcation.cycle_curves.fold import on_tolerance
         state.special = [on_tolerance(problem.family, s, settings) if s.status is PointStatus.LOCATED else s
                          for s in state.special]
