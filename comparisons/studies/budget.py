@@ -15,6 +15,12 @@ class OutOfTime(Exception):
     """The budget ran out; the message says where the branch was."""
 
 
+def branch_place(cycle, state_names: tuple[str, ...]) -> str:
+    """Where a branch was when its budget ran out: speed, size of its last cycle and that cycle's mesh."""
+    return (f"{kmh(cycle.p):.1f} km/h, max|{state_names[0]}| {math.degrees(float(cycle.amplitude[0])):.2f} deg, "
+            f"{cycle.orbit.intervals} mesh intervals")
+
+
 class DeadlineWatch:
     """An accept hook for continuations (a cycle -> None) that raises :class:`OutOfTime` once ``time.monotonic()``
     is past ``deadline``; :attr:`stable` says whether any cycle it saw was stable (a computed stable cycle is a fact
@@ -27,9 +33,7 @@ class DeadlineWatch:
     def __call__(self, cycle) -> None:
         self.stable = self.stable or bool(cycle.stable)
         if time.monotonic() > self.deadline:
-            raise OutOfTime(f"a branch at {kmh(cycle.p):.1f} km/h, max|{self.state_names[0]}| "
-                            f"{math.degrees(float(cycle.amplitude[0])):.2f} deg, {cycle.orbit.intervals} mesh "
-                            f"intervals")
+            raise OutOfTime(f"a branch at {branch_place(cycle, self.state_names)}")
 
 
 class BranchBudget:
@@ -52,6 +56,4 @@ class BranchBudget:
         if time.monotonic() - self.start <= self.seconds:
             return None
         return Stop(BranchStatus.STOPPED, Message.of(
-            f"stopped after its time budget of {self.seconds:g} s, at {kmh(cycle.p):.1f} km/h, "
-            f"max|{self.state_names[0]}| {math.degrees(float(cycle.amplitude[0])):.2f} deg, "
-            f"{cycle.orbit.intervals} mesh intervals"))
+            f"stopped after its time budget of {self.seconds:g} s, at {branch_place(cycle, self.state_names)}"))

@@ -213,15 +213,12 @@ class SweepTask:
                     # the branches start at the diagram's own Hopf points (l1 included): those are the columns
                     try:
                         diagram = _cycle_diagram(mf, vmax)
-                    except OutOfTime as stop:
+                    except (OutOfTime, RuntimeError, np.linalg.LinAlgError) as exc:
+                        # over its budget, or a continuation that raised instead of ending its branch with a
+                        # status: the sample keeps its Hopf points, its cycles are unknown (null), never an empty
+                        # set of branches
                         mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
-                        row.update(failed_cycle_columns(c, f"over the budget of {CYCLES_BUDGET_S:g} s: stopped on "
-                                                           f"{stop}"))
-                    except (RuntimeError, np.linalg.LinAlgError) as exc:
-                        # a continuation that raised instead of ending its branch with a status: the sample keeps
-                        # its Hopf points, its cycles are unknown (null), never an empty set of branches
-                        mp = find_hopf_points(mf, mf.nominal, 0.0, vmax, lyapunov=True)
-                        row.update(failed_cycle_columns(c, f"{type(exc).__name__}: {interface_text(exc)}"))
+                        row.update(failed_cycle_columns(c, _failure(exc)))
                     else:
                         mp = diagram.hopf
                         row.update(cycle_columns(c, mf, diagram))
@@ -254,7 +251,7 @@ class SweepTask:
             try:
                 row.update(cycle_columns("", family, _cycle_diagram(family, vmax)))
             except OutOfTime as stop:
-                row.update(failed_cycle_columns("", f"over the budget of {CYCLES_BUDGET_S:g} s: stopped on {stop}"))
+                row.update(failed_cycle_columns("", _failure(stop)))
         return row
 
 
@@ -395,6 +392,13 @@ def _branch_peak(family, branch):
 
 
 CYCLE_LISTS = ("from_kmh", "to_kmh", "status", "mode", "peak_kmh", "peak_theta1_deg", "peak_psi_deg", "peak_hz")
+
+
+def _failure(exc: Exception) -> str:
+    """Why a sample's cycles are unknown: past :data:`CYCLES_BUDGET_S`, or the continuation raised."""
+    if isinstance(exc, OutOfTime):
+        return f"over the budget of {CYCLES_BUDGET_S:g} s: stopped on {exc}"
+    return f"{type(exc).__name__}: {interface_text(exc)}"
 
 
 def failed_cycle_columns(prefix: str, error: str) -> dict:
