@@ -40,6 +40,8 @@ HANDSHAKE_MAX_BYTES = 1 << 20   # a scheduler's handshake is a few hundred bytes
 _HOST_LABEL = re.compile(r"(?!-)[A-Za-z0-9-]{1,63}(?<!-)")
 WAIT_FOR_WORKERS_S = 60.0
 LOST_GRACE_S = 2.0     # a result's connection may close a moment before the client marks the scheduler lost
+# A question to a scheduler that has just died waits for the client's reconnection (CONNECT_TIMEOUT_S): bounded
+THREADS_QUERY_S = 1.0
 _QUIET = ("distributed", "tornado", "asyncio")
 
 
@@ -228,6 +230,17 @@ def stop_workers(procs: list[subprocess.Popen], grace_s: float = 2.0) -> None:
                 pass
         if all(p.poll() is not None for p in procs):
             return
+
+
+def threads_of(client) -> int | None:
+    """The worker threads of ``client``'s cluster now, or None when its scheduler does not answer within
+    :data:`THREADS_QUERY_S` (a lost scheduler: the batches in flight say so)."""
+    if client.status != "running":
+        return None
+    try:
+        return max(1, sum(client.nthreads(callback_timeout=THREADS_QUERY_S).values()))
+    except Exception:  # noqa: BLE001 - Dask's and the network's errors alike, and the timeout
+        return None
 
 
 class DaskCluster:

@@ -38,6 +38,7 @@ from comparisons.sweeps.cluster import (
     local_workers,
     quiet_distributed,
     restore_logging,
+    threads_of,
 )
 from comparisons.sweeps.design import Design
 from comparisons.sweeps.parts import (
@@ -253,10 +254,7 @@ def _compute(cluster: DaskCluster, task: SweepTask, design: Design, parts: str, 
         # no more batches in flight than the cluster has threads: the scheduler assigns a task to a worker when it
         # is submitted, and a batch queued behind a slow sample waited there while other workers stood idle
         nonlocal threads
-        try:
-            threads = max(1, sum(cluster.client.nthreads().values()))
-        except Exception:  # noqa: BLE001 - a lost scheduler: the batches in flight say so (_batch_result)
-            pass
+        threads = threads_of(cluster.client) or threads
         while waiting and len(batch_of) < threads:
             b = waiting.pop()
             fut = cluster.client.submit(evaluate_batch, shared, b, b * size, design.values[b * size:(b + 1) * size],
