@@ -16,6 +16,7 @@ Hopf point is handled the same way with its one frequency, the cycle fold in pla
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Sequence
 
 import numpy as np
 
@@ -38,6 +39,24 @@ class Switched:
     origin: SpecialPoint
     curves: tuple[CycleCurve, ...]
     error: ConvergenceError | None = None
+
+
+# MatCont's letters for the curves of cycle bifurcations: torus (Neimark-Sacker) and cycle fold (its LPC)
+LETTERS = {PointKind.TORUS: "T", PointKind.CYCLE_FOLD: "S"}
+
+
+def named_curves(found: Sequence[Switched]) -> tuple[tuple[str, Switched, CycleCurve | None], ...]:
+    """Every curve of ``found`` with its name (T1, T2, ... and S1, S2, ..., numbered per letter in the order of
+    ``found`` and, at one origin, by decreasing primary parameter where the curve's second parameter is lowest);
+    an origin whose start failed takes one name, with no curve."""
+    named, count = [], {}
+    for s in found:
+        letter = LETTERS[BORN_AT[s.origin.kind]]
+        curves = (None,) if s.error is not None else sorted(s.curves, key=lambda c: -c.ps[int(np.argmin(c.qs))])
+        for curve in curves:
+            count[letter] = count.get(letter, 0) + 1
+            named.append((f"{letter}{count[letter]}", s, curve))
+    return tuple(named)
 
 
 def switched_curves(family, points, lo: float, hi: float, p_min: float, p_max: float,

@@ -78,34 +78,33 @@ def _draw_switched_curves(ax, family, hopf, window: tuple[float, float, float, f
     """The cycle curves born at the Hopf-Hopf (T) and generalized Hopf (S) points of ``hopf`` in ``window`` (bar,
     bar, km/h, km/h), by branch switching there, drawn (in ``colour``, else each kind's) with their notes
     (``prefix`` before each); ``check`` as in :func:`_draw_cycle_curves`.  Returns whether every one is complete."""
-    from bifurcation.cycle_curves.switching import switched_curves
+    from bifurcation.cycle_curves.switching import named_curves, switched_curves
 
     lo_bar, hi_bar, vmin_kmh, vmax_kmh = window
     complete = True
-    named: dict[str, int] = {}
     origins = [(f"HH{i}", p) for i, p in enumerate(_located(hopf, PointKind.HOPF_HOPF)[::-1], 1)] + \
         [("DH", p) for p in _located(hopf, PointKind.GENERALIZED_HOPF)]
     found = switched_curves(family, [p for _, p in origins], lo_bar * BAR, hi_bar * BAR, vmin_kmh * KMH,
                             vmax_kmh * KMH)
+    origin_of = {id(s): name for (name, _), s in zip(origins, found)}
     for (origin, point), switched in zip(origins, found):
-        if switched.error is not None:
+        if switched.error is None and not switched.curves:
+            notes.append(f"{prefix}branch switching at {origin} ({kmh(point.p):.2f} km/h, {point.q / BAR:.4g} bar) "
+                         "gives no curve that ends there")
+    for name, switched, curve in named_curves(found):
+        origin = origin_of[id(switched)]
+        if curve is None:
             notes.append(f"{prefix}curves from {origin}: INCOMPLETE: {interface_text(switched.error)}")
             complete = False
             continue
-        if not switched.curves:
-            notes.append(f"{prefix}branch switching at {origin} ({kmh(point.p):.2f} km/h, {point.q / BAR:.4g} bar) "
-                         "gives no curve that ends there")
-        letter = "T" if point.kind is PointKind.HOPF_HOPF else "S"
-        for curve in sorted(switched.curves, key=lambda c: -c.ps[int(np.argmin(c.qs))]):
-            named[letter] = named.get(letter, 0) + 1
-            more: list = []
-            complete &= _draw_cycle_curve(ax, family, f"{letter}{named[letter]}", f"born at {origin}", curve, BAR,
-                                          "bar", FIG18_START_BAR * BAR, more, items, 0.5, colour)
-            if check is not None:
-                checked = check(curve)
-                more.append(f"{letter}{named[letter]}: {checked.text()}")
-                complete &= checked.failing == 0
-            notes += [prefix + n for n in more]
+        more: list = []
+        complete &= _draw_cycle_curve(ax, family, name, f"born at {origin}", curve, BAR, "bar",
+                                      FIG18_START_BAR * BAR, more, items, 0.5, colour)
+        if check is not None:
+            checked = check(curve)
+            more.append(f"{name}: {checked.text()}")
+            complete &= checked.failing == 0
+        notes += [prefix + n for n in more]
     return complete
 
 

@@ -52,7 +52,7 @@ def add_parser(sub) -> None:
 def switched(family, diagram: HopfDiagram, vmax: float, quiet: bool, model: str):
     """The cycle curves born at the diagram's located Hopf-Hopf and generalized Hopf points: (the switching per
     point, [(curve or None, error)], labels, Exudyn checks or None) in the form ``shimmy cycles`` prints."""
-    from bifurcation.cycle_curves.switching import switched_curves
+    from bifurcation.cycle_curves.switching import named_curves, switched_curves
     from bifurcation.special_points import PointKind, PointStatus
 
     origins = [p for p in diagram.special_points if p.status is PointStatus.LOCATED
@@ -60,17 +60,9 @@ def switched(family, diagram: HopfDiagram, vmax: float, quiet: bool, model: str)
     with progress(len(origins), "cycle curves", quiet) as bar:
         found = switched_curves(family, origins, diagram.lo, diagram.hi, diagram.p_min, vmax,
                                 progress=lambda _: bar.update(1))
-    curves, labels, count = [], [], {}
-    for s in found:
-        letter = "T" if s.origin.kind is PointKind.HOPF_HOPF else "S"
-        if s.error is not None:
-            count[letter] = count.get(letter, 0) + 1
-            curves.append((None, f"newton_failed: {interface_text(s.error)}"))
-            labels.append(f"{letter}{count[letter]}")
-        for c in s.curves:
-            count[letter] = count.get(letter, 0) + 1
-            curves.append((c, ""))
-            labels.append(f"{letter}{count[letter]}")
+    named = named_curves(found)
+    curves = [(c, "" if c is not None else f"newton_failed: {interface_text(s.error)}") for _, s, c in named]
+    labels = [label for label, _, _ in named]
     checks = None
     if model == "mbs":
         from comparisons.studies.exudyn_check import curve_on_exudyn
