@@ -39,6 +39,10 @@ class ContinuationSettings:
     # Steps tried over a corner where the step size underflows (:func:`step_over`), 0: none.  Only for curves of
     # piecewise smooth problems, whose discretised curve has gaps where a node crosses a kink.
     corner_steps: int = 0
+    # Newton's step accepted above ``newton_tol`` but below this, once the residual stopped falling (two iterations
+    # that did not halve it): the residual is at its rounding floor and the step is that floor's image through an
+    # ill-conditioned Jacobian (a cycle fold made by a kink, thousandths of a degree from its Hopf point).  0: never.
+    floor_tol: float = 0.0
 
 
 def _solve_bordered(J, row: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -124,6 +128,7 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
                 return u, J, (iterations + 1) // 2
     u = u_pred.copy()
     G, J = residual(u)
+    sizes = [float(np.max(np.abs(G)))]
     for it in range(1, settings.newton_max_iter + 1):
         if not np.all(np.isfinite(G)):
             return None
@@ -131,10 +136,16 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
         du = _solve_bordered(J, row, -F)
         u = u + du
         G, J = residual(u)
+        sizes.append(float(np.max(np.abs(G))))
         # A small step with the residual not yet small goes on iterating: where G is only piecewise smooth (a
         # state crossing a kink of the right-hand side between iterations) Newton converges linearly, and its
         # steps shrink below the tolerance before the residual does.
-        if step_norm(du, w, blocks) < settings.newton_tol and np.max(np.abs(G)) < 1e-7 * (1.0 + np.max(np.abs(u))):
+        small = np.max(np.abs(G)) < 1e-7 * (1.0 + np.max(np.abs(u)))
+        step = step_norm(du, w, blocks)
+        if step < settings.newton_tol and small:
+            return u, J, it
+        stalled = len(sizes) > 3 and sizes[-1] > 0.5 * sizes[-3] and sizes[-2] > 0.5 * sizes[-3]
+        if step < settings.floor_tol and small and stalled:
             return u, J, it
     return None
 

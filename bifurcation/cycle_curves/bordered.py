@@ -49,6 +49,10 @@ START_ITERATIONS = 25
 # Steps over a corner (bifurcation.continuation.step_over) where the family says its right-hand side is only
 # piecewise smooth: 1 and 2 times the recent steps (no gap wider than the curve's own steps is stepped over).
 CORNER_STEPS = 2
+# Newton's steps at the residual's rounding floor where the family is only piecewise smooth, in newton_tol: a fold
+# made by a kink at 0.002 deg stalled at weighted steps of 1e-7 to 5e-7 with the collocation residual at 3e-12
+# (bifurcation.continuation.ContinuationSettings.floor_tol)
+FLOOR_STEPS = 100.0
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
 # ... or, on a curve that starts below it (a fold made by a kink of f sits a few thousandths of a degree from its Hopf
 # point, and the fold curve runs on at such amplitudes), this fraction of the largest amplitude it has had: the curve
@@ -139,6 +143,22 @@ def start_point(make_system, cycle: CyclePoint, continuation: ContinuationSettin
     return system, U0
 
 
+def end_steps(a_old: float, a_new: float, crossed: bool, piecewise: bool) -> list[float]:
+    """Where a curve whose amplitude fell from a_old to a_new on its last step (through zero: ``crossed``) meets
+    zero amplitude, in last steps from the point before it, each at most 2: amp^2 affine along the curve (a smooth
+    Hopf normal form's r^3 term decides), then on a piecewise smooth family amp itself (where f has a kink at the
+    equilibrium its |r| r term does: a fold made by the kink grows linearly from the point).  Only zeros within
+    two steps: with none the curve goes on (a kink's fold shrank to a tenth over 0.04 bar, and its zero lay
+    0.0035 bar, six steps, beyond); through zero, each model's at once."""
+    zeros = []
+    for power in (2, 1) if piecewise else (2,):
+        s_new = -a_new ** power if crossed else a_new ** power
+        lam = a_old ** power / (a_old ** power - s_new) if a_old ** power != s_new else np.inf
+        if crossed or 0.0 < lam <= 2.0:
+            zeros.append(min(lam, 2.0))
+    return zeros
+
+
 def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_min: float, p_max: float,
                           settings: CycleSettings, continuation: ContinuationSettings, make_system,
                           accept_hook=None):
@@ -165,7 +185,8 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     # family Newton converges quadratically and its last step leaves the point more accurate, so it keeps Newton.
     piecewise = getattr(family, "piecewise_smooth", False)
     if piecewise:
-        continuation = dataclasses.replace(continuation, corner_steps=CORNER_STEPS)
+        continuation = dataclasses.replace(continuation, corner_steps=CORNER_STEPS,
+                                           floor_tol=FLOOR_STEPS * continuation.newton_tol)
     for sign in (1.0, -1.0):
         system.b, system.c = start_state[0].copy(), start_state[1].copy()
         system.cp.set_reference(start_state[2])
@@ -186,17 +207,19 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
             # curve would come back on itself.  Near the end amp^2 is affine along the curve.
             crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
             largest[0] = max(largest[0], a_new)
-            if ends_at_zero and (crossed or a_new < min(END_AMPLITUDE, END_FRACTION * largest[0])):
-                s2 = -a_new ** 2 if crossed else a_new ** 2
-                # At most one more step: a curve that starts with its amplitude already below END_AMPLITUDE
-                # barely changes it, and the affine zero would lie far off (0.44 bar, from a 1.3 bar fold).
-                lam = min(a_old ** 2 / (a_old ** 2 - s2), 2.0) if a_old ** 2 != s2 else 1.0
-                guess = (U_old[ip] + lam * (p - U_old[ip]), U_old[iq] + lam * (q - U_old[iq]))
+            small = a_new < min(END_AMPLITUDE, END_FRACTION * largest[0])
+            zeros = end_steps(a_old, a_new, crossed, piecewise) if ends_at_zero and (crossed or small) else []
+            if zeros:
                 if not crossed:
                     points.append(system.point(U))
                     kappas.append(system.kappa(U))
-                found = locate_end(family, point.kind, guess, points[-1], abs(p - U_old[ip]),
-                                   abs(q - U_old[iq]), p_min, p_max)
+                found = None
+                for lam in zeros:
+                    guess = (U_old[ip] + lam * (p - U_old[ip]), U_old[iq] + lam * (q - U_old[iq]))
+                    found = locate_end(family, point.kind, guess, points[-1], abs(p - U_old[ip]),
+                                       abs(q - U_old[iq]), p_min, p_max)
+                    if found is not None:
+                        break
                 ends.append(found)
                 if found is not None:
                     # The last step and the rest of the way to the end point: tested like every other step,

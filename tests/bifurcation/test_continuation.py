@@ -72,3 +72,35 @@ def test_a_genuine_corner_is_never_stepped_over(corner_steps):
 def test_a_gentle_bend_is_followed_without_corner_steps():
     branch = run(bend(0.2), corner_steps=2)
     assert branch.status is BranchStatus.COMPLETE and branch.corners == []
+
+
+def noisy_line(noise: float, condition: float, seed: int = 0):
+    """z = p seen through a residual with rounding noise of size ``noise`` and a Jacobian whose z column is
+    ``condition`` small: Newton's steps near the solution are the noise's image, noise / condition, and never fall
+    below it (a cycle fold made by a kink: weighted steps of 1e-7 at a collocation residual of 3e-12)."""
+    rng = np.random.default_rng(seed)
+
+    def G(u):
+        p, z = u
+        return np.array([condition * (z - p) + noise * rng.standard_normal()]), np.array([[-condition, condition]])
+    return G
+
+
+@pytest.mark.parametrize("floor_tol, complete", [(0.0, False), (1e-6, True)])
+def test_newton_at_its_residuals_rounding_floor_is_accepted_only_below_the_floor_tolerance(floor_tol, complete):
+    settings = ContinuationSettings(**{**SETTINGS.__dict__, "newton_tol": 1e-8, "floor_tol": floor_tol})
+    branch = continue_curve(noisy_line(3e-12, 1e-5), np.array([-0.5, -0.5]), np.array([1.0, 1.0]), np.ones(2),
+                            settings, accept=lambda b: Stop(BranchStatus.COMPLETE) if b.points[-1][0] > 0.5 else None)
+    assert (branch.status is BranchStatus.COMPLETE) is complete
+    if complete:   # every accepted point within the floor's image of the curve
+        assert all(abs(u[1] - u[0]) < 1e-6 for u in branch.points)
+    else:
+        assert branch.status is BranchStatus.STEP_UNDERFLOW
+
+
+def test_a_step_far_above_the_floor_is_not_accepted_by_it():
+    """Noise whose image (1e-4) is above the floor tolerance: no point is accepted at all."""
+    settings = ContinuationSettings(**{**SETTINGS.__dict__, "newton_tol": 1e-8, "floor_tol": 1e-6})
+    branch = continue_curve(noisy_line(1e-9, 1e-5), np.array([-0.5, -0.5]), np.array([1.0, 1.0]), np.ones(2),
+                            settings, accept=lambda b: Stop(BranchStatus.COMPLETE) if b.points[-1][0] > 0.5 else None)
+    assert branch.status is BranchStatus.STEP_UNDERFLOW and len(branch.points) == 1

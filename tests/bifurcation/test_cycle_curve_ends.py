@@ -307,3 +307,16 @@ def test_codimension_two_points_of_cycles_in_figure_8():
             assert np.min(np.abs(np.abs(pair) - 1.0)) < 1e-6
         else:
             assert np.min(np.abs(np.abs(np.angle(pair)) - angle)) < 1e-6
+
+
+def test_a_curve_ends_where_its_amplitude_model_puts_zero_within_two_steps():
+    """amp^2 affine along the curve near a smooth generalized Hopf point, amp itself where f has a kink at the
+    equilibrium (tried second, on a piecewise smooth family); a zero further than two steps ahead is no end yet."""
+    from bifurcation.cycle_curves.bordered import end_steps
+    assert end_steps(1.0, 0.8, False, False) == []                          # amp^2's zero 2.78 steps on
+    assert end_steps(1.0, 0.6, False, False) == pytest.approx([1.0 / (1.0 - 0.36)])
+    assert end_steps(4.15, 3.52, False, True) == []                         # the kink's fold of figure 18, 6.6 on
+    assert end_steps(1.0, 0.45, False, True) == pytest.approx([1.0 / (1.0 - 0.45 ** 2), 1.0 / 0.55])
+    assert end_steps(1.0, 0.6, False, True) == pytest.approx([1.0 / (1.0 - 0.36)])   # amp's zero 2.5 steps on
+    # through zero (the collocation's orbits shifted by half a period): each model's zero at once
+    assert end_steps(1.0, 0.5, True, True) == pytest.approx([1.0 / 1.25, 1.0 / 1.5])
