@@ -26,6 +26,11 @@ from bifurcation.special_points import (
     SpecialPoint,
 )
 
+# A one-parameter point lies on a computed curve when, between two of its points, the curve's p is the point's
+# within this fraction and its critical cycle's amplitudes within SAME_CURVE_AMPLITUDE of the point's largest
+# (steps of the curves are a few per cent of p; two folds of one kind apart by less would be a cusp's pair)
+SAME_CURVE_RTOL = 1e-3
+SAME_CURVE_AMPLITUDE = 0.1
 END_KIND = {PointKind.TORUS: PointKind.HOPF_HOPF, PointKind.CYCLE_FOLD: PointKind.GENERALIZED_HOPF}
 
 
@@ -83,6 +88,28 @@ class CycleCurve:
     @property
     def complete(self) -> bool:
         return all(s.is_complete for s in self.status)
+
+    def passes(self, point: SpecialPoint, rtol: float = SAME_CURVE_RTOL) -> bool:
+        """Whether this curve passes through ``point``, a one-parameter point of its kind: on one of its steps
+        whose q brackets the point's, p and the critical cycle's amplitudes interpolated in q are the point's
+        within ``rtol`` (relative to the point's p and largest amplitude), so that the point's own curve need
+        not be continued again."""
+        if point.kind is not self.kind:
+            return False
+        amplitude = np.asarray(point.data["cycle"].amplitude) if "cycle" in point.data else None
+        for i, j in zip(range(len(self.ps) - 1), range(1, len(self.ps))):
+            q0, q1 = self.qs[i], self.qs[j]
+            if not min(q0, q1) <= point.q <= max(q0, q1):
+                continue
+            w = 0.0 if q1 == q0 else (point.q - q0) / (q1 - q0)
+            if abs(self.ps[i] + w * (self.ps[j] - self.ps[i]) - point.p) > rtol * abs(point.p):
+                continue
+            if amplitude is None:
+                return True
+            a = self.amplitudes[i] + w * (self.amplitudes[j] - self.amplitudes[i])
+            if np.max(np.abs(a - amplitude)) <= SAME_CURVE_AMPLITUDE * np.max(np.abs(amplitude)):
+                return True
+        return False
 
 
 

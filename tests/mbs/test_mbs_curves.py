@@ -87,3 +87,31 @@ def test_a_fold_made_by_the_kink_is_followed_across_the_window_through_the_one_p
     for k in (1, len(curve.ps) // 2, len(curve.ps) - 2):
         (fold,) = folds(curve.qs[k])
         assert fold.p == pytest.approx(curve.ps[k], rel=1e-7)
+
+
+def test_the_smallest_kink_fold_is_followed_and_passes_through_its_one_parameter_folds():
+    """The fold beside the 1.5 bar branch's upper Hopf point (91.79 km/h, max|theta1| 0.0019 deg, kink coefficient
+    1.8e-4) stalled after 8 points at 1.5031 bar: its Newton steps stopped at 1e-7 to 5e-7 (weighted) with the
+    residual at its rounding floor, below which they never fall (ContinuationSettings.floor_tol now accepts them
+    there).  It now crosses 1.45-1.6 bar, and at three of its pressures the one-parameter branch's fold lies at
+    the curve's speed; the branch's first fold at 1.5 bar lies on the same curve, as its own curve
+    (CycleCurve.passes), and the lower Hopf point's fold does not."""
+    def family(bar):
+        return family_of(MbsModel(fidelity=Fidelity.full()), TyrePressures.uniform(bar), "pressure")
+
+    def folds(q):
+        diagram = cycle_diagram(family(q), q, 80 * KMH, 100 * KMH)
+        return [p for b in diagram.branches for p in b.points_of(PointKind.CYCLE_FOLD)]
+
+    (start,) = folds(1.5 * BAR)
+    assert start.status is PointStatus.LOCATED and np.degrees(start.data["cycle"].amplitude[0]) < 0.003
+    curve = cycle_bifurcation_curve(family(1.5 * BAR), start, 1.45 * BAR, 1.6 * BAR, 60 * KMH, 120 * KMH)
+    assert curve.complete and all(str(m).startswith("left the window") for m in curve.messages)
+    assert curve.qs.min() == pytest.approx(1.45 * BAR) and curve.qs.max() == pytest.approx(1.6 * BAR)
+    for k in (1, len(curve.ps) // 2, len(curve.ps) - 2):
+        (fold,) = folds(curve.qs[k])
+        assert fold.p == pytest.approx(curve.ps[k], rel=1e-6)
+    assert curve.passes(start)
+    lower = [p for b in cycle_diagram(family(1.5 * BAR), 1.5 * BAR, 30 * KMH, 45 * KMH).branches
+             for p in b.points_of(PointKind.CYCLE_FOLD)]
+    assert lower and not any(curve.passes(p) for p in lower)

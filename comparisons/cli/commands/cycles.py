@@ -187,12 +187,18 @@ def run(args: argparse.Namespace) -> int:
                                                                         bar.update(1)))
     curves: list[tuple[CycleCurve | None, str]] = []
     labels: list[str] = []
+    same_curve: dict[str, str] = {}     # a point's label: the label of the computed curve it lies on
     if args.two_param:
         from comparisons.figures.cycle_plots import special_point_labels
         chosen = [(text, p) for text, p in special_point_labels(diagram)
                   if p.kind in (PointKind.CYCLE_FOLD, PointKind.TORUS, PointKind.PERIOD_DOUBLING)]
         with progress(len(chosen), "bifurcation curves", quiet) as bar:
             for text, p in chosen:
+                on = next((label for (c, _), label in zip(curves, labels) if c is not None and c.passes(p)), None)
+                if on is not None:       # its curve is computed already: one curve through two of the branch's folds
+                    same_curve[text] = on
+                    bar.update(1)
+                    continue
                 try:
                     # the branch's settings: its tolerance is what the curve's points are checked against
                     curves.append((cycle_bifurcation_curve(family, p, lo, hi, vmin, vmax,
@@ -239,7 +245,7 @@ def run(args: argparse.Namespace) -> int:
             out["complete"], out["note"] = False, unstable
         if args.two_param:
             out["two_param"] = {"param": args.two_param, "unit": interface_unit(args.two_param)[0],
-                                "curves": curves_json(curves, labels, factor, checks)}
+                                "curves": curves_json(curves, labels, factor, checks), "same_curve": same_curve}
             out["complete"] = out["complete"] and all(c is not None and c.complete for c, _ in curves)
         emit_json(out)
     else:
@@ -251,6 +257,8 @@ def run(args: argparse.Namespace) -> int:
             print_kicks(found_kicks)
         if args.two_param:
             print_curves(curves, labels, args.two_param, checks)
+            for text, on in same_curve.items():
+                print(f"    {text:4s} lies on {on}'s curve: not continued again")
     problems = [f"branch from {kmh(b.start.p):.3f} km/h stopped: {interface_text(b.message)}"
                 for b in diagram.branches if not b.complete]
     if unstable is not None:
