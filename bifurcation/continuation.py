@@ -147,7 +147,7 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
         stalled = len(sizes) > 3 and sizes[-1] > 0.5 * sizes[-3] and sizes[-2] > 0.5 * sizes[-3]
         if step < settings.floor_tol and small and stalled:
             # counted to the floor: the two iterations that showed it gained nothing (the count sets the next step)
-            return u, J, max(1, it - 2)
+            return u, J, it
     return None
 
 

@@ -53,16 +53,21 @@ CORNER_STEPS = 2
 # made by a kink at 0.002 deg stalled at weighted steps of 1e-7 to 5e-7 with the collocation residual at 3e-12
 # (bifurcation.continuation.ContinuationSettings.floor_tol)
 FLOOR_STEPS = 100.0
+# Steps of a piecewise smooth family's curve: at its rounding floor Newton takes 5-8 iterations, so its steps stay
+# short (the full geometry's fold curve over 0.5-3.5 bar, around its Hopf curve's turn: about 550 steps)
+PIECEWISE_MAX_STEPS = 800
 END_AMPLITUDE = 0.01        # scaled RMS below which the curve is taken to run into a generalized Hopf point
 # ... or, on a curve that starts below it (a fold made by a kink of f sits a few thousandths of a degree from its Hopf
 # point, and the fold curve runs on at such amplitudes), this fraction of the largest amplitude it has had: the curve
 # must have shrunk towards zero, not merely be small.
 END_FRACTION = 0.1
-# A step of a piecewise smooth family's curve changes its orbit by at most this fraction of the orbit's size: on the
+# A step of a piecewise smooth family's curve turns its orbit's node values by at most this angle's cosine: on the
 # orbits of a kink's fold (thousandths of a degree, mirror symmetric, so that half a period on is the orbit negated)
 # a longer step let the corrector slip half a period, which the curve took for a pass through zero amplitude (a
 # multibody axle's fold from 1.5 bar, at 2.03-2.08 bar, where the kink coefficient is 4.5e-5 > 0)
-SLIP_FRACTION = 0.5
+SLIP_COS = 0.5
+# Steps ahead within which an extrapolated zero of the amplitude is looked for (end_steps)
+END_STEPS = 4.0
 # ... and, after an end looked for and not found there, this fraction of the amplitude it was looked for at
 RETRY_FRACTION = 0.5
 
@@ -155,14 +160,14 @@ def end_steps(a_old: float, a_new: float, crossed: bool, piecewise: bool) -> lis
     zero amplitude, in last steps from the point before it, each at most 2: amp^2 affine along the curve (a smooth
     Hopf normal form's r^3 term decides), then on a piecewise smooth family amp itself (where f has a kink at the
     equilibrium its |r| r term does: a fold made by the kink grows linearly from the point).  Only zeros within
-    two steps: with none the curve goes on (a kink's fold shrank to a tenth over 0.04 bar, and its zero lay
-    0.0035 bar, six steps, beyond); through zero, each model's at once."""
+    :data:`END_STEPS` steps: with none the curve goes on (a kink's fold shrank to a tenth over 0.04 bar, and its
+    zero lay 0.0035 bar, six steps, beyond); through zero, each model's at once."""
     zeros = []
     for power in (2, 1)[:2 if piecewise else 1]:
         s_new = -a_new ** power if crossed else a_new ** power
         lam = a_old ** power / (a_old ** power - s_new) if a_old ** power != s_new else np.inf
-        if crossed or 0.0 < lam <= 2.0:
-            zeros.append(min(lam, 2.0))
+        if crossed or 0.0 < lam <= END_STEPS:
+            zeros.append(min(lam, END_STEPS))
     return zeros
 
 
@@ -193,7 +198,8 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
     piecewise = getattr(family, "piecewise_smooth", False)
     if piecewise:
         continuation = dataclasses.replace(continuation, corner_steps=CORNER_STEPS,
-                                           floor_tol=FLOOR_STEPS * continuation.newton_tol)
+                                           floor_tol=FLOOR_STEPS * continuation.newton_tol,
+                                           max_steps=max(continuation.max_steps, PIECEWISE_MAX_STEPS))
     for sign in (1.0, -1.0):
         system.b, system.c = start_state[0].copy(), start_state[1].copy()
         system.cp.set_reference(start_state[2])
@@ -313,8 +319,12 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
         K = system.K
 
         def orbit_change(u_old, u_new) -> float:
-            """A step's largest change of the orbit's node values against SLIP_FRACTION of their largest size."""
-            return float(np.max(np.abs(u_new[:K] - u_old[:K])) / (SLIP_FRACTION * np.max(np.abs(u_old[:K]))))
+            """A step's turn of the orbit's node values, 1 - cos of their angle, against 1 - SLIP_COS: a slip of
+            half a period turns a mirror-symmetric orbit by 180 degrees, a step along the curve by little, whatever
+            the orbit's size (a bound on the change itself was Newton's floor on the smallest orbits)."""
+            a, b = u_old[:K], u_new[:K]
+            cos = float(np.dot(a, b) / max(np.linalg.norm(a) * np.linalg.norm(b), 1e-300))
+            return (1.0 - cos) / (1.0 - SLIP_COS)
 
         branch = continue_curve(system, U0, sign * t0, weights, continuation, accept=accept,
                                 renormalize=system.renormalize, value=system.value if piecewise else None,

@@ -206,8 +206,8 @@ def draw_trail_beside(store: DiagramStore, fidelity: Fidelity) -> Drawing:
 # the window (204.72 km/h, 0.2561 bar) is a sign change of the camber kink's coefficient, below which (0.25 bar, the
 # reduced model's line) its onset is soft with no fold or torus point, and above which a kink makes its onset hard
 # with a fold a few thousandths of a degree from the Hopf point (0.0038 deg at 0.3 bar, 2026-12-07).  Branch
-# switching at that point starts 0.004 bar from it, where the fold's cycles are 0.0004 deg and its curve underflows
-# at once; from 0.3 bar it runs to the window's top and down to 0.263 bar.
+# switching at that point starts 0.004 bar from it, where the fold's cycles are 0.0004 deg, and gives no curve that
+# ends there; from 0.3 bar the curve runs to the window's top and down to that point (stop 45).
 FIG18_MBS_START_BAR = 0.3
 
 

@@ -309,14 +309,15 @@ def test_codimension_two_points_of_cycles_in_figure_8():
             assert np.min(np.abs(np.abs(np.angle(pair)) - angle)) < 1e-6
 
 
-def test_a_curve_ends_where_its_amplitude_model_puts_zero_within_two_steps():
+def test_a_curve_ends_where_its_amplitude_model_puts_zero_within_four_steps():
     """amp^2 affine along the curve near a smooth generalized Hopf point, amp itself where f has a kink at the
-    equilibrium (tried second, on a piecewise smooth family); a zero further than two steps ahead is no end yet."""
-    from bifurcation.cycle_curves.bordered import end_steps
-    assert end_steps(1.0, 0.8, False, False) == []                          # amp^2's zero 2.78 steps on
-    assert end_steps(1.0, 0.6, False, False) == pytest.approx([1.0 / (1.0 - 0.36)])
-    assert end_steps(4.15, 3.52, False, True) == []                         # the kink's fold of figure 18, 6.6 on
-    assert end_steps(1.0, 0.45, False, True) == pytest.approx([1.0 / (1.0 - 0.45 ** 2), 1.0 / 0.55])
-    assert end_steps(1.0, 0.6, False, True) == pytest.approx([1.0 / (1.0 - 0.36)])   # amp's zero 2.5 steps on
+    equilibrium (tried second, on a piecewise smooth family); a zero further than four steps ahead is no end yet."""
+    from bifurcation.cycle_curves.bordered import END_STEPS, end_steps
+    assert END_STEPS == 4.0
+    assert end_steps(1.0, 0.9, False, False) == []                          # amp^2's zero 5.3 steps on
+    assert end_steps(1.0, 0.8, False, False) == pytest.approx([1.0 / (1.0 - 0.64)])
+    # the kink's fold of figure 18 before its end: amp^2's zero 3.6 steps on, amp's 6.6
+    assert end_steps(4.15, 3.52, False, True) == pytest.approx([1.0 / (1.0 - (3.52 / 4.15) ** 2)])
+    assert end_steps(1.0, 0.5, False, True) == pytest.approx([1.0 / (1.0 - 0.25), 2.0])
     # through zero (the collocation's orbits shifted by half a period): each model's zero at once
     assert end_steps(1.0, 0.5, True, True) == pytest.approx([1.0 / 1.25, 1.0 / 1.5])
