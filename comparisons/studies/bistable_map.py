@@ -98,6 +98,7 @@ class BistableMap:
     status: MapStatus
     budget_s: float | None = None                # the time budget it was computed within (None: none)
     free_determined: bool = True                 # False: a slice above the last stable cycle is incomplete
+    probes: tuple[Slice, ...] = ()               # the bisection's slices that stopped early (off the grid)
 
     @property
     def spacing(self) -> float:
@@ -121,11 +122,12 @@ class BistableMap:
     def _missing(self) -> str:
         if self.status.is_complete:
             return ""
-        stopped = [s for s in self.slices if s.over_budget]
-        early = [s for s in self.slices if not s.complete and not s.over_budget]
+        stopped = [s for s in self.slices + self.probes if s.over_budget]
+        early = [s for s in self.slices + self.probes if not s.complete and not s.over_budget]
         parts = []
         if early:
-            parts.append("a continuation stopped early at " + ", ".join(f"{s.pressure / BAR:g} bar" for s in early))
+            parts.append("a continuation stopped early at " + ", ".join(f"{s.pressure / BAR:.4g} bar" for s in early)
+                         + f" ({early[0].message})")
         if stopped:
             parts.append(f"the time budget of {self.budget_s:g} s ran out at " + ", ".join(
                 f"{s.pressure / BAR:g} bar" for s in stopped) + f" ({stopped[0].message})")
@@ -226,7 +228,8 @@ def bistable_map(family_at: Callable[[float], Family], pressures: Sequence[float
                 break
         free, bracket = hi, (lo, hi)
     grid = sorted((s for s in slices if s.pressure in pressures), key=lambda s: s.pressure)
+    probes = tuple(s for s in slices if s.pressure not in pressures)
     status = (MapStatus.COMPLETE if all(s.complete for s in slices) else
               MapStatus.OVER_BUDGET if any(s.over_budget for s in slices) else MapStatus.INCOMPLETE)
     return BistableMap(label, (p_min, p_max), tuple(grid), regions_of(grid), free, bracket, status, budget_s,
-                       determined)
+                       determined, probes)

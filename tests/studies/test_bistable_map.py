@@ -129,3 +129,30 @@ def test_a_branch_past_its_budget_stops_with_what_it_computed():
     for b in cut.branches:
         assert b.status is BranchStatus.STOPPED and not b.status.is_complete
         assert len(b.points) >= 1 and "stopped after its time budget of 0 s, at" in str(b.message)
+
+
+def test_a_bisection_slice_that_stopped_early_is_named_in_the_maps_text(monkeypatch):
+    """A random plausible axle (CAMPAIGN-45-07) said 'INCOMPLETE: ' and nothing more: the bisection for the
+    stable-shimmy-free pressure met a slice whose continuation stopped early, off the grid, where the text looked
+    only at the grid.  Its pressure and its branch's message are now in the text."""
+    import comparisons.studies.bistable_map as bm
+
+    def fake_slice(family, q, p_min, p_max, deadline=float("inf")):
+        if q < 1.0 * BAR:
+            return Slice(q, (), True, True)
+        if q >= 2.0 * BAR:
+            return Slice(q, (), False, True)
+        return Slice(q, (), False, False, "step size underflow after 7 points")
+
+    monkeypatch.setattr(bm, "slice_at", fake_slice)
+    family = type("F", (), {"nominal": None})
+
+    def family_at(pressure):
+        f = family()
+        f.nominal = pressure
+        return f
+
+    result = bistable_map(family_at, [0.5 * BAR, 2.0 * BAR], 0.0, 50.0, "the reduced model")
+    assert result.status is MapStatus.INCOMPLETE
+    text = result.text()
+    assert "INCOMPLETE: a continuation stopped early at 1.25 bar (step size underflow after 7 points)" in text, text
