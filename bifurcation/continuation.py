@@ -146,7 +146,8 @@ def correct(residual: Residual, u_pred: np.ndarray, t: np.ndarray, w: np.ndarray
             return u, J, it
         stalled = len(sizes) > 3 and sizes[-1] > 0.5 * sizes[-3] and sizes[-2] > 0.5 * sizes[-3]
         if step < settings.floor_tol and small and stalled:
-            # counted to the floor: the two iterations that showed it gained nothing (the count sets the next step)
+            # all iterations counted (they set the next step): counted only to the floor, a kink's fold curve took
+            # longer steps and stalled short of its end
             return u, J, it
     return None
 

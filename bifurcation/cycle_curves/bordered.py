@@ -157,11 +157,11 @@ def start_point(make_system, cycle: CyclePoint, continuation: ContinuationSettin
 
 def end_steps(a_old: float, a_new: float, crossed: bool, piecewise: bool) -> list[float]:
     """Where a curve whose amplitude fell from a_old to a_new on its last step (through zero: ``crossed``) meets
-    zero amplitude, in last steps from the point before it, each at most 2: amp^2 affine along the curve (a smooth
-    Hopf normal form's r^3 term decides), then on a piecewise smooth family amp itself (where f has a kink at the
-    equilibrium its |r| r term does: a fold made by the kink grows linearly from the point).  Only zeros within
+    zero amplitude, in last steps from the point before it: amp^2 affine along the curve (a smooth Hopf normal
+    form's r^3 term decides), then on a piecewise smooth family amp itself (where f has a kink at the equilibrium
+    its |r| r term does: a fold made by the kink grows linearly from the point).  Only zeros within
     :data:`END_STEPS` steps: with none the curve goes on (a kink's fold shrank to a tenth over 0.04 bar, and its
-    zero lay 0.0035 bar, six steps, beyond); through zero, each model's at once."""
+    zero lay 0.0035 bar, six steps, beyond); through zero, each model's at once, at most END_STEPS on."""
     zeros = []
     for power in (2, 1)[:2 if piecewise else 1]:
         s_new = -a_new ** power if crossed else a_new ** power
@@ -218,12 +218,12 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                     sign * arclength[-1], sign * (arclength[-1] + branch.steps[-1]))))
             a_old, a_new = system.cp.scaled_rms(U_old[:iq]), system.cp.scaled_rms(U[:iq])
             # Through zero amplitude the collocation goes on with the same orbits shifted by half a period: the
-            # curve would come back on itself.  Near the end amp^2 is affine along the curve.
+            # curve would come back on itself.
             crossed = np.dot(U_old[:system.K], U[:system.K]) < 0.0
             largest[0] = max(largest[0], a_new)
             small = a_new < min(END_AMPLITUDE, END_FRACTION * largest[0], RETRY_FRACTION * retry[0])
             zeros = end_steps(a_old, a_new, crossed, piecewise) if ends_at_zero and (crossed or small) else []
-            found = None
+            found = here = None
             if zeros:
                 here = points[-1] if crossed else system.point(U)
                 for lam in zeros:
@@ -277,7 +277,7 @@ def follow_bordered_curve(family, point: SpecialPoint, lo: float, hi: float, p_m
                 points.append(system.point(U))
                 kappas.append(system.kappa(U))
                 return Stop(BranchStatus.COMPLETE, Message.of("left the window at ", describe(family, U[ip], U[iq])))
-            p_new = system.point(U)
+            p_new = here if here is not None else system.point(U)     # computed above where an end was looked for
             k = len(branch.points) - 2
             step = branch.steps[-1]
             # Cusp of cycles: the curve is smooth in (x, T, p, q) but its (p, q) projection turns back, its

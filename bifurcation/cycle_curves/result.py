@@ -91,13 +91,14 @@ class CycleCurve:
 
     def passes(self, point: SpecialPoint, rtol: float = SAME_CURVE_RTOL) -> bool:
         """Whether this curve passes through ``point``, a one-parameter point of its kind: on one of its steps
-        whose q brackets the point's, p and the critical cycle's amplitudes interpolated in q are the point's
-        within ``rtol`` (relative to the point's p and largest amplitude), so that the point's own curve need
-        not be continued again."""
+        whose q brackets the point's, p interpolated in q is the point's within ``rtol`` (relative) and the
+        critical cycle's amplitudes within SAME_CURVE_AMPLITUDE of the point's largest, so that the point's own
+        curve need not be continued again."""
         if point.kind is not self.kind:
             return False
         amplitude = np.asarray(point.data["cycle"].amplitude) if "cycle" in point.data else None
-        for i, j in zip(range(len(self.ps) - 1), range(1, len(self.ps))):
+        for i in range(len(self.ps) - 1):
+            j = i + 1
             q0, q1 = self.qs[i], self.qs[j]
             if not min(q0, q1) <= point.q <= max(q0, q1):
                 continue

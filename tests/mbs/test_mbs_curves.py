@@ -76,23 +76,28 @@ def _kink_folds(pressure, vmin, vmax):
     return [p for b in diagram.branches for p in b.points_of(PointKind.CYCLE_FOLD)]
 
 
+def _kink_fold_curve(pressure, speeds, largest_deg, window, curve_speeds, rel):
+    """The full geometry's one kink fold at ``pressure`` in the speed window ``speeds`` (its cycle below
+    ``largest_deg``) and its curve over the pressure ``window``: complete, leaving the window at both ends, and at
+    three of its pressures the one-parameter branch's own fold at the curve's speed to ``rel``.  (fold, curve)."""
+    (start,) = _kink_folds(pressure, *speeds)
+    assert start.status is PointStatus.LOCATED and np.degrees(start.data["cycle"].amplitude[0]) < largest_deg
+    curve = cycle_bifurcation_curve(_full(pressure), start, *window, *curve_speeds)
+    assert curve.complete and all(str(m).startswith("left the window") for m in curve.messages)
+    assert curve.qs.min() == pytest.approx(window[0]) and curve.qs.max() == pytest.approx(window[1])
+    for k in (1, len(curve.ps) // 2, len(curve.ps) - 2):
+        (fold,) = _kink_folds(curve.qs[k], *speeds)
+        assert fold.p == pytest.approx(curve.ps[k], rel=rel)
+    return start, curve
+
+
 def test_a_fold_made_by_the_kink_is_followed_across_the_window_through_the_one_parameter_folds():
     """The full geometry's yaw onset at 1.3 bar is hard by the camber kink: a cycle fold 0.012 deg from the Hopf
     point.  Its fold curve once ended after one step each way, its amplitude being below the end threshold from the
     start; it now runs across 1.25-1.35 bar (the kink coefficient keeps its sign there), and at three of its
     pressures the one-parameter branch's own fold lies at the curve's speed, within the branches' tolerance of 1e-7
     (measured 2e-13 to 5e-9 relative)."""
-    def folds(q):
-        return _kink_folds(q, 30 * KMH, 45 * KMH)
-
-    (start,) = folds(1.3 * BAR)
-    assert start.status is PointStatus.LOCATED and np.degrees(start.data["cycle"].amplitude[0]) < 0.05
-    curve = cycle_bifurcation_curve(_full(1.3 * BAR), start, 1.25 * BAR, 1.35 * BAR, 20 * KMH, 60 * KMH)
-    assert curve.complete and all(str(m).startswith("left the window") for m in curve.messages)
-    assert curve.qs.min() == pytest.approx(1.25 * BAR) and curve.qs.max() == pytest.approx(1.35 * BAR)
-    for k in (1, len(curve.ps) // 2, len(curve.ps) - 2):
-        (fold,) = folds(curve.qs[k])
-        assert fold.p == pytest.approx(curve.ps[k], rel=1e-7)
+    _kink_fold_curve(1.3 * BAR, (30 * KMH, 45 * KMH), 0.05, (1.25 * BAR, 1.35 * BAR), (20 * KMH, 60 * KMH), 1e-7)
 
 
 def test_the_smallest_kink_fold_is_followed_and_passes_through_its_one_parameter_folds():
@@ -102,17 +107,8 @@ def test_the_smallest_kink_fold_is_followed_and_passes_through_its_one_parameter
     there).  It now crosses 1.45-1.6 bar, and at three of its pressures the one-parameter branch's fold lies at
     the curve's speed; the branch's first fold at 1.5 bar lies on the same curve, as its own curve
     (CycleCurve.passes), and the lower Hopf point's fold does not."""
-    def folds(q):
-        return _kink_folds(q, 80 * KMH, 100 * KMH)
-
-    (start,) = folds(1.5 * BAR)
-    assert start.status is PointStatus.LOCATED and np.degrees(start.data["cycle"].amplitude[0]) < 0.003
-    curve = cycle_bifurcation_curve(_full(1.5 * BAR), start, 1.45 * BAR, 1.6 * BAR, 60 * KMH, 120 * KMH)
-    assert curve.complete and all(str(m).startswith("left the window") for m in curve.messages)
-    assert curve.qs.min() == pytest.approx(1.45 * BAR) and curve.qs.max() == pytest.approx(1.6 * BAR)
-    for k in (1, len(curve.ps) // 2, len(curve.ps) - 2):
-        (fold,) = folds(curve.qs[k])
-        assert fold.p == pytest.approx(curve.ps[k], rel=1e-6)
+    start, curve = _kink_fold_curve(1.5 * BAR, (80 * KMH, 100 * KMH), 0.003, (1.45 * BAR, 1.6 * BAR),
+                                    (60 * KMH, 120 * KMH), 1e-6)
     assert curve.passes(start)
     lower = _kink_folds(1.5 * BAR, 30 * KMH, 45 * KMH)
     assert lower and not any(curve.passes(p) for p in lower)
